@@ -1,0 +1,103 @@
+#include "app/cli_common.h"
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <mutex>
+
+#include "core/mesh_io.h"
+
+namespace cagewrap::app {
+
+void add_bind_options(CLI::App& cmd, BindOptions& o) {
+  cmd.add_option("--local", o.params.local, "falloff exponent of 1/(1+d^local)")->capture_default_str();
+  cmd.add_option("--epsilon", o.params.epsilon, "keep elements with weight >= epsilon * strongest")
+      ->capture_default_str();
+  cmd.add_option("-K,--max-elements", o.params.max_elements, "at most K elements per point")->capture_default_str();
+  cmd.add_option("--scale", o.params.scale, "distance unit h (0 = mean cage edge length, 1 = raw scene units)")
+      ->capture_default_str();
+  cmd.add_option("--max-distance", o.params.max_distance, "elements farther than this (scene units) never drive a point; 0 = none")
+      ->capture_default_str();
+  cmd.add_option("--variant", o.variant, "basic | clamped | extended")->capture_default_str();
+}
+
+bool finish_bind_options(BindOptions& o) {
+  if (!parse_variant(o.variant, o.params.variant)) {
+    std::fprintf(stderr, "error: unknown variant '%s' (use basic, clamped or extended)\n", o.variant.c_str());
+    return false;
+  }
+  if (auto v = validate(o.params); !v) {
+    std::fprintf(stderr, "error: %s\n", v.error().message.c_str());
+    return false;
+  }
+  return true;
+}
+
+int report_error(const Error& e) {
+  std::fprintf(stderr, "error: %s\n", e.message.c_str());
+  return 1;
+}
+
+std::optional<PolyMesh> load_mesh_or_report(const std::string& path) {
+  auto m = load_mesh(path);
+  if (!m) {
+    report_error(m.error());
+    return std::nullopt;
+  }
+  return std::move(m).value();
+}
+
+std::optional<Cage> load_cage_or_report(const std::string& path) {
+  auto m = load_mesh_or_report(path);
+  if (!m) return std::nullopt;
+  auto c = make_cage(std::move(*m), path);
+  if (!c) {
+    report_error(c.error());
+    return std::nullopt;
+  }
+  return std::move(c).value();
+}
+
+void print_bind_summary(const Binding& b, const std::string& cage_path) {
+  std::printf("points            %u\n", b.num_points);
+  std::printf("elements          %zu (%zu polygons' triangles)\n", b.elements.size(), b.elements.size());
+  std::printf("variant           %s  local %g  epsilon %g  K %u  h %g%s\n", variant_name(b.params.variant),
+              b.params.local, b.params.epsilon, b.params.max_elements, b.h, b.params.scale > 0 ? "" : " (mean edge)");
+  std::printf("set size          mean %.2f  max %u\n", b.num_points ? double(b.total_set_size) / b.num_points : 0.0,
+              b.max_set_size);
+  std::printf("binding           %.1f bytes per skin vertex\n", b.num_points ? double(b.bytes()) / b.num_points : 0.0);
+  std::printf("affected elements %zu", b.invalid_elements.size());
+  for (size_t i = 0; i < b.invalid_elements.size() && i < 20; ++i) {
+    uint32_t e = b.invalid_elements[i];
+    std::printf("%s%u (%s)", i ? ", " : ": ", e, element_status_name(b.element_status[e]));
+  }
+  if (b.invalid_elements.size() > 20) std::printf(" and %zu more", b.invalid_elements.size() - 20);
+  std::printf("\n");
+  std::printf("affected points   %zu", b.rigid_points.size());
+  for (size_t i = 0; i < b.rigid_points.size() && i < 20; ++i) std::printf("%s%u", i ? ", " : ": ", b.rigid_points[i]);
+  if (b.rigid_points.size() > 20) std::printf(" and %zu more", b.rigid_points.size() - 20);
+  std::printf("%s\n", b.rigid_points.empty() ? "" : " (empty set: follow their nearest valid element rigidly)");
+  std::printf("cage quality      %.2f%% of points lie within %g h of an element and project inside it\n",
+              100.0 * b.quality(), b.params.close_distance);
+  std::printf("seconds           %.3f\n", b.seconds);
+  if (!b.invalid_elements.empty())
+    std::fprintf(stderr, "warning: %s: %zu cage element(s) were skipped (listed above)\n", cage_path.c_str(),
+                 b.invalid_elements.size());
+}
+
+BindProgress terminal_progress(const char* label) {
+  BindProgress p;
+  if (!isatty(STDERR_FILENO)) return p;
+  auto last = std::make_shared<int>(-1);
+  auto mutex = std::make_shared<std::mutex>();
+  p.on_progress = [label, last, mutex](double f) {
+    std::lock_guard lock(*mutex);
+    int pct = static_cast<int>(f * 100);
+    if (pct == *last) return;
+    *last = pct;
+    std::fprintf(stderr, "\r%s %3d%%%s", label, pct, pct >= 100 ? "\n" : "");
+  };
+  return p;
+}
+
+}  // namespace cagewrap::app

@@ -1,0 +1,190 @@
+// cagewrap bench --mesh M --cage C --posed-cage C2 [--subdivide n] [--variant v|all] [--twist inputs.json] [--json]
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+
+#include <nlohmann/json.hpp>
+
+#include "app/cli_common.h"
+#include "app/commands.h"
+#include "core/deformer.h"
+#include "core/subdivide.h"
+#include "core/twist.h"
+
+namespace cagewrap::app {
+
+namespace {
+
+double peak_rss_mb() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return u.ru_maxrss / 1024.0;
+}
+
+struct BenchResult {
+  std::string variant;
+  double bind_s = 0, deform_median_ms = 0, deform_min_ms = 0;
+  double binding_bytes_per_vertex = 0, mean_set = 0;
+  size_t bytes_read = 0, bytes_written = 0;
+  double gbps = 0, quality = 0;
+  bool has_twist = false;
+  Fidelity twist;
+  size_t affected_points = 0, affected_elements = 0;
+};
+
+}  // namespace
+
+void add_bench_command(CLI::App& app, int& exit_code) {
+  struct Args {
+    std::string mesh, cage, posed, twist, variant_list = "basic";
+    uint32_t subdivide = 0, changes = 20;
+    bool json = false;
+    BindOptions bind;
+  };
+  auto args = std::make_shared<Args>();
+  auto* cmd = app.add_subcommand("bench", "time bind and deform, measure memory and twist fidelity");
+  cmd->add_option("--mesh", args->mesh, "skin mesh at rest")->required();
+  cmd->add_option("--cage", args->cage, "cage at rest")->required();
+  cmd->add_option("--posed-cage", args->posed, "the same cage, moved")->required();
+  cmd->add_option("--subdivide", args->subdivide, "cut every skin edge n times first ((n+1)^2 triangles each)");
+  cmd->add_option("--changes", args->changes, "cage changes to time (>= 20)")->capture_default_str();
+  cmd->add_option("--twist", args->twist, "inputs.json with the analytic twist: report fidelity to it");
+  cmd->add_flag("--json", args->json, "print one JSON object instead of a table");
+  add_bind_options(*cmd, args->bind);
+  cmd->remove_option(cmd->get_option("--variant"));
+  cmd->add_option("--variant", args->variant_list, "basic | clamped | extended | all")->capture_default_str();
+  cmd->callback([args, &exit_code] {
+    exit_code = 1;
+    if (args->changes < 20) {
+      std::fprintf(stderr, "error: --changes must be at least 20\n");
+      return;
+    }
+    std::vector<std::string> variants;
+    if (args->variant_list == "all") variants = {"basic", "clamped", "extended"};
+    else variants = {args->variant_list};
+    auto mesh = load_mesh_or_report(args->mesh);
+    if (!mesh) return;
+    auto cage = load_cage_or_report(args->cage);
+    if (!cage) return;
+    auto posed = load_mesh_or_report(args->posed);
+    if (!posed) return;
+    if (posed->num_vertices() != cage->num_vertices()) {
+      std::fprintf(stderr, "error: %s has %zu vertices but %s has %zu\n", args->posed.c_str(), posed->num_vertices(),
+                   args->cage.c_str(), cage->num_vertices());
+      return;
+    }
+    std::optional<Twist> twist;
+    if (!args->twist.empty()) {
+      auto t = load_twist(args->twist);
+      if (!t) {
+        report_error(t.error());
+        return;
+      }
+      twist = *t;
+    }
+    if (args->subdivide > 0) *mesh = subdivide_edges_uniform(*mesh, args->subdivide);
+    const auto& skin = mesh->positions;
+    const double diag = bounding_box(skin).diagonal();
+    std::vector<glm::vec3> reference;
+    if (twist) {
+      reference.resize(skin.size());
+      for (size_t i = 0; i < skin.size(); ++i) reference[i] = glm::vec3(twist->apply(glm::dvec3(skin[i])));
+    }
+    // N distinct cage states between rest and posed; the last is the posed cage itself
+    std::vector<std::vector<glm::vec3>> states(args->changes, cage->polygons.positions);
+    for (uint32_t k = 0; k < args->changes; ++k) {
+      double t = double(k + 1) / args->changes;
+      for (size_t v = 0; v < states[k].size(); ++v)
+        states[k][v] = glm::vec3(glm::mix(glm::dvec3(cage->polygons.positions[v]), glm::dvec3(posed->positions[v]), t));
+    }
+    std::vector<BenchResult> results;
+    for (const auto& vname : variants) {
+      BindOptions opts = args->bind;
+      opts.variant = vname;
+      if (!finish_bind_options(opts)) return;
+      BenchResult r;
+      r.variant = vname;
+      auto b = bind_skin(skin, *cage, cage->polygons.positions, opts.params);
+      if (!b) {
+        report_error(b.error());
+        return;
+      }
+      r.bind_s = b->seconds;
+      r.binding_bytes_per_vertex = double(b->bytes()) / skin.size();
+      r.mean_set = double(b->total_set_size) / skin.size();
+      r.quality = b->quality();
+      r.affected_points = b->rigid_points.size();
+      r.affected_elements = b->invalid_elements.size();
+      auto d = Deformer::create(*b, skin);
+      if (!d) {
+        report_error(d.error());
+        return;
+      }
+      std::vector<glm::vec3> out(skin.size());
+      (void)d->deform(states[0], out);  // warm-up: first touch of the output pages
+      std::vector<double> ms;
+      for (const auto& state : states) {
+        auto t0 = std::chrono::steady_clock::now();
+        auto s = d->deform(state, out);
+        auto t1 = std::chrono::steady_clock::now();
+        if (!s) {
+          report_error(s.error());
+          return;
+        }
+        ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
+      }
+      std::sort(ms.begin(), ms.end());
+      r.deform_median_ms = ms[ms.size() / 2];
+      r.deform_min_ms = ms.front();
+      r.bytes_read = d->bytes_read_per_call();
+      r.bytes_written = d->bytes_written_per_call();
+      r.gbps = double(r.bytes_read + r.bytes_written) / (r.deform_median_ms * 1e-3) / 1e9;
+      if (twist) {  // `out` holds the last state: the posed cage
+        r.has_twist = true;
+        r.twist = relative_distance(out, reference, diag);
+      }
+      results.push_back(r);
+    }
+    if (args->json) {
+      nlohmann::json j;
+      j["points"] = skin.size();
+      j["elements"] = cage->num_elements();
+      j["peak_rss_mb"] = peak_rss_mb();
+      for (const auto& r : results) {
+        nlohmann::json v{{"variant", r.variant},
+                         {"bind_s", r.bind_s},
+                         {"deform_median_ms", r.deform_median_ms},
+                         {"deform_min_ms", r.deform_min_ms},
+                         {"binding_bytes_per_vertex", r.binding_bytes_per_vertex},
+                         {"mean_set_size", r.mean_set},
+                         {"bytes_read_per_change", r.bytes_read},
+                         {"bytes_written_per_change", r.bytes_written},
+                         {"effective_gbps", r.gbps},
+                         {"cage_quality", r.quality},
+                         {"affected_points", r.affected_points},
+                         {"affected_elements", r.affected_elements}};
+        if (r.has_twist) v["twist"] = {{"rms", r.twist.rms}, {"max", r.twist.max}};
+        j["variants"].push_back(v);
+      }
+      std::printf("%s\n", j.dump(1).c_str());
+    } else {
+      std::printf("skin %zu points, cage %zu elements, %u cage changes timed\n", skin.size(), cage->num_elements(),
+                  args->changes);
+      std::printf("%-9s %8s %10s %9s %9s %7s %11s %11s %7s %8s %10s %10s\n", "variant", "bind s", "deform ms",
+                  "min ms", "B/vertex", "set", "MB read", "MB written", "GB/s", "quality", "twist rms", "twist max");
+      for (const auto& r : results) {
+        std::printf("%-9s %8.3f %10.2f %9.2f %9.1f %7.2f %11.1f %11.1f %7.1f %7.2f%%", r.variant.c_str(), r.bind_s,
+                    r.deform_median_ms, r.deform_min_ms, r.binding_bytes_per_vertex, r.mean_set, r.bytes_read / 1e6,
+                    r.bytes_written / 1e6, r.gbps, 100 * r.quality);
+        if (r.has_twist) std::printf(" %10.2e %10.2e", r.twist.rms, r.twist.max);
+        std::printf("\n");
+      }
+      std::printf("peak memory %.0f MB\n", peak_rss_mb());
+    }
+    exit_code = 0;
+  });
+}
+
+}  // namespace cagewrap::app

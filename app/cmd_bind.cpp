@@ -1,0 +1,43 @@
+// cagewrap bind --mesh M --cage C [params] --out B
+#include <cstdio>
+
+#include "app/cli_common.h"
+#include "app/commands.h"
+#include "core/binding_io.h"
+
+namespace cagewrap::app {
+
+void add_bind_command(CLI::App& app, int& exit_code) {
+  struct Args {
+    std::string mesh, cage, out;
+    BindOptions bind;
+  };
+  auto args = std::make_shared<Args>();
+  auto* cmd = app.add_subcommand("bind", "register a skin to a cage and write the binding table");
+  cmd->add_option("--mesh", args->mesh, "skin mesh (.obj .ply .off .stl)")->required();
+  cmd->add_option("--cage", args->cage, "cage at rest (.obj .ply .off .stl)")->required();
+  cmd->add_option("--out", args->out, "binding file to write (.cwb)")->required();
+  add_bind_options(*cmd, args->bind);
+  cmd->callback([args, &exit_code] {
+    exit_code = 1;
+    if (!finish_bind_options(args->bind)) return;
+    auto mesh = load_mesh_or_report(args->mesh);
+    if (!mesh) return;
+    auto cage = load_cage_or_report(args->cage);
+    if (!cage) return;
+    auto b = bind_skin(mesh->positions, *cage, cage->polygons.positions, args->bind.params, {}, terminal_progress("bind"));
+    if (!b) {
+      report_error({b.error().code, args->cage + ": " + b.error().message});
+      return;
+    }
+    if (auto s = save_binding(args->out, *b); !s) {
+      report_error(s.error());
+      return;
+    }
+    print_bind_summary(*b, args->cage);
+    std::printf("wrote             %s\n", args->out.c_str());
+    exit_code = 0;
+  });
+}
+
+}  // namespace cagewrap::app

@@ -1,0 +1,14 @@
+// Headless subcommands of the one `cagewrap` binary. Each lives in its own cmd_*.cpp and registers
+// itself on the CLI11 app; main() dispatches.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+namespace cagewrap::app {
+
+// Each returns nothing; the subcommand's callback sets `exit_code`.
+void add_bind_command(CLI::App& app, int& exit_code);
+void add_deform_command(CLI::App& app, int& exit_code);
+void add_bench_command(CLI::App& app, int& exit_code);
+
+}  // namespace cagewrap::app

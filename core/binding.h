@@ -1,0 +1,88 @@
+// The registration result of the surface-oriented deformer, as a flat stencil table.
+//
+// This work is based on:
+//   K. Singh and E. Kokkevis, "Skinning Characters using Surface-Oriented Free-Form Deformations",
+//   Graphics Interface 2000 (see ../shared/docs/algorithm.md for every formula and decision).
+//
+// Storage. Eq. 2 gives each element k an affine frame Q_k = [e1 e2 e3] with origin A_k, and a point's
+// local coordinates l = Q_k^-1 (P - A_k). Deforming with the driver frame (eq. 3 per element) gives
+// P_def_k = A'_k + Q'_k Q_k^-1 (P - A_k), an affine map T_k(P) that depends on the cage alone. The
+// table therefore stores, per point, the element ids and normalized weights u_k; the local
+// coordinates are folded into T_k, which the deformer rebuilds once per cage change (a few thousand
+// maps) and applies to the rest position P. This is algebraically eq. 3, and it is 8 bytes per
+// contributing element instead of 20. The clamped variant also stores the barycentric coordinates
+// of the closest point (its anchor); the extended variant collapses to a per-point list of cage
+// vertices with weights W_j = sum_k u_k b_kj (its frames are per vertex).
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "core/cage.h"
+
+namespace cagewrap {
+
+enum class Variant : uint8_t { kBasic = 0, kClamped = 1, kExtended = 2 };
+const char* variant_name(Variant v);
+bool parse_variant(const std::string& s, Variant& out);
+
+struct BindParams {
+  double local = 4.0;           // falloff exponent of f(d) = 1 / (1 + d^local)
+  double epsilon = 0.1;         // relative weight threshold: keep w_k >= epsilon * max w
+  uint32_t max_elements = 8;    // K: at most this many strongest elements per point
+  double scale = 0.0;           // h: distances are measured in units of h; 0 = mean cage edge length
+  double max_distance = 0.0;    // world units; elements farther than this never drive a point; 0 = none
+  double close_distance = 1.0;  // in units of h: "close" for the cage-quality figure (algorithm.md section 4)
+  Variant variant = Variant::kBasic;
+};
+
+// Checks ranges; names the offending parameter.
+Status validate(const BindParams& params);
+
+// User edits of contributing sets, an input of registration (so editing is a parameter, not a patch).
+// Exclusions act before the threshold (an excluded element does not exist for that point), inclusions
+// after it (an included element joins the set whatever its weight, beyond K).
+struct SetEdit {
+  uint32_t point;
+  std::vector<uint32_t> exclude;  // element ids
+  std::vector<uint32_t> include;  // element ids
+};
+
+struct Binding {
+  BindParams params;
+  double h = 1.0;                // the distance scale actually used
+  glm::dvec3 origin{0.0};        // all maps are expressed relative to this point (float precision)
+  uint32_t num_points = 0;
+  uint32_t num_cage_vertices = 0;
+  std::vector<glm::vec3> rest_cage;  // #Vc x 3 reference cage R
+  std::vector<Tri> elements;         // #E control elements of R
+  std::vector<ElementStatus> element_status;  // #E
+
+  // Main stencil. basic/clamped: ids are elements; extended: ids are cage vertices.
+  std::vector<uint32_t> offsets;  // #P+1
+  std::vector<uint32_t> ids;      // #entries
+  std::vector<float> weights;     // #entries, sum to 1 per point
+  std::vector<float> bary;        // clamped only: #entries x 2, (b1, b2) of the anchor; b0 = 1 - b1 - b2
+
+  // Points whose contributing set came out empty follow their nearest valid element rigidly.
+  std::vector<uint32_t> rigid_points;   // point indices
+  std::vector<uint32_t> rigid_element;  // element each follows
+  std::vector<float> rigid_bary;        // x 2, anchor on that element
+
+  // Report
+  std::vector<uint32_t> invalid_elements;  // ids of elements with status != kValid
+  uint32_t quality_inside = 0;             // points close to and projecting inside some set element
+  uint32_t max_set_size = 0;
+  uint64_t total_set_size = 0;             // sum of |C_P| (elements, before the extended collapse)
+  double seconds = 0.0;
+
+  size_t num_entries() const { return ids.size(); }
+  double quality() const { return num_points ? double(quality_inside) / num_points : 0.0; }
+  size_t bytes() const;
+};
+
+}  // namespace cagewrap

@@ -1,0 +1,148 @@
+#include "core/binding_io.h"
+
+#include <cstring>
+#include <fstream>
+#include <iterator>
+
+namespace cagewrap {
+
+namespace {
+
+constexpr char kMagic[8] = {'C', 'W', 'B', 'I', 'N', 'D', '0', '1'};
+constexpr uint32_t kVersion = 1;
+
+class Writer {
+ public:
+  template <class T>
+  void pod(const T& v) {
+    const char* p = reinterpret_cast<const char*>(&v);
+    buf_.insert(buf_.end(), p, p + sizeof(T));
+  }
+  template <class T>
+  void array(const std::vector<T>& v) {
+    pod<uint64_t>(v.size());
+    const char* p = reinterpret_cast<const char*>(v.data());
+    buf_.insert(buf_.end(), p, p + v.size() * sizeof(T));
+  }
+  const std::vector<char>& data() const { return buf_; }
+
+ private:
+  std::vector<char> buf_;
+};
+
+class Reader {
+ public:
+  explicit Reader(std::vector<char> data) : buf_(std::move(data)) {}
+  template <class T>
+  bool pod(T& v) {
+    if (buf_.size() - pos_ < sizeof(T)) return false;
+    std::memcpy(&v, buf_.data() + pos_, sizeof(T));
+    pos_ += sizeof(T);
+    return true;
+  }
+  template <class T>
+  bool array(std::vector<T>& v) {
+    uint64_t n;
+    if (!pod(n)) return false;
+    if (n > (buf_.size() - pos_) / sizeof(T)) return false;  // count larger than what the file holds
+    v.resize(n);
+    std::memcpy(v.data(), buf_.data() + pos_, n * sizeof(T));
+    pos_ += n * sizeof(T);
+    return true;
+  }
+  bool at_end() const { return pos_ == buf_.size(); }
+
+ private:
+  std::vector<char> buf_;
+  size_t pos_ = 0;
+};
+
+}  // namespace
+
+Status save_binding(const std::string& path, const Binding& b) {
+  Writer w;
+  for (char c : kMagic) w.pod(c);
+  w.pod(kVersion);
+  w.pod(b.params.local);
+  w.pod(b.params.epsilon);
+  w.pod(b.params.max_elements);
+  w.pod(b.params.scale);
+  w.pod(b.params.max_distance);
+  w.pod(b.params.close_distance);
+  w.pod(static_cast<uint8_t>(b.params.variant));
+  w.pod(b.h);
+  w.pod(b.origin.x);
+  w.pod(b.origin.y);
+  w.pod(b.origin.z);
+  w.pod(b.num_points);
+  w.pod(b.num_cage_vertices);
+  w.array(b.rest_cage);
+  w.array(b.elements);
+  w.array(b.element_status);
+  w.array(b.offsets);
+  w.array(b.ids);
+  w.array(b.weights);
+  w.array(b.bary);
+  w.array(b.rigid_points);
+  w.array(b.rigid_element);
+  w.array(b.rigid_bary);
+  w.pod(b.quality_inside);
+  w.pod(b.max_set_size);
+  w.pod(b.total_set_size);
+  // write beside, then rename: a failed write never leaves half a file under the real name
+  std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) return make_error(ErrorCode::kWrite, path + ": cannot be opened for writing");
+    out.write(w.data().data(), static_cast<std::streamsize>(w.data().size()));
+    out.flush();
+    if (!out) return make_error(ErrorCode::kWrite, path + ": write failed (disk full?)");
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0)
+    return make_error(ErrorCode::kWrite, path + ": could not replace the file");
+  return Ok{};
+}
+
+Result<Binding> load_binding(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return make_error(ErrorCode::kFileNotFound, path + ": cannot be opened");
+  std::vector<char> data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (data.empty()) return make_error(ErrorCode::kEmpty, path + ": file is empty");
+  Reader r(std::move(data));
+  char magic[8];
+  for (char& c : magic)
+    if (!r.pod(c)) return make_error(ErrorCode::kParse, path + ": not a cagewrap binding (too short)");
+  if (std::memcmp(magic, kMagic, 8) != 0) return make_error(ErrorCode::kParse, path + ": not a cagewrap binding (wrong magic)");
+  uint32_t version;
+  if (!r.pod(version)) return make_error(ErrorCode::kParse, path + ": truncated header");
+  if (version != kVersion)
+    return make_error(ErrorCode::kVersion, path + ": binding format version " + std::to_string(version) +
+                                               " is not supported (this build reads version " +
+                                               std::to_string(kVersion) + "); bind again");
+  Binding b;
+  uint8_t variant = 0;
+  bool ok = r.pod(b.params.local) && r.pod(b.params.epsilon) && r.pod(b.params.max_elements) &&
+            r.pod(b.params.scale) && r.pod(b.params.max_distance) && r.pod(b.params.close_distance) &&
+            r.pod(variant) && r.pod(b.h) && r.pod(b.origin.x) && r.pod(b.origin.y) && r.pod(b.origin.z) &&
+            r.pod(b.num_points) && r.pod(b.num_cage_vertices) && r.array(b.rest_cage) && r.array(b.elements) &&
+            r.array(b.element_status) && r.array(b.offsets) && r.array(b.ids) && r.array(b.weights) &&
+            r.array(b.bary) && r.array(b.rigid_points) && r.array(b.rigid_element) && r.array(b.rigid_bary) &&
+            r.pod(b.quality_inside) && r.pod(b.max_set_size) && r.pod(b.total_set_size);
+  if (!ok) return make_error(ErrorCode::kParse, path + ": file is cut short or a table is larger than the file");
+  if (!r.at_end()) return make_error(ErrorCode::kParse, path + ": unexpected data after the last table");
+  if (variant > 2) return make_error(ErrorCode::kParse, path + ": unknown variant " + std::to_string(variant));
+  b.params.variant = static_cast<Variant>(variant);
+  for (auto s : b.element_status)
+    if (static_cast<uint8_t>(s) > 3) return make_error(ErrorCode::kParse, path + ": unknown element status");
+  if (auto v = validate(b.params); !v) return make_error(ErrorCode::kParse, path + ": " + v.error().message);
+  // offsets must be monotone and end at the entry count (the deformer checks the rest)
+  if (b.offsets.size() != size_t(b.num_points) + 1 || b.offsets.front() != 0)
+    return make_error(ErrorCode::kParse, path + ": offset table does not match the point count");
+  for (size_t i = 1; i < b.offsets.size(); ++i)
+    if (b.offsets[i] < b.offsets[i - 1]) return make_error(ErrorCode::kParse, path + ": offset table is not monotone");
+  for (size_t e = 0; e < b.element_status.size(); ++e)
+    if (b.element_status[e] != ElementStatus::kValid) b.invalid_elements.push_back(static_cast<uint32_t>(e));
+  return b;
+}
+
+}  // namespace cagewrap

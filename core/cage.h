@@ -1,0 +1,37 @@
+// The cage (deformer object O of the paper): a polygon mesh the artist sees, triangulated internally
+// into control elements (section 5: the user keeps seeing polygons).
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "core/mesh.h"
+#include "core/result.h"
+
+namespace cagewrap {
+
+enum class ElementStatus : uint8_t { kValid, kDegenerate, kNonFinite, kDuplicate };
+const char* element_status_name(ElementStatus s);
+
+struct Cage {
+  PolyMesh polygons;                   // what the user sees and edits
+  std::vector<Tri> elements;           // #E control elements (triangles), fixed vertex order
+  std::vector<uint32_t> element_face;  // #E polygon each element came from
+
+  size_t num_vertices() const { return polygons.num_vertices(); }
+  size_t num_elements() const { return elements.size(); }
+};
+
+// Triangulates; fails only when a corner index is out of range or there are no faces.
+Result<Cage> make_cage(PolyMesh polygons, const std::string& what);
+
+// Zero-area (relative to the element's longest edge), non-finite, and duplicate elements (same three
+// vertices, or the same three positions, as an earlier element). #E statuses.
+std::vector<ElementStatus> classify_elements(const Cage& cage, std::span<const glm::vec3> positions);
+
+// Relative area below which an element is degenerate: |e1 x e2| <= kDegenerateRatio * longest_edge^2.
+inline constexpr double kDegenerateRatio = 1e-7;
+
+}  // namespace cagewrap

@@ -1,0 +1,281 @@
+#include "core/deformer.h"
+
+#include <cmath>
+
+#include <glm/geometric.hpp>
+#include <glm/matrix.hpp>
+#include <tbb/parallel_for.h>
+
+namespace cagewrap {
+
+Deformer::Deformer(Deformer&&) noexcept = default;
+Deformer& Deformer::operator=(Deformer&&) noexcept = default;
+Deformer::~Deformer() = default;
+
+namespace {
+
+glm::dmat3 eq2_frame(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, const glm::dvec3& n) {
+  return glm::dmat3(b - a, c - a, n);  // columns e1, e2, e3
+}
+
+// Orthonormal frame from e1 and e3 (the clamped variant's rigid carrier).
+glm::dmat3 rigid_frame(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& n) {
+  glm::dvec3 x = b - a;
+  double len = glm::length(x);
+  x = len > 0 ? x / len : glm::dvec3(1, 0, 0);
+  glm::dvec3 y = glm::cross(n, x);
+  return glm::dmat3(x, y, n);
+}
+
+glm::dvec3 unit_normal(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, const glm::dvec3& fallback) {
+  glm::dvec3 n = glm::cross(b - a, c - a);
+  double len = glm::length(n);
+  return len > 0 && std::isfinite(len) ? n / len : fallback;
+}
+
+void store(Affine& out, const glm::dmat3& m, const glm::dvec3& t) {
+  for (int r = 0; r < 3; ++r) {
+    out.m[4 * r + 0] = static_cast<float>(m[0][r]);
+    out.m[4 * r + 1] = static_cast<float>(m[1][r]);
+    out.m[4 * r + 2] = static_cast<float>(m[2][r]);
+    out.m[4 * r + 3] = static_cast<float>(t[r]);
+  }
+  out.m[12] = out.m[13] = out.m[14] = out.m[15] = 0.f;
+}
+
+}  // namespace
+
+Result<Deformer> Deformer::create(const Binding& b, std::span<const glm::vec3> skin_rest) {
+  if (skin_rest.size() != b.num_points)
+    return make_error(ErrorCode::kTopologyMismatch, "the binding was made for " + std::to_string(b.num_points) +
+                                                        " skin points but the skin has " +
+                                                        std::to_string(skin_rest.size()));
+  if (b.offsets.size() != size_t(b.num_points) + 1 || b.offsets.back() != b.ids.size() ||
+      b.weights.size() != b.ids.size() || b.rest_cage.size() != b.num_cage_vertices ||
+      b.element_status.size() != b.elements.size() ||
+      (b.params.variant == Variant::kClamped && b.bary.size() != 2 * b.ids.size()) ||
+      b.rigid_element.size() != b.rigid_points.size() || b.rigid_bary.size() != 2 * b.rigid_points.size())
+    return make_error(ErrorCode::kParse, "the binding's tables are inconsistent");
+  const uint32_t id_limit = b.params.variant == Variant::kExtended ? b.num_cage_vertices
+                                                                   : static_cast<uint32_t>(b.elements.size());
+  for (uint32_t id : b.ids)
+    if (id >= id_limit) return make_error(ErrorCode::kIndexOutOfRange, "the binding names a cage element that does not exist");
+  for (size_t i = 0; i < b.rigid_points.size(); ++i)
+    if (b.rigid_points[i] >= b.num_points || b.rigid_element[i] >= b.elements.size())
+      return make_error(ErrorCode::kIndexOutOfRange, "the binding's fallback list names a point or element that does not exist");
+  for (const Tri& t : b.elements)
+    for (uint32_t v : t)
+      if (v >= b.num_cage_vertices) return make_error(ErrorCode::kIndexOutOfRange, "the binding's cage uses a vertex that does not exist");
+
+  Deformer d;
+  d.binding_ = &b;
+  d.skin_ = skin_rest;
+  const size_t ne = b.elements.size();
+  d.rest_frame_inv_.assign(ne, glm::dmat3(1.0));
+  d.rest_rigid_.assign(ne, glm::dmat3(1.0));
+  d.rest_normal_.assign(ne, glm::dvec3(0, 0, 1));
+  for (size_t e = 0; e < ne; ++e) {
+    if (b.element_status[e] != ElementStatus::kValid) continue;
+    const Tri& t = b.elements[e];
+    glm::dvec3 p0 = glm::dvec3(b.rest_cage[t[0]]) - b.origin, p1 = glm::dvec3(b.rest_cage[t[1]]) - b.origin,
+               p2 = glm::dvec3(b.rest_cage[t[2]]) - b.origin;
+    glm::dvec3 n = unit_normal(p0, p1, p2, glm::dvec3(0, 0, 1));
+    d.rest_normal_[e] = n;
+    d.rest_frame_inv_[e] = glm::inverse(eq2_frame(p0, p1, p2, n));
+    d.rest_rigid_[e] = rigid_frame(p0, p1, n);
+  }
+  d.need_rigid_ = b.params.variant == Variant::kClamped || !b.rigid_points.empty();
+  if (b.params.variant == Variant::kExtended) {
+    d.maps_.resize(b.num_cage_vertices);
+    d.vertex_linear_.resize(b.num_cage_vertices);
+    std::vector<Tri> valid;
+    for (size_t e = 0; e < ne; ++e)
+      if (b.element_status[e] == ElementStatus::kValid) valid.push_back(b.elements[e]);
+    d.fit_ = std::make_unique<OneRingFit>(b.rest_cage, valid);
+  } else {
+    d.maps_.resize(ne);
+  }
+  if (d.need_rigid_) d.rigid_maps_.resize(ne);
+  return d;
+}
+
+Status Deformer::check_cage(std::span<const glm::vec3> posed) const {
+  if (posed.size() != binding_->num_cage_vertices)
+    return make_error(ErrorCode::kTopologyMismatch,
+                      "the posed cage has " + std::to_string(posed.size()) + " vertices but the bound cage has " +
+                          std::to_string(binding_->num_cage_vertices));
+  for (size_t i = 0; i < posed.size(); ++i)
+    if (!std::isfinite(posed[i].x) || !std::isfinite(posed[i].y) || !std::isfinite(posed[i].z))
+      return make_error(ErrorCode::kNonFinite, "posed cage vertex " + std::to_string(i) + " has a non-finite coordinate");
+  return Ok{};
+}
+
+void Deformer::build_element_maps(std::span<const glm::vec3> posed) {
+  const Binding& b = *binding_;
+  for (size_t e = 0; e < b.elements.size(); ++e) {
+    if (b.element_status[e] != ElementStatus::kValid) {
+      store(maps_[e], glm::dmat3(1.0), glm::dvec3(0.0));
+      continue;
+    }
+    const Tri& t = b.elements[e];
+    glm::dvec3 q0 = glm::dvec3(posed[t[0]]) - b.origin, q1 = glm::dvec3(posed[t[1]]) - b.origin,
+               q2 = glm::dvec3(posed[t[2]]) - b.origin;
+    glm::dvec3 n = unit_normal(q0, q1, q2, rest_normal_[e]);
+    glm::dmat3 m = eq2_frame(q0, q1, q2, n) * rest_frame_inv_[e];
+    glm::dvec3 p0 = glm::dvec3(b.rest_cage[t[0]]) - b.origin;
+    store(maps_[e], m, q0 - m * p0);
+  }
+}
+
+void Deformer::build_rigid_maps(std::span<const glm::vec3> posed) {
+  const Binding& b = *binding_;
+  for (size_t e = 0; e < b.elements.size(); ++e) {
+    RigidMap& a = rigid_maps_[e];
+    glm::dmat3 g(1.0);
+    glm::dvec3 q[3]{glm::dvec3(0.0), glm::dvec3(0.0), glm::dvec3(0.0)};
+    if (b.element_status[e] == ElementStatus::kValid) {
+      const Tri& t = b.elements[e];
+      glm::dvec3 v[3], p[3];
+      for (size_t i = 0; i < 3; ++i) {
+        v[i] = glm::dvec3(posed[t[i]]) - b.origin;
+        p[i] = glm::dvec3(b.rest_cage[t[i]]) - b.origin;
+      }
+      glm::dvec3 n = unit_normal(v[0], v[1], v[2], rest_normal_[e]);
+      g = rigid_frame(v[0], v[1], n) * glm::transpose(rest_rigid_[e]);
+      for (size_t i = 0; i < 3; ++i) q[i] = v[i] - g * p[i];
+    }
+    for (int r = 0; r < 3; ++r)
+      for (int col = 0; col < 3; ++col) a.g[3 * r + col] = static_cast<float>(g[col][r]);
+    for (int k = 0; k < 3; ++k) {
+      a.q0[k] = static_cast<float>(q[0][k]);
+      a.d1[k] = static_cast<float>(q[1][k] - q[0][k]);
+      a.d2[k] = static_cast<float>(q[2][k] - q[0][k]);
+    }
+    a.pad[0] = a.pad[1] = 0.f;
+  }
+}
+
+void Deformer::build_vertex_maps(std::span<const glm::vec3> posed, std::span<const glm::dmat3> vertex_linear) {
+  const Binding& b = *binding_;
+  std::span<const glm::dmat3> lin = vertex_linear;
+  if (lin.empty()) {
+    fit_->fit(posed, vertex_linear_);
+    lin = vertex_linear_;
+  }
+  for (size_t v = 0; v < b.num_cage_vertices; ++v) {
+    glm::dvec3 q = glm::dvec3(posed[v]) - b.origin, p = glm::dvec3(b.rest_cage[v]) - b.origin;
+    store(maps_[v], lin[v], q - lin[v] * p);
+  }
+}
+
+namespace {
+
+inline void apply_rigid(const RigidMap& r, float b1, float b2, const float p[3], float out[3]) {
+  for (int k = 0; k < 3; ++k)
+    out[k] = r.g[3 * k] * p[0] + r.g[3 * k + 1] * p[1] + r.g[3 * k + 2] * p[2] + r.q0[k] + b1 * r.d1[k] + b2 * r.d2[k];
+}
+
+}  // namespace
+
+Status Deformer::deform(std::span<const glm::vec3> posed, std::span<glm::vec3> out,
+                        std::span<const glm::dmat3> vertex_linear) {
+  const Binding& b = *binding_;
+  if (out.size() != b.num_points)
+    return make_error(ErrorCode::kInvalidArgument, "output holds " + std::to_string(out.size()) +
+                                                       " points but the skin has " + std::to_string(b.num_points));
+  if (auto s = check_cage(posed); !s) return s;
+  const Variant variant = b.params.variant;
+  if (!vertex_linear.empty() && (variant != Variant::kExtended || vertex_linear.size() != b.num_cage_vertices))
+    return make_error(ErrorCode::kInvalidArgument,
+                      "vertex frames are for the extended variant and need one per cage vertex (" +
+                          std::to_string(b.num_cage_vertices) + ")");
+
+  if (variant == Variant::kBasic) build_element_maps(posed);
+  if (variant == Variant::kExtended) build_vertex_maps(posed, vertex_linear);
+  if (need_rigid_) build_rigid_maps(posed);
+
+  const glm::vec3 origin(b.origin);
+  const uint32_t* offsets = b.offsets.data();
+  const uint32_t* ids = b.ids.data();
+  const float* weights = b.weights.data();
+  const float* bary = b.bary.data();
+  const glm::vec3* skin = skin_.data();
+  glm::vec3* dst = out.data();
+
+  if (variant == Variant::kClamped) {
+    const RigidMap* maps = rigid_maps_.data();
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, b.num_points, 4096), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t i = r.begin(); i != r.end(); ++i) {
+        const float p[3] = {skin[i].x - origin.x, skin[i].y - origin.y, skin[i].z - origin.z};
+        float acc[3] = {0, 0, 0};
+        for (uint32_t e = offsets[i]; e < offsets[i + 1]; ++e) {
+          float y[3];
+          apply_rigid(maps[ids[e]], bary[2 * e], bary[2 * e + 1], p, y);
+          const float w = weights[e];
+          acc[0] += w * y[0];
+          acc[1] += w * y[1];
+          acc[2] += w * y[2];
+        }
+        dst[i] = glm::vec3(acc[0], acc[1], acc[2]) + origin;
+      }
+    });
+  } else {
+    const Affine* maps = maps_.data();
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, b.num_points, 4096), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t i = r.begin(); i != r.end(); ++i) {
+        // blend the affine maps first (12 multiply-adds per entry, vectorizable), then apply once
+        float m[12] = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
+        for (uint32_t e = offsets[i]; e < offsets[i + 1]; ++e) {
+          const float w = weights[e];
+          const float* a = maps[ids[e]].m;
+          for (int k = 0; k < 12; ++k) m[k] += w * a[k];
+        }
+        const float x = skin[i].x - origin.x, y = skin[i].y - origin.y, z = skin[i].z - origin.z;
+        dst[i] = glm::vec3(m[0] * x + m[1] * y + m[2] * z + m[3], m[4] * x + m[5] * y + m[6] * z + m[7],
+                           m[8] * x + m[9] * y + m[10] * z + m[11]) +
+                 origin;
+      }
+    });
+  }
+  // points with an empty contributing set follow their nearest valid element rigidly
+  for (size_t k = 0; k < b.rigid_points.size(); ++k) {
+    const uint32_t i = b.rigid_points[k];
+    const float p[3] = {skin[i].x - origin.x, skin[i].y - origin.y, skin[i].z - origin.z};
+    float y[3];
+    apply_rigid(rigid_maps_[b.rigid_element[k]], b.rigid_bary[2 * k], b.rigid_bary[2 * k + 1], p, y);
+    dst[i] = glm::vec3(y[0], y[1], y[2]) + origin;
+  }
+  return Ok{};
+}
+
+size_t Deformer::bytes_read_per_call() const {
+  const Binding& b = *binding_;
+  return b.offsets.size() * 4 + b.ids.size() * 4 + b.weights.size() * 4 + b.bary.size() * 4 +
+         size_t(b.num_points) * sizeof(glm::vec3) + maps_.size() * sizeof(Affine) +
+         rigid_maps_.size() * sizeof(RigidMap) + b.rigid_points.size() * 16;
+}
+
+void combine_displacements(std::span<const glm::vec3> rest, std::span<const std::span<const glm::vec3>> deformed,
+                           CombineMode mode, double m, std::span<glm::vec3> out) {
+  const float mf = static_cast<float>(m);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, rest.size(), 8192), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) {
+      glm::vec3 sum(0.f);
+      if (mode == CombineMode::kSum) {
+        for (const auto& d : deformed) sum += d[i] - rest[i];
+      } else {
+        float wsum = 0.f;
+        for (const auto& d : deformed) {
+          glm::vec3 dp = d[i] - rest[i];
+          float w = std::pow(glm::length(dp), mf);
+          sum += w * dp;
+          wsum += w;
+        }
+        sum = wsum > 0.f ? sum / wsum : glm::vec3(0.f);
+      }
+      out[i] = rest[i] + sum;
+    }
+  });
+}
+
+}  // namespace cagewrap

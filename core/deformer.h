@@ -1,0 +1,80 @@
+// Deformation phase (section 3.3, eq. 3): applies a Binding to the driver cage D.
+// Validate once (create), then deform() per cage change: it checks only sizes, never allocates, and runs
+// on all cores.
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include <glm/mat3x3.hpp>
+#include <glm/vec3.hpp>
+
+#include "core/binding.h"
+#include "core/vertex_frames.h"
+
+namespace cagewrap {
+
+// A 3x4 affine map in float, row-major, padded to 16 floats: y = M x + t.
+struct alignas(64) Affine {
+  float m[16];
+};
+
+// The clamped variant's per-element map: rotation G (row-major) and the anchor terms
+// q_i = v'_i - G v_i, stored as q0, q1 - q0, q2 - q0 so that the anchor is q0 + b1 d1 + b2 d2.
+struct alignas(16) RigidMap {
+  float g[9];
+  float q0[3], d1[3], d2[3];
+  float pad[2];
+};
+
+class Deformer {
+ public:
+  // Keeps references to `binding` and `skin_rest` (#P x 3): both must outlive the deformer.
+  static Result<Deformer> create(const Binding& binding, std::span<const glm::vec3> skin_rest);
+
+  // Cheap check of a posed cage: same vertex count as the bound one, finite coordinates.
+  Status check_cage(std::span<const glm::vec3> posed) const;
+
+  // Deforms into `out` (#P x 3). `vertex_linear`, for the extended variant only: the linear part of
+  // the manipulation at each cage vertex (#Vc); absent, it is fitted from the one-rings.
+  Status deform(std::span<const glm::vec3> posed, std::span<glm::vec3> out,
+                std::span<const glm::dmat3> vertex_linear = {});
+
+  const Binding& binding() const { return *binding_; }
+
+  // Bytes the kernel reads and writes per call (table, rest skin, maps; output).
+  size_t bytes_read_per_call() const;
+  size_t bytes_written_per_call() const { return binding_->num_points * sizeof(glm::vec3); }
+
+  Deformer(Deformer&&) noexcept;
+  Deformer& operator=(Deformer&&) noexcept;
+  ~Deformer();
+
+ private:
+  Deformer() = default;
+  void build_element_maps(std::span<const glm::vec3> posed);
+  void build_rigid_maps(std::span<const glm::vec3> posed);
+  void build_vertex_maps(std::span<const glm::vec3> posed, std::span<const glm::dmat3> vertex_linear);
+
+  const Binding* binding_ = nullptr;
+  std::span<const glm::vec3> skin_;
+  // per element, rest: inverse of the eq. 2 frame [e1 e2 e3], and orthonormal rigid frame (clamped)
+  std::vector<glm::dmat3> rest_frame_inv_;
+  std::vector<glm::dmat3> rest_rigid_;
+  std::vector<glm::dvec3> rest_normal_;
+  std::vector<Affine> maps_;        // per element (basic) or per vertex (extended), per change
+  std::vector<RigidMap> rigid_maps_;  // per element (clamped variant and fallback points)
+  std::vector<glm::dmat3> vertex_linear_;  // scratch for the one-ring fit
+  std::unique_ptr<OneRingFit> fit_;
+  bool need_rigid_ = false;
+};
+
+// Several deformers on one skin (section 6): combine their displacements dP_i = P_i - P.
+enum class CombineMode { kSum, kWeighted };
+// kSum: P + sum dP_i. kWeighted (Singh & Fiume, Wires): P + sum dP_i |dP_i|^m / sum |dP_i|^m.
+void combine_displacements(std::span<const glm::vec3> rest, std::span<const std::span<const glm::vec3>> deformed,
+                           CombineMode mode, double m, std::span<glm::vec3> out);
+
+}  // namespace cagewrap

@@ -1,0 +1,208 @@
+#include "core/mesh_io.h"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <mutex>
+#include <iostream>
+#include <sstream>
+
+#include <OpenMesh/Core/IO/IOManager.hh>
+#include <OpenMesh/Core/IO/Options.hh>
+#include <OpenMesh/Core/IO/importer/BaseImporter.hh>
+#include <OpenMesh/Core/System/omstream.hh>
+
+namespace cagewrap {
+
+bool has_extension(const std::string& path, const char* ext) {
+  std::string e = std::filesystem::path(path).extension().string();
+  for (auto& ch : e) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  return e == ext;
+}
+
+namespace {
+
+using namespace OpenMesh;
+
+// Receives the raw vertex and face stream of OpenMesh's readers; keeps faces OpenMesh's own mesh
+// kernels would reject (non-manifold, duplicate), because the cage report must name them.
+class RawImporter final : public IO::BaseImporter {
+ public:
+  explicit RawImporter(PolyMesh& mesh) : mesh_(mesh) {}
+  VertexHandle add_vertex(const Vec3f& p) override {
+    mesh_.positions.emplace_back(p[0], p[1], p[2]);
+    return VertexHandle(static_cast<int>(mesh_.positions.size() - 1));
+  }
+  VertexHandle add_vertex(const Vec3d& p) override {
+    mesh_.positions.emplace_back(static_cast<float>(p[0]), static_cast<float>(p[1]), static_cast<float>(p[2]));
+    return VertexHandle(static_cast<int>(mesh_.positions.size() - 1));
+  }
+  VertexHandle add_vertex() override { return add_vertex(Vec3f(0, 0, 0)); }
+  HalfedgeHandle add_edge(VertexHandle, VertexHandle) override { return HalfedgeHandle(); }
+  FaceHandle add_face(const VHandles& corners) override {
+    std::vector<uint32_t> idx;
+    idx.reserve(corners.size());
+    for (auto vh : corners) {
+      // Negative or huge handles are recorded as out-of-range so validation names them.
+      idx.push_back(vh.idx() < 0 ? UINT32_MAX : static_cast<uint32_t>(vh.idx()));
+    }
+    mesh_.add_face(idx);
+    return FaceHandle(static_cast<int>(mesh_.num_faces() - 1));
+  }
+  FaceHandle add_face(HalfedgeHandle) override { return FaceHandle(); }
+  void add_face_texcoords(FaceHandle, VertexHandle, const std::vector<Vec2f>&) override {}
+  void add_face_texcoords(FaceHandle, VertexHandle, const std::vector<Vec3f>&) override {}
+  void set_face_texindex(FaceHandle, int) override {}
+  void set_point(VertexHandle vh, const Vec3f& p) override {
+    if (vh.idx() >= 0 && static_cast<size_t>(vh.idx()) < mesh_.positions.size())
+      mesh_.positions[static_cast<size_t>(vh.idx())] = {p[0], p[1], p[2]};
+  }
+  void set_halfedge(VertexHandle, HalfedgeHandle) override {}
+  void set_normal(VertexHandle, const Vec3f&) override {}
+  void set_normal(VertexHandle, const Vec3d&) override {}
+  void set_color(VertexHandle, const Vec3uc&) override {}
+  void set_color(VertexHandle, const Vec4uc&) override {}
+  void set_color(VertexHandle, const Vec3f&) override {}
+  void set_color(VertexHandle, const Vec4f&) override {}
+  void set_texcoord(VertexHandle, const Vec2f&) override {}
+  void set_status(VertexHandle, const OpenMesh::Attributes::StatusInfo&) override {}
+  void set_next(HalfedgeHandle, HalfedgeHandle) override {}
+  void set_face(HalfedgeHandle, FaceHandle) override {}
+  void request_face_texcoords2D() override {}
+  void set_texcoord(HalfedgeHandle, const Vec2f&) override {}
+  void set_texcoord(VertexHandle, const Vec3f&) override {}
+  void set_texcoord(HalfedgeHandle, const Vec3f&) override {}
+  void set_status(HalfedgeHandle, const OpenMesh::Attributes::StatusInfo&) override {}
+  void set_color(EdgeHandle, const Vec3uc&) override {}
+  void set_color(EdgeHandle, const Vec4uc&) override {}
+  void set_color(EdgeHandle, const Vec3f&) override {}
+  void set_color(EdgeHandle, const Vec4f&) override {}
+  void set_status(EdgeHandle, const OpenMesh::Attributes::StatusInfo&) override {}
+  void set_normal(FaceHandle, const Vec3f&) override {}
+  void set_normal(FaceHandle, const Vec3d&) override {}
+  void set_color(FaceHandle, const Vec3uc&) override {}
+  void set_color(FaceHandle, const Vec4uc&) override {}
+  void set_color(FaceHandle, const Vec3f&) override {}
+  void set_color(FaceHandle, const Vec4f&) override {}
+  void set_status(FaceHandle, const OpenMesh::Attributes::StatusInfo&) override {}
+  void add_texture_information(int, std::string) override {}
+  size_t n_vertices() const override { return mesh_.positions.size(); }
+  size_t n_faces() const override { return mesh_.num_faces(); }
+  size_t n_edges() const override { return 0; }
+
+ private:
+  PolyMesh& mesh_;
+};
+
+// OpenMesh reports problems on its own error stream; collect them for our message instead.
+class CaptureOpenMeshErrors {
+ public:
+  CaptureOpenMeshErrors() {
+    omerr().disconnect(std::cerr);
+    omerr().connect(buffer_);
+    omlog().disconnect(std::clog);
+  }
+  ~CaptureOpenMeshErrors() {
+    omerr().disconnect(buffer_);
+    omerr().connect(std::cerr);
+    omlog().connect(std::clog);
+  }
+  std::string text() const {
+    std::string s = buffer_.str();
+    while (!s.empty() && (s.back() == '\n' || s.back() == ' ')) s.pop_back();
+    for (auto& c : s)
+      if (c == '\n') c = ' ';
+    return s;
+  }
+
+ private:
+  std::ostringstream buffer_;
+};
+
+}  // namespace
+
+Result<PolyMesh> load_mesh(const std::string& path) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (!fs::exists(path, ec)) return make_error(ErrorCode::kFileNotFound, path + ": no such file");
+  if (fs::is_directory(path, ec)) return make_error(ErrorCode::kFileUnreadable, path + ": is a directory");
+  if (fs::file_size(path, ec) == 0) return make_error(ErrorCode::kEmpty, path + ": file is empty");
+  if (!(has_extension(path, ".obj") || has_extension(path, ".ply") || has_extension(path, ".off") ||
+        has_extension(path, ".stl")))
+    return make_error(ErrorCode::kUnsupportedFormat,
+                      path + ": unsupported mesh format (use .obj, .ply, .off or .stl)");
+  {
+    std::ifstream probe(path, std::ios::binary);
+    if (!probe) return make_error(ErrorCode::kFileUnreadable, path + ": cannot be opened for reading");
+  }
+  PolyMesh mesh;
+  RawImporter importer(mesh);
+  IO::Options options;
+  bool read_ok;
+  std::string om_errors;
+  {
+    static std::mutex om_mutex;  // OpenMesh's error streams are global
+    std::lock_guard lock(om_mutex);
+    CaptureOpenMeshErrors capture;
+    read_ok = IO::IOManager().read(path, importer, options);
+    om_errors = capture.text();
+  }
+  if (!read_ok)
+    return make_error(ErrorCode::kParse, path + ": could not be parsed" +
+                                             (om_errors.empty() ? std::string() : " (" + om_errors + ")"));
+  if (mesh.positions.empty()) return make_error(ErrorCode::kEmpty, path + ": has no vertices");
+  auto valid = validate_mesh(mesh, path);
+  if (!valid) return valid.error();
+  return mesh;
+}
+
+Status save_obj(const std::string& path, std::span<const glm::vec3> positions, const PolyMesh& topology) {
+  std::unique_ptr<FILE, int (*)(FILE*)> f(std::fopen(path.c_str(), "wb"), &std::fclose);
+  if (!f) return make_error(ErrorCode::kWrite, path + ": cannot be opened for writing");
+  std::vector<char> buffer(1 << 20);
+  std::setvbuf(f.get(), buffer.data(), _IOFBF, buffer.size());
+  std::fprintf(f.get(), "# written by cagewrap\n");
+  for (const auto& p : positions) std::fprintf(f.get(), "v %.9g %.9g %.9g\n", p.x, p.y, p.z);
+  for (size_t i = 0; i < topology.num_faces(); ++i) {
+    std::fputc('f', f.get());
+    for (uint32_t c : topology.face(i)) std::fprintf(f.get(), " %u", c + 1);
+    std::fputc('\n', f.get());
+  }
+  if (std::fflush(f.get()) != 0 || std::ferror(f.get()))
+    return make_error(ErrorCode::kWrite, path + ": write failed (disk full?)");
+  return Ok{};
+}
+
+Status save_bin(const std::string& path, std::span<const glm::vec3> positions) {
+  std::ofstream out(path, std::ios::binary);
+  if (!out) return make_error(ErrorCode::kWrite, path + ": cannot be opened for writing");
+  static_assert(sizeof(glm::vec3) == 12);
+  out.write(reinterpret_cast<const char*>(positions.data()),
+            static_cast<std::streamsize>(positions.size() * sizeof(glm::vec3)));
+  if (!out) return make_error(ErrorCode::kWrite, path + ": write failed (disk full?)");
+  return Ok{};
+}
+
+Result<std::vector<glm::vec3>> load_bin(const std::string& path) {
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
+  if (!in) return make_error(ErrorCode::kFileNotFound, path + ": cannot be opened");
+  auto size = static_cast<size_t>(in.tellg());
+  if (size % 12 != 0)
+    return make_error(ErrorCode::kParse, path + ": size " + std::to_string(size) +
+                                             " bytes is not a multiple of 12 (float32 x 3 per vertex)");
+  std::vector<glm::vec3> out(size / 12);
+  in.seekg(0);
+  in.read(reinterpret_cast<char*>(out.data()), static_cast<std::streamsize>(size));
+  if (!in) return make_error(ErrorCode::kFileUnreadable, path + ": read failed");
+  return out;
+}
+
+Status save_positions(const std::string& path, std::span<const glm::vec3> positions, const PolyMesh& topology) {
+  if (has_extension(path, ".bin")) return save_bin(path, positions);
+  if (has_extension(path, ".obj")) return save_obj(path, positions, topology);
+  return make_error(ErrorCode::kUnsupportedFormat, path + ": output must end in .obj or .bin");
+}
+
+}  // namespace cagewrap

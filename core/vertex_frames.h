@@ -1,0 +1,41 @@
+// Vertex frames of the extended variant (section 4.2): the linear part L_v of the manipulation at each
+// cage vertex. Supplied by whoever moves the cage (a bone) or, here, estimated from the one-ring.
+#pragma once
+
+#include <span>
+#include <vector>
+
+#include <glm/mat3x3.hpp>
+#include <glm/vec3.hpp>
+
+#include "core/mesh.h"
+
+namespace cagewrap {
+
+class OneRingFit {
+ public:
+  // Adjacency from the given (valid) triangles of the cage, normals from the rest positions.
+  OneRingFit(std::span<const glm::vec3> rest, std::span<const Tri> triangles);
+
+  // L_v = least-squares linear map taking rest one-ring edge vectors to posed ones. Exact for every
+  // affine map where the one-ring spans 3-D; where it is (numerically) flat the free direction is fixed
+  // by mapping the rest vertex normal to the posed one. #Vc maps written to `out`.
+  // Uses preallocated scratch: no allocation per call, one call at a time.
+  void fit(std::span<const glm::vec3> posed, std::span<glm::dmat3> out);
+
+ private:
+  std::vector<glm::dvec3> rest_;
+  std::vector<uint32_t> ring_start_, ring_;  // CSR adjacency
+  std::vector<Tri> triangles_;
+  std::vector<glm::dvec3> rest_normal_;
+  std::vector<double> ring_scale2_;  // squared mean edge length per vertex
+  std::vector<uint8_t> flat_;        // one-ring spans less than 3-D
+  bool any_flat_ = false;
+  std::vector<glm::dvec3> posed_, posed_normal_;  // scratch
+};
+
+// Area-weighted vertex normals (unit, or zero where no valid triangle touches the vertex).
+void vertex_normals(std::span<const glm::dvec3> positions, std::span<const Tri> triangles,
+                    std::span<glm::dvec3> out);
+
+}  // namespace cagewrap

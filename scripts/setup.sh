@@ -1,0 +1,36 @@
+#!/usr/bin/env bash
+# Installs the Debian packages cagewrap needs, only those that are missing.
+# Idempotent and quick when everything is present (one dpkg-query call).
+set -euo pipefail
+
+PACKAGES=(
+  build-essential cmake ninja-build pkg-config git
+  libglfw3-dev libimgui-dev libglm-dev libtinygltf-dev libopenmesh-dev libeigen3-dev
+  libepoxy-dev libgl-dev libgl1-mesa-dri libglx-mesa0 mesa-utils
+  libtbb-dev nlohmann-json3-dev libcli11-dev libstb-dev
+  libgtest-dev libgmock-dev libbenchmark-dev
+  xvfb xauth
+  clang libclang-rt-14-dev
+)
+
+missing=()
+while read -r name status; do
+  [[ "$status" == "installed" ]] || missing+=("$name")
+done < <(for p in "${PACKAGES[@]}"; do
+           s=$(dpkg-query -W -f='${db:Status-Status}' "$p" 2>/dev/null || true)
+           echo "$p ${s:-absent}"
+         done)
+
+if ((${#missing[@]} == 0)); then
+  exit 0
+fi
+
+echo "setup: installing ${#missing[@]} missing package(s): ${missing[*]}"
+SUDO=""
+if [[ $(id -u) -ne 0 ]]; then
+  command -v sudo >/dev/null || { echo "setup: need root or sudo to install: ${missing[*]}" >&2; exit 1; }
+  SUDO="sudo"
+fi
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
