@@ -15,7 +15,7 @@ namespace cagewrap::app {
 
 struct BindOptions {
   BindParams params;
-  std::string variant = "basic";
+  std::string variant = variant_name(BindParams{}.variant);
 };
 // Adds --local, --epsilon, --max-elements, --scale, --max-distance, --variant to a subcommand.
 void add_bind_options(CLI::App& cmd, BindOptions& opts);

@@ -38,7 +38,7 @@ struct BenchResult {
 
 void add_bench_command(CLI::App& app, int& exit_code) {
   struct Args {
-    std::string mesh, cage, posed, twist, variant_list = "basic";
+    std::string mesh, cage, posed, twist, variant_list = variant_name(BindParams{}.variant);
     uint32_t subdivide = 0, changes = 20;
     bool json = false;
     BindOptions bind;

@@ -8,10 +8,6 @@ namespace {
 constexpr uint32_t kLeafSize = 4;
 }
 
-double ElementBvh::box_dist2(const glm::dvec3& p, const glm::dvec3& lo, const glm::dvec3& hi) {
-  glm::dvec3 d = glm::max(glm::max(lo - p, p - hi), glm::dvec3(0.0));
-  return glm::dot(d, d);
-}
 
 ElementBvh::ElementBvh(std::span<const glm::vec3> positions, std::span<const Tri> elements,
                        std::span<const uint32_t> ids) {
@@ -69,6 +65,35 @@ uint32_t ElementBvh::build(uint32_t begin, uint32_t end, std::vector<glm::dvec3>
   uint32_t right = build(mid, end, centroids);
   nodes_[index].right = right;
   return index;
+}
+
+void ElementBvh::boxes_within(const glm::dvec3& p, double r, std::vector<Element>& out) const {
+  out.clear();
+  if (nodes_.empty()) return;
+  const double r2 = r * r;
+  uint32_t stack[64];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Node& node = nodes_[stack[--top]];
+    if (box_dist2(p, node.lo, node.hi) > r2) continue;
+    if (node.count > 0) {
+      for (uint32_t i = node.first; i < node.first + node.count; ++i) {
+        const TriData& t = tris_[i];
+        glm::dvec3 lo = glm::min(t.a, glm::min(t.b, t.c)), hi = glm::max(t.a, glm::max(t.b, t.c));
+        if (box_dist2(p, lo, hi) <= r2) out.push_back({t.a, t.b, t.c, lo, hi, t.element});
+      }
+    } else {
+      stack[top++] = node.right;
+      stack[top++] = static_cast<uint32_t>(&node - nodes_.data()) + 1;
+    }
+  }
+}
+
+double ElementBvh::nearest_distance(const glm::dvec3& p) const {
+  std::vector<Candidate> c;
+  within_adaptive_radius(p, [](double d) { return d; }, [](uint32_t) { return false; }, c);
+  return c.empty() ? 1e300 : std::sqrt(c.front().dist2);
 }
 
 }  // namespace cagewrap

@@ -35,7 +35,23 @@ class ElementBvh {
   void within_adaptive_radius(const glm::dvec3& p, Radius radius, Skip skip, std::vector<Candidate>& out) const;
 
   // Squared distance from p to a box.
-  static double box_dist2(const glm::dvec3& p, const glm::dvec3& lo, const glm::dvec3& hi);
+  static double box_dist2(const glm::dvec3& p, const glm::dvec3& lo, const glm::dvec3& hi) {
+    const double dx = std::max(std::max(lo.x - p.x, p.x - hi.x), 0.0);
+    const double dy = std::max(std::max(lo.y - p.y, p.y - hi.y), 0.0);
+    const double dz = std::max(std::max(lo.z - p.z, p.z - hi.z), 0.0);
+    return dx * dx + dy * dy + dz * dz;
+  }
+
+  // An indexed element with its corners and bounding box, for tight per-point loops.
+  struct Element {
+    glm::dvec3 a, b, c;
+    glm::dvec3 lo, hi;
+    uint32_t id;
+  };
+  // Every element whose bounding box lies within distance r of p (a superset of those within r).
+  void boxes_within(const glm::dvec3& p, double r, std::vector<Element>& out) const;
+  // Distance from p to the nearest indexed element (infinite when empty).
+  double nearest_distance(const glm::dvec3& p) const;
 
  private:
   struct Node {
@@ -76,7 +92,7 @@ void ElementBvh::within_adaptive_radius(const glm::dvec3& p, Radius radius, Skip
         if (cp.dist2 < best2) {
           best2 = cp.dist2;
           double r = radius(std::sqrt(best2));
-          bound2 = r * r;
+          bound2 = std::max(r * r, best2);  // rounding must never drop the nearest element
         }
       }
     } else {

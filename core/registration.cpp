@@ -7,6 +7,7 @@
 #include <unordered_map>
 
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
 
 #include "core/element_bvh.h"
 #include "core/geometry.h"
@@ -46,12 +47,26 @@ size_t Binding::bytes() const {
          rigid_element.size() * 4 + rigid_bary.size() * 4;
 }
 
-double falloff(double d, double local) { return 1.0 / (1.0 + std::pow(d, local)); }
+namespace {
+// d^local, by repeated squaring when local is a small whole number (the usual case).
+double power(double d, double local) {
+  const double whole = std::floor(local);
+  if (whole == local && local <= 32) {
+    double result = 1.0, base = d;
+    for (unsigned e = static_cast<unsigned>(local); e; e >>= 1, base *= base)
+      if (e & 1) result *= base;
+    return result;
+  }
+  return std::pow(d, local);
+}
+}  // namespace
+
+double falloff(double d, double local) { return 1.0 / (1.0 + power(d, local)); }
 
 double threshold_radius(double d_min, double local, double epsilon) {
   if (epsilon >= 1.0) return d_min;
   if (local <= 0.0) return 1e300;  // constant weights: every element passes
-  double r = std::pow((1.0 + std::pow(d_min, local)) / epsilon - 1.0, 1.0 / local);
+  double r = std::pow((1.0 + power(d_min, local)) / epsilon - 1.0, 1.0 / local);
   return std::max(r, d_min);  // guards rounding
 }
 
@@ -244,26 +259,59 @@ Result<Context> make_context(std::span<const glm::vec3> skin, const Cage& cage, 
   return ctx;
 }
 
-// `make_gather(ctx)` returns the candidate search for one point: f(ctx, p, edit, out).
-template <class MakeGather>
+// Orders points along a Morton curve so that chunks of consecutive entries are spatially compact.
+std::vector<uint32_t> morton_order(std::span<const glm::vec3> pts) {
+  Aabb box = bounding_box(pts);
+  glm::dvec3 ext = glm::max(box.hi - box.lo, glm::dvec3(1e-30));
+  auto spread = [](uint64_t x) {  // 21 bits -> every third bit
+    x &= 0x1fffff;
+    x = (x | x << 32) & 0x1f00000000ffffULL;
+    x = (x | x << 16) & 0x1f0000ff0000ffULL;
+    x = (x | x << 8) & 0x100f00f00f00f00fULL;
+    x = (x | x << 4) & 0x10c30c30c30c30c3ULL;
+    x = (x | x << 2) & 0x1249249249249249ULL;
+    return x;
+  };
+  std::vector<std::pair<uint64_t, uint32_t>> keys(pts.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, pts.size(), 16384), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) {
+      glm::dvec3 q = (glm::dvec3(pts[i]) - box.lo) / ext * 2097151.0;
+      uint64_t code = spread(uint64_t(q.x)) | spread(uint64_t(q.y)) << 1 | spread(uint64_t(q.z)) << 2;
+      keys[i] = {code, static_cast<uint32_t>(i)};
+    }
+  });
+  tbb::parallel_sort(keys.begin(), keys.end());
+  std::vector<uint32_t> order(pts.size());
+  for (size_t i = 0; i < keys.size(); ++i) order[i] = keys[i].second;
+  return order;
+}
+
+// `make_source(ctx)` returns a factory of per-thread candidate sources with
+//   prepare(ctx, chunk_points)                  once per spatially compact chunk, and
+//   gather(ctx, p, edit, out)                   per point: every non-excluded valid element within
+//                                               the threshold radius, sorted by distance.
+template <class MakeSource>
 Result<Binding> run_registration(std::span<const glm::vec3> skin, const Cage& cage, std::span<const glm::vec3> rest,
                                  const BindParams& params, std::span<const SetEdit> edits,
-                                 const BindProgress& progress, MakeGather make_gather) {
+                                 const BindProgress& progress, MakeSource make_source) {
   auto t0 = std::chrono::steady_clock::now();
   std::vector<ElementStatus> status;
   auto ctx_r = make_context(skin, cage, rest, params, edits, status);
   if (!ctx_r) return ctx_r.error();
   const Context& ctx = ctx_r.value();
-  auto gather = make_gather(ctx);
+  auto new_source = make_source(ctx);
 
-  constexpr size_t kChunk = 2048;
+  constexpr size_t kChunk = 128;
   const size_t n = skin.size();
+  const std::vector<uint32_t> order = morton_order(skin);
   const size_t num_chunks = (n + kChunk - 1) / kChunk;
   std::vector<Chunk> chunks(num_chunks);
   std::atomic<size_t> done{0};
   std::atomic<bool> cancelled{false};
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, num_chunks, 1), [&](const tbb::blocked_range<size_t>& r) {
+  const size_t report_every = std::max<size_t>(1, num_chunks / 200);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, num_chunks, 8), [&](const tbb::blocked_range<size_t>& r) {
     std::vector<Candidate> cands;
+    auto source = new_source();
     for (size_t c = r.begin(); c != r.end(); ++c) {
       if (cancelled.load(std::memory_order_relaxed)) return;
       if (progress.cancel && progress.cancel->load(std::memory_order_relaxed)) {
@@ -271,17 +319,18 @@ Result<Binding> run_registration(std::span<const glm::vec3> skin, const Cage& ca
         return;
       }
       Chunk& out = chunks[c];
-      size_t end = std::min(n, (c + 1) * kChunk);
-      out.counts.reserve(end - c * kChunk);
-      for (size_t i = c * kChunk; i < end; ++i) {
-        auto it = ctx.edits.find(static_cast<uint32_t>(i));
+      std::span<const uint32_t> pts(order.data() + c * kChunk, std::min(n, (c + 1) * kChunk) - c * kChunk);
+      source.prepare(ctx, pts);
+      out.counts.reserve(pts.size());
+      for (uint32_t i : pts) {
+        auto it = ctx.edits.empty() ? ctx.edits.end() : ctx.edits.find(i);
         const SetEdit* edit = it == ctx.edits.end() ? nullptr : it->second;
         glm::dvec3 p(skin[i]);
-        gather(ctx, p, edit, cands);
-        finish_point(ctx, static_cast<uint32_t>(i), p, cands, edit, out);
+        source.gather(ctx, p, edit, cands);
+        finish_point(ctx, i, p, cands, edit, out);
       }
       size_t d = done.fetch_add(1) + 1;
-      if (progress.on_progress) progress.on_progress(double(d) / double(num_chunks));
+      if (progress.on_progress && (d % report_every == 0 || d == num_chunks)) progress.on_progress(double(d) / num_chunks);
     }
   });
   if (cancelled) return make_error(ErrorCode::kCancelled, "bind cancelled");
@@ -297,69 +346,184 @@ Result<Binding> run_registration(std::span<const glm::vec3> skin, const Cage& ca
   b.element_status = status;
   for (size_t e = 0; e < status.size(); ++e)
     if (status[e] != ElementStatus::kValid) b.invalid_elements.push_back(static_cast<uint32_t>(e));
-  size_t total = 0;
-  for (const auto& ch : chunks) total += ch.ids.size();
-  b.offsets.reserve(n + 1);
-  b.ids.reserve(total);
-  b.weights.reserve(total);
-  b.offsets.push_back(0);
+
+  // chunks hold points in Morton order: count per point, prefix-sum, then scatter back to point order
+  b.offsets.assign(n + 1, 0);
+  for (size_t c = 0; c < num_chunks; ++c) {
+    const auto& ch = chunks[c];
+    for (size_t k = 0; k < ch.counts.size(); ++k) b.offsets[order[c * kChunk + k] + 1] = ch.counts[k];
+  }
+  for (size_t i = 0; i < n; ++i) b.offsets[i + 1] += b.offsets[i];
+  const size_t total = b.offsets[n];
+  const bool clamped = params.variant == Variant::kClamped;
+  b.ids.resize(total);
+  b.weights.resize(total);
+  if (clamped) b.bary.resize(2 * total);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, num_chunks, 16), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t c = r.begin(); c != r.end(); ++c) {
+      Chunk& ch = chunks[c];
+      size_t src = 0;
+      for (size_t k = 0; k < ch.counts.size(); ++k) {
+        const uint32_t dst = b.offsets[order[c * kChunk + k]];
+        for (uint32_t j = 0; j < ch.counts[k]; ++j, ++src) {
+          b.ids[dst + j] = ch.ids[src];
+          b.weights[dst + j] = ch.weights[src];
+          if (clamped) {
+            b.bary[2 * (dst + j)] = ch.bary[2 * src];
+            b.bary[2 * (dst + j) + 1] = ch.bary[2 * src + 1];
+          }
+        }
+      }
+      std::vector<uint32_t>().swap(ch.ids);  // release as we go
+      std::vector<float>().swap(ch.weights);
+      std::vector<float>().swap(ch.bary);
+    }
+  });
+  std::vector<std::array<uint32_t, 2>> rigid;  // (point, index into the chunk's rigid list) for sorting
   for (auto& ch : chunks) {
-    for (uint32_t cnt : ch.counts) b.offsets.push_back(b.offsets.back() + cnt);
-    b.ids.insert(b.ids.end(), ch.ids.begin(), ch.ids.end());
-    b.weights.insert(b.weights.end(), ch.weights.begin(), ch.weights.end());
-    b.bary.insert(b.bary.end(), ch.bary.begin(), ch.bary.end());
-    b.rigid_points.insert(b.rigid_points.end(), ch.rigid_points.begin(), ch.rigid_points.end());
-    b.rigid_element.insert(b.rigid_element.end(), ch.rigid_element.begin(), ch.rigid_element.end());
-    b.rigid_bary.insert(b.rigid_bary.end(), ch.rigid_bary.begin(), ch.rigid_bary.end());
+    for (size_t k = 0; k < ch.rigid_points.size(); ++k) {
+      b.rigid_points.push_back(ch.rigid_points[k]);
+      b.rigid_element.push_back(ch.rigid_element[k]);
+      b.rigid_bary.push_back(ch.rigid_bary[2 * k]);
+      b.rigid_bary.push_back(ch.rigid_bary[2 * k + 1]);
+    }
     b.quality_inside += ch.inside;
     b.max_set_size = std::max(b.max_set_size, ch.max_set);
     b.total_set_size += ch.total_set;
-    ch = Chunk{};  // release as we go: peak memory stays near one copy of the table
   }
+  // fallback points in point order (deterministic whatever the scheduling)
+  std::vector<uint32_t> perm(b.rigid_points.size());
+  for (size_t i = 0; i < perm.size(); ++i) perm[i] = static_cast<uint32_t>(i);
+  std::sort(perm.begin(), perm.end(), [&](uint32_t x, uint32_t y) { return b.rigid_points[x] < b.rigid_points[y]; });
+  Binding sorted_rigid;
+  for (uint32_t k : perm) {
+    sorted_rigid.rigid_points.push_back(b.rigid_points[k]);
+    sorted_rigid.rigid_element.push_back(b.rigid_element[k]);
+    sorted_rigid.rigid_bary.push_back(b.rigid_bary[2 * k]);
+    sorted_rigid.rigid_bary.push_back(b.rigid_bary[2 * k + 1]);
+  }
+  b.rigid_points = std::move(sorted_rigid.rigid_points);
+  b.rigid_element = std::move(sorted_rigid.rigid_element);
+  b.rigid_bary = std::move(sorted_rigid.rigid_bary);
   b.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return b;
 }
 
 }  // namespace
 
-Result<Binding> bind_skin(std::span<const glm::vec3> skin, const Cage& cage, std::span<const glm::vec3> rest,
-                     const BindParams& params, std::span<const SetEdit> edits, const BindProgress& progress) {
-  std::unique_ptr<ElementBvh> bvh;
-  auto make_gather = [&bvh](const Context& ctx) {
-    bvh = std::make_unique<ElementBvh>(ctx.rest, ctx.cage->elements, ctx.valid_ids);
-    return [tree = bvh.get()](const Context& c, const glm::dvec3& p, const SetEdit* edit,
-                              std::vector<Candidate>& out) {
-      const double h = c.h, local = c.params.local, eps = c.params.epsilon;
-      auto radius = [=](double d) { return h * threshold_radius(d / h, local, eps); };
-      if (edit && !edit->exclude.empty())
-        tree->within_adaptive_radius(p, radius, [edit](uint32_t e) { return contains(edit->exclude, e); }, out);
-      else
-        tree->within_adaptive_radius(p, radius, [](uint32_t) { return false; }, out);
+namespace {
+
+// Candidates for a chunk of nearby points: the elements any of them could reach, found once with the
+// hierarchy, then a tight loop per point with box rejection.
+class ChunkedBvhSource {
+ public:
+  explicit ChunkedBvhSource(const ElementBvh& bvh) : bvh_(bvh) {}
+  void prepare(const Context& ctx, std::span<const uint32_t> pts) {
+    Aabb box;
+    for (uint32_t i : pts) box.extend(glm::dvec3(ctx.skin[i]));
+    const glm::dvec3 c = box.center();
+    const double half = 0.5 * box.diagonal();
+    // any point p of the chunk has d_min(p) <= d_min(c) + half, and its elements lie within
+    // radius(d_min(p)) of p, hence within radius(d_min(c) + half) + half of c
+    const double dc = bvh_.nearest_distance(c);
+    const double reach = ctx.h * threshold_radius((dc + half) / ctx.h, ctx.params.local, ctx.params.epsilon) + half;
+    bvh_.boxes_within(c, reach, elems_);
+    keys_.resize(elems_.size());
+    order_.resize(elems_.size());
+    for (size_t i = 0; i < elems_.size(); ++i) {
+      keys_[i] = std::sqrt(ElementBvh::box_dist2(c, elems_[i].lo, elems_[i].hi)) - half;
+      order_[i] = static_cast<uint32_t>(i);
+    }
+    std::sort(order_.begin(), order_.end(), [&](uint32_t x, uint32_t y) { return keys_[x] < keys_[y]; });
+    sorted_.resize(elems_.size());
+    sorted_keys_.resize(elems_.size());
+    for (size_t i = 0; i < order_.size(); ++i) {
+      sorted_[i] = elems_[order_[i]];
+      sorted_keys_[i] = keys_[order_[i]];
+    }
+  }
+  void gather(const Context& ctx, const glm::dvec3& p, const SetEdit* edit, std::vector<Candidate>& out) const {
+    out.clear();
+    const double h = ctx.h, local = ctx.params.local, eps = ctx.params.epsilon;
+    // Only the K nearest elements within the threshold radius survive, so once K are known the
+    // K-th distance bounds the search too (ties are kept: the final order breaks them by id).
+    const size_t k = ctx.params.max_elements;
+    auto closer = [](const Candidate& x, const Candidate& y) {
+      return x.dist2 < y.dist2 || (x.dist2 == y.dist2 && x.element < y.element);
     };
+    double best2 = 1e300, radius2 = 1e300, kth2 = 1e300;
+    for (size_t i = 0; i < sorted_.size(); ++i) {
+      const double bound2 = std::min(radius2, kth2);
+      // keys are lower bounds of the distance from any point of the chunk: the rest are farther
+      if (sorted_keys_[i] > 0 && sorted_keys_[i] * sorted_keys_[i] > bound2) break;
+      const auto& e = sorted_[i];
+      if (ElementBvh::box_dist2(p, e.lo, e.hi) > bound2) continue;
+      if (edit && contains(edit->exclude, e.id)) continue;
+      ClosestPoint cp = closest_point_on_triangle(p, e.a, e.b, e.c);
+      if (cp.dist2 > bound2) continue;
+      out.push_back({e.id, cp.dist2, cp.bary});
+      if (cp.dist2 < best2) {
+        best2 = cp.dist2;
+        double r = h * threshold_radius(std::sqrt(best2) / h, local, eps);
+        radius2 = std::max(r * r, best2);
+      }
+      if (out.size() >= 2 * k) {
+        std::nth_element(out.begin(), out.begin() + static_cast<std::ptrdiff_t>(k - 1), out.end(), closer);
+        kth2 = out[k - 1].dist2;
+        out.erase(std::remove_if(out.begin() + static_cast<std::ptrdiff_t>(k), out.end(),
+                                 [&](const Candidate& x) { return x.dist2 > kth2; }),
+                  out.end());
+      }
+    }
+    std::erase_if(out, [&](const Candidate& x) { return x.dist2 > radius2; });
+    std::sort(out.begin(), out.end(), closer);
+  }
+
+ private:
+  const ElementBvh& bvh_;
+  std::vector<ElementBvh::Element> elems_, sorted_;
+  std::vector<double> keys_, sorted_keys_;  // distance from the chunk centre minus the chunk's half size
+  std::vector<uint32_t> order_;
+};
+
+// Reference: every valid element for every point, no pruning.
+struct BruteForceSource {
+  void prepare(const Context&, std::span<const uint32_t>) {}
+  void gather(const Context& ctx, const glm::dvec3& p, const SetEdit* edit, std::vector<Candidate>& out) const {
+    out.clear();
+    double best = 1e300;
+    for (uint32_t e : ctx.valid_ids) {
+      if (edit && contains(edit->exclude, e)) continue;
+      ClosestPoint cp = closest_to_element(ctx, p, e);
+      out.push_back({e, cp.dist2, cp.bary});
+      best = std::min(best, cp.dist2);
+    }
+    double r = ctx.h * threshold_radius(std::sqrt(best) / ctx.h, ctx.params.local, ctx.params.epsilon);
+    const double bound2 = std::max(r * r, best);
+    std::erase_if(out, [&](const Candidate& c) { return c.dist2 > bound2; });
+    std::sort(out.begin(), out.end(), [](const Candidate& x, const Candidate& y) {
+      return x.dist2 < y.dist2 || (x.dist2 == y.dist2 && x.element < y.element);
+    });
+  }
+};
+
+}  // namespace
+
+Result<Binding> bind_skin(std::span<const glm::vec3> skin, const Cage& cage, std::span<const glm::vec3> rest,
+                          const BindParams& params, std::span<const SetEdit> edits, const BindProgress& progress) {
+  std::unique_ptr<ElementBvh> bvh;
+  auto make_source = [&bvh](const Context& ctx) {
+    bvh = std::make_unique<ElementBvh>(ctx.rest, ctx.cage->elements, ctx.valid_ids);
+    return [tree = bvh.get()] { return ChunkedBvhSource(*tree); };
   };
-  return run_registration(skin, cage, rest, params, edits, progress, make_gather);
+  return run_registration(skin, cage, rest, params, edits, progress, make_source);
 }
 
-Result<Binding> bind_skin_brute_force(std::span<const glm::vec3> skin, const Cage& cage, std::span<const glm::vec3> rest,
-                                 const BindParams& params, std::span<const SetEdit> edits) {
-  auto make_gather = [](const Context&) {
-    return [](const Context& ctx, const glm::dvec3& p, const SetEdit* edit, std::vector<Candidate>& out) {
-      out.clear();
-      double best = 1e300;
-      for (uint32_t e : ctx.valid_ids) {
-        if (edit && contains(edit->exclude, e)) continue;
-        ClosestPoint cp = closest_to_element(ctx, p, e);
-        out.push_back({e, cp.dist2, cp.bary});
-        best = std::min(best, cp.dist2);
-      }
-      double r = ctx.h * threshold_radius(std::sqrt(best) / ctx.h, ctx.params.local, ctx.params.epsilon);
-      std::erase_if(out, [&](const Candidate& c) { return c.dist2 > r * r; });
-      std::sort(out.begin(), out.end(), [](const Candidate& x, const Candidate& y) {
-        return x.dist2 < y.dist2 || (x.dist2 == y.dist2 && x.element < y.element);
-      });
-    };
-  };
-  return run_registration(skin, cage, rest, params, edits, {}, make_gather);
+Result<Binding> bind_skin_brute_force(std::span<const glm::vec3> skin, const Cage& cage,
+                                      std::span<const glm::vec3> rest, const BindParams& params,
+                                      std::span<const SetEdit> edits) {
+  auto make_source = [](const Context&) { return [] { return BruteForceSource{}; }; };
+  return run_registration(skin, cage, rest, params, edits, {}, make_source);
 }
 
 }  // namespace cagewrap
