@@ -84,6 +84,12 @@ Result<Deformer> Deformer::create(const Binding& b, std::span<const glm::vec3> s
     d.rest_frame_inv_[e] = glm::inverse(eq2_frame(p0, p1, p2, n));
     d.rest_rigid_[e] = rigid_frame(p0, p1, n);
   }
+  std::vector<uint8_t> used(b.num_cage_vertices, 0);
+  for (size_t e = 0; e < ne; ++e)
+    if (b.element_status[e] == ElementStatus::kValid)
+      for (uint32_t v : b.elements[e]) used[v] = 1;
+  for (uint32_t v = 0; v < b.num_cage_vertices; ++v)
+    if (used[v]) d.used_vertices_.push_back(v);
   d.need_rigid_ = b.params.variant == Variant::kClamped || !b.rigid_points.empty();
   if (b.params.variant == Variant::kExtended) {
     d.maps_.resize(b.num_cage_vertices);
@@ -104,7 +110,7 @@ Status Deformer::check_cage(std::span<const glm::vec3> posed) const {
     return make_error(ErrorCode::kTopologyMismatch,
                       "the posed cage has " + std::to_string(posed.size()) + " vertices but the bound cage has " +
                           std::to_string(binding_->num_cage_vertices));
-  for (size_t i = 0; i < posed.size(); ++i)
+  for (uint32_t i : used_vertices_)
     if (!std::isfinite(posed[i].x) || !std::isfinite(posed[i].y) || !std::isfinite(posed[i].z))
       return make_error(ErrorCode::kNonFinite, "posed cage vertex " + std::to_string(i) + " has a non-finite coordinate");
   return Ok{};

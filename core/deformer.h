@@ -34,7 +34,8 @@ class Deformer {
   // Keeps references to `binding` and `skin_rest` (#P x 3): both must outlive the deformer.
   static Result<Deformer> create(const Binding& binding, std::span<const glm::vec3> skin_rest);
 
-  // Cheap check of a posed cage: same vertex count as the bound one, finite coordinates.
+  // Cheap check of a posed cage: same vertex count as the bound one, finite coordinates on every vertex
+  // a valid element uses (vertices only bad elements use are ignored, like those elements).
   Status check_cage(std::span<const glm::vec3> posed) const;
 
   // Deforms into `out` (#P x 3). `vertex_linear`, for the extended variant only: the linear part of
@@ -68,6 +69,7 @@ class Deformer {
   std::vector<RigidMap> rigid_maps_;  // per element (clamped variant and fallback points)
   std::vector<glm::dmat3> vertex_linear_;  // scratch for the one-ring fit
   std::unique_ptr<OneRingFit> fit_;
+  std::vector<uint32_t> used_vertices_;  // vertices of valid elements
   bool need_rigid_ = false;
 };
 

@@ -120,7 +120,19 @@ void finish_point(const Context& ctx, uint32_t point, const glm::dvec3& p, std::
     const double md2 = prm.max_distance * prm.max_distance;
     std::erase_if(cands, [&](const Candidate& c) { return c.dist2 > md2; });
   }
+  // Taper (decision, see docs/algorithm-notes.md): the weight at which an element would leave the set
+  // (the relative threshold, the strongest element left out by K, the max distance) is subtracted from
+  // every member's weight, so that elements enter and leave sets at zero weight and the map is
+  // continuous in P. `cands` holds up to K + 1 elements: the (K+1)-th only sets the cut.
+  double w_cut = 0.0;
+  if (!cands.empty()) {
+    w_cut = prm.epsilon * falloff(std::sqrt(cands.front().dist2) / ctx.h, prm.local);
+    if (cands.size() > prm.max_elements)
+      w_cut = std::max(w_cut, falloff(std::sqrt(cands[prm.max_elements].dist2) / ctx.h, prm.local));
+    if (prm.max_distance > 0) w_cut = std::max(w_cut, falloff(prm.max_distance / ctx.h, prm.local));
+  }
   if (cands.size() > prm.max_elements) cands.resize(prm.max_elements);
+  const size_t automatic = cands.size();  // members chosen by the rule; inclusions follow
   if (edit) {
     for (uint32_t e : edit->include) {
       if (!ctx.valid[e]) continue;
@@ -156,20 +168,28 @@ void finish_point(const Context& ctx, uint32_t point, const glm::dvec3& p, std::
     return;
   }
 
-  double sum = 0.0;
-  double w[128];
+  double sum = 0.0, raw_sum = 0.0;
+  double w[128], raw[128];
   const size_t n = std::min<size_t>(cands.size(), 128);
   cands.resize(n);
   for (size_t i = 0; i < n; ++i) {
-    w[i] = falloff(std::sqrt(cands[i].dist2) / ctx.h, prm.local);
+    raw[i] = falloff(std::sqrt(cands[i].dist2) / ctx.h, prm.local);
+    // user inclusions keep their own weight: they are outside the rule by the user's choice
+    w[i] = i < automatic ? std::max(raw[i] - w_cut, 0.0) : raw[i];
     sum += w[i];
+    raw_sum += raw[i];
+  }
+  if (!(sum > 1e-12 * raw_sum)) {  // every member sits at the cut (epsilon = 1, ties): no taper
+    for (size_t i = 0; i < n; ++i) w[i] = raw[i];
+    sum = raw_sum;
   }
   bool inside = false;
   for (size_t i = 0; i < n && !inside; ++i)
     inside = std::sqrt(cands[i].dist2) <= prm.close_distance * ctx.h && projects_inside(ctx, p, cands[i].element);
   out.inside += inside ? 1 : 0;
-  out.max_set = std::max<uint32_t>(out.max_set, static_cast<uint32_t>(n));
-  out.total_set += n;
+  const auto members = static_cast<uint32_t>(std::count_if(w, w + n, [](double x) { return x > 0.0; }));
+  out.max_set = std::max(out.max_set, members);
+  out.total_set += members;
 
   if (prm.variant == Variant::kExtended) {
     // W_j = sum_k u_k b_kj over the corners j of each contributing element
@@ -199,7 +219,10 @@ void finish_point(const Context& ctx, uint32_t point, const glm::dvec3& p, std::
     out.counts.push_back(static_cast<uint32_t>(m));
     return;
   }
+  uint32_t kept = 0;
   for (size_t i = 0; i < n; ++i) {
+    if (w[i] <= 0.0) continue;  // at the cut: contributes nothing
+    ++kept;
     out.ids.push_back(cands[i].element);
     out.weights.push_back(static_cast<float>(w[i] / sum));
     if (prm.variant == Variant::kClamped) {
@@ -207,7 +230,7 @@ void finish_point(const Context& ctx, uint32_t point, const glm::dvec3& p, std::
       out.bary.push_back(static_cast<float>(cands[i].bary.z));
     }
   }
-  out.counts.push_back(static_cast<uint32_t>(n));
+  out.counts.push_back(kept);
 }
 
 Result<Context> make_context(std::span<const glm::vec3> skin, const Cage& cage, std::span<const glm::vec3> rest,
@@ -447,7 +470,7 @@ class ChunkedBvhSource {
     const double h = ctx.h, local = ctx.params.local, eps = ctx.params.epsilon;
     // Only the K nearest elements within the threshold radius survive, so once K are known the
     // K-th distance bounds the search too (ties are kept: the final order breaks them by id).
-    const size_t k = ctx.params.max_elements;
+    const size_t k = ctx.params.max_elements + 1;  // the (K+1)-th sets the taper's cut
     auto closer = [](const Candidate& x, const Candidate& y) {
       return x.dist2 < y.dist2 || (x.dist2 == y.dist2 && x.element < y.element);
     };
