@@ -6,42 +6,14 @@
 #include "core/animation.h"
 #include "core/gltf_loader.h"
 #include "core/skinning.h"
-#include "tests/gltf_builder.h"
+#include "tests/gltf_samples.h"
 
 namespace cagewrap {
 namespace {
 
 using nlohmann::json;
 using test::GltfBuilder;
-
-// One animated node "n" and three clips, one per interpolation mode, written by hand.
-// Translation x keys: times 0, 1, 3 with values 0, 10, 30.
-std::string write_interpolation_file(const std::string& name) {
-  GltfBuilder b;
-  b.set_scene({b.add_node({{"name", "n"}, {"translation", {0, 0, 0}}})});
-  int times = b.add_floats({0, 1, 3}, "SCALAR", true);
-  int values = b.add_floats({0, 0, 0, 10, 0, 0, 30, 0, 0}, "VEC3");
-  // LINEAR rotation: identity to 90 degrees about z over 0..2 s.
-  const float s = std::sqrt(0.5f);
-  int rot_times = b.add_floats({0, 2}, "SCALAR", true);
-  int rot_values = b.add_floats({0, 0, 0, 1, 0, 0, s, s}, "VEC4");
-  // CUBICSPLINE: two keys at 0 and 2 s, x from 0 to 1, out-tangent of key 0 = (1,0,0), in-tangent
-  // of key 1 = (0,0,0). Per key: in-tangent, value, out-tangent.
-  int cubic_times = b.add_floats({0, 2}, "SCALAR", true);
-  int cubic_values = b.add_floats({9, 9, 9, 0, 0, 0, 1, 0, 0, /**/ 0, 0, 0, 1, 0, 0, 9, 9, 9}, "VEC3");
-  auto clip = [&](const std::string& clip_name, const std::string& interp, int in, int out, const std::string& path) {
-    return json{{"name", clip_name},
-                {"samplers", {{{"input", in}, {"output", out}, {"interpolation", interp}}}},
-                {"channels", {{{"sampler", 0}, {"target", {{"node", 0}, {"path", path}}}}}}};
-  };
-  b.doc["animations"].push_back(clip("step", "STEP", times, values, "translation"));
-  b.doc["animations"].push_back(clip("linear", "LINEAR", times, values, "translation"));
-  b.doc["animations"].push_back(clip("cubic", "CUBICSPLINE", cubic_times, cubic_values, "translation"));
-  b.doc["animations"].push_back(clip("turn", "LINEAR", rot_times, rot_values, "rotation"));
-  auto dir = test::temp_dir(name);
-  b.write_embedded(dir + "/anim.gltf");
-  return dir + "/anim.gltf";
-}
+using test::write_interpolation_file;
 
 float x_at(const Character& c, const std::string& clip, double t) {
   Pose pose = sample_pose(c, c.find_clip(clip), t);

@@ -6,7 +6,7 @@
 
 #include "core/gltf_loader.h"
 #include "core/skinning.h"
-#include "tests/gltf_builder.h"
+#include "tests/gltf_samples.h"
 #include "tests/test_assets.h"
 
 namespace cagewrap {
@@ -14,39 +14,7 @@ namespace {
 
 using nlohmann::json;
 using test::GltfBuilder;
-
-// Two joints: j0 at the origin, j1 at (0,1,0). Vertices on the y axis: (0,0.5,0) on j0,
-// (0,1.5,0) on j1, (0,2,0) half and half. A clip turns j1 by 90 degrees about z over 1 s.
-std::string write_two_joint_file(const std::string& name, bool rest_differs_from_bind = false) {
-  GltfBuilder b;
-  int pos = b.add_floats({0, 0.5f, 0, 0, 1.5f, 0, 0, 2, 0}, "VEC3", true);
-  std::vector<uint8_t> joints = {0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0};
-  std::vector<float> weights = {1, 0, 0, 0, 1, 0, 0, 0, 0.5f, 0.5f, 0, 0};
-  int j = b.add_accessor(joints, "VEC4", test::kUnsignedByte);
-  int w = b.add_floats(weights, "VEC4");
-  std::vector<uint16_t> tri = {0, 1, 2};
-  int ix = b.add_accessor(tri, "SCALAR", test::kUnsignedShort);
-  b.doc["meshes"].push_back(
-      {{"name", "arm"}, {"primitives", {{{"attributes", {{"POSITION", pos}, {"JOINTS_0", j}, {"WEIGHTS_0", w}}}, {"indices", ix}}}}});
-  // The rest pose of the nodes can differ from the bind pose the inverse bind matrices define.
-  json j1 = {{"name", "j1"}, {"translation", {0, rest_differs_from_bind ? 3 : 1, 0}}};
-  int child = b.add_node(j1);
-  int root = b.add_node({{"name", "j0"}, {"children", {child}}});
-  std::vector<float> ibm = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1,   // j0 bound at the origin
-                            1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, -1, 0, 1};  // j1 bound at (0,1,0)
-  b.doc["skins"].push_back({{"joints", {root, child}}, {"inverseBindMatrices", b.add_floats(ibm, "MAT4")}});
-  int mesh_node = b.add_node({{"name", "arm_mesh"}, {"mesh", 0}, {"skin", 0}});
-  b.set_scene({root, mesh_node});
-  const float s = std::sqrt(0.5f);
-  int times = b.add_floats({0, 1}, "SCALAR", true);
-  int rot = b.add_floats({0, 0, 0, 1, 0, 0, s, s}, "VEC4");
-  b.doc["animations"].push_back({{"name", "bend"},
-                                 {"samplers", {{{"input", times}, {"output", rot}}}},
-                                 {"channels", {{{"sampler", 0}, {"target", {{"node", child}, {"path", "rotation"}}}}}}});
-  auto dir = test::temp_dir(name);
-  b.write_embedded(dir + "/two_joints.gltf");
-  return dir + "/two_joints.gltf";
-}
+using test::write_two_joint_file;
 
 void expect_near(const glm::vec3& a, const glm::vec3& b, float tol = 1e-5f) {
   EXPECT_NEAR(a.x, b.x, tol);
