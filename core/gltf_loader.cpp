@@ -9,6 +9,7 @@
 #include "core/gltf_loader.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -197,6 +198,20 @@ class AccessorReader {
   const std::string& file_;
 };
 
+// "a%20b.bin" -> "a b.bin" (URIs in glTF are percent-encoded).
+std::string percent_decode(const std::string& uri) {
+  std::string out;
+  for (size_t i = 0; i < uri.size(); ++i) {
+    if (uri[i] == '%' && i + 2 < uri.size() && std::isxdigit(uint8_t(uri[i + 1])) && std::isxdigit(uint8_t(uri[i + 2]))) {
+      out += static_cast<char>(std::stoi(uri.substr(i + 1, 2), nullptr, 16));
+      i += 2;
+    } else {
+      out += uri[i];
+    }
+  }
+  return out;
+}
+
 // After tinygltf refused a file, find which buffer could not be read, so the message names it.
 std::string diagnose_buffers(const std::string& path, bool binary) {
   std::ifstream in(path, std::ios::binary);
@@ -221,7 +236,7 @@ std::string diagnose_buffers(const std::string& path, bool binary) {
     }
     std::string uri = b.value("uri", "");
     if (uri.rfind("data:", 0) == 0) continue;
-    auto file = dir / uri;
+    auto file = dir / percent_decode(uri);
     std::error_code ec;
     if (!std::filesystem::exists(file, ec))
       return named("buffer", i, name) + " refers to '" + uri + "', which does not exist";
