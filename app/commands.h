@@ -10,5 +10,8 @@ namespace cagewrap::app {
 void add_bind_command(CLI::App& app, int& exit_code);
 void add_deform_command(CLI::App& app, int& exit_code);
 void add_bench_command(CLI::App& app, int& exit_code);
+void add_info_command(CLI::App& app, int& exit_code);
+void add_skin_command(CLI::App& app, int& exit_code);
+void add_make_demo_command(CLI::App& app, int& exit_code);
 
 }  // namespace cagewrap::app

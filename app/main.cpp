@@ -10,6 +10,9 @@ int main(int argc, char** argv) {
   cagewrap::app::add_bind_command(app, exit_code);
   cagewrap::app::add_deform_command(app, exit_code);
   cagewrap::app::add_bench_command(app, exit_code);
+  cagewrap::app::add_info_command(app, exit_code);
+  cagewrap::app::add_skin_command(app, exit_code);
+  cagewrap::app::add_make_demo_command(app, exit_code);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

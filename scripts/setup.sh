@@ -21,7 +21,25 @@ done < <(for p in "${PACKAGES[@]}"; do
            echo "$p ${s:-absent}"
          done)
 
+# The Khronos glTF validator (npm package, pinned in tests/gltf_validate/package.json) for the
+# glTF tests; node and npm come from Debian when absent.
+install_gltf_validator() {
+  local dir
+  dir="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)/tests/gltf_validate"
+  [[ -d "$dir/node_modules/gltf-validator" ]] && return 0
+  if ! command -v node >/dev/null || ! command -v npm >/dev/null; then
+    echo "setup: installing nodejs npm"
+    local sudo=""
+    [[ $(id -u) -ne 0 ]] && sudo="sudo"
+    DEBIAN_FRONTEND=noninteractive $sudo apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends nodejs npm
+  fi
+  echo "setup: npm install in tests/gltf_validate"
+  (cd "$dir" && npm install --no-audit --no-fund --silent)
+}
+
 if ((${#missing[@]} == 0)); then
+  install_gltf_validator
   exit 0
 fi
 
@@ -34,3 +52,4 @@ fi
 export DEBIAN_FRONTEND=noninteractive
 $SUDO apt-get update -qq
 $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+install_gltf_validator

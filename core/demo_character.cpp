@@ -1,0 +1,471 @@
+#include "core/demo_character.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numbers>
+#include <unordered_map>
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <glm/mat3x3.hpp>
+#include <tbb/parallel_for.h>
+
+namespace cagewrap {
+namespace {
+
+using glm::dvec3;
+
+struct JointSpec {
+  std::string name;
+  int parent;
+  dvec3 head;       // joint position (world, rest)
+  dvec3 tail;       // end of its bone
+  bool arm_frame;   // bending axis from (bone x forward) rather than world X
+};
+
+// The rest skeleton, A-pose: arms 45 degrees below horizontal.
+std::vector<JointSpec> joint_specs() {
+  const double s = std::sqrt(0.5);
+  auto arm = [&](double side, dvec3 shoulder, double len) { return shoulder + len * dvec3(side * s, -s, 0); };
+  std::vector<JointSpec> j;
+  j.push_back({"hips", -1, {0, 0.95, 0}, {0, 1.07, 0}, false});
+  j.push_back({"spine", 0, {0, 1.07, 0}, {0, 1.25, 0}, false});
+  j.push_back({"chest", 1, {0, 1.25, 0}, {0, 1.46, 0}, false});
+  j.push_back({"neck", 2, {0, 1.46, 0}, {0, 1.56, 0}, false});
+  j.push_back({"head", 3, {0, 1.56, 0}, {0, 1.76, 0}, false});
+  for (double side : {1.0, -1.0}) {
+    const char* sfx = side > 0 ? ".L" : ".R";
+    int chest = 2;
+    int base = static_cast<int>(j.size());
+    dvec3 clav(side * 0.04, 1.41, 0), sh(side * 0.17, 1.42, 0);
+    dvec3 elbow = arm(side, sh, 0.28), wrist = arm(side, elbow, 0.25), hand_end = arm(side, wrist, 0.17);
+    j.push_back({std::string("shoulder") + sfx, chest, clav, sh, true});
+    j.push_back({std::string("upper_arm") + sfx, base, sh, elbow, true});
+    j.push_back({std::string("forearm") + sfx, base + 1, elbow, wrist, true});
+    j.push_back({std::string("hand") + sfx, base + 2, wrist, hand_end, true});
+  }
+  for (double side : {1.0, -1.0}) {
+    const char* sfx = side > 0 ? ".L" : ".R";
+    int base = static_cast<int>(j.size());
+    dvec3 hip(side * 0.095, 0.92, 0), knee(side * 0.105, 0.50, 0.01), ankle(side * 0.11, 0.09, 0),
+        toe(side * 0.11, 0.03, 0.13), toe_end(side * 0.11, 0.03, 0.2);
+    j.push_back({std::string("thigh") + sfx, 0, hip, knee, false});
+    j.push_back({std::string("shin") + sfx, base, knee, ankle, false});
+    j.push_back({std::string("foot") + sfx, base + 1, ankle, toe, false});
+    j.push_back({std::string("toes") + sfx, base + 2, toe, toe_end, false});
+  }
+  return j;
+}
+
+// A tapered capsule from a (radius ra) to b (radius rb), optionally flattened front to back.
+struct Part {
+  dvec3 a, b;
+  double ra, rb;
+  double depth = 1.0;  // z extent relative to x/y
+  int bone;
+};
+
+double part_distance(const Part& p, dvec3 q) {
+  if (p.depth != 1.0) {
+    dvec3 mid = 0.5 * (p.a + p.b);
+    q.z = mid.z + (q.z - mid.z) / p.depth;
+  }
+  dvec3 ab = p.b - p.a;
+  double t = std::clamp(glm::dot(q - p.a, ab) / glm::dot(ab, ab), 0.0, 1.0);
+  double d = glm::length(q - (p.a + t * ab)) - (p.ra + t * (p.rb - p.ra));
+  return p.depth < 1.0 ? d * p.depth : d;
+}
+
+std::vector<Part> body_parts(const std::vector<JointSpec>& j) {
+  auto idx = [&](const char* name) {
+    for (size_t i = 0; i < j.size(); ++i)
+      if (j[i].name == name) return static_cast<int>(i);
+    return -1;
+  };
+  std::vector<Part> parts;
+  parts.push_back({{-0.075, 0.93, 0}, {0.075, 0.93, 0}, 0.115, 0.115, 0.8, idx("hips")});
+  parts.push_back({{0, 0.98, 0}, {0, 1.17, 0}, 0.115, 0.12, 0.75, idx("spine")});
+  parts.push_back({{-0.055, 1.30, 0}, {0.055, 1.30, 0}, 0.135, 0.135, 0.72, idx("chest")});
+  parts.push_back({{0, 1.22, 0}, {0, 1.38, 0}, 0.12, 0.11, 0.75, idx("chest")});
+  parts.push_back({{0, 1.40, 0}, {0, 1.56, 0.005}, 0.055, 0.048, 1.0, idx("neck")});
+  parts.push_back({{0, 1.62, 0.015}, {0, 1.69, 0.005}, 0.095, 0.09, 1.0, idx("head")});
+  for (const char* s : {".L", ".R"}) {
+    auto bone = [&](const std::string& n) { return idx((n + s).c_str()); };
+    const JointSpec& sh = j[bone("shoulder")];
+    const JointSpec& ua = j[bone("upper_arm")];
+    const JointSpec& fa = j[bone("forearm")];
+    const JointSpec& hd = j[bone("hand")];
+    parts.push_back({sh.head, sh.tail, 0.055, 0.058, 1.0, bone("shoulder")});
+    parts.push_back({ua.head, ua.tail, 0.056, 0.044, 1.0, bone("upper_arm")});
+    parts.push_back({fa.head, fa.tail, 0.043, 0.033, 1.0, bone("forearm")});
+    parts.push_back({hd.head + 0.03 * glm::normalize(hd.tail - hd.head), hd.tail - 0.03 * glm::normalize(hd.tail - hd.head),
+                     0.038, 0.03, 0.55, bone("hand")});
+    const JointSpec& th = j[bone("thigh")];
+    const JointSpec& sn = j[bone("shin")];
+    const JointSpec& ft = j[bone("foot")];
+    const JointSpec& to = j[bone("toes")];
+    parts.push_back({th.head, th.tail, 0.085, 0.057, 1.0, bone("thigh")});
+    parts.push_back({sn.head, sn.tail + dvec3(0, 0.02, 0), 0.055, 0.04, 1.0, bone("shin")});
+    parts.push_back({ft.head + dvec3(0, -0.02, -0.04), ft.tail, 0.045, 0.038, 1.0, bone("foot")});
+    parts.push_back({to.head, to.tail, 0.036, 0.03, 1.0, bone("toes")});
+  }
+  return parts;
+}
+
+// Polynomial smooth minimum: equals min(a, b) when they differ by more than k.
+double smooth_min(double a, double b, double k) {
+  double h = std::max(k - std::abs(a - b), 0.0) / k;
+  return std::min(a, b) - h * h * k * 0.25;
+}
+
+constexpr double kBlend = 0.035;
+
+double body_sdf(const std::vector<Part>& parts, dvec3 q) {
+  double d = part_distance(parts[0], q);
+  for (size_t i = 1; i < parts.size(); ++i) d = smooth_min(d, part_distance(parts[i], q), kBlend);
+  return d;
+}
+
+dvec3 sdf_gradient(const std::vector<Part>& parts, dvec3 q) {
+  const double e = 1e-4;
+  return dvec3(body_sdf(parts, q + dvec3(e, 0, 0)) - body_sdf(parts, q - dvec3(e, 0, 0)),
+               body_sdf(parts, q + dvec3(0, e, 0)) - body_sdf(parts, q - dvec3(0, e, 0)),
+               body_sdf(parts, q + dvec3(0, 0, e)) - body_sdf(parts, q - dvec3(0, 0, e))) /
+         (2 * e);
+}
+
+struct Surface {
+  std::vector<dvec3> positions;
+  std::vector<Tri> triangles;
+};
+
+// Marching tetrahedra over the grid.
+Surface polygonize(const std::vector<Part>& parts, double h) {
+  dvec3 lo(1e300), hi(-1e300);
+  for (const Part& p : parts) {
+    double r = std::max(p.ra, p.rb);
+    lo = glm::min(lo, glm::min(p.a, p.b) - dvec3(r));
+    hi = glm::max(hi, glm::max(p.a, p.b) + dvec3(r));
+  }
+  lo -= dvec3(2 * h);
+  hi += dvec3(2 * h);
+  const int nx = static_cast<int>(std::ceil((hi.x - lo.x) / h)) + 1;
+  const int ny = static_cast<int>(std::ceil((hi.y - lo.y) / h)) + 1;
+  const int nz = static_cast<int>(std::ceil((hi.z - lo.z) / h)) + 1;
+  auto id = [&](int x, int y, int z) { return (static_cast<size_t>(z) * ny + y) * nx + x; };
+  auto point = [&](size_t i) {
+    int x = static_cast<int>(i % nx), y = static_cast<int>((i / nx) % ny), z = static_cast<int>(i / (size_t(nx) * ny));
+    return lo + h * dvec3(x, y, z);
+  };
+  std::vector<double> f(size_t(nx) * ny * nz);
+  tbb::parallel_for(0, nz, [&](int z) {
+    for (int y = 0; y < ny; ++y)
+      for (int x = 0; x < nx; ++x) {
+        double v = body_sdf(parts, lo + h * dvec3(x, y, z));
+        if (std::abs(v) < 1e-9) v = 1e-9;  // no grid value exactly on the surface
+        f[id(x, y, z)] = v;
+      }
+  });
+  Surface s;
+  std::unordered_map<uint64_t, uint32_t> edge_vertex;
+  auto vertex_on = [&](size_t a, size_t b) {
+    if (a > b) std::swap(a, b);
+    uint64_t key = static_cast<uint64_t>(a) * f.size() + b;
+    auto [it, inserted] = edge_vertex.try_emplace(key, static_cast<uint32_t>(s.positions.size()));
+    if (inserted) {
+      double t = f[a] / (f[a] - f[b]);
+      s.positions.push_back(point(a) + t * (point(b) - point(a)));
+    }
+    return it->second;
+  };
+  auto emit = [&](uint32_t a, uint32_t b, uint32_t c, const dvec3& outward) {
+    dvec3 n = glm::cross(s.positions[b] - s.positions[a], s.positions[c] - s.positions[a]);
+    if (glm::dot(n, outward) < 0) std::swap(b, c);
+    s.triangles.push_back({a, b, c});
+  };
+  static const int kPerm[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
+  for (int z = 0; z + 1 < nz; ++z)
+    for (int y = 0; y + 1 < ny; ++y)
+      for (int x = 0; x + 1 < nx; ++x) {
+        size_t corner[8];
+        int inside = 0;
+        for (int c = 0; c < 8; ++c) {
+          corner[c] = id(x + (c & 1), y + ((c >> 1) & 1), z + ((c >> 2) & 1));
+          inside += f[corner[c]] < 0;
+        }
+        if (inside == 0 || inside == 8) continue;
+        for (const auto& perm : kPerm) {
+          // Kuhn simplex: 0 -> +e_a -> +e_a+e_b -> 7, shared diagonals match across cubes.
+          int c1 = 1 << perm[0], c2 = c1 | (1 << perm[1]);
+          size_t tet[4] = {corner[0], corner[c1], corner[c2], corner[7]};
+          size_t in[4], out[4];
+          int ni = 0, no = 0;
+          for (size_t v : tet) (f[v] < 0 ? in[ni++] : out[no++]) = v;
+          if (ni == 0 || no == 0) continue;
+          dvec3 ci(0.0), co(0.0);
+          for (int k = 0; k < ni; ++k) ci += point(in[k]);
+          for (int k = 0; k < no; ++k) co += point(out[k]);
+          dvec3 outward = co / double(no) - ci / double(ni);
+          if (ni == 1) {
+            emit(vertex_on(in[0], out[0]), vertex_on(in[0], out[1]), vertex_on(in[0], out[2]), outward);
+          } else if (no == 1) {
+            emit(vertex_on(out[0], in[0]), vertex_on(out[0], in[1]), vertex_on(out[0], in[2]), outward);
+          } else {
+            uint32_t q0 = vertex_on(in[0], out[0]), q1 = vertex_on(in[0], out[1]), q2 = vertex_on(in[1], out[1]),
+                     q3 = vertex_on(in[1], out[0]);
+            emit(q0, q1, q2, outward);
+            emit(q0, q2, q3, outward);
+          }
+        }
+      }
+  return s;
+}
+
+// One-ring neighbours in CSR form, sorted (deterministic).
+void vertex_neighbours(const Surface& s, std::vector<uint32_t>& start, std::vector<uint32_t>& adj) {
+  std::vector<std::vector<uint32_t>> nb(s.positions.size());
+  for (const Tri& t : s.triangles)
+    for (int k = 0; k < 3; ++k) {
+      nb[t[k]].push_back(t[(k + 1) % 3]);
+      nb[t[k]].push_back(t[(k + 2) % 3]);
+    }
+  start.assign(1, 0);
+  adj.clear();
+  for (auto& n : nb) {
+    std::sort(n.begin(), n.end());
+    n.erase(std::unique(n.begin(), n.end()), n.end());
+    adj.insert(adj.end(), n.begin(), n.end());
+    start.push_back(static_cast<uint32_t>(adj.size()));
+  }
+}
+
+void relax(Surface& s, const std::vector<Part>& parts, int iterations) {
+  std::vector<uint32_t> start, adj;
+  vertex_neighbours(s, start, adj);
+  std::vector<dvec3> next(s.positions.size());
+  for (int it = 0; it < iterations; ++it) {
+    tbb::parallel_for(size_t(0), s.positions.size(), [&](size_t v) {
+      dvec3 p = s.positions[v];
+      dvec3 c(0.0);
+      for (uint32_t k = start[v]; k < start[v + 1]; ++k) c += s.positions[adj[k]];
+      uint32_t n = start[v + 1] - start[v];
+      if (n) c /= double(n);
+      dvec3 g = sdf_gradient(parts, p);
+      double gl = glm::length(g);
+      dvec3 nrm = gl > 0 ? g / gl : dvec3(0.0);
+      dvec3 d = c - p;
+      p += 0.5 * (d - nrm * glm::dot(nrm, d));  // tangential move
+      for (int newton = 0; newton < 2; ++newton) {  // back onto the zero set
+        dvec3 gp = sdf_gradient(parts, p);
+        double g2 = glm::dot(gp, gp);
+        if (g2 > 1e-12) p -= body_sdf(parts, p) * gp / g2;
+      }
+      next[v] = p;
+    });
+    s.positions.swap(next);
+  }
+}
+
+glm::dmat3 bone_frame(const JointSpec& j) {
+  dvec3 y = glm::normalize(j.tail - j.head);
+  dvec3 x;
+  if (j.arm_frame) {
+    x = glm::normalize(glm::cross(y, dvec3(0, 0, 1)));  // rotating +angle about x swings the bone forward
+  } else {
+    dvec3 hint(1, 0, 0);
+    x = glm::normalize(hint - y * glm::dot(y, hint));
+  }
+  dvec3 z = glm::cross(x, y);
+  return glm::dmat3(x, y, z);
+}
+
+glm::quat about(double degrees, glm::dvec3 axis) {
+  return glm::quat(glm::angleAxis(degrees * std::numbers::pi / 180.0, glm::normalize(axis)));
+}
+
+// A LINEAR channel sampled at `keys` evenly spaced times over `duration`.
+template <class F>
+void add_rotation_channel(Clip& clip, const Skeleton& sk, uint32_t node, double duration, int keys, F angles) {
+  AnimationSampler s;
+  s.interpolation = Interpolation::kLinear;
+  s.components = 4;
+  for (int k = 0; k < keys; ++k) {
+    double t = duration * k / (keys - 1);
+    glm::quat q = glm::normalize(sk.node(node).rest.rotation * angles(t));
+    s.times.push_back(static_cast<float>(t));
+    s.values.insert(s.values.end(), {q.x, q.y, q.z, q.w});
+  }
+  clip.channels.push_back({node, ChannelPath::kRotation, static_cast<uint32_t>(clip.samplers.size())});
+  clip.samplers.push_back(std::move(s));
+}
+
+Clip walk_clip(const Skeleton& sk) {
+  Clip clip;
+  clip.name = "walk";
+  const double T = 1.0;
+  const int keys = 31;
+  const double two_pi = 2 * std::numbers::pi;
+  auto phase = [&](double t) { return two_pi * t / T; };
+  auto n = [&](const char* name) { return static_cast<uint32_t>(sk.find(name)); };
+  for (int side = 0; side < 2; ++side) {
+    const char* sfx = side == 0 ? ".L" : ".R";
+    const double off = side == 0 ? 0.0 : std::numbers::pi;
+    // Hip: 32 degrees forward / back (flexion is negative about the leg's local X).
+    add_rotation_channel(clip, sk, n((std::string("thigh") + sfx).c_str()), T, keys,
+                         [&](double t) { return about(-32.0 * std::sin(phase(t) + off), {1, 0, 0}); });
+    // Knee: 8 to 68 degrees, bent most while the leg swings forward.
+    add_rotation_channel(clip, sk, n((std::string("shin") + sfx).c_str()), T, keys, [&](double t) {
+      double c = 0.5 + 0.5 * std::cos(phase(t) + off - 0.3);
+      return about(8.0 + 60.0 * c * c, {1, 0, 0});
+    });
+    add_rotation_channel(clip, sk, n((std::string("foot") + sfx).c_str()), T, keys,
+                         [&](double t) { return about(-12.0 * std::sin(phase(t) + off + 1.0), {1, 0, 0}); });
+    // Arms swing against the legs; elbows bend a little more on the forward swing.
+    add_rotation_channel(clip, sk, n((std::string("upper_arm") + sfx).c_str()), T, keys,
+                         [&](double t) { return about(-28.0 * std::sin(phase(t) + off), {1, 0, 0}); });
+    add_rotation_channel(clip, sk, n((std::string("forearm") + sfx).c_str()), T, keys,
+                         [&](double t) { return about(25.0 - 15.0 * std::sin(phase(t) + off), {1, 0, 0}); });
+  }
+  add_rotation_channel(clip, sk, n("spine"), T, keys,
+                       [&](double t) { return about(6.0 * std::sin(phase(t)), {0, 1, 0}); });
+  add_rotation_channel(clip, sk, n("chest"), T, keys,
+                       [&](double t) { return about(-8.0 * std::sin(phase(t)), {0, 1, 0}) * about(4.0, {1, 0, 0}); });
+  // The hips bob twice per cycle.
+  AnimationSampler bob;
+  bob.interpolation = Interpolation::kLinear;
+  bob.components = 3;
+  const uint32_t hips = n("hips");
+  const glm::vec3 rest = sk.node(hips).rest.translation;
+  for (int k = 0; k < keys; ++k) {
+    double t = T * k / (keys - 1);
+    bob.times.push_back(static_cast<float>(t));
+    bob.values.insert(bob.values.end(), {rest.x, static_cast<float>(rest.y - 0.015 + 0.015 * std::cos(2 * phase(t))), rest.z});
+  }
+  clip.channels.push_back({hips, ChannelPath::kTranslation, static_cast<uint32_t>(clip.samplers.size())});
+  clip.samplers.push_back(std::move(bob));
+  clip.duration = T;
+  return clip;
+}
+
+Clip arm_raise_clip(const Skeleton& sk) {
+  Clip clip;
+  clip.name = "arm_raise";
+  const double T = 2.0;
+  const int keys = 61;
+  auto up = [&](double t) { return 0.5 - 0.5 * std::cos(2 * std::numbers::pi * t / T); };  // 0 -> 1 -> 0
+  auto n = [&](const std::string& name) { return static_cast<uint32_t>(sk.find(name)); };
+  for (int side = 0; side < 2; ++side) {
+    const std::string sfx = side == 0 ? ".L" : ".R";
+    const double sign = side == 0 ? 1.0 : -1.0;  // abduction is +Z on the left, -Z on the right
+    add_rotation_channel(clip, sk, n("shoulder" + sfx), T, keys,
+                         [&](double t) { return about(sign * 15.0 * up(t), {0, 0, 1}); });
+    add_rotation_channel(clip, sk, n("upper_arm" + sfx), T, keys,
+                         [&](double t) { return about(sign * 125.0 * up(t), {0, 0, 1}); });
+    add_rotation_channel(clip, sk, n("forearm" + sfx), T, keys, [&](double t) {
+      double u = up(t);
+      return about(110.0 * u * u, {1, 0, 0});
+    });
+    add_rotation_channel(clip, sk, n("hand" + sfx), T, keys,
+                         [&](double t) { return about(20.0 * up(t), {1, 0, 0}); });
+  }
+  clip.duration = T;
+  return clip;
+}
+
+}  // namespace
+
+Character make_demo_character(const DemoCharacterOptions& options) {
+  const std::vector<JointSpec> specs = joint_specs();
+  const size_t nj = specs.size();
+  // Skeleton: joint nodes 0..nj-1, then the mesh node (a root, as glTF wants for skinned meshes).
+  std::vector<glm::dmat3> frames(nj);
+  for (size_t i = 0; i < nj; ++i) frames[i] = bone_frame(specs[i]);
+  std::vector<SkeletonNode> nodes(nj + 1);
+  for (size_t i = 0; i < nj; ++i) {
+    SkeletonNode& n = nodes[i];
+    n.name = specs[i].name;
+    n.parent = specs[i].parent;
+    glm::dmat3 parent_r = n.parent >= 0 ? frames[n.parent] : glm::dmat3(1.0);
+    dvec3 parent_p = n.parent >= 0 ? specs[n.parent].head : dvec3(0.0);
+    glm::dmat3 local_r = glm::transpose(parent_r) * frames[i];
+    n.rest.rotation = glm::quat(glm::normalize(glm::quat_cast(local_r)));
+    n.rest.translation = glm::vec3(glm::transpose(parent_r) * (specs[i].head - parent_p));
+  }
+  nodes[nj].name = "body";
+  Character c;
+  c.source = "demo character (generated)";
+  c.skeleton = Skeleton::create(std::move(nodes), "demo character").value();
+  // Inverse bind matrices from the float rest pose the file will hold.
+  Skin skin;
+  skin.name = "rig";
+  auto globals = c.skeleton.global_transforms(c.skeleton.rest_pose());
+  for (size_t i = 0; i < nj; ++i) {
+    skin.joints.push_back(static_cast<uint32_t>(i));
+    skin.inverse_bind.push_back(glm::inverse(globals[i]));
+  }
+  c.skins.push_back(std::move(skin));
+
+  // The skin surface.
+  const std::vector<Part> parts = body_parts(specs);
+  Surface s = polygonize(parts, options.cell_size);
+  relax(s, parts, options.relax_iterations);
+
+  // Weights: the nearest body part's bone, diffused over the surface.
+  const size_t nv = s.positions.size();
+  std::vector<float> w(nv * nj, 0.0f), w_next(nv * nj);
+  tbb::parallel_for(size_t(0), nv, [&](size_t v) {
+    double best = 1e300;
+    int bone = 0;
+    for (const Part& p : parts) {
+      double d = part_distance(p, s.positions[v]);
+      if (d < best) {
+        best = d;
+        bone = p.bone;
+      }
+    }
+    w[v * nj + bone] = 1.0f;
+  });
+  std::vector<uint32_t> start, adj;
+  vertex_neighbours(s, start, adj);
+  for (int it = 0; it < options.weight_smoothing_iterations; ++it) {
+    tbb::parallel_for(size_t(0), nv, [&](size_t v) {
+      uint32_t n = start[v + 1] - start[v];
+      for (size_t b = 0; b < nj; ++b) {
+        float sum = 0;
+        for (uint32_t k = start[v]; k < start[v + 1]; ++k) sum += w[adj[k] * nj + b];
+        w_next[v * nj + b] = n ? 0.5f * w[v * nj + b] + 0.5f * sum / float(n) : w[v * nj + b];
+      }
+    });
+    w.swap(w_next);
+  }
+  Primitive prim;
+  prim.mesh_name = "body";
+  prim.node = static_cast<uint32_t>(nj);
+  prim.skin = 0;
+  prim.positions.resize(nv);
+  for (size_t v = 0; v < nv; ++v) prim.positions[v] = glm::vec3(s.positions[v]);
+  prim.triangles = std::move(s.triangles);
+  prim.influence_start.assign(1, 0);
+  std::vector<std::pair<float, uint16_t>> inf;
+  for (size_t v = 0; v < nv; ++v) {
+    inf.clear();
+    for (size_t b = 0; b < nj; ++b)
+      if (w[v * nj + b] > 1e-3f) inf.emplace_back(w[v * nj + b], static_cast<uint16_t>(b));
+    std::sort(inf.begin(), inf.end(), [](const auto& a, const auto& b) { return a.first != b.first ? a.first > b.first : a.second < b.second; });
+    if (inf.size() > 4) inf.resize(4);
+    float sum = 0;
+    for (auto& e : inf) sum += e.first;
+    for (auto& e : inf) {
+      prim.influence_joint.push_back(e.second);
+      prim.influence_weight.push_back(e.first / sum);
+    }
+    prim.influence_start.push_back(static_cast<uint32_t>(prim.influence_joint.size()));
+  }
+  c.primitives.push_back(std::move(prim));
+  c.clips.push_back(walk_clip(c.skeleton));
+  c.clips.push_back(arm_raise_clip(c.skeleton));
+  return c;
+}
+
+}  // namespace cagewrap
