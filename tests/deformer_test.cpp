@@ -88,8 +88,12 @@ TEST_P(EveryVariant, WeightsSumToOneAndSetsAreBounded) {
       EXPECT_GE(b.weights[e], 0.f);
       sum += b.weights[e];
     }
-    if (b.offsets[i + 1] > b.offsets[i]) EXPECT_NEAR(sum, 1.0, 1e-6) << "point " << i;
-    if (p.variant != Variant::kExtended) EXPECT_LE(b.offsets[i + 1] - b.offsets[i], p.max_elements);
+    if (b.offsets[i + 1] > b.offsets[i]) {
+      EXPECT_NEAR(sum, 1.0, 1e-6) << "point " << i;
+    }
+    if (p.variant != Variant::kExtended) {
+      EXPECT_LE(b.offsets[i + 1] - b.offsets[i], p.max_elements);
+    }
   }
   EXPECT_LE(b.max_set_size, p.max_elements);
   EXPECT_GT(b.max_set_size, 1u) << "the fixture should give points several elements";
