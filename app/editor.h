@@ -1,0 +1,21 @@
+// The editor: a GLFW window with Dear ImGui panels around a 3-D viewport. Opened by `cagewrap` with
+// no subcommand.
+#pragma once
+
+#include <string>
+
+namespace cagewrap::app {
+
+struct EditorOptions {
+  std::string file;        // a character (.glb/.gltf) to open; empty = the demo character
+  std::string cage;        // a cage to use with it (.obj/.ply/.off/.stl); empty = automatic
+  std::string screenshot;  // render, save this PNG after `frames` frames, and exit
+  int frames = 3;
+  int width = 1600, height = 900;
+  bool play = false;       // start playing the first clip
+};
+
+// Returns the process exit code.
+int run_editor(const EditorOptions& options);
+
+}  // namespace cagewrap::app

@@ -1,0 +1,81 @@
+// What the editor shows and animates: the character, its cage, the binding, and the pose of the
+// current frame. No GL or ImGui here: the viewport draws from it, panels edit it.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <memory>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "core/animation.h"
+#include "core/cage.h"
+#include "core/cage_attachment.h"
+#include "core/character.h"
+#include "core/deformer.h"
+#include "core/registration.h"
+
+namespace cagewrap::app {
+
+// A bind running on a worker thread, with progress and cancel; the UI polls it every frame.
+class BindJob {
+ public:
+  BindJob(std::vector<glm::vec3> skin, Cage cage, BindParams params);
+  ~BindJob();
+  double progress() const { return progress_.load(); }
+  bool done() const { return done_.load(); }
+  void cancel() { cancel_ = true; }
+  // Valid once done(): the binding, or the error (kCancelled when cancelled).
+  Result<Binding>& result() { return *result_; }
+
+ private:
+  std::vector<glm::vec3> skin_;
+  Cage cage_;
+  BindParams params_;
+  std::atomic<double> progress_{0.0};
+  std::atomic<bool> cancel_{false}, done_{false};
+  std::optional<Result<Binding>> result_;
+  std::thread thread_;
+};
+
+struct Scene {
+  std::shared_ptr<const Character> character;
+  std::vector<glm::vec3> skin_rest;  // #V bind pose, every primitive in file order
+  PolyMesh skin_topology;            // combined triangles
+  std::optional<Cage> cage;          // at rest
+  std::string cage_source;
+  std::optional<CageAttachment> attachment;
+  BindParams params;                 // as edited
+  std::unique_ptr<Binding> binding;  // the registration in use (made with `bound_params`)
+  BindParams bound_params;
+  std::optional<Deformer> deformer;
+  std::unique_ptr<BindJob> job;
+
+  // animation (view state: never undone)
+  int32_t clip = -1;
+  ClipPlayer player;
+
+  // the current frame
+  std::vector<glm::vec3> cage_posed, skin_posed, joint_heads;
+  std::vector<glm::dmat3> cage_linear;
+  std::vector<std::array<uint32_t, 2>> bones;
+  double deform_ms = 0.0;
+  bool skin_from_cage = false;  // false: the file's own linear blend skinning is shown
+
+  bool needs_rebind() const;
+  // Poses skeleton and cage at the player's time and deforms the skin.
+  void update_pose();
+  void start_bind();
+  // Polls the running job; returns a message when it finished (bound, failed or cancelled).
+  std::optional<std::string> poll_bind();
+};
+
+// Loads a character file (glTF) and optionally a cage; errors name the file.
+Result<std::unique_ptr<Scene>> load_scene(const std::string& character_path, const std::string& cage_path);
+// The demo character shipped in assets/ (found beside the executable or the source tree), or
+// generated in-process when the file cannot be found.
+std::string demo_character_path();
+
+}  // namespace cagewrap::app

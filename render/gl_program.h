@@ -1,0 +1,34 @@
+// A linked GLSL program from the shaders embedded at build time (shaders/*.glsl -> the binary).
+#pragma once
+
+#include <epoxy/gl.h>
+
+#include <string>
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec4.hpp>
+
+namespace cagewrap::render {
+
+// The text of an embedded shader file ("mesh.vert"), or empty.
+std::string_view embedded_shader(std::string_view name);
+
+class GlProgram {
+ public:
+  GlProgram() = default;
+  GlProgram(const GlProgram&) = delete;
+  GlProgram& operator=(const GlProgram&) = delete;
+  ~GlProgram();
+  // Compiles and links; on failure returns false and fills `log`.
+  bool build(std::string_view vertex_name, std::string_view fragment_name, std::string& log);
+  void use() const { glUseProgram(id_); }
+  void set(const char* name, const glm::mat4& m) const;
+  void set(const char* name, const glm::vec4& v) const;
+  void set(const char* name, float v) const;
+  void set(const char* name, int v) const;
+
+ private:
+  GLuint id_ = 0;
+};
+
+}  // namespace cagewrap::render

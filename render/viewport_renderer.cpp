@@ -1,0 +1,189 @@
+#include "render/viewport_renderer.h"
+
+#include <glm/gtc/matrix_transform.hpp>
+
+namespace cagewrap::render {
+
+namespace {
+const glm::vec4 kSkinColor(0.78f, 0.62f, 0.52f, 1.0f);
+const glm::vec4 kCageFaceColor(0.35f, 0.62f, 0.95f, 1.0f);
+const glm::vec4 kCageEdgeColor(0.30f, 0.70f, 1.00f, 0.95f);
+const glm::vec4 kSelectedColor(1.00f, 0.62f, 0.10f, 1.0f);
+const glm::vec4 kBoneColor(0.95f, 0.95f, 0.35f, 1.0f);
+const glm::vec4 kJointColor(0.95f, 0.80f, 0.20f, 1.0f);
+}  // namespace
+
+bool ViewportRenderer::init(std::string& log) {
+  if (!mesh_program_.build("mesh.vert.glsl", "mesh.frag.glsl", log)) return false;
+  if (!line_program_.build("line.vert.glsl", "line.frag.glsl", log)) return false;
+  skin_ = std::make_unique<TriangleBuffer>();
+  cage_faces_ = std::make_unique<TriangleBuffer>();
+  cage_edges_ = std::make_unique<LineBuffer>();
+  cage_points_ = std::make_unique<LineBuffer>();
+  bones_ = std::make_unique<LineBuffer>();
+  joints_ = std::make_unique<LineBuffer>();
+  grid_ = std::make_unique<LineBuffer>();
+  axes_ = std::make_unique<LineBuffer>();
+  return true;
+}
+
+void ViewportRenderer::set_skin_topology(size_t num_vertices, std::span<const Tri> triangles) {
+  skin_->upload_indices(triangles);
+  skin_normals_ = NormalComputer(num_vertices, triangles);
+  skin_normal_data_.assign(num_vertices, glm::vec3(0.f));
+}
+
+void ViewportRenderer::update_skin(std::span<const glm::vec3> positions) {
+  skin_normals_.compute(positions, skin_normal_data_);
+  skin_->upload_positions(positions, skin_normal_data_);
+}
+
+void ViewportRenderer::set_skin_colors(std::span<const glm::vec4> colors) { skin_->upload_colors(colors); }
+
+void ViewportRenderer::set_cage_topology(const PolyMesh& polygons, std::span<const Tri> elements) {
+  cage_faces_->upload_indices(elements);
+  cage_normals_ = NormalComputer(polygons.num_vertices(), elements);
+  cage_normal_data_.assign(polygons.num_vertices(), glm::vec3(0.f));
+  cage_edge_list_ = unique_edges(polygons);  // polygon edges only: no triangulation diagonals
+}
+
+void ViewportRenderer::update_cage(std::span<const glm::vec3> positions, std::span<const uint8_t> selected) {
+  cage_normals_.compute(positions, cage_normal_data_);
+  cage_faces_->upload_positions(positions, cage_normal_data_);
+  scratch_positions_.clear();
+  scratch_colors_.clear();
+  for (auto [a, b] : cage_edge_list_) {
+    scratch_positions_.push_back(positions[a]);
+    scratch_positions_.push_back(positions[b]);
+    bool sa = !selected.empty() && selected[a], sb = !selected.empty() && selected[b];
+    scratch_colors_.push_back(sa ? kSelectedColor : kCageEdgeColor);
+    scratch_colors_.push_back(sb ? kSelectedColor : kCageEdgeColor);
+  }
+  cage_edges_->upload(scratch_positions_, scratch_colors_);
+  scratch_colors_.assign(positions.size(), glm::vec4(0.15f, 0.45f, 0.85f, 1.0f));
+  for (size_t i = 0; i < selected.size() && i < positions.size(); ++i)
+    if (selected[i]) scratch_colors_[i] = kSelectedColor;
+  cage_points_->upload(positions, scratch_colors_);
+}
+
+void ViewportRenderer::update_skeleton(std::span<const glm::vec3> heads, std::span<const std::array<uint32_t, 2>> bones,
+                                       int selected) {
+  scratch_positions_.clear();
+  scratch_colors_.clear();
+  for (auto [a, b] : bones) {
+    scratch_positions_.push_back(heads[a]);
+    scratch_positions_.push_back(heads[b]);
+    scratch_colors_.push_back(kBoneColor);
+    scratch_colors_.push_back(kBoneColor * glm::vec4(0.7f, 0.7f, 0.7f, 1.0f));
+  }
+  bones_->upload(scratch_positions_, scratch_colors_);
+  scratch_colors_.assign(heads.size(), kJointColor);
+  if (selected >= 0 && static_cast<size_t>(selected) < heads.size()) scratch_colors_[static_cast<size_t>(selected)] = kSelectedColor;
+  joints_->upload(heads, scratch_colors_);
+}
+
+void ViewportRenderer::draw_grid(const ViewParams& v) {
+  if (v.grid_spacing != grid_built_spacing_ || v.grid_lines != grid_built_lines_) {
+    scratch_positions_.clear();
+    scratch_colors_.clear();
+    const float ext = v.grid_spacing * v.grid_lines;
+    for (int i = -v.grid_lines; i <= v.grid_lines; ++i) {
+      float c = v.grid_spacing * i;
+      glm::vec4 col = i == 0 ? glm::vec4(0.45f, 0.45f, 0.48f, 1.f)
+                             : (i % 5 == 0 ? glm::vec4(0.33f, 0.33f, 0.36f, 1.f) : glm::vec4(0.26f, 0.26f, 0.28f, 1.f));
+      scratch_positions_.insert(scratch_positions_.end(), {{c, 0, -ext}, {c, 0, ext}, {-ext, 0, c}, {ext, 0, c}});
+      scratch_colors_.insert(scratch_colors_.end(), {col, col, col, col});
+    }
+    grid_->upload(scratch_positions_, scratch_colors_);
+    grid_built_spacing_ = v.grid_spacing;
+    grid_built_lines_ = v.grid_lines;
+  }
+  grid_->draw(GL_LINES);
+}
+
+void ViewportRenderer::draw_axes(const ViewParams& v) {
+  // a small indicator in the lower-left corner, rotating with the view
+  const int size = std::min(90, std::min(v.width, v.height) / 4);
+  glViewport(v.x + 8, v.y + 8, size, size);
+  glm::mat4 rot = v.view;
+  rot[3] = glm::vec4(0, 0, -3, 1);
+  line_program_.set("u_view", rot);
+  line_program_.set("u_projection", glm::perspective(glm::radians(30.0f), 1.0f, 0.1f, 10.0f));
+  const glm::vec3 o(0.f);
+  const glm::vec3 pts[6] = {o, {0.75f, 0, 0}, o, {0, 0.75f, 0}, o, {0, 0, 0.75f}};
+  const glm::vec4 cols[6] = {{0.95f, 0.3f, 0.3f, 1}, {0.95f, 0.3f, 0.3f, 1}, {0.4f, 0.9f, 0.4f, 1},
+                             {0.4f, 0.9f, 0.4f, 1},  {0.35f, 0.55f, 1, 1},   {0.35f, 0.55f, 1, 1}};
+  axes_->upload(pts, cols);
+  glDisable(GL_DEPTH_TEST);
+  axes_->draw(GL_LINES);
+  glEnable(GL_DEPTH_TEST);
+  glViewport(v.x, v.y, v.width, v.height);
+}
+
+void ViewportRenderer::draw(const ViewParams& v, const ViewportStyle& style) {
+  glViewport(v.x, v.y, v.width, v.height);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LEQUAL);
+  glEnable(GL_BLEND);
+  glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+  glEnable(GL_PROGRAM_POINT_SIZE);
+  glEnable(GL_LINE_SMOOTH);
+
+  line_program_.use();
+  line_program_.set("u_view", v.view);
+  line_program_.set("u_projection", v.projection);
+  line_program_.set("u_point_size", 1.0f);
+  line_program_.set("u_depth_bias", 0.0f);
+  line_program_.set("u_round_points", 0);
+  if (style.show_grid) draw_grid(v);
+
+  mesh_program_.use();
+  mesh_program_.set("u_view", v.view);
+  mesh_program_.set("u_projection", v.projection);
+  mesh_program_.set("u_lit", 1);
+  if (style.show_skin) {
+    mesh_program_.set("u_use_vertex_color", skin_->has_colors() ? 1 : 0);
+    glm::vec4 color = kSkinColor;
+    if (style.xray) {
+      color.w = 0.35f;
+      glDepthMask(GL_FALSE);
+    }
+    mesh_program_.set("u_color", color);
+    if (style.wireframe) glPolygonMode(GL_FRONT_AND_BACK, GL_LINE);
+    skin_->draw();
+    glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+    glDepthMask(GL_TRUE);
+  }
+  const bool on_top = style.xray;
+  if (style.show_cage) {
+    mesh_program_.set("u_use_vertex_color", 0);
+    mesh_program_.set("u_color", glm::vec4(glm::vec3(kCageFaceColor), style.cage_opacity));
+    glDepthMask(GL_FALSE);
+    cage_faces_->draw();
+    glDepthMask(GL_TRUE);
+    line_program_.use();
+    line_program_.set("u_depth_bias", on_top ? 1.0f : 0.0005f);
+    glLineWidth(1.5f);
+    cage_edges_->draw(GL_LINES);
+    line_program_.set("u_point_size", 5.0f);
+    line_program_.set("u_round_points", 1);
+    cage_points_->draw(GL_POINTS);
+    line_program_.set("u_round_points", 0);
+  }
+  if (style.show_skeleton) {
+    line_program_.use();
+    line_program_.set("u_depth_bias", 1.0f);  // the skeleton is inside the skin: always on top
+    glLineWidth(2.5f);
+    bones_->draw(GL_LINES);
+    line_program_.set("u_point_size", 9.0f);
+    line_program_.set("u_round_points", 1);
+    joints_->draw(GL_POINTS);
+    line_program_.set("u_round_points", 0);
+  }
+  glLineWidth(1.0f);
+  line_program_.use();
+  line_program_.set("u_depth_bias", 0.0f);
+  draw_axes(v);
+}
+
+}  // namespace cagewrap::render

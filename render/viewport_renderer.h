@@ -1,0 +1,73 @@
+// Draws the editor's 3-D view from core data: the skin (lit, normals recomputed as it deforms), the
+// cage as polygons (wire without the triangulation diagonals, translucent faces, vertices), the
+// skeleton (bones and pickable joints), a ground grid and an axis indicator. No ImGui here.
+#pragma once
+
+#include <array>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <glm/mat4x4.hpp>
+
+#include "core/mesh.h"
+#include "core/mesh_normals.h"
+#include "render/gl_program.h"
+#include "render/gpu_buffers.h"
+
+namespace cagewrap::render {
+
+struct ViewportStyle {
+  bool show_skin = true;
+  bool show_cage = true;
+  bool show_skeleton = true;
+  bool show_grid = true;
+  bool wireframe = false;  // skin as wireframe
+  bool xray = false;       // skin translucent, cage and skeleton on top
+  float cage_opacity = 0.18f;
+};
+
+struct ViewParams {
+  glm::mat4 view{1.0f}, projection{1.0f};
+  int x = 0, y = 0, width = 1, height = 1;  // viewport in framebuffer pixels
+  float grid_spacing = 0.1f;
+  int grid_lines = 20;  // each side of the origin
+};
+
+class ViewportRenderer {
+ public:
+  bool init(std::string& log);
+
+  void set_skin_topology(size_t num_vertices, std::span<const Tri> triangles);
+  void update_skin(std::span<const glm::vec3> positions);
+  // Per-vertex colours over the skin (heat maps); empty to return to the plain material.
+  void set_skin_colors(std::span<const glm::vec4> colors);
+
+  void set_cage_topology(const PolyMesh& polygons, std::span<const Tri> elements);
+  // `selected` (#Vc, may be empty) highlights cage vertices.
+  void update_cage(std::span<const glm::vec3> positions, std::span<const uint8_t> selected);
+
+  // Joint heads (#J) and bones as joint index pairs; `selected` joint highlighted (-1: none).
+  void update_skeleton(std::span<const glm::vec3> heads, std::span<const std::array<uint32_t, 2>> bones,
+                       int selected);
+
+  void draw(const ViewParams& view, const ViewportStyle& style);
+
+ private:
+  void draw_grid(const ViewParams& v);
+  void draw_axes(const ViewParams& v);
+
+  GlProgram mesh_program_, line_program_;
+  std::unique_ptr<TriangleBuffer> skin_, cage_faces_;
+  std::unique_ptr<LineBuffer> cage_edges_, cage_points_, bones_, joints_, grid_, axes_;
+  NormalComputer skin_normals_, cage_normals_;
+  std::vector<glm::vec3> skin_normal_data_, cage_normal_data_;
+  std::vector<std::array<uint32_t, 2>> cage_edge_list_;
+  std::vector<glm::vec3> scratch_positions_;
+  std::vector<glm::vec4> scratch_colors_;
+  float grid_built_spacing_ = -1.0f;
+  int grid_built_lines_ = -1;
+};
+
+}  // namespace cagewrap::render
