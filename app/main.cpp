@@ -2,11 +2,21 @@
 #include <cstdio>
 
 #include "app/commands.h"
+#include "app/editor.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"cagewrap: skin characters with surface-oriented free-form deformation cages"};
   app.set_version_flag("--version", std::string("cagewrap ") + CAGEWRAP_VERSION);
   int exit_code = 0;
+  cagewrap::app::EditorOptions editor;
+  app.add_option("file", editor.file, "character to open in the editor (.glb, .gltf); default: the demo character");
+  app.add_option("--cage", editor.cage, "cage to open with the character (.obj .ply .off .stl)");
+  app.add_option("--screenshot", editor.screenshot, "render the editor, save this PNG and exit (for tests)");
+  app.add_option("--frames", editor.frames, "frames to run before the screenshot")->capture_default_str();
+  app.add_option("--width", editor.width, "window width")->capture_default_str();
+  app.add_option("--height", editor.height, "window height")->capture_default_str();
+  app.add_flag("--play", editor.play, "start playing the first clip");
+  app.positionals_at_end(false);
   cagewrap::app::add_bind_command(app, exit_code);
   cagewrap::app::add_deform_command(app, exit_code);
   cagewrap::app::add_bench_command(app, exit_code);
@@ -18,9 +28,6 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
   }
-  if (app.get_subcommands().empty()) {
-    // The editor arrives with the editor issue; until then, show what the command line offers.
-    std::fputs(app.help().c_str(), stdout);
-  }
+  if (app.get_subcommands().empty()) return cagewrap::app::run_editor(editor);
   return exit_code;
 }
