@@ -41,9 +41,12 @@ struct OrbitView {
   }
   void frame(const Aabb& box) {
     target = glm::vec3(box.center());
-    distance = static_cast<float>(0.5 * box.diagonal() / std::tan(0.5 * fov) * 1.1);
+    distance = static_cast<float>(0.5 * box.diagonal() / std::tan(0.5 * fov) * 0.8);
   }
 };
+
+// Fixed panel layout (pixels): the 3-D view is what the panels leave free.
+constexpr float kMenuHeight = 19.0f, kLeftWidth = 260.0f, kRightWidth = 300.0f, kBottomHeight = 170.0f;
 
 struct LogLine {
   std::string text;
@@ -240,8 +243,8 @@ void Editor::draw_menu() {
 
 void Editor::draw_outliner() {
   ImGuiIO& io = ImGui::GetIO();
-  ImGui::SetNextWindowPos(ImVec2(0, 20), ImGuiCond_Always);
-  ImGui::SetNextWindowSize(ImVec2(260, io.DisplaySize.y - 20 - 170), ImGuiCond_Always);
+  ImGui::SetNextWindowPos(ImVec2(0, kMenuHeight), ImGuiCond_Always);
+  ImGui::SetNextWindowSize(ImVec2(kLeftWidth, io.DisplaySize.y - kMenuHeight - kBottomHeight), ImGuiCond_Always);
   ImGui::Begin("Outliner", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
   if (scene_) {
     const Character& ch = *scene_->character;
@@ -250,7 +253,7 @@ void Editor::draw_outliner() {
       for (const auto& p : ch.primitives) ImGui::BulletText("%s: %zu vertices", p.label().c_str(), p.num_vertices());
       ImGui::TreePop();
     }
-    if (ImGui::TreeNodeEx("Skeleton", ImGuiTreeNodeFlags_DefaultOpen, "Skeleton (%zu joints)", ch.skeleton.size())) {
+    if (ImGui::TreeNodeEx("Skeleton", ImGuiTreeNodeFlags_DefaultOpen, "Skeleton (%zu nodes, %zu joints)", ch.skeleton.size(), ch.num_joints())) {
       for (size_t i = 0; i < ch.skeleton.size(); ++i) {
         int depth = 0;
         for (int32_t p = ch.skeleton.node(i).parent; p >= 0; p = ch.skeleton.node(static_cast<size_t>(p)).parent) ++depth;
@@ -281,8 +284,8 @@ void Editor::draw_outliner() {
 
 void Editor::draw_properties() {
   ImGuiIO& io = ImGui::GetIO();
-  ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x - 300, 20), ImGuiCond_Always);
-  ImGui::SetNextWindowSize(ImVec2(300, io.DisplaySize.y - 20 - 170), ImGuiCond_Always);
+  ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x - kRightWidth, kMenuHeight), ImGuiCond_Always);
+  ImGui::SetNextWindowSize(ImVec2(kRightWidth, io.DisplaySize.y - kMenuHeight - kBottomHeight), ImGuiCond_Always);
   ImGui::Begin("Properties", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
   if (scene_ && scene_->cage) {
     BindParams& p = scene_->params;
@@ -331,8 +334,8 @@ void Editor::draw_properties() {
 
 void Editor::draw_timeline() {
   ImGuiIO& io = ImGui::GetIO();
-  ImGui::SetNextWindowPos(ImVec2(0, io.DisplaySize.y - 170), ImGuiCond_Always);
-  ImGui::SetNextWindowSize(ImVec2(io.DisplaySize.x * 0.6f, 170), ImGuiCond_Always);
+  ImGui::SetNextWindowPos(ImVec2(0, io.DisplaySize.y - kBottomHeight), ImGuiCond_Always);
+  ImGui::SetNextWindowSize(ImVec2(io.DisplaySize.x * 0.6f, kBottomHeight), ImGuiCond_Always);
   ImGui::Begin("Timeline", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
   if (scene_ && !scene_->character->clips.empty()) {
     const auto& clips = scene_->character->clips;
@@ -371,8 +374,8 @@ void Editor::draw_timeline() {
 
 void Editor::draw_log() {
   ImGuiIO& io = ImGui::GetIO();
-  ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x * 0.6f, io.DisplaySize.y - 170), ImGuiCond_Always);
-  ImGui::SetNextWindowSize(ImVec2(io.DisplaySize.x * 0.4f, 170), ImGuiCond_Always);
+  ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x * 0.6f, io.DisplaySize.y - kBottomHeight), ImGuiCond_Always);
+  ImGui::SetNextWindowSize(ImVec2(io.DisplaySize.x * 0.4f, kBottomHeight), ImGuiCond_Always);
   ImGui::Begin("Log", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
   for (const auto& l : log_) {
     ImVec4 c = l.error ? ImVec4(1, 0.4f, 0.35f, 1) : (l.text.rfind("warning", 0) == 0 ? ImVec4(1, 0.8f, 0.3f, 1) : ImVec4(0.85f, 0.85f, 0.85f, 1));
@@ -397,7 +400,7 @@ void Editor::draw_log() {
 
 void Editor::draw_stats() {
   ImGuiIO& io = ImGui::GetIO();
-  ImGui::SetNextWindowPos(ImVec2(270, 30), ImGuiCond_Always);
+  ImGui::SetNextWindowPos(ImVec2(kLeftWidth + 10, kMenuHeight + 10), ImGuiCond_Always);
   ImGui::SetNextWindowBgAlpha(0.35f);
   ImGui::Begin("stats", nullptr, ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoInputs |
                                      ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoNav);
@@ -499,8 +502,10 @@ int Editor::run() {
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     if (scene_) {
       render::ViewParams v;
-      v.width = std::max(1, w);
-      v.height = std::max(1, h);
+      v.x = static_cast<int>(kLeftWidth);
+      v.y = static_cast<int>(kBottomHeight);
+      v.width = std::max(1, w - static_cast<int>(kLeftWidth + kRightWidth));
+      v.height = std::max(1, h - static_cast<int>(kMenuHeight + kBottomHeight));
       v.view = camera_.view();
       v.projection = camera_.projection(float(v.width) / float(v.height));
       double diag = bounding_box(scene_->skin_rest).diagonal();
