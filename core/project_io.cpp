@@ -375,9 +375,15 @@ Status save_project(const std::string& path, const Document& doc) {
       fs::equivalent(path, doc.character_path, ec))
     return make_error(ErrorCode::kInvalidArgument,
                       path + ": not saved: that is the character file; choose another name for the project");
-  auto text = project_text(path, doc);
-  if (!text) return text.error();
-  return write_file_atomic(path, *text);
+  if (auto v = validate(doc.params); !v)
+    return make_error(ErrorCode::kInvalidArgument, path + ": not saved: " + v.error().message);
+  try {
+    auto text = project_text(path, doc);
+    if (!text) return text.error();
+    return write_file_atomic(path, *text);
+  } catch (const Json::exception& e) {  // a string that is not UTF-8 (a file name, a preserved field)
+    return make_error(ErrorCode::kInvalidArgument, path + ": not saved: " + e.what());
+  }
 }
 
 Result<ProjectLoad> load_project(const std::string& path, const std::string& character_override,

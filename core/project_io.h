@@ -16,7 +16,8 @@ inline constexpr const char* kProjectFormat = "cagewrap-project";
 inline constexpr const char* kProjectExtension = ".cagewrap";
 
 // Writes atomically (path.tmp beside it, fsync, rename over); the old file survives any failure.
-// Refuses to write over the character file or to save non-finite cage positions. The character is
+// Refuses to write over the character file, non-finite cage positions, parameters that fail
+// validate(), and paths JSON cannot hold (not UTF-8): nothing is written then. The character is
 // recorded relative to the project's folder. Does not change `doc` (History::mark_saved does).
 Status save_project(const std::string& path, const Document& doc);
 

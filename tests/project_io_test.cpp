@@ -399,6 +399,22 @@ TEST_F(ProjectIoTest, SaveIntoAMissingFolderFailsCleanly) {
   EXPECT_FALSE(fs::exists(path("no")));
 }
 
+TEST_F(ProjectIoTest, SaveIntoAReadOnlyFolderFailsCleanly) {
+  Document doc = make_doc();
+  fs::create_directories(dir_ / "locked");
+  std::string project = path("locked/p.cagewrap");
+  ASSERT_TRUE(save_project(project, doc).ok());
+  const std::string old = read_text(project);
+  chmod(path("locked").c_str(), 0555);
+  Status s = save_project(project, with_params(doc, BindParams{}));
+  chmod(path("locked").c_str(), 0755);
+  if (geteuid() == 0) GTEST_SKIP() << "running as root: a read-only folder does not stop root";
+  ASSERT_FALSE(s.ok());
+  EXPECT_EQ(s.error().code, ErrorCode::kWrite);
+  EXPECT_CONTAINS(s.error().message, "Permission denied");
+  EXPECT_EQ(read_text(project), old);
+}
+
 TEST_F(ProjectIoTest, FailedSaveLeavesTheOldFileUntouched) {
   Document doc = make_doc();
   std::string project = path("p.cagewrap");
@@ -450,6 +466,17 @@ TEST_F(ProjectIoTest, FailedSaveLeavesTheOldFileUntouched) {
   ASSERT_FALSE(nan.ok());
   EXPECT_EQ(nan.error().code, ErrorCode::kNonFinite);
   EXPECT_CONTAINS(nan.error().message, "cage vertex 3 has a non-finite coordinate");
+  EXPECT_EQ(read_text(project), complete);
+  // so are parameters that could not be read back
+  BindParams bad;
+  bad.local = std::numeric_limits<double>::infinity();
+  Status params = save_project(project, with_params(doc, bad));
+  ASSERT_FALSE(params.ok());
+  EXPECT_CONTAINS(params.error().message, "not saved: local must be a finite number");
+  // and a character path that JSON cannot hold
+  Document odd = doc;
+  odd.character_path = path("hero\xff.gltf");
+  EXPECT_FALSE(save_project(project, odd).ok());
   EXPECT_EQ(read_text(project), complete);
 }
 
