@@ -1,0 +1,146 @@
+#include "core/document.h"
+
+#include <atomic>
+#include <cstring>
+
+#include "core/check.h"
+#include "core/file_hash.h"
+#include "core/gltf_loader.h"
+#include "core/mesh_io.h"
+
+namespace cagewrap {
+
+std::span<const glm::vec3> Document::cage_positions() const {
+  if (!cage) return {};
+  return cage->polygons.positions;
+}
+
+uint64_t next_revision() {
+  static std::atomic<uint64_t> counter{0};
+  return ++counter;
+}
+
+Result<Document> document_from_files(const std::string& character_path, const std::string& cage_path) {
+  auto character = load_character(character_path);
+  if (!character) return character.error();
+  auto hash = hash_file(character_path);
+  if (!hash) return hash.error();
+  Document doc;
+  doc.character = std::make_shared<const Character>(std::move(character).value());
+  doc.character_path = character_path;
+  doc.character_hash = std::move(hash).value();
+  if (!cage_path.empty()) {
+    auto mesh = load_mesh(cage_path);
+    if (!mesh) return mesh.error();
+    auto cage = make_cage(std::move(mesh).value(), cage_path);
+    if (!cage) return cage.error();
+    doc.cage = std::make_shared<const Cage>(std::move(cage).value());
+  }
+  doc.revision = next_revision();
+  return doc;
+}
+
+Document with_cage_positions(const Document& doc, std::span<const glm::vec3> positions) {
+  CAGEWRAP_CHECK(doc.cage, "with_cage_positions needs a document with a cage");
+  CAGEWRAP_CHECK(positions.size() == doc.cage->num_vertices(), "one position per cage vertex");
+  auto cage = std::make_shared<Cage>(*doc.cage);
+  cage->polygons.positions.assign(positions.begin(), positions.end());
+  return with_cage(doc, std::move(cage));
+}
+
+Document with_cage(const Document& doc, std::shared_ptr<const Cage> cage) {
+  Document out = doc;
+  out.cage = std::move(cage);
+  out.revision = next_revision();
+  return out;
+}
+
+Document with_params(const Document& doc, const BindParams& params) {
+  Document out = doc;
+  out.params = params;
+  out.revision = next_revision();
+  return out;
+}
+
+Document with_set_edits(const Document& doc, std::vector<SetEdit> edits) {
+  Document out = doc;
+  out.set_edits = std::move(edits);
+  out.revision = next_revision();
+  return out;
+}
+
+Document with_character(const Document& doc, std::shared_ptr<const Character> character, std::string path,
+                        std::string hash) {
+  Document out = doc;
+  out.character = std::move(character);
+  out.character_path = std::move(path);
+  out.character_hash = std::move(hash);
+  out.revision = next_revision();
+  return out;
+}
+
+bool same_params(const BindParams& a, const BindParams& b) {
+  return a.local == b.local && a.epsilon == b.epsilon && a.max_elements == b.max_elements && a.scale == b.scale &&
+         a.max_distance == b.max_distance && a.close_distance == b.close_distance && a.variant == b.variant;
+}
+
+bool same_set_edits(std::span<const SetEdit> a, std::span<const SetEdit> b) {
+  if (a.size() != b.size()) return false;
+  for (size_t i = 0; i < a.size(); ++i)
+    if (a[i].point != b[i].point || a[i].exclude != b[i].exclude || a[i].include != b[i].include) return false;
+  return true;
+}
+
+namespace {
+bool same_cage(const Cage* a, const Cage* b) {
+  if (a == b) return true;
+  if (!a || !b) return false;
+  const PolyMesh &pa = a->polygons, &pb = b->polygons;
+  return pa.face_start == pb.face_start && pa.face_vertices == pb.face_vertices &&
+         pa.positions.size() == pb.positions.size() &&
+         std::memcmp(pa.positions.data(), pb.positions.data(), pa.positions.size() * sizeof(glm::vec3)) == 0;
+}
+
+// Sizes, not capacities: the estimate is then the same for a snapshot and its copies.
+template <class T>
+size_t vector_bytes(const std::vector<T>& v) {
+  return v.size() * sizeof(T);
+}
+}  // namespace
+
+bool same_content(const Document& a, const Document& b) {
+  return a.character_hash == b.character_hash && same_cage(a.cage.get(), b.cage.get()) &&
+         same_params(a.params, b.params) && same_set_edits(a.set_edits, b.set_edits) &&
+         a.preserved_fields == b.preserved_fields;
+}
+
+size_t estimated_bytes(const Character& c) {
+  size_t n = sizeof(Character) + c.source.size();
+  n += c.skeleton.size() * sizeof(SkeletonNode) + c.skeleton.order().size() * sizeof(uint32_t);
+  for (const Skin& s : c.skins) n += sizeof(Skin) + vector_bytes(s.joints) + vector_bytes(s.inverse_bind);
+  for (const Primitive& p : c.primitives) {
+    n += sizeof(Primitive) + vector_bytes(p.positions) + vector_bytes(p.triangles) + vector_bytes(p.influence_start) +
+         vector_bytes(p.influence_joint) + vector_bytes(p.influence_weight) + vector_bytes(p.morph_weights);
+    for (const auto& m : p.morph_targets) n += vector_bytes(m);
+  }
+  for (const Clip& clip : c.clips) {
+    n += sizeof(Clip) + vector_bytes(clip.channels);
+    for (const auto& s : clip.samplers) n += sizeof(s) + vector_bytes(s.times) + vector_bytes(s.values);
+  }
+  for (const auto& w : c.warnings) n += sizeof(w) + w.size();
+  return n;
+}
+
+size_t estimated_bytes(const Cage& cage) {
+  return sizeof(Cage) + vector_bytes(cage.polygons.positions) + vector_bytes(cage.polygons.face_start) +
+         vector_bytes(cage.polygons.face_vertices) + vector_bytes(cage.elements) + vector_bytes(cage.element_face);
+}
+
+size_t estimated_own_bytes(const Document& doc) {
+  size_t n = sizeof(Document) + doc.character_path.size() + doc.character_hash.size() +
+             doc.preserved_fields.size() + doc.project_path.size() + vector_bytes(doc.set_edits);
+  for (const SetEdit& e : doc.set_edits) n += vector_bytes(e.exclude) + vector_bytes(e.include);
+  return n;
+}
+
+}  // namespace cagewrap

@@ -1,0 +1,76 @@
+// The artist's work as a value: which character, the rest cage, the binding parameters and the
+// set edits. Copying a Document is cheap: the big immutable data (the character, the cage) sits
+// behind shared_ptr<const T> and is replaced, never mutated, so undo snapshots share it
+// (goxel's image_history_push; Blender's BKE_undo_system memory-capped steps).
+// View state (camera, selection, current clip and time, panel layout) is not part of a Document.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "core/binding.h"
+#include "core/cage.h"
+#include "core/character.h"
+#include "core/result.h"
+
+namespace cagewrap {
+
+struct Document {
+  std::shared_ptr<const Character> character;  // never null in a document made by the functions here
+  std::string character_path;  // as given (command line, file dialog) or resolved from the project file
+  std::string character_hash;  // "fnv1a64:<hex>" of the character file's bytes (core/file_hash.h)
+  std::shared_ptr<const Cage> cage;  // the rest cage R; null = no cage yet; replaced on edit
+  BindParams params;
+  std::vector<SetEdit> set_edits;
+  // A JSON object (text) of what the project file held that this build does not understand
+  // ("extensions" and unknown top-level fields), written back unchanged on save. "" = nothing.
+  std::string preserved_fields;
+  std::string project_path;  // the .cagewrap file it was loaded from or last saved to; "" = never saved
+  // A stamp from a process-wide counter, fresh for every content change made through the helpers
+  // below: two documents with the same revision have the same content (a renderer can key GPU
+  // copies on it; History's dirty flag compares it). Code that edits fields directly must set
+  // `revision = next_revision()`.
+  uint64_t revision = 0;
+
+  bool has_cage() const { return cage != nullptr; }
+  // #V x 3 rest cage positions (empty without a cage).
+  std::span<const glm::vec3> cage_positions() const;
+};
+
+uint64_t next_revision();
+
+// A new document: the character (glTF, through load_character) and, unless `cage_path` is empty,
+// a cage (OBJ/PLY/OFF/STL through load_mesh + make_cage). Default binding parameters, no edits.
+// Errors name the file.
+Result<Document> document_from_files(const std::string& character_path, const std::string& cage_path);
+
+// Copy-on-write edits: each returns a new document with a fresh revision and leaves `doc` alone.
+// Same topology, new rest positions (#V x 3; must have exactly cage->num_vertices() entries and
+// the document must have a cage: checked, aborts otherwise).
+Document with_cage_positions(const Document& doc, std::span<const glm::vec3> positions);
+// A different cage (new topology), or none (nullptr).
+Document with_cage(const Document& doc, std::shared_ptr<const Cage> cage);
+Document with_params(const Document& doc, const BindParams& params);
+Document with_set_edits(const Document& doc, std::vector<SetEdit> edits);
+// The character file moved (or was replaced): new path, hash and data.
+Document with_character(const Document& doc, std::shared_ptr<const Character> character, std::string path,
+                        std::string hash);
+
+// True when the work is the same: character hash, cage (topology, and positions bit for bit),
+// parameters, set edits and preserved fields. Paths and revisions are not compared.
+bool same_content(const Document& a, const Document& b);
+bool same_params(const BindParams& a, const BindParams& b);
+bool same_set_edits(std::span<const SetEdit> a, std::span<const SetEdit> b);
+
+// Estimated heap bytes, for the undo memory cap (History counts shared data once).
+size_t estimated_bytes(const Character& character);
+size_t estimated_bytes(const Cage& cage);
+// What a snapshot owns by value: set edits, paths, preserved fields (not the shared data).
+size_t estimated_own_bytes(const Document& doc);
+
+}  // namespace cagewrap
