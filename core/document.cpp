@@ -51,6 +51,14 @@ Document with_cage_positions(const Document& doc, std::span<const glm::vec3> pos
 Document with_cage(const Document& doc, std::shared_ptr<const Cage> cage) {
   Document out = doc;
   out.cage = std::move(cage);
+  if (!out.cage || out.cage_offsets.size() != out.cage->num_vertices()) out.cage_offsets.clear();
+  out.revision = next_revision();
+  return out;
+}
+
+Document with_cage_offsets(const Document& doc, std::vector<glm::vec3> offsets) {
+  Document out = doc;
+  out.cage_offsets = std::move(offsets);
   out.revision = next_revision();
   return out;
 }

@@ -27,6 +27,9 @@ struct Document {
   std::shared_ptr<const Cage> cage;  // the rest cage R; null = no cage yet; replaced on edit
   BindParams params;
   std::vector<SetEdit> set_edits;
+  // #Vc offsets of the driver cage D from the posed rest cage, each in the bind space of the joint
+  // its vertex follows (so a sculpted bulge travels with the limb); empty = none.
+  std::vector<glm::vec3> cage_offsets;
   // A JSON object (text) of what the project file held that this build does not understand
   // ("extensions" and unknown top-level fields), written back unchanged on save. "" = nothing.
   std::string preserved_fields;
@@ -55,6 +58,7 @@ Result<Document> document_from_files(const std::string& character_path, const st
 Document with_cage_positions(const Document& doc, std::span<const glm::vec3> positions);
 // A different cage (new topology), or none (nullptr).
 Document with_cage(const Document& doc, std::shared_ptr<const Cage> cage);
+Document with_cage_offsets(const Document& doc, std::vector<glm::vec3> offsets);
 Document with_params(const Document& doc, const BindParams& params);
 Document with_set_edits(const Document& doc, std::vector<SetEdit> edits);
 // The character file moved (or was replaced): new path, hash and data.

@@ -90,7 +90,17 @@ Result<std::string> project_text(const std::string& path, const Document& doc) {
   s += positions.empty() ? "],\n    \"faces\": [" : "\n    ],\n    \"faces\": [";
   size_t num_faces = doc.cage ? doc.cage->polygons.num_faces() : 0;
   for (size_t f = 0; f < num_faces; ++f) s += std::string(f ? "," : "") + "\n      " + index_list(doc.cage->polygons.face(f));
-  s += num_faces ? "\n    ]\n  },\n" : "]\n  },\n";
+  s += num_faces ? "\n    ]" : "]";
+  if (!doc.cage_offsets.empty()) {
+    s += ",\n    \"offsets\": [";
+    for (size_t v = 0; v < doc.cage_offsets.size(); ++v) {
+      const glm::vec3& o = doc.cage_offsets[v];
+      s += std::string(v ? "," : "") + "\n      [" + number(short_float(o.x)) + ", " + number(short_float(o.y)) + ", " +
+           number(short_float(o.z)) + "]";
+    }
+    s += "\n    ]";
+  }
+  s += "\n  },\n";
   const BindParams& p = doc.params;
   Json binding = {{"variant", variant_name(p.variant)}, {"local", p.local},
                   {"epsilon", p.epsilon},               {"max_elements", p.max_elements},
@@ -317,6 +327,20 @@ Result<ProjectLoad> load(const std::string& path, const std::string& character_o
   doc.cage = read_cage(r, root);
   doc.params = read_params(r, root, out.warnings, path);
   doc.set_edits = read_set_edits(r, root, doc.cage ? doc.cage->num_elements() : 0);
+  if (const Json& cage = r.object(root, "", "cage"); cage.contains("offsets")) {
+    const Json& offsets = r.array(cage["offsets"], "cage.offsets");
+    const size_t nv = doc.cage ? doc.cage->num_vertices() : 0;
+    if (offsets.size() != nv)
+      r.fail(ErrorCode::kTopologyMismatch, "cage.offsets has " + std::to_string(offsets.size()) +
+                                               " entries but the cage has " + std::to_string(nv) + " vertices");
+    for (size_t v = 0; v < offsets.size(); ++v) {
+      std::string path = Reader::at("cage.offsets", v);
+      const Json& o = offsets[v];
+      if (!o.is_array() || o.size() != 3) r.fail(ErrorCode::kParse, path + " should be [x, y, z], not " + Reader::show(o));
+      doc.cage_offsets.emplace_back(r.finite_float(o[0], path + "[0]"), r.finite_float(o[1], path + "[1]"),
+                                    r.finite_float(o[2], path + "[2]"));
+    }
+  }
 
   Json preserved = Json::object();
   if (root.contains("extensions")) {

@@ -4,6 +4,9 @@
 // fields are kept, and saving is atomic (the old file is replaced only by a complete new one).
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <iterator>
+
 #include <signal.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
@@ -123,6 +126,33 @@ TEST_F(ProjectIoTest, CagePositionsRoundTripBitForBit) {
       EXPECT_EQ(std::bit_cast<uint32_t>(back.cage_positions()[v][c]), std::bit_cast<uint32_t>(p[v][c]))
           << "vertex " << v << " coordinate " << c << " = " << p[v][c];
   EXPECT_TRUE(same_content(doc, back));
+}
+
+TEST_F(ProjectIoTest, DriverOffsetsRoundTripAndMustMatchTheCage) {
+  Document doc = make_doc();
+  std::vector<glm::vec3> offsets(doc.cage->num_vertices(), glm::vec3(0.f));
+  offsets[1] = {0.125f, -0.5f, 3e-7f};
+  doc = with_cage_offsets(doc, offsets);
+  ASSERT_TRUE(save_project(path("offsets.cagewrap"), doc).ok());
+  auto back = load_project(path("offsets.cagewrap"));
+  ASSERT_TRUE(back.ok()) << back.error().message;
+  EXPECT_EQ(back->document.cage_offsets, offsets);
+  // a file whose offsets do not match the cage is refused, naming both counts
+  std::string text;
+  {
+    std::ifstream in(path("offsets.cagewrap"));
+    text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  size_t at = text.find("\"offsets\": [") + 13;
+  text.insert(at, "\n      [0, 0, 0],");
+  { std::ofstream(path("bad_offsets.cagewrap")) << text; }
+  auto bad = load_project(path("bad_offsets.cagewrap"));
+  ASSERT_FALSE(bad.ok());
+  EXPECT_NE(bad.error().message.find(std::to_string(offsets.size() + 1) + " entries"), std::string::npos) << bad.error().message;
+  // replacing the cage with one of another vertex count drops the offsets
+  PolyMesh smaller = doc.cage->polygons;
+  smaller.positions.push_back(glm::vec3(9.f));
+  EXPECT_TRUE(with_cage(doc, std::make_shared<const Cage>(std::move(make_cage(smaller, "c")).value())).cage_offsets.empty());
 }
 
 TEST_F(ProjectIoTest, FloatsAreWrittenShort) {
