@@ -15,11 +15,18 @@
 #include <cmath>
 #include <cstdio>
 #include <deque>
+#include <fstream>
+#include <sstream>
 #include <filesystem>
 
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "app/editor_scene.h"
+#include "core/camera.h"
+#include "core/mesh_io.h"
+#include "core/picking.h"
+#include "core/project_io.h"
+#include "core/selection.h"
 #include "core/demo_character.h"
 #include "core/gltf_writer.h"
 #include "render/viewport_renderer.h"
@@ -27,23 +34,6 @@
 namespace cagewrap::app {
 
 namespace {
-
-// Orbit view (temporary until core/camera lands): target, distance, yaw, pitch.
-struct OrbitView {
-  glm::vec3 target{0.f};
-  float distance = 3.f, yaw = 0.5f, pitch = 0.25f, fov = 0.7f;
-  glm::vec3 eye() const {
-    return target + distance * glm::vec3(std::cos(pitch) * std::sin(yaw), std::sin(pitch), std::cos(pitch) * std::cos(yaw));
-  }
-  glm::mat4 view() const { return glm::lookAt(eye(), target, glm::vec3(0, 1, 0)); }
-  glm::mat4 projection(float aspect) const {
-    return glm::perspective(fov, aspect, std::max(0.001f, distance * 0.01f), distance * 100.f);
-  }
-  void frame(const Aabb& box) {
-    target = glm::vec3(box.center());
-    distance = static_cast<float>(0.5 * box.diagonal() / std::tan(0.5 * fov) * 0.8);
-  }
-};
 
 // Fixed panel layout (pixels): the 3-D view is what the panels leave free.
 constexpr float kMenuHeight = 19.0f, kLeftWidth = 260.0f, kRightWidth = 300.0f, kBottomHeight = 170.0f;
@@ -66,6 +56,23 @@ class Editor {
   void upload_topology();
   void frame_all();
   void handle_input();
+  glm::dvec2 to_view(const ImVec2& p) const;
+  bool in_view(const ImVec2& p) const;
+  std::optional<glm::dvec3> selection_centre() const;
+  bool gizmo_handles(glm::dvec2& centre, glm::dvec2 ends[3]) const;
+  void apply_move(const glm::dvec3& delta);
+  void begin_move();
+  void end_move();
+  double grid_spacing() const;
+  void click_select(const ImVec2& mouse, bool add, bool remove);
+  void draw_gizmo();
+  void undo();
+  void redo();
+  void request_save();
+  bool save_project_to(const std::string& path);
+  bool open_path(const std::string& path);
+  void run_script_step();
+  void draw_file_popups();
   void draw_panels();
   void draw_menu();
   void draw_outliner();
@@ -81,7 +88,25 @@ class Editor {
   GLFWwindow* window_ = nullptr;
   std::unique_ptr<render::ViewportRenderer> renderer_ = std::make_unique<render::ViewportRenderer>();
   render::ViewportStyle style_;
-  OrbitView camera_;
+  Camera camera_;
+  Selection selection_;
+  // the 3-D view rectangle in window pixels (top-left origin), updated every frame
+  float view_x_ = 0, view_y_ = 0, view_w_ = 1, view_h_ = 1;
+  // gizmo drag: -1 none, 0..2 axis, 3 screen plane
+  int drag_axis_ = -1;
+  glm::dvec3 drag_total_{0.0};
+  Document drag_start_;
+  bool box_selecting_ = false;
+  ImVec2 box_start_{0, 0};
+  std::string project_path_input_;
+  bool open_save_popup_ = false, open_open_popup_ = false, quit_requested_ = false;
+  std::vector<std::string> script_;
+  size_t script_pos_ = 0;
+  int script_wait_ = 0;
+  std::string pending_screenshot_;
+  std::string dropped_;  // a file dropped on the window, opened next frame
+  std::string title_;
+  std::vector<uint8_t> selected_mask_;
   std::unique_ptr<Scene> scene_;
   std::deque<LogLine> log_;
   std::string error_modal_;
@@ -140,7 +165,7 @@ void Editor::set_scene(std::unique_ptr<Scene> scene) {
   topology_dirty_ = true;
   selected_joint_ = -1;
   if (options_.play && scene_->clip >= 0) scene_->player.play();
-  if (scene_->cage) scene_->start_bind();
+  selection_ = Selection{};
   frame_all();
 }
 
@@ -154,21 +179,23 @@ void Editor::load_initial() {
       if (!st.ok()) log("error: " + st.error().message, true);
     }
   }
-  auto s = load_scene(path, options_.cage);
+  std::vector<std::string> warnings;
+  auto s = has_extension(path, ".cagewrap") ? load_project_scene(path, warnings) : load_scene(path, options_.cage);
+  for (const auto& w : warnings) log("warning: " + w);
   if (!s.ok()) {
     error_modal_ = s.error().message;
     log("error: " + s.error().message, true);
     return;
   }
   log("opened " + path + (options_.cage.empty() ? "" : " with cage " + options_.cage));
-  for (const auto& w : s.value()->character->warnings) log("warning: " + w);
+  for (const auto& w : s.value()->doc().character->warnings) log("warning: " + w);
   set_scene(std::move(s).value());
 }
 
 void Editor::frame_all() {
   if (!scene_) return;
   Aabb box = bounding_box(scene_->skin_posed.empty() ? scene_->skin_rest : scene_->skin_posed);
-  camera_.frame(box);
+  camera_.frame(box, view_w_ / std::max(1.0f, view_h_));
 }
 
 void Editor::upload_topology() {
@@ -176,50 +203,294 @@ void Editor::upload_topology() {
                                                            ? std::span<const Tri>()
                                                            : std::span<const Tri>(reinterpret_cast<const Tri*>(scene_->skin_topology.face_vertices.data()),
                                                                                   scene_->skin_topology.face_vertices.size() / 3));
-  if (scene_->cage) renderer_->set_cage_topology(scene_->cage->polygons, scene_->cage->elements);
+  if (scene_->doc().cage) renderer_->set_cage_topology(scene_->doc().cage->polygons, scene_->doc().cage->elements);
   topology_dirty_ = false;
+}
+
+glm::dvec2 Editor::to_view(const ImVec2& p) const { return {p.x - view_x_, p.y - view_y_}; }
+
+bool Editor::in_view(const ImVec2& p) const {
+  return p.x >= view_x_ && p.y >= view_y_ && p.x < view_x_ + view_w_ && p.y < view_y_ + view_h_;
+}
+
+std::optional<glm::dvec3> Editor::selection_centre() const {
+  if (!scene_ || !scene_->doc().cage || selection_.cage_vertices.indices().empty()) return std::nullopt;
+  glm::dvec3 c(0.0);
+  for (uint32_t v : selection_.cage_vertices.indices()) c += glm::dvec3(scene_->cage_posed[v]);
+  return c / double(selection_.cage_vertices.indices().size());
+}
+
+// Screen-space axis handles of the move gizmo: end points in window pixels.
+bool Editor::gizmo_handles(glm::dvec2& centre, glm::dvec2 ends[3]) const {
+  auto c = selection_centre();
+  if (!c) return false;
+  Viewport vp{view_w_, view_h_};
+  ScreenPoint sc = camera_.project(*c, vp.width, vp.height);
+  if (!sc.in_clip_range) return false;
+  centre = sc.pixel + glm::dvec2(view_x_, view_y_);
+  const double len_world = 80.0 * camera_.world_per_pixel(view_h_) * (sc.view_depth / camera_.distance());
+  for (int a = 0; a < 3; ++a) {
+    glm::dvec3 axis(0.0);
+    axis[a] = len_world;
+    ends[a] = camera_.project(*c + axis, vp.width, vp.height).pixel + glm::dvec2(view_x_, view_y_);
+  }
+  return true;
+}
+
+void Editor::apply_move(const glm::dvec3& delta) {
+  // one drag = one undo step: the document is rebuilt from the drag's start each time
+  drag_total_ += delta;
+  glm::dvec3 total = drag_total_;
+  if (ImGui::GetIO().KeyCtrl) {  // snap the displacement to the grid
+    const double g = grid_spacing();
+    total = glm::round(total / g) * g;
+  }
+  auto verts = selection_.cage_vertices.indices();
+  scene_->live = scene_->moved(drag_start_, verts, total);
+}
+
+void Editor::begin_move() {
+  drag_start_ = scene_->doc();
+  drag_total_ = glm::dvec3(0.0);
+  scene_->history.begin(drag_start_);
+}
+
+void Editor::end_move() {
+  if (scene_->live) scene_->history.commit("Move cage vertices", *scene_->live);
+  else scene_->history.cancel();
+  scene_->live.reset();
+  drag_axis_ = -1;
+}
+
+double Editor::grid_spacing() const {
+  double diag = scene_ ? bounding_box(scene_->skin_rest).diagonal() : 1.0;
+  return std::pow(10.0, std::floor(std::log10(std::max(diag, 1e-6) / 10.0)));
+}
+
+void Editor::click_select(const ImVec2& mouse, bool add, bool remove) {
+  Viewport vp{view_w_, view_h_};
+  glm::dvec2 px = to_view(mouse);
+  if (scene_->doc().cage && style_.show_cage) {
+    auto v = pick_vertex(camera_, vp, px, scene_->cage_posed, 8.0);
+    if (v) {
+      uint32_t idx[1] = {*v};
+      if (remove) selection_.cage_vertices.remove(idx);
+      else if (add) selection_.cage_vertices.add(idx);
+      else selection_.cage_vertices.set(idx);
+      return;
+    }
+  }
+  if (style_.show_skeleton) {
+    auto j = pick_joint(camera_, vp, px, scene_->joint_heads, 8.0);
+    if (j) {
+      selected_joint_ = static_cast<int>(*j);
+      return;
+    }
+  }
+  if (!add && !remove) {
+    selection_.cage_vertices.clear();
+    selected_joint_ = -1;
+  }
 }
 
 void Editor::handle_input() {
   ImGuiIO& io = ImGui::GetIO();
-  if (!io.WantCaptureMouse) {
-    const bool alt = io.KeyAlt;
-    const glm::vec2 d(io.MouseDelta.x, io.MouseDelta.y);
-    if ((alt && io.MouseDown[0]) || io.MouseDown[1]) {  // orbit: Alt+LMB or RMB
-      if (alt && io.MouseDown[1]) {
-        camera_.distance *= std::exp(0.01f * d.y);  // Alt+RMB: dolly
-      } else {
-        camera_.yaw -= 0.008f * d.x;
-        camera_.pitch = std::clamp(camera_.pitch + 0.008f * d.y, -1.5f, 1.5f);
+  const bool over_view = in_view(io.MousePos) && !io.WantCaptureMouse;
+  if (scene_ && drag_axis_ >= 0) {  // a gizmo drag in progress
+    if (!io.MouseDown[0]) {
+      end_move();
+    } else if (io.MouseDelta.x != 0 || io.MouseDelta.y != 0) {
+      glm::dvec2 centre, ends[3];
+      if (gizmo_handles(centre, ends)) {
+        glm::dvec2 d(io.MouseDelta.x, io.MouseDelta.y);
+        const double wpp = camera_.world_per_pixel(view_h_);
+        if (drag_axis_ == 3) {
+          apply_move(wpp * (d.x * camera_.right() - d.y * camera_.up()));
+        } else {
+          glm::dvec2 axis = ends[drag_axis_] - centre;
+          double len = glm::length(axis);
+          if (len > 1e-3) {
+            const double world_len = 80.0 * wpp * (camera_.project(*selection_centre(), view_w_, view_h_).view_depth / camera_.distance());
+            glm::dvec3 dir(0.0);
+            dir[drag_axis_] = 1.0;
+            apply_move(dir * (glm::dot(d, axis / len) / len * world_len));
+          }
+        }
       }
-    } else if (io.MouseDown[2]) {  // pan: MMB (with or without Alt)
-      glm::mat4 inv = glm::inverse(camera_.view());
-      float scale = 2.0f * camera_.distance * std::tan(0.5f * camera_.fov) / std::max(1.0f, io.DisplaySize.y);
-      camera_.target += glm::vec3(inv * glm::vec4(-d.x * scale, d.y * scale, 0, 0));
     }
-    if (io.MouseWheel != 0) camera_.distance *= std::pow(0.88f, io.MouseWheel);
+    return;
   }
-  if (!io.WantCaptureKeyboard) {
-    if (ImGui::IsKeyPressed(GLFW_KEY_F)) frame_all();
-    if (ImGui::IsKeyPressed(GLFW_KEY_SPACE) && scene_) {
-      if (scene_->player.playing()) scene_->player.pause();
-      else scene_->player.play();
+  if (over_view && scene_) {
+    const bool alt = io.KeyAlt;
+    const glm::dvec2 d(io.MouseDelta.x, io.MouseDelta.y);
+    if (alt && io.MouseDown[1]) camera_.zoom(-0.02 * d.y);
+    else if ((alt && io.MouseDown[0]) || io.MouseDown[1]) camera_.orbit(d.x, d.y);
+    else if (io.MouseDown[2]) camera_.pan(d.x, d.y, view_h_);
+    if (io.MouseWheel != 0) camera_.zoom(io.MouseWheel);
+    if (!alt && ImGui::IsMouseClicked(0)) {
+      glm::dvec2 centre, ends[3];
+      int hit = -1;
+      if (gizmo_handles(centre, ends)) {
+        glm::dvec2 m(io.MousePos.x, io.MousePos.y);
+        if (glm::length(m - centre) < 9) hit = 3;
+        for (int a = 0; a < 3 && hit < 0; ++a) {
+          glm::dvec2 ab = ends[a] - centre;
+          double t = glm::clamp(glm::dot(m - centre, ab) / std::max(glm::dot(ab, ab), 1e-9), 0.0, 1.0);
+          if (glm::length(m - (centre + t * ab)) < 6 && t > 0.15) hit = a;
+        }
+      }
+      if (hit >= 0) {
+        drag_axis_ = hit;
+        begin_move();
+      } else {
+        box_selecting_ = true;
+        box_start_ = io.MousePos;
+      }
     }
-    if (ImGui::IsKeyPressed(GLFW_KEY_KP_1) || ImGui::IsKeyPressed(GLFW_KEY_1)) camera_.yaw = 0, camera_.pitch = 0;
-    if (ImGui::IsKeyPressed(GLFW_KEY_KP_3) || ImGui::IsKeyPressed(GLFW_KEY_3)) camera_.yaw = 1.5708f, camera_.pitch = 0;
-    if (ImGui::IsKeyPressed(GLFW_KEY_KP_7) || ImGui::IsKeyPressed(GLFW_KEY_7)) camera_.pitch = 1.5f;
-    if (ImGui::IsKeyPressed(GLFW_KEY_W) && !io.KeyCtrl) style_.wireframe = !style_.wireframe;
+  }
+  if (box_selecting_ && !io.MouseDown[0]) {
+    box_selecting_ = false;
+    ImVec2 m = io.MousePos;
+    const bool add = io.KeyShift, remove = io.KeyCtrl;
+    if (std::abs(m.x - box_start_.x) < 4 && std::abs(m.y - box_start_.y) < 4) {
+      click_select(m, add, remove);
+    } else if (scene_ && scene_->doc().cage) {
+      auto hits = box_select(camera_, Viewport{view_w_, view_h_}, to_view(box_start_), to_view(m), scene_->cage_posed);
+      if (remove) selection_.cage_vertices.remove(hits);
+      else if (add) selection_.cage_vertices.add(hits);
+      else selection_.cage_vertices.set(hits);
+    }
+  }
+  if (!io.WantCaptureKeyboard && scene_) {
+    const bool ctrl = io.KeyCtrl, shift = io.KeyShift;
+    if (ctrl && ImGui::IsKeyPressed(GLFW_KEY_Z)) shift ? redo() : undo();
+    if (ctrl && ImGui::IsKeyPressed(GLFW_KEY_Y)) redo();
+    if (ctrl && ImGui::IsKeyPressed(GLFW_KEY_S)) request_save();
+    if (ctrl && ImGui::IsKeyPressed(GLFW_KEY_O)) open_open_popup_ = true;
+    if (ctrl && ImGui::IsKeyPressed(GLFW_KEY_Q)) quit_requested_ = true;
+    if (ctrl && ImGui::IsKeyPressed(GLFW_KEY_A) && scene_->doc().cage)
+      selection_.cage_vertices = select_all(scene_->doc().cage->num_vertices());
+    if (ctrl && ImGui::IsKeyPressed(GLFW_KEY_I) && scene_->doc().cage)
+      selection_.cage_vertices = invert(selection_.cage_vertices, scene_->doc().cage->num_vertices());
+    if (!ctrl && ImGui::IsKeyPressed(GLFW_KEY_KP_ADD) && scene_->doc().cage)
+      selection_.cage_vertices = grow_vertices(selection_.cage_vertices, scene_->doc().cage->polygons);
+    if (!ctrl && ImGui::IsKeyPressed(GLFW_KEY_KP_SUBTRACT) && scene_->doc().cage)
+      selection_.cage_vertices = shrink_vertices(selection_.cage_vertices, scene_->doc().cage->polygons);
+    if (ImGui::IsKeyPressed(GLFW_KEY_ESCAPE)) selection_.cage_vertices.clear();
+    if (!ctrl && ImGui::IsKeyPressed(GLFW_KEY_F)) frame_all();
+    if (ImGui::IsKeyPressed(GLFW_KEY_SPACE)) scene_->player.playing() ? scene_->player.pause() : scene_->player.play();
+    if (ImGui::IsKeyPressed(GLFW_KEY_KP_1) || ImGui::IsKeyPressed(GLFW_KEY_1)) camera_.set_preset(ctrl ? ViewPreset::kBack : ViewPreset::kFront);
+    if (ImGui::IsKeyPressed(GLFW_KEY_KP_3) || ImGui::IsKeyPressed(GLFW_KEY_3)) camera_.set_preset(ctrl ? ViewPreset::kLeft : ViewPreset::kRight);
+    if (ImGui::IsKeyPressed(GLFW_KEY_KP_7) || ImGui::IsKeyPressed(GLFW_KEY_7)) camera_.set_preset(ctrl ? ViewPreset::kBottom : ViewPreset::kTop);
+    if (ImGui::IsKeyPressed(GLFW_KEY_W) && !ctrl) style_.wireframe = !style_.wireframe;
     if (ImGui::IsKeyPressed(GLFW_KEY_X) && io.KeyAlt) style_.xray = !style_.xray;
     if (ImGui::IsKeyPressed(GLFW_KEY_F1)) show_help_ = !show_help_;
   }
 }
 
+void Editor::draw_gizmo() {
+  ImDrawList* dl = ImGui::GetForegroundDrawList();
+  if (box_selecting_) {
+    ImVec2 m = ImGui::GetIO().MousePos;
+    dl->AddRectFilled(box_start_, m, IM_COL32(255, 160, 40, 40));
+    dl->AddRect(box_start_, m, IM_COL32(255, 160, 40, 200));
+  }
+  glm::dvec2 centre, ends[3];
+  if (!scene_ || !gizmo_handles(centre, ends)) return;
+  const ImU32 colours[3] = {IM_COL32(235, 70, 70, 255), IM_COL32(90, 220, 90, 255), IM_COL32(80, 130, 255, 255)};
+  ImVec2 c(static_cast<float>(centre.x), static_cast<float>(centre.y));
+  for (int a = 0; a < 3; ++a) {
+    ImVec2 e(static_cast<float>(ends[a].x), static_cast<float>(ends[a].y));
+    dl->AddLine(c, e, drag_axis_ == a ? IM_COL32(255, 230, 80, 255) : colours[a], 3.0f);
+    dl->AddCircleFilled(e, 5.0f, drag_axis_ == a ? IM_COL32(255, 230, 80, 255) : colours[a]);
+  }
+  dl->AddRect(ImVec2(c.x - 6, c.y - 6), ImVec2(c.x + 6, c.y + 6), drag_axis_ == 3 ? IM_COL32(255, 230, 80, 255) : IM_COL32(230, 230, 230, 255), 0, 0, 2.0f);
+}
+
+void Editor::undo() {
+  if (!scene_ || !scene_->history.can_undo()) return;
+  std::string label = scene_->history.undo_label();
+  scene_->history.undo();
+  scene_->document_changed();
+  log(label);
+}
+
+void Editor::redo() {
+  if (!scene_ || !scene_->history.can_redo()) return;
+  std::string label = scene_->history.redo_label();
+  scene_->history.redo();
+  scene_->document_changed();
+  log(label);
+}
+
+void Editor::request_save() {
+  if (!scene_) return;
+  if (scene_->doc().project_path.empty()) {
+    project_path_input_ = "untitled.cagewrap";
+    open_save_popup_ = true;
+  } else {
+    save_project_to(scene_->doc().project_path);
+  }
+}
+
+bool Editor::save_project_to(const std::string& path) {
+  auto st = save_project(path, scene_->doc());
+  if (!st.ok()) {
+    error_modal_ = st.error().message;
+    log("error: " + st.error().message, true);
+    return false;
+  }
+  scene_->history.mark_saved(path);
+  log("saved " + path);
+  return true;
+}
+
+bool Editor::open_path(const std::string& path) {
+  std::vector<std::string> warnings;
+  auto s = has_extension(path, ".cagewrap") ? load_project_scene(path, warnings) : load_scene(path, "");
+  if (!s.ok()) {  // the current document stays as it is
+    error_modal_ = s.error().message;
+    log("error: " + s.error().message, true);
+    return false;
+  }
+  for (const auto& w : warnings) log("warning: " + w);
+  log("opened " + path);
+  set_scene(std::move(s).value());
+  return true;
+}
+
 void Editor::draw_menu() {
   if (!ImGui::BeginMainMenuBar()) return;
   if (ImGui::BeginMenu("File")) {
+    if (ImGui::MenuItem("Open...", "Ctrl+O")) {
+      project_path_input_.clear();
+      open_open_popup_ = true;
+    }
+    if (ImGui::MenuItem("Save", "Ctrl+S", false, scene_ != nullptr)) request_save();
+    if (ImGui::MenuItem("Save as...", nullptr, false, scene_ != nullptr)) {
+      project_path_input_ = scene_->doc().project_path.empty() ? "untitled.cagewrap" : scene_->doc().project_path;
+      open_save_popup_ = true;
+    }
+    ImGui::Separator();
     if (ImGui::MenuItem("Screenshot", "F12")) save_screenshot("cagewrap_screenshot.png");
     ImGui::Separator();
-    if (ImGui::MenuItem("Quit", "Ctrl+Q")) glfwSetWindowShouldClose(window_, 1);
+    if (ImGui::MenuItem("Quit", "Ctrl+Q")) quit_requested_ = true;
+    ImGui::EndMenu();
+  }
+  if (ImGui::BeginMenu("Edit")) {
+    const bool u = scene_ && scene_->history.can_undo(), r = scene_ && scene_->history.can_redo();
+    if (ImGui::MenuItem(u ? scene_->history.undo_label().c_str() : "Undo", "Ctrl+Z", false, u)) undo();
+    if (ImGui::MenuItem(r ? scene_->history.redo_label().c_str() : "Redo", "Ctrl+Shift+Z", false, r)) redo();
+    ImGui::Separator();
+    const bool cage = scene_ && scene_->doc().cage;
+    if (ImGui::MenuItem("Select all", "Ctrl+A", false, cage)) selection_.cage_vertices = select_all(scene_->doc().cage->num_vertices());
+    if (ImGui::MenuItem("Select none", "Esc", false, cage)) selection_.cage_vertices.clear();
+    if (ImGui::MenuItem("Invert selection", "Ctrl+I", false, cage))
+      selection_.cage_vertices = invert(selection_.cage_vertices, scene_->doc().cage->num_vertices());
+    if (ImGui::MenuItem("Grow selection", "Num+", false, cage))
+      selection_.cage_vertices = grow_vertices(selection_.cage_vertices, scene_->doc().cage->polygons);
+    if (ImGui::MenuItem("Shrink selection", "Num-", false, cage))
+      selection_.cage_vertices = shrink_vertices(selection_.cage_vertices, scene_->doc().cage->polygons);
     ImGui::EndMenu();
   }
   if (ImGui::BeginMenu("View")) {
@@ -247,7 +518,7 @@ void Editor::draw_outliner() {
   ImGui::SetNextWindowSize(ImVec2(kLeftWidth, io.DisplaySize.y - kMenuHeight - kBottomHeight), ImGuiCond_Always);
   ImGui::Begin("Outliner", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
   if (scene_) {
-    const Character& ch = *scene_->character;
+    const Character& ch = *scene_->doc().character;
     if (ImGui::TreeNodeEx("Character", ImGuiTreeNodeFlags_DefaultOpen)) {
       ImGui::TextDisabled("%s", std::filesystem::path(ch.source).filename().string().c_str());
       for (const auto& p : ch.primitives) ImGui::BulletText("%s: %zu vertices", p.label().c_str(), p.num_vertices());
@@ -265,9 +536,9 @@ void Editor::draw_outliner() {
       ImGui::TreePop();
     }
     if (ImGui::TreeNodeEx("Cage", ImGuiTreeNodeFlags_DefaultOpen)) {
-      if (scene_->cage) {
-        ImGui::Text("%zu vertices, %zu faces", scene_->cage->num_vertices(), scene_->cage->polygons.num_faces());
-        ImGui::TextDisabled("%zu control elements", scene_->cage->num_elements());
+      if (scene_->doc().cage) {
+        ImGui::Text("%zu vertices, %zu faces", scene_->doc().cage->num_vertices(), scene_->doc().cage->polygons.num_faces());
+        ImGui::TextDisabled("%zu control elements", scene_->doc().cage->num_elements());
       } else {
         ImGui::TextDisabled("no cage");
       }
@@ -287,7 +558,7 @@ void Editor::draw_properties() {
   ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x - kRightWidth, kMenuHeight), ImGuiCond_Always);
   ImGui::SetNextWindowSize(ImVec2(kRightWidth, io.DisplaySize.y - kMenuHeight - kBottomHeight), ImGuiCond_Always);
   ImGui::Begin("Properties", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
-  if (scene_ && scene_->cage) {
+  if (scene_ && scene_->doc().cage) {
     BindParams& p = scene_->params;
     ImGui::TextUnformatted("Binding");
     ImGui::Separator();
@@ -337,8 +608,8 @@ void Editor::draw_timeline() {
   ImGui::SetNextWindowPos(ImVec2(0, io.DisplaySize.y - kBottomHeight), ImGuiCond_Always);
   ImGui::SetNextWindowSize(ImVec2(io.DisplaySize.x * 0.6f, kBottomHeight), ImGuiCond_Always);
   ImGui::Begin("Timeline", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
-  if (scene_ && !scene_->character->clips.empty()) {
-    const auto& clips = scene_->character->clips;
+  if (scene_ && !scene_->doc().character->clips.empty()) {
+    const auto& clips = scene_->doc().character->clips;
     if (ImGui::BeginCombo("clip", scene_->clip >= 0 ? clips[static_cast<size_t>(scene_->clip)].name.c_str() : "(rest pose)")) {
       if (ImGui::Selectable("(rest pose)", scene_->clip < 0)) {
         scene_->clip = -1;
@@ -407,7 +678,7 @@ void Editor::draw_stats() {
   ImGui::Text("%.0f fps", fps_);
   if (scene_) {
     ImGui::Text("skin %zu vertices", scene_->skin_rest.size());
-    if (scene_->cage) ImGui::Text("cage %zu vertices, %zu faces", scene_->cage->num_vertices(), scene_->cage->polygons.num_faces());
+    if (scene_->doc().cage) ImGui::Text("cage %zu vertices, %zu faces", scene_->doc().cage->num_vertices(), scene_->doc().cage->polygons.num_faces());
     if (scene_->skin_from_cage) ImGui::Text("deform %.2f ms", scene_->deform_ms);
     else ImGui::TextDisabled("skin: file's linear blend skinning");
   }
@@ -431,8 +702,112 @@ void Editor::draw_help() {
   ImGui::End();
 }
 
+void Editor::draw_file_popups() {
+  if (open_save_popup_) ImGui::OpenPopup("Save project");
+  if (open_open_popup_) ImGui::OpenPopup("Open");
+  open_save_popup_ = open_open_popup_ = false;
+  char buf[1024];
+  if (ImGui::BeginPopupModal("Save project", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+    std::snprintf(buf, sizeof buf, "%s", project_path_input_.c_str());
+    ImGui::TextUnformatted("Project file (.cagewrap):");
+    if (ImGui::InputText("##path", buf, sizeof buf)) project_path_input_ = buf;
+    if (ImGui::Button("Save", ImVec2(120, 0))) {
+      if (save_project_to(project_path_input_)) ImGui::CloseCurrentPopup();
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("Cancel", ImVec2(120, 0))) ImGui::CloseCurrentPopup();
+    ImGui::EndPopup();
+  }
+  if (ImGui::BeginPopupModal("Open", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+    std::snprintf(buf, sizeof buf, "%s", project_path_input_.c_str());
+    ImGui::TextUnformatted("Project (.cagewrap) or character (.glb, .gltf):");
+    if (ImGui::InputText("##open", buf, sizeof buf)) project_path_input_ = buf;
+    if (ImGui::Button("Open", ImVec2(120, 0))) {
+      open_path(project_path_input_);
+      ImGui::CloseCurrentPopup();
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("Cancel", ImVec2(120, 0))) ImGui::CloseCurrentPopup();
+    ImGui::EndPopup();
+  }
+  if (quit_requested_) {
+    if (scene_ && scene_->history.dirty()) ImGui::OpenPopup("Save changes?");
+    else glfwSetWindowShouldClose(window_, 1);
+    quit_requested_ = false;
+  }
+  if (ImGui::BeginPopupModal("Save changes?", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+    ImGui::TextUnformatted("The project has unsaved changes.");
+    if (ImGui::Button("Save", ImVec2(100, 0))) {
+      if (scene_->doc().project_path.empty()) {
+        project_path_input_ = "untitled.cagewrap";
+        open_save_popup_ = true;
+      } else if (save_project_to(scene_->doc().project_path)) {
+        glfwSetWindowShouldClose(window_, 1);
+      }
+      ImGui::CloseCurrentPopup();
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("Discard", ImVec2(100, 0))) glfwSetWindowShouldClose(window_, 1);
+    ImGui::SameLine();
+    if (ImGui::Button("Cancel", ImVec2(100, 0))) ImGui::CloseCurrentPopup();
+    ImGui::EndPopup();
+  }
+}
+
+// Scripted editor actions, one per line, for tests (`--script file`):
+//   wait N | select_cage_vertex I [add] | select_cage_vertices_all | move DX DY DZ | undo | redo
+//   save PATH | screenshot PATH | play | pause | time T
+// `move` goes through the gizmo's own path: one drag, one undo step.
+void Editor::run_script_step() {
+  if (script_wait_ > 0) {
+    --script_wait_;
+    return;
+  }
+  while (script_pos_ < script_.size() && script_wait_ == 0) {
+    std::istringstream in(script_[script_pos_++]);
+    std::string cmd;
+    in >> cmd;
+    if (cmd.empty() || cmd[0] == '#') continue;
+    if (!scene_) break;
+    if (cmd == "wait") in >> script_wait_;
+    else if (cmd == "select_cage_vertex") {
+      uint32_t i;
+      std::string mode;
+      in >> i >> mode;
+      uint32_t idx[1] = {i};
+      if (mode == "add") selection_.cage_vertices.add(idx);
+      else selection_.cage_vertices.set(idx);
+    } else if (cmd == "select_cage_vertices_all" && scene_->doc().cage) {
+      selection_.cage_vertices = select_all(scene_->doc().cage->num_vertices());
+    } else if (cmd == "move") {
+      glm::dvec3 d;
+      in >> d.x >> d.y >> d.z;
+      begin_move();
+      apply_move(d);
+      end_move();
+    } else if (cmd == "undo") undo();
+    else if (cmd == "redo") redo();
+    else if (cmd == "save") {
+      std::string p;
+      in >> p;
+      save_project_to(p);
+    } else if (cmd == "screenshot") {
+      in >> pending_screenshot_;
+      script_wait_ = 1;  // taken after this frame renders
+    } else if (cmd == "play") scene_->player.play();
+    else if (cmd == "pause") scene_->player.pause();
+    else if (cmd == "time") {
+      double t;
+      in >> t;
+      scene_->player.scrub(t);
+    } else log("error: script line " + std::to_string(script_pos_) + ": unknown command '" + cmd + "'", true);
+  }
+}
+
 void Editor::draw_panels() {
   draw_menu();
+  draw_file_popups();
+  draw_gizmo();
   draw_outliner();
   draw_properties();
   draw_timeline();
@@ -462,21 +837,46 @@ bool Editor::save_screenshot(const std::string& path) {
 
 int Editor::run() {
   if (!open_window()) return 1;
+  glfwSetWindowUserPointer(window_, this);
+  glfwSetDropCallback(window_, [](GLFWwindow* w, int count, const char** paths) {
+    auto* self = static_cast<Editor*>(glfwGetWindowUserPointer(w));
+    if (count > 0) self->dropped_ = paths[0];
+  });
+  if (!options_.script.empty()) {
+    std::ifstream in(options_.script);
+    if (!in) {
+      std::fprintf(stderr, "error: %s: cannot open the script\n", options_.script.c_str());
+      return 1;
+    }
+    for (std::string line; std::getline(in, line);) script_.push_back(line);
+  }
   load_initial();
   int frame = 0;
   int exit_code = 0;
   auto last = std::chrono::steady_clock::now();
-  const bool screenshot_mode = !options_.screenshot.empty();
+  const bool scripted = !options_.screenshot.empty() || !script_.empty();
   while (!glfwWindowShouldClose(window_)) {
     glfwPollEvents();
     auto now = std::chrono::steady_clock::now();
     double dt = std::chrono::duration<double>(now - last).count();
     last = now;
     fps_ = 0.9 * fps_ + 0.1 * (dt > 0 ? 1.0 / dt : 0.0);
+    int w, h;
+    glfwGetFramebufferSize(window_, &w, &h);
+    view_x_ = kLeftWidth;
+    view_y_ = kMenuHeight;
+    view_w_ = std::max(1.0f, w - kLeftWidth - kRightWidth);
+    view_h_ = std::max(1.0f, h - kMenuHeight - kBottomHeight);
+    if (!dropped_.empty()) {
+      open_path(dropped_);
+      dropped_.clear();
+    }
     ImGui_ImplOpenGL3_NewFrame();
     ImGui_ImplGlfw_NewFrame();
     ImGui::NewFrame();
     handle_input();
+    // a scripted run waits for the first bind so that the steps act on the deformed skin
+    if (!script_.empty() && !(scene_ && scene_->job)) run_script_step();
 
     if (scene_) {
       if (auto msg = scene_->poll_bind()) {
@@ -484,19 +884,25 @@ int Editor::run() {
         if (scene_->binding && !scene_->binding->invalid_elements.empty())
           log("warning: " + std::to_string(scene_->binding->invalid_elements.size()) + " cage elements skipped (zero area, non-finite or duplicate)");
       }
-      // screenshots advance a fixed 1/30 s per frame so they are reproducible
-      scene_->player.advance(screenshot_mode ? 1.0 / 30.0 : dt);
+      // scripted runs advance a fixed 1/30 s per frame so they are reproducible
+      scene_->player.advance(scripted ? 1.0 / 30.0 : dt);
       scene_->update_pose();
       if (topology_dirty_) upload_topology();
       renderer_->update_skin(scene_->skin_posed);
-      if (scene_->cage) renderer_->update_cage(scene_->cage_posed, {});
+      if (scene_->doc().cage) {
+        selected_mask_.assign(scene_->doc().cage->num_vertices(), 0);
+        for (uint32_t v : selection_.cage_vertices.indices())
+          if (v < selected_mask_.size()) selected_mask_[v] = 1;
+        renderer_->update_cage(scene_->cage_posed, selected_mask_);
+      }
       renderer_->update_skeleton(scene_->joint_heads, scene_->bones, selected_joint_);
+      std::string title = "cagewrap - " + (scene_->doc().project_path.empty() ? std::string("untitled") : scene_->doc().project_path) +
+                          (scene_->history.dirty(scene_->doc()) ? " *" : "");
+      if (title != title_) glfwSetWindowTitle(window_, (title_ = title).c_str());
     }
     draw_panels();
     ImGui::Render();
 
-    int w, h;
-    glfwGetFramebufferSize(window_, &w, &h);
     glViewport(0, 0, w, h);
     glClearColor(0.16f, 0.17f, 0.19f, 1.0f);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
@@ -504,20 +910,25 @@ int Editor::run() {
       render::ViewParams v;
       v.x = static_cast<int>(kLeftWidth);
       v.y = static_cast<int>(kBottomHeight);
-      v.width = std::max(1, w - static_cast<int>(kLeftWidth + kRightWidth));
-      v.height = std::max(1, h - static_cast<int>(kMenuHeight + kBottomHeight));
-      v.view = camera_.view();
-      v.projection = camera_.projection(float(v.width) / float(v.height));
-      double diag = bounding_box(scene_->skin_rest).diagonal();
-      v.grid_spacing = static_cast<float>(std::pow(10.0, std::floor(std::log10(std::max(diag, 1e-6) / 10.0))));
+      v.width = static_cast<int>(view_w_);
+      v.height = static_cast<int>(view_h_);
+      v.view = glm::mat4(camera_.view());
+      v.projection = glm::mat4(camera_.projection(double(v.width) / double(v.height)));
+      v.grid_spacing = static_cast<float>(grid_spacing());
       renderer_->draw(v, style_);
     }
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
     ++frame;
-    if (screenshot_mode && frame >= options_.frames && !(scene_ && scene_->job)) {
+    if (!pending_screenshot_.empty()) {
+      save_screenshot(pending_screenshot_);
+      pending_screenshot_.clear();
+    }
+    const bool script_done = script_pos_ >= script_.size() && script_wait_ == 0;
+    if (!options_.screenshot.empty() && frame >= options_.frames && script_done && !(scene_ && scene_->job)) {
       exit_code = save_screenshot(options_.screenshot) ? 0 : 1;
       break;
     }
+    if (options_.screenshot.empty() && !script_.empty() && script_done && frame > 1) break;
     glfwSwapBuffers(window_);
   }
   ImGui_ImplOpenGL3_Shutdown();

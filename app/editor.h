@@ -9,6 +9,7 @@ namespace cagewrap::app {
 struct EditorOptions {
   std::string file;        // a character (.glb/.gltf) to open; empty = the demo character
   std::string cage;        // a cage to use with it (.obj/.ply/.off/.stl); empty = automatic
+  std::string script;      // editor actions to replay (see Editor::run_script_step)
   std::string screenshot;  // render, save this PNG after `frames` frames, and exit
   int frames = 3;
   int width = 1600, height = 900;

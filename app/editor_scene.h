@@ -15,6 +15,8 @@
 #include "core/cage_attachment.h"
 #include "core/character.h"
 #include "core/deformer.h"
+#include "core/document.h"
+#include "core/history.h"
 #include "core/registration.h"
 
 namespace cagewrap::app {
@@ -41,15 +43,17 @@ class BindJob {
 };
 
 struct Scene {
-  std::shared_ptr<const Character> character;
+  explicit Scene(Document doc) : history(std::move(doc)) {}
+  History history;  // the document and its undo steps
+  std::optional<Document> live;  // during a drag: the document being edited (history holds its start)
+  const Document& doc() const { return live ? *live : history.current(); }
+
   std::vector<glm::vec3> skin_rest;  // #V bind pose, every primitive in file order
   PolyMesh skin_topology;            // combined triangles
-  std::optional<Cage> cage;          // at rest
-  std::string cage_source;
   std::optional<CageAttachment> attachment;
-  BindParams params;                 // as edited
-  std::unique_ptr<Binding> binding;  // the registration in use (made with `bound_params`)
-  BindParams bound_params;
+  BindParams params;                 // as edited in the panel (committed to the document on release)
+  std::unique_ptr<Binding> binding;  // the registration in use
+  std::shared_ptr<const Cage> bound_cage;  // the rest cage it was made from
   std::optional<Deformer> deformer;
   std::unique_ptr<BindJob> job;
 
@@ -60,20 +64,32 @@ struct Scene {
   // the current frame
   std::vector<glm::vec3> cage_posed, skin_posed, joint_heads;
   std::vector<glm::dmat3> cage_linear;
+  std::vector<glm::mat4> cage_skinning;  // skinning matrix of each cage vertex's joint
   std::vector<std::array<uint32_t, 2>> bones;
   double deform_ms = 0.0;
   bool skin_from_cage = false;  // false: the file's own linear blend skinning is shown
 
   bool needs_rebind() const;
+  // Call after the document changed (undo, redo, load): re-attaches and rebinds what it must.
+  void document_changed();
   // Poses skeleton and cage at the player's time and deforms the skin.
   void update_pose();
   void start_bind();
   // Polls the running job; returns a message when it finished (bound, failed or cancelled).
   std::optional<std::string> poll_bind();
+  // Moves cage vertices of the driver by a world-space displacement at the current pose (stored as
+  // offsets in each vertex's joint bind space) and returns the new document (not yet in history).
+  Document moved(const Document& from, std::span<const uint32_t> vertices, const glm::dvec3& world_delta) const;
+
+ private:
+  std::shared_ptr<const Cage> pending_cage_;   // the cage the running job binds
+  std::shared_ptr<const Cage> attached_cage_;  // the cage `attachment` was made for
 };
 
 // Loads a character file (glTF) and optionally a cage; errors name the file.
 Result<std::unique_ptr<Scene>> load_scene(const std::string& character_path, const std::string& cage_path);
+// Opens a saved project (.cagewrap); warnings are appended.
+Result<std::unique_ptr<Scene>> load_project_scene(const std::string& project_path, std::vector<std::string>& warnings);
 // The demo character shipped in assets/ (found beside the executable or the source tree), or
 // generated in-process when the file cannot be found.
 std::string demo_character_path();

@@ -12,6 +12,7 @@ int main(int argc, char** argv) {
   app.add_option("file", editor.file, "character to open in the editor (.glb, .gltf); default: the demo character");
   app.add_option("--cage", editor.cage, "cage to open with the character (.obj .ply .off .stl)");
   app.add_option("--screenshot", editor.screenshot, "render the editor, save this PNG and exit (for tests)");
+  app.add_option("--script", editor.script, "replay editor actions from this file (tests)");
   app.add_option("--frames", editor.frames, "frames to run before the screenshot")->capture_default_str();
   app.add_option("--width", editor.width, "window width")->capture_default_str();
   app.add_option("--height", editor.height, "window height")->capture_default_str();
