@@ -10,15 +10,20 @@
 namespace cagewrap::app {
 
 void add_bind_options(CLI::App& cmd, BindOptions& o) {
-  cmd.add_option("--local", o.params.local, "falloff exponent of 1/(1+d^local)")->capture_default_str();
-  cmd.add_option("--epsilon", o.params.epsilon, "keep elements with weight >= epsilon * strongest")
-      ->capture_default_str();
-  cmd.add_option("-K,--max-elements", o.params.max_elements, "at most K elements per point")->capture_default_str();
-  cmd.add_option("--scale", o.params.scale, "distance unit h (0 = mean cage edge length, 1 = raw scene units)")
-      ->capture_default_str();
-  cmd.add_option("--max-distance", o.params.max_distance, "elements farther than this (scene units) never drive a point; 0 = none")
-      ->capture_default_str();
-  cmd.add_option("--variant", o.variant, "basic | clamped | extended")->capture_default_str();
+  o.local_option =
+      cmd.add_option("--local", o.params.local, "falloff exponent of 1/(1+d^local)")->capture_default_str();
+  o.epsilon_option = cmd.add_option("--epsilon", o.params.epsilon, "keep elements with weight >= epsilon * strongest")
+                         ->capture_default_str();
+  o.max_elements_option =
+      cmd.add_option("-K,--max-elements", o.params.max_elements, "at most K elements per point")->capture_default_str();
+  o.scale_option =
+      cmd.add_option("--scale", o.params.scale, "distance unit h (0 = mean cage edge length, 1 = raw scene units)")
+          ->capture_default_str();
+  o.max_distance_option =
+      cmd.add_option("--max-distance", o.params.max_distance,
+                     "elements farther than this (scene units) never drive a point; 0 = none")
+          ->capture_default_str();
+  o.variant_option = cmd.add_option("--variant", o.variant, "basic | clamped | extended")->capture_default_str();
 }
 
 bool finish_bind_options(BindOptions& o) {
@@ -31,6 +36,31 @@ bool finish_bind_options(BindOptions& o) {
     return false;
   }
   return true;
+}
+
+std::string bind_options_differing(const BindOptions& o, const BindParams& bound) {
+  std::string out;
+  auto given = [](const CLI::Option* opt) { return opt && opt->count() > 0; };
+  auto add = [&](const char* name, const std::string& mine, const std::string& theirs) {
+    if (!out.empty()) out += ", ";
+    out += std::string(name) + " " + mine + " (the binding's: " + theirs + ")";
+  };
+  auto num = [](double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g", v);
+    return std::string(buf);
+  };
+  if (given(o.variant_option) && o.params.variant != bound.variant)
+    add("--variant", variant_name(o.params.variant), variant_name(bound.variant));
+  if (given(o.local_option) && o.params.local != bound.local) add("--local", num(o.params.local), num(bound.local));
+  if (given(o.epsilon_option) && o.params.epsilon != bound.epsilon)
+    add("--epsilon", num(o.params.epsilon), num(bound.epsilon));
+  if (given(o.max_elements_option) && o.params.max_elements != bound.max_elements)
+    add("--max-elements", std::to_string(o.params.max_elements), std::to_string(bound.max_elements));
+  if (given(o.scale_option) && o.params.scale != bound.scale) add("--scale", num(o.params.scale), num(bound.scale));
+  if (given(o.max_distance_option) && o.params.max_distance != bound.max_distance)
+    add("--max-distance", num(o.params.max_distance), num(bound.max_distance));
+  return out;
 }
 
 int report_error(const Error& e) {
@@ -58,9 +88,9 @@ std::optional<Cage> load_cage_or_report(const std::string& path) {
   return std::move(c).value();
 }
 
-void print_bind_summary(const Binding& b, const std::string& cage_path) {
+void print_bind_summary(const Binding& b, const std::string& cage_path, size_t num_polygons) {
   std::printf("points            %u\n", b.num_points);
-  std::printf("elements          %zu (%zu polygons' triangles)\n", b.elements.size(), b.elements.size());
+  std::printf("elements          %zu (triangles of %zu polygons)\n", b.elements.size(), num_polygons);
   std::printf("variant           %s  local %g  epsilon %g  K %u  h %g%s\n", variant_name(b.params.variant),
               b.params.local, b.params.epsilon, b.params.max_elements, b.h, b.params.scale > 0 ? "" : " (mean edge)");
   std::printf("set size          mean %.2f  max %u\n", b.num_points ? double(b.total_set_size) / b.num_points : 0.0,

@@ -16,11 +16,22 @@ namespace cagewrap::app {
 struct BindOptions {
   BindParams params;
   std::string variant = variant_name(BindParams{}.variant);
+  // set by add_bind_options: tells which options the command line gave
+  CLI::Option* local_option = nullptr;
+  CLI::Option* epsilon_option = nullptr;
+  CLI::Option* max_elements_option = nullptr;
+  CLI::Option* scale_option = nullptr;
+  CLI::Option* max_distance_option = nullptr;
+  CLI::Option* variant_option = nullptr;
 };
 // Adds --local, --epsilon, --max-elements, --scale, --max-distance, --variant to a subcommand.
 void add_bind_options(CLI::App& cmd, BindOptions& opts);
 // Turns the parsed options into parameters; prints and returns false on a bad value.
 bool finish_bind_options(BindOptions& opts);
+// The bind options given on the command line (after finish_bind_options) whose value differs from
+// `bound`, the parameters a loaded binding was made with, as "--variant extended (the binding's:
+// clamped)", joined by ", "; empty when there are none.
+std::string bind_options_differing(const BindOptions& opts, const BindParams& bound);
 
 // Loads a mesh or cage, printing "error: <message>" on failure.
 std::optional<PolyMesh> load_mesh_or_report(const std::string& path);
@@ -28,8 +39,9 @@ std::optional<Cage> load_cage_or_report(const std::string& path);
 
 int report_error(const Error& e);  // prints to stderr, returns the exit code (1)
 
-// One line per fact: points, elements, set sizes, affected elements and points, quality, seconds.
-void print_bind_summary(const Binding& b, const std::string& cage_path);
+// One line per fact: points, elements (and the `num_polygons` cage polygons they triangulate), set
+// sizes, affected elements and points, quality, seconds.
+void print_bind_summary(const Binding& b, const std::string& cage_path, size_t num_polygons);
 
 // A progress bar on stderr when it is a terminal.
 BindProgress terminal_progress(const char* label);

@@ -4,6 +4,7 @@
 #include "app/cli_common.h"
 #include "app/commands.h"
 #include "core/binding_io.h"
+#include "core/mesh_io.h"
 
 namespace cagewrap::app {
 
@@ -21,6 +22,11 @@ void add_bind_command(CLI::App& app, int& exit_code) {
   cmd->callback([args, &exit_code] {
     exit_code = 1;
     if (!finish_bind_options(args->bind)) return;
+    // never anything else: `--out skin.obj` must not overwrite a mesh with a binding
+    if (!has_extension(args->out, ".cwb")) {
+      std::fprintf(stderr, "error: %s: the binding file must end in .cwb\n", args->out.c_str());
+      return;
+    }
     auto mesh = load_mesh_or_report(args->mesh);
     if (!mesh) return;
     auto cage = load_cage_or_report(args->cage);
@@ -34,7 +40,7 @@ void add_bind_command(CLI::App& app, int& exit_code) {
       report_error(s.error());
       return;
     }
-    print_bind_summary(*b, args->cage);
+    print_bind_summary(*b, args->cage, cage->polygons.num_faces());
     std::printf("wrote             %s\n", args->out.c_str());
     exit_code = 0;
   });

@@ -49,6 +49,14 @@ void add_deform_command(CLI::App& app, int& exit_code) {
         return;
       }
       binding = std::move(b).value();
+      // a saved binding fixes the bind parameters: options asking for others cannot be honoured
+      if (std::string differ = bind_options_differing(args->bind, binding.params); !differ.empty()) {
+        std::fprintf(stderr,
+                     "error: %s: the binding was made with other parameters than given: %s; bind again with "
+                     "them, or leave them out to deform with the binding's\n",
+                     args->binding.c_str(), differ.c_str());
+        return;
+      }
       if (binding.num_cage_vertices != cage->num_vertices() || binding.elements != cage->elements) {
         std::fprintf(stderr, "error: %s: the binding was made for a cage of %u vertices and %zu elements, not %s (%zu and %zu)\n",
                      args->binding.c_str(), binding.num_cage_vertices, binding.elements.size(), args->cage.c_str(),

@@ -21,6 +21,7 @@ class Writer {
   template <class T>
   void array(const std::vector<T>& v) {
     pod<uint64_t>(v.size());
+    if (v.empty()) return;  // data() may be null
     const char* p = reinterpret_cast<const char*>(v.data());
     buf_.insert(buf_.end(), p, p + v.size() * sizeof(T));
   }
@@ -46,7 +47,7 @@ class Reader {
     if (!pod(n)) return false;
     if (n > (buf_.size() - pos_) / sizeof(T)) return false;  // count larger than what the file holds
     v.resize(n);
-    std::memcpy(v.data(), buf_.data() + pos_, n * sizeof(T));
+    if (n) std::memcpy(v.data(), buf_.data() + pos_, n * sizeof(T));  // memcpy(nullptr, ..., 0) is undefined
     pos_ += n * sizeof(T);
     return true;
   }
@@ -58,6 +59,63 @@ class Reader {
 };
 
 }  // namespace
+
+Status validate_binding(const Binding& b) {
+  auto parse_error = [](std::string m) { return Status(make_error(ErrorCode::kParse, std::move(m))); };
+  auto n = [](size_t v) { return std::to_string(v); };
+  // offsets: one per point plus one, from 0, monotone, ending at the entry count
+  if (b.offsets.size() != size_t(b.num_points) + 1)
+    return parse_error("the binding's offset table does not match the point count (" + n(b.offsets.size()) +
+                       " offsets for " + n(b.num_points) + " points)");
+  if (b.offsets.front() != 0)
+    return parse_error("the binding's offset table starts at " + n(b.offsets.front()) + ", not 0");
+  for (size_t i = 1; i < b.offsets.size(); ++i)
+    if (b.offsets[i] < b.offsets[i - 1])
+      return parse_error("the binding's offset table is not monotone (offset " + n(i) + " is " + n(b.offsets[i]) +
+                         ", offset " + n(i - 1) + " is " + n(b.offsets[i - 1]) + ")");
+  if (b.offsets.back() != b.ids.size())
+    return parse_error("the binding's offset table ends at " + n(b.offsets.back()) + " but there are " +
+                       n(b.ids.size()) + " entries");
+  if (b.weights.size() != b.ids.size())
+    return parse_error("the binding has " + n(b.weights.size()) + " weights for " + n(b.ids.size()) + " entries");
+  if (b.params.variant == Variant::kClamped && b.bary.size() != 2 * b.ids.size())
+    return parse_error("the binding has " + n(b.bary.size()) + " anchor coordinates for " + n(b.ids.size()) +
+                       " entries (2 each)");
+  if (b.rest_cage.size() != b.num_cage_vertices)
+    return parse_error("the binding's rest cage has " + n(b.rest_cage.size()) + " vertices but the header says " +
+                       n(b.num_cage_vertices));
+  if (b.element_status.size() != b.elements.size())
+    return parse_error("the binding has " + n(b.element_status.size()) + " element statuses for " +
+                       n(b.elements.size()) + " elements");
+  if (b.rigid_element.size() != b.rigid_points.size() || b.rigid_bary.size() != 2 * b.rigid_points.size())
+    return parse_error("the binding's fallback tables disagree (" + n(b.rigid_points.size()) + " points, " +
+                       n(b.rigid_element.size()) + " elements, " + n(b.rigid_bary.size()) + " anchor coordinates)");
+  // every index within its table
+  auto out_of_range = [](std::string m) { return Status(make_error(ErrorCode::kIndexOutOfRange, std::move(m))); };
+  for (size_t e = 0; e < b.elements.size(); ++e)
+    for (size_t k = 0; k < 3; ++k)
+      if (b.elements[e][k] >= b.num_cage_vertices)
+        return out_of_range("the binding's element " + n(e) + " has corner " + n(k) + " at cage vertex " +
+                            n(b.elements[e][k]) + " but the cage has " + n(b.num_cage_vertices) + " vertices");
+  const bool extended = b.params.variant == Variant::kExtended;
+  const size_t id_limit = extended ? b.num_cage_vertices : b.elements.size();
+  for (size_t p = 0; p < b.num_points; ++p)
+    for (size_t i = b.offsets[p]; i < b.offsets[p + 1]; ++i)
+      if (b.ids[i] >= id_limit)
+        return out_of_range("the binding's entry " + n(i) + " (of skin point " + n(p) + ") names " +
+                            (extended ? "cage vertex " : "element ") + n(b.ids[i]) + " but the cage has " +
+                            n(id_limit) + (extended ? " vertices" : " elements"));
+  for (size_t i = 0; i < b.rigid_points.size(); ++i) {
+    if (b.rigid_points[i] >= b.num_points)
+      return out_of_range("the binding's fallback entry " + n(i) + " names skin point " + n(b.rigid_points[i]) +
+                          " but the skin has " + n(b.num_points) + " points");
+    if (b.rigid_element[i] >= b.elements.size())
+      return out_of_range("the binding's fallback entry " + n(i) + " (skin point " + n(b.rigid_points[i]) +
+                          ") names element " + n(b.rigid_element[i]) + " but the cage has " + n(b.elements.size()) +
+                          " elements");
+  }
+  return Ok{};
+}
 
 Status save_binding(const std::string& path, const Binding& b) {
   Writer w;
@@ -132,14 +190,12 @@ Result<Binding> load_binding(const std::string& path) {
   if (!r.at_end()) return make_error(ErrorCode::kParse, path + ": unexpected data after the last table");
   if (variant > 2) return make_error(ErrorCode::kParse, path + ": unknown variant " + std::to_string(variant));
   b.params.variant = static_cast<Variant>(variant);
-  for (auto s : b.element_status)
-    if (static_cast<uint8_t>(s) > 3) return make_error(ErrorCode::kParse, path + ": unknown element status");
+  for (size_t e = 0; e < b.element_status.size(); ++e)
+    if (static_cast<uint8_t>(b.element_status[e]) > 3)
+      return make_error(ErrorCode::kParse, path + ": element " + std::to_string(e) + " has an unknown status " +
+                                               std::to_string(static_cast<unsigned>(b.element_status[e])));
   if (auto v = validate(b.params); !v) return make_error(ErrorCode::kParse, path + ": " + v.error().message);
-  // offsets must be monotone and end at the entry count (the deformer checks the rest)
-  if (b.offsets.size() != size_t(b.num_points) + 1 || b.offsets.front() != 0)
-    return make_error(ErrorCode::kParse, path + ": offset table does not match the point count");
-  for (size_t i = 1; i < b.offsets.size(); ++i)
-    if (b.offsets[i] < b.offsets[i - 1]) return make_error(ErrorCode::kParse, path + ": offset table is not monotone");
+  if (auto v = validate_binding(b); !v) return make_error(v.error().code, path + ": " + v.error().message);
   for (size_t e = 0; e < b.element_status.size(); ++e)
     if (b.element_status[e] != ElementStatus::kValid) b.invalid_elements.push_back(static_cast<uint32_t>(e));
   return b;

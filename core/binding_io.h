@@ -15,7 +15,15 @@
 namespace cagewrap {
 
 Status save_binding(const std::string& path, const Binding& binding);
-// Validates every count against the file size and every index against its table.
+// Validates every count against the file size, then the binding with validate_binding; every error
+// names the file (and the table, entry and index where there is one).
 Result<Binding> load_binding(const std::string& path);
+
+// Checks a binding's tables against each other (kParse) and every index against its table
+// (kIndexOutOfRange): element corners against the cage vertices, stencil ids against the elements
+// (basic, clamped) or the cage vertices (extended), fallback points against the skin points and
+// fallback elements against the elements. Messages name the entry, the bad index and the table size.
+// load_binding and Deformer::create both call it.
+Status validate_binding(const Binding& binding);
 
 }  // namespace cagewrap

@@ -1,5 +1,7 @@
 #include "core/deformer.h"
 
+#include "core/binding_io.h"
+
 #include <cmath>
 
 #include <glm/geometric.hpp>
@@ -50,22 +52,8 @@ Result<Deformer> Deformer::create(const Binding& b, std::span<const glm::vec3> s
     return make_error(ErrorCode::kTopologyMismatch, "the binding was made for " + std::to_string(b.num_points) +
                                                         " skin points but the skin has " +
                                                         std::to_string(skin_rest.size()));
-  if (b.offsets.size() != size_t(b.num_points) + 1 || b.offsets.back() != b.ids.size() ||
-      b.weights.size() != b.ids.size() || b.rest_cage.size() != b.num_cage_vertices ||
-      b.element_status.size() != b.elements.size() ||
-      (b.params.variant == Variant::kClamped && b.bary.size() != 2 * b.ids.size()) ||
-      b.rigid_element.size() != b.rigid_points.size() || b.rigid_bary.size() != 2 * b.rigid_points.size())
-    return make_error(ErrorCode::kParse, "the binding's tables are inconsistent");
-  const uint32_t id_limit = b.params.variant == Variant::kExtended ? b.num_cage_vertices
-                                                                   : static_cast<uint32_t>(b.elements.size());
-  for (uint32_t id : b.ids)
-    if (id >= id_limit) return make_error(ErrorCode::kIndexOutOfRange, "the binding names a cage element that does not exist");
-  for (size_t i = 0; i < b.rigid_points.size(); ++i)
-    if (b.rigid_points[i] >= b.num_points || b.rigid_element[i] >= b.elements.size())
-      return make_error(ErrorCode::kIndexOutOfRange, "the binding's fallback list names a point or element that does not exist");
-  for (const Tri& t : b.elements)
-    for (uint32_t v : t)
-      if (v >= b.num_cage_vertices) return make_error(ErrorCode::kIndexOutOfRange, "the binding's cage uses a vertex that does not exist");
+  // table sizes and every index (element corners, stencil ids, fallback points and elements)
+  if (auto v = validate_binding(b); !v) return v.error();
 
   Deformer d;
   d.binding_ = &b;

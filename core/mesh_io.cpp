@@ -1,13 +1,20 @@
 #include "core/mesh_io.h"
 
+#include "core/text_mesh_readers.h"
+
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <memory>
 #include <mutex>
-#include <iostream>
 #include <sstream>
+
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <OpenMesh/Core/IO/IOManager.hh>
 #include <OpenMesh/Core/IO/Options.hh>
@@ -96,19 +103,20 @@ class RawImporter final : public IO::BaseImporter {
   PolyMesh& mesh_;
 };
 
-// OpenMesh reports problems on its own error stream; collect them for our message instead.
+// OpenMesh reports problems on its global omerr() stream (and chatter on omlog()); while it reads, both
+// write into a buffer of ours instead. The streams' buffers are swapped rather than their targets
+// connected and disconnected: OpenMesh 9's multiplex_streambuf::disconnect never deletes the target
+// that connect allocated (48 bytes lost per load), and std::cerr stays connected for any other
+// OpenMesh message. Callers hold the mutex: the streams are global.
 class CaptureOpenMeshErrors {
  public:
-  CaptureOpenMeshErrors() {
-    omerr().disconnect(std::cerr);
-    omerr().connect(buffer_);
-    omlog().disconnect(std::clog);
-  }
+  CaptureOpenMeshErrors() : err_(omerr().rdbuf(&buffer_)), log_(omlog().rdbuf(&discard_)) {}
   ~CaptureOpenMeshErrors() {
-    omerr().disconnect(buffer_);
-    omerr().connect(std::cerr);
-    omlog().connect(std::clog);
+    omerr().rdbuf(err_);
+    omlog().rdbuf(log_);
   }
+  CaptureOpenMeshErrors(const CaptureOpenMeshErrors&) = delete;
+  CaptureOpenMeshErrors& operator=(const CaptureOpenMeshErrors&) = delete;
   std::string text() const {
     std::string s = buffer_.str();
     while (!s.empty() && (s.back() == '\n' || s.back() == ' ')) s.pop_back();
@@ -118,7 +126,82 @@ class CaptureOpenMeshErrors {
   }
 
  private:
-  std::ostringstream buffer_;
+  std::stringbuf buffer_, discard_;
+  std::streambuf* err_;
+  std::streambuf* log_;
+};
+
+std::mutex& openmesh_mutex() {
+  static std::mutex m;
+  return m;
+}
+
+// PLY, STL and binary OFF through OpenMesh's readers, every vertex and face kept by RawImporter.
+Result<PolyMesh> read_with_openmesh(const std::string& path) {
+  PolyMesh mesh;
+  RawImporter importer(mesh);
+  IO::Options options;
+  bool read_ok;
+  std::string om_errors;
+  {
+    std::lock_guard lock(openmesh_mutex());
+    CaptureOpenMeshErrors capture;
+    read_ok = IO::IOManager().read(path, importer, options);
+    om_errors = capture.text();
+  }
+  if (!read_ok)
+    return make_error(ErrorCode::kParse, path + ": could not be parsed" +
+                                             (om_errors.empty() ? std::string() : " (" + om_errors + ")"));
+  return mesh;
+}
+
+// The whole file in memory. The buffer is anonymous memory mapped with MAP_POPULATE, then read() into:
+// on a 100 MB OBJ the page faults of reading into a fresh malloc'd buffer cost more than the parse.
+// (Mapping the file itself is cheaper still, but a file truncated while we read it would then end the
+// program with SIGBUS.)
+class FileBuffer {
+ public:
+  FileBuffer() = default;
+  FileBuffer(const FileBuffer&) = delete;
+  FileBuffer& operator=(const FileBuffer&) = delete;
+  ~FileBuffer() { reset(); }
+  // false when the file cannot be opened or read
+  bool read(const std::string& path) {
+    reset();
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0) return false;
+    struct stat st {};
+    bool ok = ::fstat(fd, &st) == 0;
+    if (ok && st.st_size > 0) {
+      capacity_ = static_cast<size_t>(st.st_size);
+      void* p = ::mmap(nullptr, capacity_, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS | MAP_POPULATE, -1, 0);
+      if (p == MAP_FAILED) {
+        capacity_ = 0;
+        ok = false;
+      } else {
+        data_ = static_cast<char*>(p);
+        while (size_ < capacity_) {
+          const ssize_t n = ::read(fd, data_ + size_, capacity_ - size_);
+          if (n < 0 && errno == EINTR) continue;
+          if (n < 0) ok = false;
+          if (n <= 0) break;  // error, or the file shrank meanwhile: keep what was read
+          size_ += static_cast<size_t>(n);
+        }
+      }
+    }
+    ::close(fd);
+    return ok;
+  }
+  void reset() {
+    if (data_) ::munmap(data_, capacity_);
+    data_ = nullptr;
+    size_ = capacity_ = 0;
+  }
+  std::string_view view() const { return {data_, size_}; }
+
+ private:
+  char* data_ = nullptr;
+  size_t size_ = 0, capacity_ = 0;
 };
 
 }  // namespace
@@ -129,32 +212,33 @@ Result<PolyMesh> load_mesh(const std::string& path) {
   if (!fs::exists(path, ec)) return make_error(ErrorCode::kFileNotFound, path + ": no such file");
   if (fs::is_directory(path, ec)) return make_error(ErrorCode::kFileUnreadable, path + ": is a directory");
   if (fs::file_size(path, ec) == 0) return make_error(ErrorCode::kEmpty, path + ": file is empty");
-  if (!(has_extension(path, ".obj") || has_extension(path, ".ply") || has_extension(path, ".off") ||
-        has_extension(path, ".stl")))
+  const bool obj = has_extension(path, ".obj"), ply = has_extension(path, ".ply"), off = has_extension(path, ".off"),
+             stl = has_extension(path, ".stl");
+  if (!(obj || ply || off || stl))
     return make_error(ErrorCode::kUnsupportedFormat,
                       path + ": unsupported mesh format (use .obj, .ply, .off or .stl)");
-  {
-    std::ifstream probe(path, std::ios::binary);
-    if (!probe) return make_error(ErrorCode::kFileUnreadable, path + ": cannot be opened for reading");
+  FileBuffer file;
+  if (!file.read(path)) return make_error(ErrorCode::kFileUnreadable, path + ": cannot be opened for reading");
+  const std::string_view data = file.view();
+  if (data.empty()) return make_error(ErrorCode::kEmpty, path + ": file is empty");
+  Result<PolyMesh> mesh = PolyMesh{};
+  if (obj) {
+    mesh = read_obj(data, path);
+  } else if (off && !off_is_binary(data)) {
+    mesh = read_off(data, path);
+  } else {
+    // OpenMesh must never see a bad number in a text file: its readers go on from a failed stream
+    if (ply) {
+      if (auto s = check_ascii_ply(data, path); !s) return s.error();
+    } else if (stl) {
+      if (auto s = check_ascii_stl(data, path); !s) return s.error();
+    }
+    file.reset();
+    mesh = read_with_openmesh(path);
   }
-  PolyMesh mesh;
-  RawImporter importer(mesh);
-  IO::Options options;
-  bool read_ok;
-  std::string om_errors;
-  {
-    static std::mutex om_mutex;  // OpenMesh's error streams are global
-    std::lock_guard lock(om_mutex);
-    CaptureOpenMeshErrors capture;
-    read_ok = IO::IOManager().read(path, importer, options);
-    om_errors = capture.text();
-  }
-  if (!read_ok)
-    return make_error(ErrorCode::kParse, path + ": could not be parsed" +
-                                             (om_errors.empty() ? std::string() : " (" + om_errors + ")"));
-  if (mesh.positions.empty()) return make_error(ErrorCode::kEmpty, path + ": has no vertices");
-  auto valid = validate_mesh(mesh, path);
-  if (!valid) return valid.error();
+  if (!mesh) return mesh.error();
+  if (mesh->positions.empty()) return make_error(ErrorCode::kEmpty, path + ": has no vertices");
+  if (auto valid = validate_mesh(*mesh, path); !valid) return valid.error();
   return mesh;
 }
 

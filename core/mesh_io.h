@@ -1,5 +1,6 @@
-// Reading and writing static meshes and cages: OBJ, PLY, OFF, STL (read through OpenMesh),
-// OBJ and raw float32 .bin (written here).
+// Reading and writing static meshes and cages: OBJ and ASCII OFF read by the strict parsers of
+// core/text_mesh_readers.h, PLY, STL and binary OFF through OpenMesh (ASCII PLY and STL checked token by
+// token first); OBJ and raw float32 .bin written here.
 #pragma once
 
 #include <span>
@@ -13,8 +14,9 @@
 namespace cagewrap {
 
 // Loads every vertex and polygon exactly as stored (no welding, no manifold repair, faces kept in
-// file order), then validates: missing/empty file, parse failure, non-finite coordinates and
-// corner indices out of range are errors naming the file and the element.
+// file order, repeated corners included), then validates: missing/empty file, parse failure,
+// non-finite coordinates and corner indices out of range are errors naming the file and the vertex or
+// face (numbered from 0 in file order), and for text formats the line.
 Result<PolyMesh> load_mesh(const std::string& path);
 
 // OBJ with 9 significant digits (float32 round-trips exactly).

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <fstream>
 
 #include <glm/geometric.hpp>
@@ -42,6 +44,12 @@ Result<Twist> load_twist(const std::string& path) {
 }
 
 Fidelity relative_distance(std::span<const glm::vec3> a, std::span<const glm::vec3> b, double diagonal) {
+  // a programming error, not bad data: checked in every build type (b[i] would read past the end)
+  if (a.size() != b.size()) {
+    std::fprintf(stderr, "relative_distance: point sets of %zu and %zu points; they must be equal\n", a.size(),
+                 b.size());
+    std::abort();
+  }
   Fidelity f;
   double sum = 0;
   for (size_t i = 0; i < a.size(); ++i) {

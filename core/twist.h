@@ -21,7 +21,8 @@ struct Twist {
 
 Result<Twist> load_twist(const std::string& inputs_json_path);
 
-// RMS and max distance between two point sets of equal size, divided by `diagonal`.
+// RMS and max distance between two point sets of equal size, divided by `diagonal`. Sets of different
+// sizes are a programming error: the call prints both sizes and aborts (in every build type).
 struct Fidelity {
   double rms = 0, max = 0;
 };
