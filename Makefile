@@ -32,9 +32,7 @@ test-sanitize: setup $(BUILD_SAN)/build.ninja
 	cd $(BUILD_SAN) && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 ctest --output-on-failure -j $(JOBS)
 
 bench: build
-	./$(BUILD)/cagewrap bench --mesh $(SHARED_ASSETS)/bench/mannequiny/mesh_7136.obj \
-	  --cage $(SHARED_ASSETS)/bench/mannequiny/cage.obj --posed-cage $(SHARED_ASSETS)/bench/mannequiny/cage_posed.obj \
-	  --twist $(SHARED_ASSETS)/bench/mannequiny/inputs.json --subdivide 11
+	bash scripts/bench.sh ./$(BUILD)/cagewrap $(SHARED_ASSETS)
 
 clean:
 	rm -rf $(BUILD) $(BUILD_SAN)
