@@ -18,6 +18,7 @@
 #include "core/binding_io.h"
 #include "core/deformer.h"
 #include "core/registration.h"
+#include "tests/expect_error.h"
 #include "tests/fixtures.h"
 
 namespace cagewrap {
@@ -25,18 +26,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// `r` failed with `code` and a message containing every one of `parts`; on failure shows all of it.
-template <class R>
-::testing::AssertionResult Fails(const R& r, ErrorCode code, std::initializer_list<std::string> parts) {
-  if (r.ok()) return ::testing::AssertionFailure() << "succeeded; expected " << error_code_name(code);
-  std::string problems;
-  if (r.error().code != code)
-    problems += std::string("code ") + error_code_name(r.error().code) + " instead of " + error_code_name(code) + "; ";
-  for (const auto& part : parts)
-    if (r.error().message.find(part) == std::string::npos) problems += "no \"" + part + "\" in the message; ";
-  if (problems.empty()) return ::testing::AssertionSuccess();
-  return ::testing::AssertionFailure() << problems << "message: \"" << r.error().message << "\"";
-}
 
 // A damaged index table caught by load_binding: a parse or range error naming the file.
 ::testing::AssertionResult RejectedAtLoad(const Result<Binding>& r, std::initializer_list<std::string> parts) {

@@ -3,6 +3,8 @@
 // polygon utilities (validation, triangulation, edges, element classification).
 #include <gtest/gtest.h>
 
+#include "tests/expect_error.h"
+
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -35,18 +37,6 @@ namespace cagewrap {
 namespace {
 
 namespace fs = std::filesystem;
-// `r` failed with `code` and a message containing every one of `parts`; on failure shows all of it.
-template <class R>
-::testing::AssertionResult Fails(const R& r, ErrorCode code, std::initializer_list<std::string> parts) {
-  if (r.ok()) return ::testing::AssertionFailure() << "succeeded; expected " << error_code_name(code);
-  std::string problems;
-  if (r.error().code != code)
-    problems += std::string("code ") + error_code_name(r.error().code) + " instead of " + error_code_name(code) + "; ";
-  for (const auto& part : parts)
-    if (r.error().message.find(part) == std::string::npos) problems += "no \"" + part + "\" in the message; ";
-  if (problems.empty()) return ::testing::AssertionSuccess();
-  return ::testing::AssertionFailure() << problems << "message: \"" << r.error().message << "\"";
-}
 
 // load_mesh in a child process with a time limit (and, outside sanitizer builds, a memory limit).
 // OpenMesh's ASCII readers go on after a number fails to parse and then use values they never read:

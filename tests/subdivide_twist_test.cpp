@@ -18,24 +18,13 @@
 
 #include "core/subdivide.h"
 #include "core/twist.h"
+#include "tests/expect_error.h"
 #include "tests/test_assets.h"
 
 namespace cagewrap {
 namespace {
 
 namespace fs = std::filesystem;
-
-template <class R>
-::testing::AssertionResult Fails(const R& r, ErrorCode code, std::initializer_list<std::string> parts) {
-  if (r.ok()) return ::testing::AssertionFailure() << "succeeded; expected " << error_code_name(code);
-  std::string problems;
-  if (r.error().code != code)
-    problems += std::string("code ") + error_code_name(r.error().code) + " instead of " + error_code_name(code) + "; ";
-  for (const auto& part : parts)
-    if (r.error().message.find(part) == std::string::npos) problems += "no \"" + part + "\" in the message; ";
-  if (problems.empty()) return ::testing::AssertionSuccess();
-  return ::testing::AssertionFailure() << problems << "message: \"" << r.error().message << "\"";
-}
 
 // ------------------------------------------------------------------------------------------ subdivide
 

@@ -6,37 +6,7 @@
 # Usage: bad_input.sh <cagewrap binary> [shared assets dir (unused)]
 set -u
 
-BIN=${1:?usage: bad_input.sh <cagewrap binary> [shared assets dir]}
-[ -x "$BIN" ] || { echo "not an executable: $BIN"; exit 1; }
-
-T=$(mktemp -d "${TMPDIR:-/tmp}/cagewrap-cli-bad_input.XXXXXX")
-trap 'rm -rf "$T"' EXIT
-passed=0
-failed=0
-
-# run ARGS...: runs the binary, stdout in $T/out, stderr in $T/err, exit status in $rc
-run() {
-  "$BIN" "$@" >"$T/out" 2>"$T/err"
-  rc=$?
-  last="$*"
-}
-# check DESCRIPTION COMMAND...: counts a pass when COMMAND succeeds, else prints what failed
-check() {
-  local what=$1 said
-  shift
-  if said=$("$@" 2>&1); then
-    passed=$((passed + 1))
-  else
-    failed=$((failed + 1))
-    echo "FAIL: $what"
-    [ -n "$said" ] && printf '%s\n' "$said" | sed 's/^/  check: /'
-    echo "  command: cagewrap $last (exit $rc)"
-    sed 's/^/  stdout: /' "$T/out" | head -20
-    sed 's/^/  stderr: /' "$T/err" | head -20
-  fi
-}
-has() { grep -q -- "$2" "$1"; }    # has FILE REGEX
-hasf() { grep -qF -- "$2" "$1"; }  # hasf FILE TEXT
+source "$(dirname "$0")/harness.bash"
 no_outputs() {
   local f found=0
   for f in "$T"/out.obj "$T"/out.bin "$T"/out.cwb "$T"/out.txt; do
@@ -243,5 +213,4 @@ check "the cage with bad faces still translates the skin" awk '
   $1 == "v" { m++; if (abs($2 - x[m] - 1) > 1e-5 || abs($3 - y[m] - 2) > 1e-5 || abs($4 - z[m] - 3) > 1e-5) bad++ }
   END { exit !(bad == 0 && m == n && n > 0) }' "$T/skin.obj" "$T/moved.obj"
 
-echo "$passed passed, $failed failed"
-[ "$failed" -eq 0 ]
+finish

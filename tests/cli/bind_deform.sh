@@ -5,38 +5,7 @@
 # Usage: bind_deform.sh <cagewrap binary> [shared assets dir]
 set -u
 
-BIN=${1:?usage: bind_deform.sh <cagewrap binary> [shared assets dir]}
-ASSETS=${CAGEWRAP_SHARED_ASSETS:-${2:-}}  # the environment overrides the configured folder
-[ -x "$BIN" ] || { echo "not an executable: $BIN"; exit 1; }
-
-T=$(mktemp -d "${TMPDIR:-/tmp}/cagewrap-cli-bind_deform.XXXXXX")
-trap 'rm -rf "$T"' EXIT
-passed=0
-failed=0
-
-# run ARGS...: runs the binary, stdout in $T/out, stderr in $T/err, exit status in $rc
-run() {
-  "$BIN" "$@" >"$T/out" 2>"$T/err"
-  rc=$?
-  last="$*"
-}
-# check DESCRIPTION COMMAND...: counts a pass when COMMAND succeeds, else prints what failed
-check() {
-  local what=$1 said
-  shift
-  if said=$("$@" 2>&1); then
-    passed=$((passed + 1))
-  else
-    failed=$((failed + 1))
-    echo "FAIL: $what"
-    [ -n "$said" ] && printf '%s\n' "$said" | sed 's/^/  check: /'
-    echo "  command: cagewrap $last (exit $rc)"
-    sed 's/^/  stdout: /' "$T/out" | head -20
-    sed 's/^/  stderr: /' "$T/err" | head -20
-  fi
-}
-has() { grep -q -- "$2" "$1"; }  # has FILE REGEX
-lacks() { ! grep -q -- "$2" "$1"; }
+source "$(dirname "$0")/harness.bash"
 
 # same_after_shift SKIN.obj OUT.obj DX DY DZ: OUT's vertices are SKIN's moved by (DX,DY,DZ) within 1e-5,
 # same vertex count, and the face lines are unchanged
@@ -207,5 +176,4 @@ else
   echo "note: no bench triplet under '$ASSETS/bench/mannequiny' (set CAGEWRAP_SHARED_ASSETS); real-data checks skipped"
 fi
 
-echo "$passed passed, $failed failed"
-[ "$failed" -eq 0 ]
+finish

@@ -1,0 +1,41 @@
+# Shared by the tests/cli/*.sh scripts (sourced, not run): the binary and assets from the arguments,
+# a temporary folder $T, and run/check helpers that count passes and failures.
+BIN=${1:?usage: $(basename "$0") <cagewrap binary> [shared assets dir]}
+ASSETS=${CAGEWRAP_SHARED_ASSETS:-${2:-}}  # the environment overrides the configured folder
+[ -x "$BIN" ] || { echo "not an executable: $BIN"; exit 1; }
+
+T=$(mktemp -d "${TMPDIR:-/tmp}/cagewrap-cli-$(basename "$0" .sh).XXXXXX")
+trap 'rm -rf "$T"' EXIT
+passed=0
+failed=0
+
+# run ARGS...: runs the binary, stdout in $T/out, stderr in $T/err, exit status in $rc
+run() {
+  "$BIN" "$@" >"$T/out" 2>"$T/err"
+  rc=$?
+  last="$*"
+}
+# check DESCRIPTION COMMAND...: counts a pass when COMMAND succeeds, else prints what failed
+check() {
+  local what=$1 said
+  shift
+  if said=$("$@" 2>&1); then
+    passed=$((passed + 1))
+  else
+    failed=$((failed + 1))
+    echo "FAIL: $what"
+    [ -n "$said" ] && printf '%s\n' "$said" | sed 's/^/  check: /'
+    echo "  command: cagewrap $last (exit $rc)"
+    sed 's/^/  stdout: /' "$T/out" | head -20
+    sed 's/^/  stderr: /' "$T/err" | head -20
+  fi
+}
+has() { grep -q -- "$2" "$1"; }  # has FILE REGEX
+lacks() { ! grep -q -- "$2" "$1"; }
+hasf() { grep -qF -- "$2" "$1"; }  # hasf FILE TEXT
+# finish: the closing line ctest and CI read, and the exit status
+finish() {
+  echo "$passed passed, $failed failed"
+  [ "$failed" -eq 0 ]
+}
+
