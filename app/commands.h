@@ -13,5 +13,6 @@ void add_bench_command(CLI::App& app, int& exit_code);
 void add_info_command(CLI::App& app, int& exit_code);
 void add_skin_command(CLI::App& app, int& exit_code);
 void add_make_demo_command(CLI::App& app, int& exit_code);
+void add_cage_command(CLI::App& app, int& exit_code);
 
 }  // namespace cagewrap::app

@@ -42,6 +42,8 @@ class TriangleBvh {
   std::optional<TriangleHit> intersect(const Ray& ray, double t_min = 0.0, double t_max = kInfinity) const;
   // Whether anything is hit with t in [t_min, t_max] (stops at the first hit).
   bool any_hit(const Ray& ray, double t_min, double t_max) const;
+  // Every hit with t in [t_min, t_max], in no particular order; `out` is cleared first.
+  void all_hits(const Ray& ray, double t_min, double t_max, std::vector<TriangleHit>& out) const;
   // Number of triangles the whole ray crosses (t >= 0): odd means the origin is inside a closed mesh.
   uint32_t count_hits(const Ray& ray) const;
 
