@@ -17,6 +17,8 @@ void print_cage_report(const AutoCageReport& r, const AutoCageParams& p) {
   std::printf("input             %u vertices, %u triangles\n", r.input_vertices, r.input_triangles);
   std::printf("welded            %u vertices, %u triangles dropped\n", r.welded_vertices, r.dropped_triangles);
   std::printf("joints            %u\n", r.joints);
+  if (r.wrapped) std::printf("wrapped           yes (offset surface of %u triangles)\n", r.wrap_triangles);
+  else std::printf("wrapped           no\n");
   std::printf("faces             %u\n", r.faces);
   std::printf("vertices          %u\n", r.vertices);
   if (p.inflate_absolute) std::printf("inflate           %.6g\n", r.inflate_distance);
@@ -44,6 +46,7 @@ void add_cage_command(CLI::App& app, int& exit_code) {
     std::string mesh, out;
     AutoCageParams params;
     bool no_fit = false;
+    std::string wrap = "auto";
     BindOptions bind;
   };
   auto args = std::make_shared<Args>();
@@ -59,6 +62,9 @@ void add_cage_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--concave-share", args->params.concave_share, "share of the clearance kept in valleys (1 = uniform)")
       ->capture_default_str();
   cmd->add_flag("--inflate-absolute", args->params.inflate_absolute, "--inflate is in scene units");
+  cmd->add_option("--wrap", args->wrap, "auto: wrap separate/open pieces in one offset surface; always; never")
+      ->check(CLI::IsMember({"auto", "always", "never"}))
+      ->capture_default_str();
   cmd->add_flag("--no-fit", args->no_fit, "do not push the cage out where skin points stay outside");
   cmd->add_option("--out", args->out, "cage to write (.obj)")->required();
   add_bind_options(*cmd, args->bind);
@@ -71,6 +77,7 @@ void add_cage_command(CLI::App& app, int& exit_code) {
     if (!finish_bind_options(args->bind)) return;
     args->params.bind = args->bind.params;
     args->params.fit_skin = !args->no_fit;
+    args->params.wrap = args->wrap == "always" ? WrapMode::kAlways : args->wrap == "never" ? WrapMode::kNever : WrapMode::kAuto;
     if (auto s = validate(args->params); !s) {
       report_error(s.error());
       return;

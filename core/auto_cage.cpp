@@ -20,6 +20,7 @@
 #include <tbb/parallel_for.h>
 
 #include "core/cage.h"
+#include "core/offset_wrap.h"
 #include "core/registration.h"
 #include "core/skinning.h"
 #include "core/surface_distance.h"
@@ -59,17 +60,10 @@ class ModCageQuadricT : public OpenMesh::Decimater::ModBaseT<MeshT> {
   DECIMATING_MODULE(ModCageQuadricT, MeshT, CageQuadric);
   using Quadric = OpenMesh::Geometry::QuadricT<double>;
 
-  explicit ModCageQuadricT(MeshT& mesh) : Base(mesh, false) {
-    mesh.add_property(quadrics_);
-    mesh.add_property(factor_);
-  }
-  ~ModCageQuadricT() override {
-    Base::mesh().remove_property(quadrics_);
-    Base::mesh().remove_property(factor_);
-  }
-  void set_factors(const std::vector<double>& f) {
-    for (auto v : Base::mesh().vertices()) Base::mesh().property(factor_, v) = f[v.idx()];
-  }
+  explicit ModCageQuadricT(MeshT& mesh) : Base(mesh, false) { mesh.add_property(quadrics_); }
+  ~ModCageQuadricT() override { Base::mesh().remove_property(quadrics_); }
+  // A vertex property of the mesh holding each vertex's error factor (>= 1).
+  void set_factors(OpenMesh::VPropHandleT<double> factor) { factor_ = factor; }
   void set_isotropy(double w) { isotropy_ = w; }
 
   void initialize() override {
@@ -109,6 +103,85 @@ class ModCageQuadricT : public OpenMesh::Decimater::ModBaseT<MeshT> {
   OpenMesh::VPropHandleT<double> factor_;
   double isotropy_ = kIsotropy;
 };
+
+double face_aspect(const OmMesh& m, OmMesh::FaceHandle f) {
+  auto fv = m.cfv_iter(f);
+  const OpenMesh::Vec3d a = m.point(*fv), b = m.point(*(++fv)), c = m.point(*(++fv));
+  return triangle_aspect({a[0], a[1], a[2]}, {b[0], b[1], b[2]}, {c[0], c[1], c[2]});
+}
+
+// Worst aspect of the faces around `v` were it moved to `to`, or infinity when a face would turn
+// by more than the decimater's normal guard allows.
+double ring_aspect_if_moved(OmMesh& m, OmMesh::VertexHandle v, const OpenMesh::Vec3d& to,
+                            OmMesh::FaceHandle skip0, OmMesh::FaceHandle skip1) {
+  const OpenMesh::Vec3d from = m.point(v);
+  std::vector<std::pair<OmMesh::FaceHandle, OpenMesh::Vec3d>> before;
+  for (auto f : m.vf_range(v))
+    if (f != skip0 && f != skip1) before.emplace_back(f, m.calc_face_normal(f));
+  m.set_point(v, to);
+  double worst = 0.0;
+  const double min_cos = std::cos(kMaxNormalDeviation * 3.141592653589793 / 180.0);
+  for (const auto& [f, n] : before) {
+    if ((m.calc_face_normal(f) | n) < min_cos) worst = INFINITY;
+    else worst = std::max(worst, face_aspect(m, f));
+  }
+  m.set_point(v, from);
+  return worst;
+}
+
+// What the decimater's aspect guard cannot fix (slivers it inherited): flips the longest edge of a
+// cap, or collapses the shortest edge of a needle, whenever that makes the neighbourhood better.
+void clean_slivers(OmMesh& m) {
+  m.request_vertex_status();
+  m.request_edge_status();
+  m.request_face_status();
+  for (int pass = 0; pass < 4; ++pass) {
+    bool changed = false;
+    for (auto f : m.faces()) {
+      if (m.status(f).deleted()) continue;
+      const double aspect = face_aspect(m, f);
+      if (aspect <= kMaxAspect) continue;
+      OmMesh::HalfedgeHandle longest, shortest;
+      double lmax = -1, lmin = INFINITY;
+      for (auto h : m.fh_range(f)) {
+        const double l = m.calc_edge_length(h);
+        if (l > lmax) lmax = l, longest = h;
+        if (l < lmin) lmin = l, shortest = h;
+      }
+      // a cap: flip its longest edge when both new triangles are better than the worse old one
+      const auto e = m.edge_handle(longest);
+      if (!m.is_boundary(e) && m.is_flip_ok(e)) {
+        const auto g = m.opposite_face_handle(longest);
+        const double old_worst = std::max(aspect, face_aspect(m, g));
+        const OpenMesh::Vec3d n0 = m.calc_face_normal(f) + m.calc_face_normal(g);
+        m.flip(e);
+        const double new_worst = std::max(face_aspect(m, m.face_handle(longest)),
+                                          face_aspect(m, m.opposite_face_handle(longest)));
+        const bool folded = (m.calc_face_normal(m.face_handle(longest)) | n0) <= 0 ||
+                            (m.calc_face_normal(m.opposite_face_handle(longest)) | n0) <= 0;
+        if (new_worst < old_worst && !folded) {
+          changed = true;
+          continue;
+        }
+        m.flip(e);  // undo
+      }
+      // a needle: collapse its shortest edge onto either end
+      for (auto h : {shortest, m.opposite_halfedge_handle(shortest)}) {
+        if (!m.is_collapse_ok(h)) continue;
+        const auto from = m.from_vertex_handle(h), to = m.to_vertex_handle(h);
+        const double after = ring_aspect_if_moved(m, from, m.point(to), m.face_handle(h),
+                                                  m.opposite_face_handle(h));
+        if (after < aspect && after <= kNeedleAspect) {
+          m.collapse(h);
+          changed = true;
+          break;
+        }
+      }
+    }
+    if (!changed) break;
+  }
+  m.garbage_collection();
+}
 
 class Cancelled {};
 
@@ -375,6 +448,7 @@ Status validate(const AutoCageParams& p) {
   if (!(p.joint_radius > 0 && std::isfinite(p.joint_radius))) return bad("joint radius must be > 0");
   if (!(p.concave_share >= 0 && p.concave_share <= 1)) return bad("concave share must be in [0, 1]");
   if (!(p.inflate >= 0 && std::isfinite(p.inflate))) return bad("inflate distance must be >= 0");
+  if (!(p.wrap_cell > 0 && p.wrap_cell < 0.1)) return bad("wrap cell must be in (0, 0.1) of the bbox diagonal");
   if (!(p.weld_tolerance >= 0 && p.weld_tolerance < 0.1)) return bad("weld tolerance must be in [0, 0.1)");
   return validate(p.bind);
 }
@@ -427,17 +501,34 @@ Result<AutoCageReport> build_auto_cage(const PolyMesh& skin, std::span<const glm
     // outward orientation, piece by piece: a closed piece wound inside-out has negative volume
     if (const uint32_t flipped = orient_pieces(weld.positions, tris); flipped > 0)
       r.warnings.push_back(std::to_string(flipped) + " pieces of the skin were wound inside-out and were turned");
-    if (!welded.closed())
+    r.inflate_distance = params.inflate_absolute ? params.inflate : params.inflate * diag;
+    const bool clean = welded.closed() && welded.manifold() && welded.oriented() && welded.components == 1;
+    r.wrapped = params.wrap == WrapMode::kAlways || (params.wrap == WrapMode::kAuto && !clean);
+    std::vector<glm::vec3> base_positions = weld.positions;  // what the decimater starts from
+    if (r.wrapped) {
+      stage.report("wrap", 0.02);
+      const double offset = r.inflate_distance > 0 ? r.inflate_distance : 3.0 * params.wrap_cell * diag;
+      IsoSurface wrap = offset_wrap(weld.positions, tris, offset, params.wrap_cell * diag);
+      r.wrap_triangles = static_cast<uint32_t>(wrap.triangles.size());
+      r.warnings.push_back("the welded skin is " + std::to_string(welded.components) + " pieces with " +
+                           std::to_string(welded.boundary_edges) + " boundary, " +
+                           std::to_string(welded.non_manifold_edges) + " non-manifold and " +
+                           std::to_string(welded.misoriented_edges) + " misoriented edges; the cage wraps it as one surface " +
+                           std::to_string(offset) + " out");
+      base_positions = std::move(wrap.positions);
+      tris = std::move(wrap.triangles);
+    } else if (!clean) {
       r.warnings.push_back("the welded skin has " + std::to_string(welded.boundary_edges) + " boundary edges in " +
                            std::to_string(welded.components) + " pieces; the cage follows them and is open too");
+    }
     stage.check();
 
     // ------------------------------------------------------------ decimate
     stage.report("decimate", 0.05);
     OmMesh mesh;
     std::vector<OmMesh::VertexHandle> vh;
-    vh.reserve(weld.positions.size());
-    for (const glm::vec3& p : weld.positions) vh.push_back(mesh.add_vertex(OpenMesh::Vec3d(p.x, p.y, p.z)));
+    vh.reserve(base_positions.size());
+    for (const glm::vec3& p : base_positions) vh.push_back(mesh.add_vertex(OpenMesh::Vec3d(p.x, p.y, p.z)));
     uint32_t rejected = 0;
     {
       // faces that would make an edge or vertex non-manifold are left out (OpenMesh refuses them)
@@ -448,7 +539,7 @@ Result<AutoCageReport> build_auto_cage(const PolyMesh& skin, std::span<const glm
       }
       if (was_enabled) ::omerr().enable();
     }
-    r.dropped_triangles = collapsed + rejected;
+    r.dropped_triangles = collapsed + (r.wrapped ? 0 : rejected);
     if (rejected > 0)
       r.warnings.push_back(std::to_string(rejected) + " skin triangles would make a non-manifold edge or vertex and were left out");
     if (mesh.n_faces() < 4) return make_error(ErrorCode::kEmpty, "skin: fewer than 4 usable triangles after welding");
@@ -464,40 +555,52 @@ Result<AutoCageReport> build_auto_cage(const PolyMesh& skin, std::span<const glm
           nearest = std::min(nearest, glm::length(glm::dvec3(p) - glm::dvec3(joints[j])));
         radius[j] = std::max(params.joint_radius * diag, 1.5 * nearest);
       }
-      tbb::parallel_for(size_t(0), weld.positions.size(), [&](size_t v) {
+      tbb::parallel_for(size_t(0), base_positions.size(), [&](size_t v) {
         double g = 0.0;
         for (size_t j = 0; j < joints.size(); ++j) {
-          const double d = glm::length(glm::dvec3(weld.positions[v]) - glm::dvec3(joints[j])) / radius[j];
+          const double d = glm::length(glm::dvec3(base_positions[v]) - glm::dvec3(joints[j])) / radius[j];
           g = std::max(g, std::exp(-d * d));
         }
         factor[v] = 1.0 + params.joint_detail * kJointBoost * g;
       });
     }
 
-    {
+    OpenMesh::VPropHandleT<double> factor_prop;
+    mesh.add_property(factor_prop);
+    for (auto v : mesh.vertices()) mesh.property(factor_prop, v) = factor[v.idx()];
+    mesh.request_face_normals();  // before the normal-flipping module, which would compute them noisily
+    mesh.update_face_normals();
+    // One pass of collapses down to `faces`; the aspect guard is optional because a marching
+    // tetrahedra wrap starts full of slivers, which it would refuse to touch.
+    auto decimate = [&](size_t faces, bool aspect_guard, double lo, double hi) {
       using Decimater = OpenMesh::Decimater::DecimaterT<OmMesh>;
-      mesh.request_face_normals();  // before the normal-flipping module, which would compute them noisily
-      mesh.update_face_normals();
       Decimater dec(mesh);
       ModCageQuadricT<OmMesh>::Handle hq;
       OpenMesh::Decimater::ModAspectRatioT<OmMesh>::Handle ha;
       OpenMesh::Decimater::ModNormalFlippingT<OmMesh>::Handle hn;
       dec.add(hq);
-      dec.add(ha);
       dec.add(hn);
-      dec.module(hq).set_factors(factor);
-      // the isotropy term is in units of length^4: scale it to the model
-      dec.module(hq).set_isotropy(kIsotropy);
-      dec.module(ha).set_aspect_ratio(kMaxAspect);
+      dec.module(hq).set_factors(factor_prop);
       dec.module(hn).set_max_normal_deviation(kMaxNormalDeviation);
-      const size_t expected = mesh.n_faces() > params.target_faces ? (mesh.n_faces() - params.target_faces) / 2 : 1;
-      DecimateObserver observer(stage, expected, 0.05, 0.6);
+      if (aspect_guard) {
+        dec.add(ha);
+        dec.module(ha).set_aspect_ratio(kMaxAspect);
+      }
+      const size_t expected = mesh.n_faces() > faces ? (mesh.n_faces() - faces) / 2 : 1;
+      DecimateObserver observer(stage, expected, lo, hi);
       dec.set_observer(&observer);
-      if (!dec.initialize()) return make_error(ErrorCode::kInvalidArgument, "the decimater could not start");
-      dec.decimate_to_faces(0, params.target_faces);
-      stage.check();
+      if (!dec.initialize()) return false;
+      dec.decimate_to_faces(0, faces);
       mesh.garbage_collection();
-    }
+      return true;
+    };
+    bool started = true;
+    if (r.wrapped) started = decimate(4 * size_t(params.target_faces), false, 0.05, 0.45);
+    stage.check();
+    if (started) started = decimate(params.target_faces, true, r.wrapped ? 0.45 : 0.05, 0.6);
+    if (!started) return make_error(ErrorCode::kInvalidArgument, "the decimater could not start");
+    clean_slivers(mesh);
+    stage.check();
 
     // ------------------------------------------------------------ inflate
     stage.report("inflate", 0.6);
@@ -528,8 +631,7 @@ Result<AutoCageReport> build_auto_cage(const PolyMesh& skin, std::span<const glm
     }
     s.build_adjacency();
     const double eps = 1e-9 * diag;
-    r.inflate_distance = params.inflate_absolute ? params.inflate : params.inflate * diag;
-    if (r.inflate_distance > 0) {
+    if (!r.wrapped && r.inflate_distance > 0) {  // a wrap is built at the clearance already
       // less clearance in valleys: a skin point under a concave cage edge projects inside neither
       // neighbouring element, and the blind wedge widens with the depth of the point
       const auto conc = concavity(s);

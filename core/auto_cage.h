@@ -3,7 +3,9 @@
 // wraps the skin. First version: triangles only.
 //
 // Pipeline: join every primitive (bind pose) -> weld coincident and seam vertices (tolerance
-// relative to the bounding-box diagonal) -> quadric edge-collapse decimation to the target face
+// relative to the bounding-box diagonal) -> when the result is not one closed, clean piece (a
+// character modelled as separate or open segments), replace it by one closed offset surface at the
+// clearance distance (offset_wrap.h) -> quadric edge-collapse decimation to the target face
 // count (OpenMesh Decimater) with error scaled up near joints, an aspect-ratio guard against needles
 // and a normal-deviation guard against folds -> inflation along area-weighted vertex normals in
 // small steps (each bounded by a share of the incident edge lengths and by the room in front of
@@ -32,6 +34,11 @@
 
 namespace cagewrap {
 
+// When to build the cage from an offset surface of the whole skin (offset_wrap.h) instead of the
+// welded skin itself: the skin's own surface only works when it is one closed, manifold,
+// consistently oriented piece.
+enum class WrapMode : uint8_t { kAuto, kAlways, kNever };
+
 struct AutoCageParams {
   uint32_t target_faces = 2000;   // triangles of the cage (the decimater stops at or just below)
   double joint_detail = 1.0;      // 0 = uniform; larger keeps more faces near joints
@@ -42,6 +49,8 @@ struct AutoCageParams {
   double concave_share = 0.25;    // share of `inflate` kept at strongly concave (valley) vertices; 1 = uniform
   double weld_tolerance = 1e-5;   // relative to the bbox diagonal
   bool fit_skin = true;           // push the cage out locally where skin points remain outside
+  WrapMode wrap = WrapMode::kAuto;  // kAuto: wrap unless the welded skin is one closed, clean piece
+  double wrap_cell = 0.005;       // grid cell of the wrap, relative to the bbox diagonal (at most half the clearance)
   BindParams bind;                // for the cage-quality figure
 };
 
@@ -63,6 +72,8 @@ struct AutoCageReport {
   uint32_t welded_vertices = 0;       // after welding
   uint32_t dropped_triangles = 0;     // collapsed or repeated by the weld, or not manifold
   uint32_t joints = 0;                // joint positions that steered the detail
+  bool wrapped = false;               // built from the offset surface of the whole skin
+  uint32_t wrap_triangles = 0;        // triangles of that surface before decimation
   // cage
   uint32_t faces = 0, vertices = 0;
   double inflate_distance = 0.0;      // scene units

@@ -147,6 +147,7 @@ TEST(AutoCage, DemoCharacterCage) {
   EXPECT_EQ(r->check.needle_triangles, 0u);
   EXPECT_EQ(r->check.self_intersections, 0u);
   EXPECT_TRUE(r->warnings.empty());
+  EXPECT_FALSE(r->wrapped) << "one closed piece is decimated as it is";
   // every skin vertex inside, or outside by at most 0.1% of the diagonal
   const double diag = bounding_box(combined_topology(demo()).positions).diagonal();
   EXPECT_LE(r->max_outside, 1e-3 * diag);
@@ -158,7 +159,7 @@ TEST(AutoCage, DemoCharacterCage) {
   EXPECT_DOUBLE_EQ(shares.back(), 1.0);
 }
 
-TEST(AutoCage, MannequinBuildsAndReports) {
+TEST(AutoCage, MannequinIsWrappedInOneClosedCage) {
   auto path = test::shared_asset("mannequiny.glb");
   if (!path) GTEST_SKIP() << "shared assets not found (set CAGEWRAP_SHARED_ASSETS); skipping";
   auto c = load_character(*path);
@@ -166,15 +167,33 @@ TEST(AutoCage, MannequinBuildsAndReports) {
   auto r = build_auto_cage(*c);
   ASSERT_TRUE(r.ok()) << r.error().message;
   print("mannequiny", *r);
-  // 59 separate, overlapping, partly open segments: the cage follows them (see the report)
+  // 59 separate, overlapping, partly open segments: wrapped as one closed surface
+  EXPECT_TRUE(r->wrapped);
+  EXPECT_GT(r->wrap_triangles, 20000u);
   EXPECT_LE(r->faces, 2000u);
   EXPECT_GE(r->faces, 1500u);
   EXPECT_EQ(r->joints, 45u);
-  EXPECT_GE(r->check.components, 59u);
+  EXPECT_TRUE(r->check.closed());
   EXPECT_TRUE(r->check.manifold());
+  EXPECT_TRUE(r->check.oriented());
+  EXPECT_EQ(r->check.components, 1u);
   EXPECT_EQ(r->check.degenerate_triangles, 0u);
-  EXPECT_FALSE(r->warnings.empty()) << "open and overlapping pieces must be reported";
-  EXPECT_GT(r->quality, 0.9);
+  EXPECT_EQ(r->check.needle_triangles, 0u);
+  EXPECT_EQ(r->check.self_intersections, 0u);
+  EXPECT_EQ(r->outside_points, 0u);
+  ASSERT_FALSE(r->warnings.empty());
+  EXPECT_NE(r->warnings.front().find("59 pieces"), std::string::npos) << r->warnings.front();
+  // skin buried inside other segments is far from every element, so the figure is lower here
+  EXPECT_GT(r->quality, 0.7);
+  // never wrapping keeps the pieces (open, overlapping) and says so
+  AutoCageParams p;
+  p.wrap = WrapMode::kNever;
+  auto pieces = build_auto_cage(*c, p);
+  ASSERT_TRUE(pieces.ok());
+  EXPECT_FALSE(pieces->wrapped);
+  EXPECT_GE(pieces->check.components, 59u);
+  EXPECT_FALSE(pieces->check.closed());
+  EXPECT_TRUE(pieces->check.manifold());
 }
 
 TEST(AutoCage, CancelStopsTheBuild) {

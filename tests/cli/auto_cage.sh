@@ -36,6 +36,7 @@ check "no self-crossings" grep -Eq '^self-crossings +0 ' "$TMP/report.txt"
 check "no degenerate triangles" grep -Eq '^degenerate +0 triangles' "$TMP/report.txt"
 check "no needles" grep -Eq '^needles +0 triangles' "$TMP/report.txt"
 check "no skin vertex outside" grep -Eq '^outside points +0$' "$TMP/report.txt"
+check "one closed piece is not wrapped" grep -Eq '^wrapped +no$' "$TMP/report.txt"
 quality=$(field quality "$TMP/report.txt" | tr -d '%')
 check "quality '$quality' reported and at least 95%" between "$quality" 95 100
 seconds=$(field seconds "$TMP/report.txt")
@@ -73,6 +74,8 @@ check "a non-OBJ output fails" test $? -ne 0
 check "a non-OBJ output is named" grep -q "x.ply: the cage is written as .obj" "$TMP/err.txt"
 "$BIN" cage --mesh "$DEMO" --concave-share 3 --out "$TMP/x.obj" 2> "$TMP/err.txt"
 check "a bad concave share fails and is named" grep -q "concave share must be in" "$TMP/err.txt"
+"$BIN" cage --mesh "$DEMO" --wrap sometimes --out "$TMP/x.obj" 2> "$TMP/err.txt"
+check "a bad wrap mode fails" test $? -ne 0
 
 # The real mannequin (59 separate, overlapping segments), when the shared assets are here.
 if [[ -n "$ASSETS" && -f "$ASSETS/mannequiny.glb" ]]; then
@@ -81,8 +84,13 @@ if [[ -n "$ASSETS" && -f "$ASSETS/mannequiny.glb" ]]; then
   cat "$TMP/m.txt"
   check "mannequiny faces in 1500..2000" between "$(field faces "$TMP/m.txt")" 1500 2000
   check "mannequiny: 45 joints" grep -Eq '^joints +45$' "$TMP/m.txt"
-  check "mannequiny: open pieces are reported" grep -q "boundary edges in 59 pieces" "$TMP/m.txt"
+  check "mannequiny: its 59 pieces are reported" grep -q "the welded skin is 59 pieces" "$TMP/m.txt"
+  check "mannequiny: wrapped" grep -Eq '^wrapped +yes' "$TMP/m.txt"
+  check "mannequiny: one closed cage" grep -Eq '^closed +yes \(0 boundary edges, 1 components\)' "$TMP/m.txt"
+  check "mannequiny: no needles" grep -Eq '^needles +0 triangles' "$TMP/m.txt"
   check "mannequiny: quality reported" grep -Eq '^quality +[0-9.]+%' "$TMP/m.txt"
+  "$BIN" cage --mesh "$ASSETS/mannequiny.glb" --wrap never --out "$TMP/m2.obj" > "$TMP/m2.txt"
+  check "mannequiny --wrap never keeps the pieces" grep -Eq '^closed +no' "$TMP/m2.txt"
 else
   echo "shared assets not found; skipped the mannequin checks"
 fi
