@@ -2,22 +2,23 @@
 
 #include <algorithm>
 #include <array>
-#include <unordered_map>
 #include <chrono>
 #include <cmath>
+#include <unordered_map>
 #include <unordered_set>
 
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+// QuadricT needs the vector traits the mesh header brings
+#include <tbb/parallel_for.h>
+#include <OpenMesh/Core/Geometry/QuadricT.hh>
 #include <OpenMesh/Core/System/omstream.hh>
 #include <OpenMesh/Tools/Decimater/DecimaterT.hh>
 #include <OpenMesh/Tools/Decimater/ModAspectRatioT.hh>
 #include <OpenMesh/Tools/Decimater/ModNormalFlippingT.hh>
-#include <OpenMesh/Core/Geometry/QuadricT.hh>
 #include <glm/geometric.hpp>
-#include <glm/vec4.hpp>
-#include <glm/mat4x4.hpp>
 #include <glm/gtc/matrix_inverse.hpp>
-#include <tbb/parallel_for.h>
+#include <glm/mat4x4.hpp>
+#include <glm/vec4.hpp>
 
 #include "core/cage.h"
 #include "core/offset_wrap.h"
@@ -32,19 +33,21 @@ namespace cagewrap {
 namespace {
 
 // Decimation guards.
-constexpr float kMaxAspect = 5.0f;              // no collapse may leave a triangle worse than this (L / h)
-constexpr double kMaxNormalDeviation = 60.0;    // degrees a face normal may turn in one collapse
-// Error added per collapse: isotropy * |edge|^4, so flat regions still prefer short edges (rounder triangles).
+constexpr float kMaxAspect = 5.0f;            // no collapse may leave a triangle worse than this (L / h)
+constexpr double kMaxNormalDeviation = 60.0;  // degrees a face normal may turn in one collapse
+// Error added per collapse: isotropy * |edge|^4, so flat regions still prefer short edges (rounder
+// triangles). Area-weighted quadric errors are length^4 too, so the balance does not depend on units.
 constexpr double kIsotropy = 1e-3;
-constexpr double kJointBoost = 8.0;             // error factor at a joint per unit of joint_detail
+constexpr double kJointBoost = 8.0;  // error factor at a joint per unit of joint_detail
 // Inflation.
-constexpr double kEdgeShare = 0.25;    // per step, a vertex moves at most this share of its shortest edge
-constexpr double kRoomShare = 0.4;     // ... and this share of the free distance in front of it
+constexpr double kEdgeShare = 0.25;  // per step, a vertex moves at most this share of its shortest edge
+constexpr double kRoomShare = 0.4;   // ... and this share of the free distance in front of it
 constexpr int kMaxInflateSteps = 64;
-constexpr double kRelax = 0.5;         // tangential relaxation weight between steps
+constexpr double kRelax = 0.5;  // tangential relaxation weight between steps
 constexpr int kMaxFitRounds = 12;
-constexpr double kFullBend = 0.35;  // radians (20 degrees): a valley this sharp gets only concave_share of the clearance
-constexpr double kFitMargin = 0.2;     // fitted skin points end at least this share of the clearance inside
+constexpr double kFullBend =
+    0.35;  // radians (20 degrees): a valley this sharp gets only concave_share of the clearance
+constexpr double kFitMargin = 0.2;  // fitted skin points end at least this share of the clearance inside
 
 struct CageTraits : OpenMesh::DefaultTraits {
   using Point = OpenMesh::Vec3d;
@@ -64,7 +67,6 @@ class ModCageQuadricT : public OpenMesh::Decimater::ModBaseT<MeshT> {
   ~ModCageQuadricT() override { Base::mesh().remove_property(quadrics_); }
   // A vertex property of the mesh holding each vertex's error factor (>= 1).
   void set_factors(OpenMesh::VPropHandleT<double> factor) { factor_ = factor; }
-  void set_isotropy(double w) { isotropy_ = w; }
 
   void initialize() override {
     MeshT& m = Base::mesh();
@@ -122,8 +124,10 @@ double ring_aspect_if_moved(OmMesh& m, OmMesh::VertexHandle v, const OpenMesh::V
   double worst = 0.0;
   const double min_cos = std::cos(kMaxNormalDeviation * 3.141592653589793 / 180.0);
   for (const auto& [f, n] : before) {
-    if ((m.calc_face_normal(f) | n) < min_cos) worst = INFINITY;
-    else worst = std::max(worst, face_aspect(m, f));
+    if ((m.calc_face_normal(f) | n) < min_cos)
+      worst = INFINITY;
+    else
+      worst = std::max(worst, face_aspect(m, f));
   }
   m.set_point(v, from);
   return worst;
@@ -155,8 +159,8 @@ void clean_slivers(OmMesh& m) {
         const double old_worst = std::max(aspect, face_aspect(m, g));
         const OpenMesh::Vec3d n0 = m.calc_face_normal(f) + m.calc_face_normal(g);
         m.flip(e);
-        const double new_worst = std::max(face_aspect(m, m.face_handle(longest)),
-                                          face_aspect(m, m.opposite_face_handle(longest)));
+        const double new_worst =
+            std::max(face_aspect(m, m.face_handle(longest)), face_aspect(m, m.opposite_face_handle(longest)));
         const bool folded = (m.calc_face_normal(m.face_handle(longest)) | n0) <= 0 ||
                             (m.calc_face_normal(m.opposite_face_handle(longest)) | n0) <= 0;
         if (new_worst < old_worst && !folded) {
@@ -169,8 +173,8 @@ void clean_slivers(OmMesh& m) {
       for (auto h : {shortest, m.opposite_halfedge_handle(shortest)}) {
         if (!m.is_collapse_ok(h)) continue;
         const auto from = m.from_vertex_handle(h), to = m.to_vertex_handle(h);
-        const double after = ring_aspect_if_moved(m, from, m.point(to), m.face_handle(h),
-                                                  m.opposite_face_handle(h));
+        const double after =
+            ring_aspect_if_moved(m, from, m.point(to), m.face_handle(h), m.opposite_face_handle(h));
         if (after < aspect && after <= kNeedleAspect) {
           m.collapse(h);
           changed = true;
@@ -199,9 +203,14 @@ struct Stage {
 class DecimateObserver : public OpenMesh::Decimater::Observer {
  public:
   DecimateObserver(const Stage& stage, size_t expected, double lo, double hi)
-      : Observer(std::max<size_t>(expected / 50, 1)), stage_(stage), expected_(std::max<size_t>(expected, 1)),
-        lo_(lo), hi_(hi) {}
-  void notify(size_t step) override { stage_.report("decimate", lo_ + (hi_ - lo_) * double(step) / expected_); }
+      : Observer(std::max<size_t>(expected / 50, 1)),
+        stage_(stage),
+        expected_(std::max<size_t>(expected, 1)),
+        lo_(lo),
+        hi_(hi) {}
+  void notify(size_t step) override {
+    stage_.report("decimate", lo_ + (hi_ - lo_) * double(step) / expected_);
+  }
   bool abort() const override { return stage_.cancelled(); }
 
  private:
@@ -285,7 +294,8 @@ std::vector<double> room_ahead(const Surface& s, const std::vector<glm::dvec3>& 
       if (i != j && std::binary_search(overlapping.begin(), overlapping.end(),
                                        (uint64_t(std::min(i, j)) << 32) | std::max(i, j)))
         continue;
-      if (glm::dot(glm::cross(s.p[t[1]] - s.p[t[0]], s.p[t[2]] - s.p[t[0]]), n[v]) < 0) room[v] = std::min(room[v], h.t);
+      if (glm::dot(glm::cross(s.p[t[1]] - s.p[t[0]], s.p[t[2]] - s.p[t[0]]), n[v]) < 0)
+        room[v] = std::min(room[v], h.t);
     }
   });
   return room;
@@ -318,7 +328,8 @@ uint32_t orient_pieces(std::span<const glm::vec3> p, std::vector<Tri>& tris) {
   for (uint32_t t = 0; t < tris.size(); ++t) {
     const glm::dvec4 c = centroid[find(t)];
     const glm::dvec3 o = glm::dvec3(c) / c.w;
-    const glm::dvec3 a = glm::dvec3(p[tris[t][0]]) - o, b = glm::dvec3(p[tris[t][1]]) - o, d = glm::dvec3(p[tris[t][2]]) - o;
+    const glm::dvec3 a = glm::dvec3(p[tris[t][0]]) - o, b = glm::dvec3(p[tris[t][1]]) - o,
+                     d = glm::dvec3(p[tris[t][2]]) - o;
     volume[find(t)] += glm::dot(a, glm::cross(b, d));
   }
   uint32_t flipped = 0;
@@ -438,7 +449,6 @@ std::vector<double> concavity(const Surface& s) {
   return c;
 }
 
-
 }  // namespace
 
 Status validate(const AutoCageParams& p) {
@@ -448,7 +458,8 @@ Status validate(const AutoCageParams& p) {
   if (!(p.joint_radius > 0 && std::isfinite(p.joint_radius))) return bad("joint radius must be > 0");
   if (!(p.concave_share >= 0 && p.concave_share <= 1)) return bad("concave share must be in [0, 1]");
   if (!(p.inflate >= 0 && std::isfinite(p.inflate))) return bad("inflate distance must be >= 0");
-  if (!(p.wrap_cell > 0 && p.wrap_cell < 0.1)) return bad("wrap cell must be in (0, 0.1) of the bbox diagonal");
+  if (!(p.wrap_cell > 0 && p.wrap_cell < 0.1))
+    return bad("wrap cell must be in (0, 0.1) of the bbox diagonal");
   if (!(p.weld_tolerance >= 0 && p.weld_tolerance < 0.1)) return bad("weld tolerance must be in [0, 0.1)");
   return validate(p.bind);
 }
@@ -492,7 +503,8 @@ Result<AutoCageReport> build_auto_cage(const PolyMesh& skin, std::span<const glm
     r.input_triangles = static_cast<uint32_t>(input.size());
     const Aabb box = bounding_box(skin.positions);
     const double diag = box.diagonal();
-    if (!(diag > 0)) return make_error(ErrorCode::kEmpty, "skin: all vertices coincide; there is nothing to wrap");
+    if (!(diag > 0))
+      return make_error(ErrorCode::kEmpty, "skin: all vertices coincide; there is nothing to wrap");
     const Weld weld = weld_vertices(skin.positions, params.weld_tolerance * diag);
     uint32_t collapsed = 0;
     std::vector<Tri> tris = weld_triangles(input, weld.remap, &collapsed);
@@ -500,7 +512,8 @@ Result<AutoCageReport> build_auto_cage(const PolyMesh& skin, std::span<const glm
     const MeshCheck welded = check_mesh(weld.positions, tris, false);
     // outward orientation, piece by piece: a closed piece wound inside-out has negative volume
     if (const uint32_t flipped = orient_pieces(weld.positions, tris); flipped > 0)
-      r.warnings.push_back(std::to_string(flipped) + " pieces of the skin were wound inside-out and were turned");
+      r.warnings.push_back(std::to_string(flipped) +
+                           " pieces of the skin were wound inside-out and were turned");
     r.inflate_distance = params.inflate_absolute ? params.inflate : params.inflate * diag;
     const bool clean = welded.closed() && welded.manifold() && welded.oriented() && welded.components == 1;
     r.wrapped = params.wrap == WrapMode::kAlways || (params.wrap == WrapMode::kAuto && !clean);
@@ -508,18 +521,20 @@ Result<AutoCageReport> build_auto_cage(const PolyMesh& skin, std::span<const glm
     if (r.wrapped) {
       stage.report("wrap", 0.02);
       const double offset = r.inflate_distance > 0 ? r.inflate_distance : 3.0 * params.wrap_cell * diag;
+      r.inflate_distance = offset;
       IsoSurface wrap = offset_wrap(weld.positions, tris, offset, params.wrap_cell * diag);
       r.wrap_triangles = static_cast<uint32_t>(wrap.triangles.size());
-      r.warnings.push_back("the welded skin is " + std::to_string(welded.components) + " pieces with " +
-                           std::to_string(welded.boundary_edges) + " boundary, " +
-                           std::to_string(welded.non_manifold_edges) + " non-manifold and " +
-                           std::to_string(welded.misoriented_edges) + " misoriented edges; the cage wraps it as one surface " +
-                           std::to_string(offset) + " out");
+      r.warnings.push_back(
+          "the welded skin is " + std::to_string(welded.components) + " pieces with " +
+          std::to_string(welded.boundary_edges) + " boundary, " + std::to_string(welded.non_manifold_edges) +
+          " non-manifold and " + std::to_string(welded.misoriented_edges) +
+          " misoriented edges; the cage wraps it as one surface " + std::to_string(offset) + " out");
       base_positions = std::move(wrap.positions);
       tris = std::move(wrap.triangles);
     } else if (!clean) {
-      r.warnings.push_back("the welded skin has " + std::to_string(welded.boundary_edges) + " boundary edges in " +
-                           std::to_string(welded.components) + " pieces; the cage follows them and is open too");
+      r.warnings.push_back("the welded skin has " + std::to_string(welded.boundary_edges) +
+                           " boundary edges in " + std::to_string(welded.components) +
+                           " pieces; the cage follows them and is open too");
     }
     stage.check();
 
@@ -541,8 +556,10 @@ Result<AutoCageReport> build_auto_cage(const PolyMesh& skin, std::span<const glm
     }
     r.dropped_triangles = collapsed + (r.wrapped ? 0 : rejected);
     if (rejected > 0)
-      r.warnings.push_back(std::to_string(rejected) + " skin triangles would make a non-manifold edge or vertex and were left out");
-    if (mesh.n_faces() < 4) return make_error(ErrorCode::kEmpty, "skin: fewer than 4 usable triangles after welding");
+      r.warnings.push_back(std::to_string(rejected) + (r.wrapped ? " wrap" : " skin") +
+                           " triangles would make a non-manifold edge or vertex and were left out");
+    if (mesh.n_faces() < 4)
+      return make_error(ErrorCode::kEmpty, "skin: fewer than 4 usable triangles after welding");
 
     // error factors near joints
     std::vector<double> factor(mesh.n_vertices(), 1.0);
@@ -637,16 +654,18 @@ Result<AutoCageReport> build_auto_cage(const PolyMesh& skin, std::span<const glm
       const auto conc = concavity(s);
       std::vector<double> want(s.p.size());
       for (size_t v = 0; v < want.size(); ++v)
-        want[v] = r.inflate_distance *
-                  (1.0 - (1.0 - params.concave_share) * std::min(conc[v] / kFullBend, 1.0));
+        want[v] =
+            r.inflate_distance * (1.0 - (1.0 - params.concave_share) * std::min(conc[v] / kFullBend, 1.0));
       const auto moved = push_out(s, want, eps, stage);
       size_t short_of = 0;
       for (size_t v = 0; v < want.size(); ++v) short_of += moved[v] < 0.999 * want[v] ? 1 : 0;
       if (short_of > 0)
-        r.warnings.push_back(std::to_string(short_of) + " cage vertices moved out less than the inflate distance (no room in front)");
+        r.warnings.push_back(std::to_string(short_of) +
+                             " cage vertices moved out less than the inflate distance (no room in front)");
     }
 
-    // ------------------------------------------------------------ fit: push out where skin points remain outside
+    // ------------------------------------------------------------ fit: push out where skin points remain
+    // outside
     stage.report("check", 0.75);
     // signed distance of every skin point; a point the nearest surface calls outside is confirmed with
     // the winding number (it may lie inside another, overlapping piece)
@@ -686,8 +705,9 @@ Result<AutoCageReport> build_auto_cage(const PolyMesh& skin, std::span<const glm
     r.vertices = static_cast<uint32_t>(s.p.size());
     r.check = check_mesh(r.cage.positions, s.tris);
     if (r.check.self_intersections > 0)
-      r.warnings.push_back("the cage passes through itself at " + std::to_string(r.check.self_intersections) +
-                           " edge-triangle crossings (parts of the skin are closer than the decimation error)");
+      r.warnings.push_back(
+          "the cage passes through itself at " + std::to_string(r.check.self_intersections) +
+          " edge-triangle crossings (parts of the skin are closer than the decimation error)");
     for (const SurfacePoint& q : dist) {
       r.max_distance = std::max(r.max_distance, std::abs(q.distance));
       if (q.distance > 0) {

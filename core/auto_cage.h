@@ -46,20 +46,21 @@ struct AutoCageParams {
                                   // (at least 1.5x the joint's distance to the skin)
   double inflate = 0.01;          // clearance between skin and cage
   bool inflate_absolute = false;  // false: `inflate` is relative to the bbox diagonal; true: scene units
-  double concave_share = 0.25;    // share of `inflate` kept at strongly concave (valley) vertices; 1 = uniform
-  double weld_tolerance = 1e-5;   // relative to the bbox diagonal
-  bool fit_skin = true;           // push the cage out locally where skin points remain outside
+  double concave_share = 0.25;   // share of `inflate` kept at strongly concave (valley) vertices; 1 = uniform
+  double weld_tolerance = 1e-5;  // relative to the bbox diagonal
+  bool fit_skin = true;          // push the cage out locally where skin points remain outside
   WrapMode wrap = WrapMode::kAuto;  // kAuto: wrap unless the welded skin is one closed, clean piece
-  double wrap_cell = 0.005;       // grid cell of the wrap, relative to the bbox diagonal (at most half the clearance)
-  BindParams bind;                // for the cage-quality figure
+  double wrap_cell =
+      0.005;        // grid cell of the wrap, relative to the bbox diagonal (at most half the clearance)
+  BindParams bind;  // for the cage-quality figure
 };
 
 // Checks ranges; names the offending parameter.
 Status validate(const AutoCageParams& params);
 
 struct AutoCageProgress {
-  // Called on the calling thread with a stage name ("weld", "decimate", "inflate", "check",
-  // "bind") and the overall share done in [0, 1].
+  // Called on the thread running the build (marshal to the UI yourself) with a stage name ("weld",
+  // "wrap", "decimate", "inflate", "check", "bind") and the overall share done in [0, 1].
   std::function<void(const char* stage, double share)> on_progress;
   const std::atomic<bool>* cancel = nullptr;  // set to true to stop; the build returns kCancelled
 };
@@ -69,23 +70,23 @@ struct AutoCageReport {
 
   // input
   uint32_t input_vertices = 0, input_triangles = 0;
-  uint32_t welded_vertices = 0;       // after welding
-  uint32_t dropped_triangles = 0;     // collapsed or repeated by the weld, or not manifold
-  uint32_t joints = 0;                // joint positions that steered the detail
-  bool wrapped = false;               // built from the offset surface of the whole skin
-  uint32_t wrap_triangles = 0;        // triangles of that surface before decimation
+  uint32_t welded_vertices = 0;    // after welding
+  uint32_t dropped_triangles = 0;  // collapsed or repeated by the weld, or not manifold
+  uint32_t joints = 0;             // joint positions that steered the detail
+  bool wrapped = false;            // built from the offset surface of the whole skin
+  uint32_t wrap_triangles = 0;     // triangles of that surface before decimation
   // cage
   uint32_t faces = 0, vertices = 0;
-  double inflate_distance = 0.0;      // scene units
-  MeshCheck check;                    // degenerate/needle triangles, non-manifold/boundary/misoriented edges
+  double inflate_distance = 0.0;  // scene units
+  MeshCheck check;                // degenerate/needle triangles, non-manifold/boundary/misoriented edges
   // skin against cage
-  double max_outside = 0.0;           // largest distance of a skin vertex outside the cage (0: all inside)
-  uint32_t outside_points = 0;        // skin vertices outside the cage
-  double max_distance = 0.0;          // largest distance from a skin vertex to the cage surface
-  double quality = 0.0;               // Binding::quality(): share of points close to and projecting inside an element
+  double max_outside = 0.0;     // largest distance of a skin vertex outside the cage (0: all inside)
+  uint32_t outside_points = 0;  // skin vertices outside the cage
+  double max_distance = 0.0;    // largest distance from a skin vertex to the cage surface
+  double quality = 0.0;  // Binding::quality(): share of points close to and projecting inside an element
   // time
-  double seconds = 0.0;               // building the cage (weld to checks)
-  double bind_seconds = 0.0;          // binding the skin for the quality figure
+  double seconds = 0.0;       // building the cage (weld to checks)
+  double bind_seconds = 0.0;  // binding the skin for the quality figure
   std::vector<std::string> warnings;
 };
 
@@ -93,7 +94,8 @@ struct AutoCageReport {
 // triangles); joints: bind-pose joint positions (may be empty).
 // Errors: bad parameters, an empty or non-finite skin, nothing left after welding, cancellation.
 Result<AutoCageReport> build_auto_cage(const PolyMesh& skin, std::span<const glm::vec3> joints,
-                                       const AutoCageParams& params = {}, const AutoCageProgress& progress = {});
+                                       const AutoCageParams& params = {},
+                                       const AutoCageProgress& progress = {});
 
 // The character's primitives joined in bind pose (combined_topology) and its joints' bind
 // positions (from the inverse bind matrices; the rest pose when it has no skins).

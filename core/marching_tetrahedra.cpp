@@ -26,7 +26,9 @@ IsoSurface marching_tetrahedra(const Grid3& grid, std::span<const double> values
     uint32_t id;
     glm::dvec3 mid;
   };
-  auto crossing = [&](size_t a, size_t b) { return Corner{vertex_on(a, b), 0.5 * (grid.point(a) + grid.point(b))}; };
+  auto crossing = [&](size_t a, size_t b) {
+    return Corner{vertex_on(a, b), 0.5 * (grid.point(a) + grid.point(b))};
+  };
   auto emit = [&](Corner a, Corner b, Corner c, const glm::dvec3& outward) {
     if (glm::dot(glm::cross(b.mid - a.mid, c.mid - a.mid), outward) < 0) std::swap(b, c);
     s.triangles.push_back({a.id, b.id, c.id});
@@ -60,8 +62,8 @@ IsoSurface marching_tetrahedra(const Grid3& grid, std::span<const double> values
           } else if (no == 1) {
             emit(crossing(in[0], out[0]), crossing(in[1], out[0]), crossing(in[2], out[0]), outward);
           } else {
-            const Corner q0 = crossing(in[0], out[0]), q1 = crossing(in[0], out[1]), q2 = crossing(in[1], out[1]),
-                         q3 = crossing(in[1], out[0]);
+            const Corner q0 = crossing(in[0], out[0]), q1 = crossing(in[0], out[1]),
+                         q2 = crossing(in[1], out[1]), q3 = crossing(in[1], out[0]);
             emit(q0, q1, q2, outward);
             emit(q0, q2, q3, outward);
           }

@@ -24,7 +24,8 @@ struct Grid3 {
   size_t count() const { return size_t(size[0]) * size[1] * size[2]; }
   size_t index(int x, int y, int z) const { return (size_t(z) * size[1] + y) * size[0] + x; }
   glm::dvec3 point(size_t i) const {
-    const int x = int(i % size[0]), y = int((i / size[0]) % size[1]), z = int(i / (size_t(size[0]) * size[1]));
+    const int x = int(i % size[0]), y = int((i / size[0]) % size[1]),
+              z = int(i / (size_t(size[0]) * size[1]));
     return origin + spacing * glm::dvec3(x, y, z);
   }
 };

@@ -21,11 +21,13 @@ double triangle_aspect(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec
 std::string MeshCheck::summary() const {
   auto n = [](uint32_t x) { return std::to_string(x); };
   return n(triangles) + " triangles, " + n(degenerate_triangles) + " degenerate, " + n(needle_triangles) +
-         " needles, " + n(non_manifold_edges) + " non-manifold edges, " + n(boundary_edges) + " boundary edges, " +
-         n(misoriented_edges) + " misoriented edges, " + n(components) + " components, " + n(self_intersections) + " self-intersections";
+         " needles, " + n(non_manifold_edges) + " non-manifold edges, " + n(boundary_edges) +
+         " boundary edges, " + n(misoriented_edges) + " misoriented edges, " + n(components) +
+         " components, " + n(self_intersections) + " self-intersections";
 }
 
-MeshCheck check_mesh(std::span<const glm::vec3> positions, std::span<const Tri> triangles, bool find_self_crossings) {
+MeshCheck check_mesh(std::span<const glm::vec3> positions, std::span<const Tri> triangles,
+                     bool find_self_crossings) {
   MeshCheck m;
   m.triangles = static_cast<uint32_t>(triangles.size());
   struct EdgeUse {
@@ -58,7 +60,8 @@ MeshCheck check_mesh(std::span<const glm::vec3> positions, std::span<const Tri> 
       const uint32_t u = tri[k], v = tri[(k + 1) % 3];
       const uint64_t key = (uint64_t(std::min(u, v)) << 32) | std::max(u, v);
       EdgeUse& e = edges[key];
-      if (e.count == 0) e.first_triangle = t;
+      if (e.count == 0)
+        e.first_triangle = t;
       else {
         const uint32_t x = find(t), y = find(e.first_triangle);
         if (x != y) parent[std::max(x, y)] = std::min(x, y);
@@ -69,23 +72,29 @@ MeshCheck check_mesh(std::span<const glm::vec3> positions, std::span<const Tri> 
   }
   m.edges = static_cast<uint32_t>(edges.size());
   for (const auto& [key, e] : edges) {
-    if (e.count == 1) ++m.boundary_edges;
-    else if (e.count > 2) ++m.non_manifold_edges;
-    else if (e.forward != 1) ++m.misoriented_edges;
+    if (e.count == 1)
+      ++m.boundary_edges;
+    else if (e.count > 2)
+      ++m.non_manifold_edges;
+    else if (e.forward != 1)
+      ++m.misoriented_edges;
   }
   for (uint32_t t = 0; t < triangles.size(); ++t) m.components += find(t) == t ? 1 : 0;
-  if (find_self_crossings) m.self_intersections = static_cast<uint32_t>(self_crossings(positions, triangles).size());
+  if (find_self_crossings)
+    m.self_intersections = static_cast<uint32_t>(self_crossings(positions, triangles).size());
   return m;
 }
 
-std::vector<SelfCrossing> self_crossings(std::span<const glm::vec3> positions, std::span<const Tri> triangles) {
+std::vector<SelfCrossing> self_crossings(std::span<const glm::vec3> positions,
+                                         std::span<const Tri> triangles) {
   const TriangleBvh bvh(positions, triangles);
   std::vector<SelfCrossing> out;
   std::vector<TriangleHit> hits;
   for (const Tri& tri : triangles)
     for (int k = 0; k < 3; ++k) {
       const uint32_t a = tri[k], b = tri[(k + 1) % 3];
-      if (a > b) continue;  // each interior edge once (its other face has it as b -> a); open edges twice at most
+      if (a > b)
+        continue;  // each interior edge once (its other face has it as b -> a); open edges twice at most
       const glm::dvec3 pa(positions[a]), pb(positions[b]);
       const double len = glm::length(pb - pa);
       if (!(len > 0)) continue;

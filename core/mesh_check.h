@@ -19,15 +19,15 @@ inline constexpr double kNeedleAspect = 10.0;
 struct MeshCheck {
   uint32_t triangles = 0;
   uint32_t degenerate_triangles = 0;  // zero area relative to the longest edge (cage.h kDegenerateRatio)
-  uint32_t needle_triangles = 0;      // aspect (longest edge / its altitude) above kNeedleAspect, not degenerate
+  uint32_t needle_triangles = 0;  // aspect (longest edge / its altitude) above kNeedleAspect, not degenerate
   uint32_t edges = 0;
-  uint32_t boundary_edges = 0;       // used by one triangle
-  uint32_t non_manifold_edges = 0;   // used by more than two triangles
-  uint32_t misoriented_edges = 0;    // two triangles traverse it in the same direction
-  uint32_t components = 0;           // connected through shared edges
-  uint32_t self_intersections = 0;   // edge-triangle pairs that cross (self_crossings()), when searched
-  double worst_aspect = 0.0;         // largest aspect among non-degenerate triangles
-  double signed_volume = 0.0;        // > 0 for a closed surface oriented outward
+  uint32_t boundary_edges = 0;      // used by one triangle
+  uint32_t non_manifold_edges = 0;  // used by more than two triangles
+  uint32_t misoriented_edges = 0;   // two triangles traverse it in the same direction
+  uint32_t components = 0;          // connected through shared edges
+  uint32_t self_intersections = 0;  // edge-triangle pairs that cross (self_crossings()), when searched
+  double worst_aspect = 0.0;        // largest aspect among non-degenerate triangles
+  double signed_volume = 0.0;       // > 0 for a closed surface oriented outward
 
   bool closed() const { return boundary_edges == 0; }
   bool manifold() const { return non_manifold_edges == 0; }
@@ -48,7 +48,8 @@ struct SelfCrossing {
   auto operator<=>(const SelfCrossing&) const = default;
 };
 // Every crossing, sorted. Builds a TriangleBvh; O(#E log #T).
-std::vector<SelfCrossing> self_crossings(std::span<const glm::vec3> positions, std::span<const Tri> triangles);
+std::vector<SelfCrossing> self_crossings(std::span<const glm::vec3> positions,
+                                         std::span<const Tri> triangles);
 
 // Longest edge over its altitude: L^2 / (2 * area); infinite for zero area.
 double triangle_aspect(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c);

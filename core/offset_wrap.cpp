@@ -4,9 +4,9 @@
 #include <cmath>
 #include <cstdint>
 
+#include <tbb/parallel_for.h>
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
-#include <tbb/parallel_for.h>
 
 #include "core/element_bvh.h"
 
@@ -15,9 +15,10 @@ namespace cagewrap {
 namespace {
 enum : uint8_t { kUnknown = 0, kShell = 1, kOutside = 2 };
 constexpr double kClear = 0.02;  // samples stay this share of a cell off the iso-value
-}
+}  // namespace
 
-IsoSurface offset_wrap(std::span<const glm::vec3> positions, std::span<const Tri> triangles, double offset, double cell) {
+IsoSurface offset_wrap(std::span<const glm::vec3> positions, std::span<const Tri> triangles, double offset,
+                       double cell) {
   cell = std::min(cell, offset / 2.0);
   const Aabb box = bounding_box(positions);
   const double pad = offset + 3.0 * cell;
@@ -37,7 +38,8 @@ IsoSurface offset_wrap(std::span<const glm::vec3> positions, std::span<const Tri
       for (int j = 0; i + j <= steps; ++j) {
         const glm::dvec3 p = a + (b - a) * (double(i) / steps) + (c - a) * (double(j) / steps);
         const glm::ivec3 q = glm::ivec3(glm::floor((p - grid.origin) / cell));
-        for (int k = 0; k < 8; ++k) state[grid.index(q.x + (k & 1), q.y + ((k >> 1) & 1), q.z + ((k >> 2) & 1))] = kShell;
+        for (int k = 0; k < 8; ++k)
+          state[grid.index(q.x + (k & 1), q.y + ((k >> 1) & 1), q.z + ((k >> 2) & 1))] = kShell;
       }
   }
 
@@ -64,7 +66,8 @@ IsoSurface offset_wrap(std::span<const glm::vec3> positions, std::span<const Tri
 
   // the band: the shell and the outside samples a few steps from it get exact distances (minus the
   // offset); deeper inside is -offset, farther outside +offset
-  const int band = int(std::ceil(std::sqrt(3.0) * offset / cell)) + 3;  // 6-connected steps over-count diagonals
+  const int band =
+      int(std::ceil(std::sqrt(3.0) * offset / cell)) + 3;  // 6-connected steps over-count diagonals
   std::vector<int> steps(n, -1);
   queue.clear();
   for (size_t i = 0; i < n; ++i)
@@ -86,7 +89,8 @@ IsoSurface offset_wrap(std::span<const glm::vec3> positions, std::span<const Tri
   }
   std::vector<uint32_t> ids;  // triangles with an area (the closest-point kernel needs one)
   for (uint32_t t = 0; t < triangles.size(); ++t) {
-    const glm::dvec3 a(positions[triangles[t][0]]), b(positions[triangles[t][1]]), c(positions[triangles[t][2]]);
+    const glm::dvec3 a(positions[triangles[t][0]]), b(positions[triangles[t][1]]),
+        c(positions[triangles[t][2]]);
     if (glm::length(glm::cross(b - a, c - a)) > 0.0) ids.push_back(t);
   }
   const ElementBvh bvh(positions, triangles, ids);

@@ -20,6 +20,7 @@ namespace cagewrap {
 // positions #V x 3, triangles #T x 3; offset > 0 and cell > 0 in scene units. The cell is reduced
 // to offset / 2 when larger (the sampled shell must lie inside the offset). Samples exactly
 // on the offset are nudged outward, so the result is closed and manifold.
-IsoSurface offset_wrap(std::span<const glm::vec3> positions, std::span<const Tri> triangles, double offset, double cell);
+IsoSurface offset_wrap(std::span<const glm::vec3> positions, std::span<const Tri> triangles, double offset,
+                       double cell);
 
 }  // namespace cagewrap

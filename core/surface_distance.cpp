@@ -12,7 +12,8 @@ namespace {
 std::vector<uint32_t> valid_triangles(std::span<const glm::vec3> positions, std::span<const Tri> triangles) {
   std::vector<uint32_t> ids;
   for (uint32_t t = 0; t < triangles.size(); ++t) {
-    const glm::dvec3 a(positions[triangles[t][0]]), b(positions[triangles[t][1]]), c(positions[triangles[t][2]]);
+    const glm::dvec3 a(positions[triangles[t][0]]), b(positions[triangles[t][1]]),
+        c(positions[triangles[t][2]]);
     if (glm::length(glm::cross(b - a, c - a)) > 0.0) ids.push_back(t);
   }
   return ids;
@@ -31,7 +32,8 @@ SurfaceDistance::SurfaceDistance(std::span<const glm::vec3> positions, std::span
   auto key = [](uint32_t u, uint32_t v) { return (uint64_t(std::min(u, v)) << 32) | std::max(u, v); };
   for (size_t t = 0; t < triangles.size(); ++t) {
     const Tri& tri = triangles[t];
-    glm::dvec3 p[3] = {glm::dvec3(positions[tri[0]]), glm::dvec3(positions[tri[1]]), glm::dvec3(positions[tri[2]])};
+    glm::dvec3 p[3] = {glm::dvec3(positions[tri[0]]), glm::dvec3(positions[tri[1]]),
+                       glm::dvec3(positions[tri[2]])};
     const glm::dvec3 n = glm::cross(p[1] - p[0], p[2] - p[0]);
     const double len = glm::length(n);
     if (!(len > 0.0)) continue;
@@ -44,12 +46,14 @@ SurfaceDistance::SurfaceDistance(std::span<const glm::vec3> positions, std::span
     }
   }
   for (size_t t = 0; t < triangles.size(); ++t)
-    for (int k = 0; k < 3; ++k) edge_normal_[t][k] = edge_sum[key(triangles[t][k], triangles[t][(k + 1) % 3])];
+    for (int k = 0; k < 3; ++k)
+      edge_normal_[t][k] = edge_sum[key(triangles[t][k], triangles[t][(k + 1) % 3])];
 }
 
 SurfacePoint SurfaceDistance::query(const glm::dvec3& p) const {
   std::vector<Candidate> found;
-  bvh_.within_adaptive_radius(p, [](double d) { return d; }, [](uint32_t) { return false; }, found);
+  bvh_.within_adaptive_radius(
+      p, [](double d) { return d; }, [](uint32_t) { return false; }, found);
   SurfacePoint s;
   if (found.empty()) {
     s.distance = INFINITY;

@@ -60,7 +60,8 @@ class TriangleBvh {
     uint32_t count;  // leaf: number of triangles; inner: 0
     uint32_t right;  // inner: right child (the left child is the next node)
   };
-  uint32_t build(uint32_t begin, uint32_t end, std::vector<uint32_t>& order, const std::vector<glm::vec3>& centroids);
+  uint32_t build(uint32_t begin, uint32_t end, std::vector<uint32_t>& order,
+                 const std::vector<glm::vec3>& centroids);
   void leaf_bounds(Node& node) const;
   // Calls visit(slot, hit) for every triangle hit in [t_min, t_max]; visit returns the new t_max
   // (or a negative value to stop).

@@ -67,11 +67,14 @@ Weld weld_vertices(std::span<const glm::vec3> positions, double tolerance) {
   return w;
 }
 
-std::vector<Tri> weld_triangles(std::span<const Tri> triangles, std::span<const uint32_t> remap, uint32_t* dropped) {
+std::vector<Tri> weld_triangles(std::span<const Tri> triangles, std::span<const uint32_t> remap,
+                                uint32_t* dropped) {
   std::vector<Tri> out;
   out.reserve(triangles.size());
   struct KeyHash {
-    size_t operator()(const Tri& t) const { return (size_t(t[0]) * 2654435761u) ^ (size_t(t[1]) * 40503u) ^ t[2]; }
+    size_t operator()(const Tri& t) const {
+      return (size_t(t[0]) * 2654435761u) ^ (size_t(t[1]) * 40503u) ^ t[2];
+    }
   };
   std::unordered_set<Tri, KeyHash> seen;
   seen.reserve(triangles.size());

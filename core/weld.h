@@ -13,8 +13,8 @@
 namespace cagewrap {
 
 struct Weld {
-  std::vector<uint32_t> remap;         // #V input vertex -> welded vertex
-  std::vector<glm::vec3> positions;    // #W welded positions (the first input vertex of each cluster)
+  std::vector<uint32_t> remap;       // #V input vertex -> welded vertex
+  std::vector<glm::vec3> positions;  // #W welded positions (the first input vertex of each cluster)
 };
 
 // Clusters points within `tolerance` of each other (transitively, through a hash grid), keeping
@@ -24,6 +24,7 @@ Weld weld_vertices(std::span<const glm::vec3> positions, double tolerance);
 
 // Applies a weld to triangles and drops those that collapse (two corners welded together) or repeat
 // an earlier triangle's vertex set. #T' triangles; `dropped` counts the removed ones.
-std::vector<Tri> weld_triangles(std::span<const Tri> triangles, std::span<const uint32_t> remap, uint32_t* dropped);
+std::vector<Tri> weld_triangles(std::span<const Tri> triangles, std::span<const uint32_t> remap,
+                                uint32_t* dropped);
 
 }  // namespace cagewrap

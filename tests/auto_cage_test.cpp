@@ -5,8 +5,8 @@
 #include <cmath>
 #include <cstdio>
 
-#include <glm/geometric.hpp>
 #include <gtest/gtest.h>
+#include <glm/geometric.hpp>
 
 #include "core/gltf_loader.h"
 #include "core/skinning.h"
@@ -26,13 +26,16 @@ const Character& demo() {
   return c;
 }
 
-std::vector<Tri> triangles(const PolyMesh& m) { return triangulate(m).triangles; }
+std::vector<Tri> triangles(const PolyMesh& m) {
+  return triangulate(m).triangles;
+}
 
 void print(const char* what, const AutoCageReport& r) {
-  std::printf("%s: %u faces, %u vertices, quality %.2f%%, max outside %.4g (%u points), max distance %.4g, "
-              "%.2f s (+ bind %.2f s); %s\n",
-              what, r.faces, r.vertices, 100 * r.quality, r.max_outside, r.outside_points, r.max_distance, r.seconds,
-              r.bind_seconds, r.check.summary().c_str());
+  std::printf(
+      "%s: %u faces, %u vertices, quality %.2f%%, max outside %.4g (%u points), max distance %.4g, "
+      "%.2f s (+ bind %.2f s); %s\n",
+      what, r.faces, r.vertices, 100 * r.quality, r.max_outside, r.outside_points, r.max_distance, r.seconds,
+      r.bind_seconds, r.check.summary().c_str());
   for (const std::string& w : r.warnings) std::printf("  warning: %s\n", w.c_str());
 }
 
@@ -120,8 +123,8 @@ TEST(AutoCage, JointDetailPutsMoreVerticesNearJoints) {
   p.joint_detail = 2;
   auto detailed = build_auto_cage(skin, joints, p);
   ASSERT_TRUE(uniform.ok() && detailed.ok());
-  std::printf("cage vertices within 0.5 of the joint: %d uniform, %d with joint detail 2\n", near_joint(*uniform),
-              near_joint(*detailed));
+  std::printf("cage vertices within 0.5 of the joint: %d uniform, %d with joint detail 2\n",
+              near_joint(*uniform), near_joint(*detailed));
   EXPECT_GT(near_joint(*detailed), 1.5 * near_joint(*uniform));
   EXPECT_EQ(detailed->check.needle_triangles, 0u);
   EXPECT_TRUE(detailed->check.closed());
@@ -217,10 +220,12 @@ TEST(AutoCage, BadInputIsNamed) {
   EXPECT_NE(r.error().message.find("target faces"), std::string::npos);
   p = {};
   p.inflate = -1;
-  EXPECT_NE(build_auto_cage(fixtures::sphere_skin(), {}, p).error().message.find("inflate"), std::string::npos);
+  EXPECT_NE(build_auto_cage(fixtures::sphere_skin(), {}, p).error().message.find("inflate"),
+            std::string::npos);
   p = {};
   p.concave_share = 2;
-  EXPECT_NE(build_auto_cage(fixtures::sphere_skin(), {}, p).error().message.find("concave share"), std::string::npos);
+  EXPECT_NE(build_auto_cage(fixtures::sphere_skin(), {}, p).error().message.find("concave share"),
+            std::string::npos);
 
   PolyMesh nan_skin = fixtures::sphere_skin();
   nan_skin.positions[7].y = NAN;
@@ -244,7 +249,7 @@ TEST(AutoCage, BadInputIsNamed) {
 TEST(AutoCage, BindJointPositionsComeFromTheInverseBindMatrices) {
   const auto joints = bind_joint_positions(demo());
   ASSERT_EQ(joints.size(), 21u);
-  EXPECT_NEAR(joints[0].y, 0.95f, 1e-4f);  // hips
+  EXPECT_NEAR(joints[0].y, 0.95f, 1e-4f);   // hips
   EXPECT_NEAR(joints[7].x, 0.368f, 1e-3f);  // forearm.L (the elbow)
 }
 

@@ -3,8 +3,8 @@
 
 #include <cmath>
 
-#include <glm/geometric.hpp>
 #include <gtest/gtest.h>
+#include <glm/geometric.hpp>
 
 #include "core/surface_distance.h"
 #include "core/weld.h"
@@ -20,8 +20,10 @@ struct TriMesh {
 };
 TriMesh unit_cube(glm::vec3 offset = glm::vec3(0.0f)) {
   TriMesh m;
-  for (int i = 0; i < 8; ++i) m.p.push_back(offset + glm::vec3((i & 1) ? 1.f : 0.f, (i & 2) ? 1.f : 0.f, (i & 4) ? 1.f : 0.f));
-  const uint32_t quads[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
+  for (int i = 0; i < 8; ++i)
+    m.p.push_back(offset + glm::vec3((i & 1) ? 1.f : 0.f, (i & 2) ? 1.f : 0.f, (i & 4) ? 1.f : 0.f));
+  const uint32_t quads[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4},
+                                {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
   for (const auto& q : quads) {
     m.t.push_back({q[0], q[1], q[2]});
     m.t.push_back({q[0], q[2], q[3]});
@@ -31,7 +33,8 @@ TriMesh unit_cube(glm::vec3 offset = glm::vec3(0.0f)) {
 
 TEST(Weld, SeamCopiesMergeAndFarPointsStay) {
   // two triangles sharing an edge, written with separate copies of the shared vertices (a UV seam)
-  std::vector<glm::vec3> p = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1.0000001f, 0}, {0.5f, 0.5f, 0.001f}};
+  std::vector<glm::vec3> p = {{0, 0, 0}, {1, 0, 0},          {0, 1, 0},           {1, 0, 0},
+                              {1, 1, 0}, {0, 1.0000001f, 0}, {0.5f, 0.5f, 0.001f}};
   const Weld w = weld_vertices(p, 1e-5);
   ASSERT_EQ(w.positions.size(), 5u);
   EXPECT_EQ(w.remap, (std::vector<uint32_t>{0, 1, 2, 1, 3, 2, 4}));  // the lowest index represents a cluster
@@ -131,12 +134,12 @@ TEST(SurfaceDistance, SignsAndDistancesOnACube) {
     glm::dvec3 p;
     double d;
   } cases[] = {
-      {{0.5, 0.5, 0.5}, -0.5},                      // centre
-      {{0.5, 0.2, 0.5}, -0.2},                      // nearest the bottom face
-      {{0.5, 0.5, 1.3}, 0.3},                       // above the front face
-      {{1.2, 0.5, 1.2}, std::sqrt(0.08)},           // in an edge's region
-      {{1.1, -0.1, 1.1}, std::sqrt(0.03)},          // in a corner's region
-      {{0.95, 0.97, 0.99}, -0.01},                  // inside near a corner
+      {{0.5, 0.5, 0.5}, -0.5},              // centre
+      {{0.5, 0.2, 0.5}, -0.2},              // nearest the bottom face
+      {{0.5, 0.5, 1.3}, 0.3},               // above the front face
+      {{1.2, 0.5, 1.2}, std::sqrt(0.08)},   // in an edge's region
+      {{1.1, -0.1, 1.1}, std::sqrt(0.03)},  // in a corner's region
+      {{0.95, 0.97, 0.99}, -0.01},          // inside near a corner
   };
   for (const Case& k : cases) {
     const SurfacePoint q = sd.query(k.p);

@@ -3,8 +3,8 @@
 
 #include <cmath>
 
-#include <glm/geometric.hpp>
 #include <gtest/gtest.h>
+#include <glm/geometric.hpp>
 
 #include "core/mesh_check.h"
 #include "core/surface_distance.h"
@@ -26,7 +26,8 @@ struct Soup {
 PolyMesh cube(glm::vec3 lo, float size, bool open_top = false) {
   PolyMesh m;
   for (int i = 0; i < 8; ++i)
-    m.positions.push_back(lo + size * glm::vec3((i & 1) ? 1.f : 0.f, (i & 2) ? 1.f : 0.f, (i & 4) ? 1.f : 0.f));
+    m.positions.push_back(lo +
+                          size * glm::vec3((i & 1) ? 1.f : 0.f, (i & 2) ? 1.f : 0.f, (i & 4) ? 1.f : 0.f));
   m.add_face({0, 4, 6, 2});
   m.add_face({1, 3, 7, 5});
   m.add_face({0, 1, 5, 4});
@@ -53,10 +54,12 @@ TEST(MarchingTetrahedra, SphereFieldGivesAClosedOutwardSphere) {
   g.origin = glm::dvec3(-1.0);
   g.spacing = 0.05;
   std::vector<double> f(g.count());
-  for (size_t i = 0; i < f.size(); ++i) f[i] = glm::length(g.point(i)) - 0.7 + 1e-7;  // no sample on the surface
+  for (size_t i = 0; i < f.size(); ++i)
+    f[i] = glm::length(g.point(i)) - 0.7 + 1e-7;  // no sample on the surface
   const IsoSurface s = marching_tetrahedra(g, f);
   expect_clean_closed(s, 1);
-  for (const glm::vec3& v : s.positions) EXPECT_NEAR(glm::length(v), 0.7, 0.01);  // linear interpolation error
+  for (const glm::vec3& v : s.positions)
+    EXPECT_NEAR(glm::length(v), 0.7, 0.01);  // linear interpolation error
   EXPECT_NEAR(check_mesh(s.positions, s.triangles).signed_volume, 4.0 / 3.0 * M_PI * 0.343, 0.02);
 }
 
@@ -78,7 +81,7 @@ TEST(OffsetWrap, BridgesNearPiecesAndKeepsFarOnesApart) {
 TEST(OffsetWrap, OverlappingAndOpenPiecesBecomeOneClosedSurface) {
   Soup s;
   s.add(cube({0, 0, 0}, 1, /*open_top=*/true));
-  s.add(cube({0.5f, 0.5f, 0.5f}, 1));  // overlaps the first
+  s.add(cube({0.5f, 0.5f, 0.5f}, 1));        // overlaps the first
   s.add(fixtures::sphere_skin(0.3, 8, 16));  // inside the first, touching nothing
   const IsoSurface w = offset_wrap(s.p, s.t, 0.1, 0.04);
   expect_clean_closed(w, 1);
