@@ -10,6 +10,7 @@
 // the mesh header first: QuadricT.hh needs the vector traits it brings
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 
+#include <tbb/parallel_for.h>
 #include <OpenMesh/Core/Geometry/QuadricT.hh>
 #include <OpenMesh/Core/System/omstream.hh>
 #include <OpenMesh/Tools/Decimater/DecimaterT.hh>
@@ -19,7 +20,6 @@
 #include <glm/gtc/matrix_inverse.hpp>
 #include <glm/mat4x4.hpp>
 #include <glm/vec4.hpp>
-#include <tbb/parallel_for.h>
 
 #include "core/cage.h"
 #include "core/offset_wrap.h"
