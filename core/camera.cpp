@@ -35,20 +35,26 @@ glm::dvec3 Camera::forward() const {
   return {-cp * sy, -sp, -cp * cy};
 }
 
-glm::dvec3 Camera::right() const { return {std::cos(yaw_), 0.0, -std::sin(yaw_)}; }
+glm::dvec3 Camera::right() const {
+  return {std::cos(yaw_), 0.0, -std::sin(yaw_)};
+}
 
 glm::dvec3 Camera::up() const {
   const double cp = std::cos(pitch_), sp = std::sin(pitch_), cy = std::cos(yaw_), sy = std::sin(yaw_);
   return {-sp * sy, cp, -sp * cy};
 }
 
-glm::dvec3 Camera::eye() const { return target_ - distance_ * forward(); }
+glm::dvec3 Camera::eye() const {
+  return target_ - distance_ * forward();
+}
 
 double Camera::near_plane() const {
   return mode_ == ProjectionMode::kPerspective ? kNearRatio * distance_ : -kFarRatio * distance_;
 }
 
-double Camera::far_plane() const { return kFarRatio * distance_; }
+double Camera::far_plane() const {
+  return kFarRatio * distance_;
+}
 
 double Camera::world_per_pixel(double viewport_height) const {
   return 2.0 * distance_ * std::tan(0.5 * fov_y_) / std::max(viewport_height, 1.0);
@@ -70,7 +76,8 @@ glm::dmat4 Camera::view() const {
 
 glm::dmat4 Camera::projection(double aspect) const {
   aspect = aspect > 0 && std::isfinite(aspect) ? aspect : 1.0;
-  if (mode_ == ProjectionMode::kPerspective) return glm::perspective(fov_y_, aspect, near_plane(), far_plane());
+  if (mode_ == ProjectionMode::kPerspective)
+    return glm::perspective(fov_y_, aspect, near_plane(), far_plane());
   const double hh = distance_ * std::tan(0.5 * fov_y_), hw = hh * aspect;
   return glm::ortho(-hw, hw, -hh, hh, near_plane(), far_plane());
 }
@@ -87,7 +94,9 @@ void Camera::pan(double dx, double dy, double viewport_height) {
   target_ -= s * (dx * right() - dy * up());
 }
 
-void Camera::zoom(double steps) { set_distance(distance_ * std::pow(kZoomStep, -steps)); }
+void Camera::zoom(double steps) {
+  set_distance(distance_ * std::pow(kZoomStep, -steps));
+}
 
 void Camera::frame(const Aabb& box, double aspect) {
   aspect = aspect > 0 && std::isfinite(aspect) ? aspect : 1.0;
@@ -121,12 +130,24 @@ void Camera::frame(const Aabb& box, double aspect) {
 
 void Camera::set_preset(ViewPreset preset) {
   switch (preset) {
-    case ViewPreset::kFront: set_angles(0.0, 0.0); break;
-    case ViewPreset::kBack: set_angles(kPi, 0.0); break;
-    case ViewPreset::kRight: set_angles(kHalfPi, 0.0); break;
-    case ViewPreset::kLeft: set_angles(-kHalfPi, 0.0); break;
-    case ViewPreset::kTop: set_angles(0.0, kHalfPi); break;
-    case ViewPreset::kBottom: set_angles(0.0, -kHalfPi); break;
+    case ViewPreset::kFront:
+      set_angles(0.0, 0.0);
+      break;
+    case ViewPreset::kBack:
+      set_angles(kPi, 0.0);
+      break;
+    case ViewPreset::kRight:
+      set_angles(kHalfPi, 0.0);
+      break;
+    case ViewPreset::kLeft:
+      set_angles(-kHalfPi, 0.0);
+      break;
+    case ViewPreset::kTop:
+      set_angles(0.0, kHalfPi);
+      break;
+    case ViewPreset::kBottom:
+      set_angles(0.0, -kHalfPi);
+      break;
   }
 }
 

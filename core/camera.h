@@ -32,19 +32,19 @@ struct Ray {
 };
 
 struct ScreenPoint {
-  glm::dvec2 pixel{0.0};  // viewport pixels, origin top-left, y down
-  double depth = 0.0;     // window depth in [0, 1] between the clip planes (what gl_FragCoord.z holds)
-  double view_depth = 0.0;  // distance in front of the camera along its view direction (negative: behind)
+  glm::dvec2 pixel{0.0};       // viewport pixels, origin top-left, y down
+  double depth = 0.0;          // window depth in [0, 1] between the clip planes (what gl_FragCoord.z holds)
+  double view_depth = 0.0;     // distance in front of the camera along its view direction (negative: behind)
   bool in_clip_range = false;  // in front of the camera and between the near and far planes
 };
 
 class Camera {
  public:
-  static constexpr double kRadiansPerPixel = 0.005;           // orbit speed
-  static constexpr double kMaxOrbitPitch = 1.5690509975;      // 89.9 degrees: orbit stops short of the poles
-  static constexpr double kZoomStep = 1.15;                   // distance factor per zoom step
+  static constexpr double kRadiansPerPixel = 0.005;       // orbit speed
+  static constexpr double kMaxOrbitPitch = 1.5690509975;  // 89.9 degrees: orbit stops short of the poles
+  static constexpr double kZoomStep = 1.15;               // distance factor per zoom step
   static constexpr double kMinDistance = 1e-5, kMaxDistance = 1e7;
-  static constexpr double kFrameFill = 0.8;                   // frame() fills this share of the viewport
+  static constexpr double kFrameFill = 0.8;  // frame() fills this share of the viewport
 
   Camera() = default;
 
@@ -57,7 +57,7 @@ class Camera {
   ProjectionMode mode() const { return mode_; }
 
   void set_target(const glm::dvec3& target) { target_ = target; }
-  void set_distance(double distance);  // clamped to [kMinDistance, kMaxDistance]
+  void set_distance(double distance);         // clamped to [kMinDistance, kMaxDistance]
   void set_angles(double yaw, double pitch);  // pitch clamped to [-pi/2, pi/2]
   void set_fov_y(double radians);             // clamped to [1, 170] degrees
   void set_mode(ProjectionMode mode) { mode_ = mode; }

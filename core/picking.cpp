@@ -71,7 +71,9 @@ std::optional<uint32_t> nearest_on_screen(const Camera& camera, Viewport viewpor
 }
 }  // namespace
 
-std::optional<TriangleHit> pick_triangle(const Ray& ray, const TriangleBvh& bvh) { return bvh.intersect(ray); }
+std::optional<TriangleHit> pick_triangle(const Ray& ray, const TriangleBvh& bvh) {
+  return bvh.intersect(ray);
+}
 
 std::optional<TriangleHit> pick_triangle(const Ray& ray, std::span<const glm::vec3> positions,
                                          std::span<const Tri> triangles) {
@@ -96,8 +98,9 @@ std::optional<uint32_t> pick_joint(const Camera& camera, Viewport viewport, glm:
   return nearest_on_screen(camera, viewport, pixel, joint_positions, radius_px, nullptr);
 }
 
-std::vector<uint32_t> box_select(const Camera& camera, Viewport viewport, glm::dvec2 corner_a, glm::dvec2 corner_b,
-                                 std::span<const glm::vec3> positions, const TriangleBvh* occluder) {
+std::vector<uint32_t> box_select(const Camera& camera, Viewport viewport, glm::dvec2 corner_a,
+                                 glm::dvec2 corner_b, std::span<const glm::vec3> positions,
+                                 const TriangleBvh* occluder) {
   const Projector proj(camera, viewport);
   const glm::dvec2 lo = glm::min(corner_a, corner_b), hi = glm::max(corner_a, corner_b);
   std::vector<uint32_t> out;
@@ -124,6 +127,8 @@ std::optional<FaceHit> PolygonPicker::pick(const Ray& ray) const {
   return FaceHit{source_face_[hit->triangle], *hit};
 }
 
-std::optional<FaceHit> pick_polygon_face(const Ray& ray, const PolyMesh& mesh) { return PolygonPicker(mesh).pick(ray); }
+std::optional<FaceHit> pick_polygon_face(const Ray& ray, const PolyMesh& mesh) {
+  return PolygonPicker(mesh).pick(ray);
+}
 
 }  // namespace cagewrap

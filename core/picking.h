@@ -44,8 +44,9 @@ std::optional<uint32_t> pick_vertex(const Camera& camera, Viewport viewport, glm
 // Indices (ascending) of the points whose projection lies in the rectangle spanned by two
 // opposite corners (any order, edges inclusive), that are in the clip range and, when an occluder is
 // given, not hidden behind it.
-std::vector<uint32_t> box_select(const Camera& camera, Viewport viewport, glm::dvec2 corner_a, glm::dvec2 corner_b,
-                                 std::span<const glm::vec3> positions, const TriangleBvh* occluder = nullptr);
+std::vector<uint32_t> box_select(const Camera& camera, Viewport viewport, glm::dvec2 corner_a,
+                                 glm::dvec2 corner_b, std::span<const glm::vec3> positions,
+                                 const TriangleBvh* occluder = nullptr);
 
 // Joints are drawn over the mesh, so they are picked without occlusion: the joint whose projection
 // is nearest to `pixel` within radius_px (ties: nearer the camera, then lower index).

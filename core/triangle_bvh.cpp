@@ -193,6 +193,14 @@ bool TriangleBvh::any_hit(const Ray& ray, double t_min, double t_max) const {
   return found;
 }
 
+void TriangleBvh::all_hits(const Ray& ray, double t_min, double t_max, std::vector<TriangleHit>& out) const {
+  out.clear();
+  traverse(ray, t_min, t_max, [&](const TriangleHit& hit) {
+    out.push_back(hit);
+    return t_max;
+  });
+}
+
 uint32_t TriangleBvh::count_hits(const Ray& ray) const {
   uint32_t count = 0;
   traverse(ray, 0.0, kInfinity, [&](const TriangleHit&) {

@@ -42,6 +42,8 @@ class TriangleBvh {
   std::optional<TriangleHit> intersect(const Ray& ray, double t_min = 0.0, double t_max = kInfinity) const;
   // Whether anything is hit with t in [t_min, t_max] (stops at the first hit).
   bool any_hit(const Ray& ray, double t_min, double t_max) const;
+  // Every hit with t in [t_min, t_max], in no particular order; `out` is cleared first.
+  void all_hits(const Ray& ray, double t_min, double t_max, std::vector<TriangleHit>& out) const;
   // Number of triangles the whole ray crosses (t >= 0): odd means the origin is inside a closed mesh.
   uint32_t count_hits(const Ray& ray) const;
 
@@ -58,7 +60,8 @@ class TriangleBvh {
     uint32_t count;  // leaf: number of triangles; inner: 0
     uint32_t right;  // inner: right child (the left child is the next node)
   };
-  uint32_t build(uint32_t begin, uint32_t end, std::vector<uint32_t>& order, const std::vector<glm::vec3>& centroids);
+  uint32_t build(uint32_t begin, uint32_t end, std::vector<uint32_t>& order,
+                 const std::vector<glm::vec3>& centroids);
   void leaf_bounds(Node& node) const;
   // Calls visit(slot, hit) for every triangle hit in [t_min, t_max]; visit returns the new t_max
   // (or a negative value to stop).

@@ -3,9 +3,9 @@
 
 #include <cmath>
 
+#include <gtest/gtest.h>
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
-#include <gtest/gtest.h>
 
 namespace cagewrap {
 namespace {
@@ -82,8 +82,8 @@ TEST(Camera, ProjectOfRayPointRoundTrips) {
     // the centre pixel's ray passes through the target
     const Ray centre = c.ray(kW / 2, kH / 2, kW, kH);
     const glm::dvec3 to_target = c.target() - centre.origin;
-    expect_near(glm::dvec3(centre.origin + glm::dot(to_target, centre.direction) * centre.direction), c.target(),
-                1e-9);
+    expect_near(glm::dvec3(centre.origin + glm::dot(to_target, centre.direction) * centre.direction),
+                c.target(), 1e-9);
   }
 }
 
@@ -103,7 +103,7 @@ TEST(Camera, PointsBehindThePerspectiveCameraAreOutOfClipRange) {
   Camera c;
   c.set_target({0, 0, 0});
   c.set_distance(2);
-  EXPECT_FALSE(c.project({0, 0, 3}, kW, kH).in_clip_range);   // behind the eye
+  EXPECT_FALSE(c.project({0, 0, 3}, kW, kH).in_clip_range);      // behind the eye
   EXPECT_FALSE(c.project({0, 0, 1.995}, kW, kH).in_clip_range);  // before the near plane (0.02)
   EXPECT_TRUE(c.project({0, 0, 1.9}, kW, kH).in_clip_range);
   // nearer points have a smaller window depth
@@ -127,9 +127,24 @@ TEST(Camera, OrthographicKeepsTheTargetPlaneSize) {
 
 TEST(Camera, FrameFitsAllCornersWithOneNearAnEdge) {
   const Aabb boxes[] = {
-      [] { Aabb b; b.extend({-0.9, 0, -0.15}); b.extend({0.9, 1.8, 0.2}); return b; }(),  // a character
-      [] { Aabb b; b.extend({10, 20, 30}); b.extend({10.1, 25, 30.1}); return b; }(),   // a tall pole
-      [] { Aabb b; b.extend({-3, -1, -2}); b.extend({3, -0.9, 2}); return b; }(),       // a flat slab
+      [] {
+        Aabb b;
+        b.extend({-0.9, 0, -0.15});
+        b.extend({0.9, 1.8, 0.2});
+        return b;
+      }(),  // a character
+      [] {
+        Aabb b;
+        b.extend({10, 20, 30});
+        b.extend({10.1, 25, 30.1});
+        return b;
+      }(),  // a tall pole
+      [] {
+        Aabb b;
+        b.extend({-3, -1, -2});
+        b.extend({3, -0.9, 2});
+        return b;
+      }(),  // a flat slab
   };
   for (Camera c : sample_cameras())
     for (const Aabb& box : boxes)
@@ -221,9 +236,9 @@ TEST(Camera, PresetsLookAlongTheAxes) {
     ViewPreset preset;
     glm::dvec3 forward, up;
   } cases[] = {
-      {ViewPreset::kFront, {0, 0, -1}, {0, 1, 0}},  {ViewPreset::kBack, {0, 0, 1}, {0, 1, 0}},
-      {ViewPreset::kRight, {-1, 0, 0}, {0, 1, 0}},  {ViewPreset::kLeft, {1, 0, 0}, {0, 1, 0}},
-      {ViewPreset::kTop, {0, -1, 0}, {0, 0, -1}},   {ViewPreset::kBottom, {0, 1, 0}, {0, 0, 1}},
+      {ViewPreset::kFront, {0, 0, -1}, {0, 1, 0}}, {ViewPreset::kBack, {0, 0, 1}, {0, 1, 0}},
+      {ViewPreset::kRight, {-1, 0, 0}, {0, 1, 0}}, {ViewPreset::kLeft, {1, 0, 0}, {0, 1, 0}},
+      {ViewPreset::kTop, {0, -1, 0}, {0, 0, -1}},  {ViewPreset::kBottom, {0, 1, 0}, {0, 0, 1}},
   };
   for (const Case& k : cases) {
     c.set_preset(k.preset);

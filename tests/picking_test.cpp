@@ -5,8 +5,8 @@
 #include <cmath>
 #include <random>
 
-#include <glm/geometric.hpp>
 #include <gtest/gtest.h>
+#include <glm/geometric.hpp>
 
 #include "core/gltf_loader.h"
 #include "core/skinning.h"
@@ -20,7 +20,8 @@ constexpr Viewport kView{800, 600};
 // Unit cube [-0.5, 0.5]^3 as 6 quads (outward), faces in the order -X, +X, -Y, +Y, -Z, +Z.
 PolyMesh unit_cube() {
   PolyMesh m;
-  for (int i = 0; i < 8; ++i) m.positions.emplace_back((i & 1) ? 0.5f : -0.5f, (i & 2) ? 0.5f : -0.5f, (i & 4) ? 0.5f : -0.5f);
+  for (int i = 0; i < 8; ++i)
+    m.positions.emplace_back((i & 1) ? 0.5f : -0.5f, (i & 2) ? 0.5f : -0.5f, (i & 4) ? 0.5f : -0.5f);
   m.add_face({0, 4, 6, 2});  // -X
   m.add_face({1, 3, 7, 5});  // +X
   m.add_face({0, 1, 5, 4});  // -Y
@@ -38,9 +39,12 @@ Camera front_camera(double distance = 3.0) {
   return c;
 }
 
-std::vector<Tri> triangles_of(const PolyMesh& m) { return triangulate(m).triangles; }
+std::vector<Tri> triangles_of(const PolyMesh& m) {
+  return triangulate(m).triangles;
+}
 
-std::optional<TriangleHit> brute_force(const Ray& ray, std::span<const glm::vec3> p, std::span<const Tri> tris) {
+std::optional<TriangleHit> brute_force(const Ray& ray, std::span<const glm::vec3> p,
+                                       std::span<const Tri> tris) {
   // independent reference: plane intersection + barycentric inside test in double
   std::optional<TriangleHit> best;
   for (size_t i = 0; i < tris.size(); ++i) {
@@ -52,7 +56,8 @@ std::optional<TriangleHit> brute_force(const Ray& ray, std::span<const glm::vec3
     if (t < 0) continue;
     const glm::dvec3 q = ray.at(t);
     const double area = glm::dot(n, n);
-    const double u = glm::dot(glm::cross(c - b, q - b), n) / area, v = glm::dot(glm::cross(a - c, q - c), n) / area;
+    const double u = glm::dot(glm::cross(c - b, q - b), n) / area,
+                 v = glm::dot(glm::cross(a - c, q - c), n) / area;
     if (u < 0 || v < 0 || u + v > 1) continue;
     if (!best || t < best->t) best = TriangleHit{static_cast<uint32_t>(i), {u, v, 1 - u - v}, t, q};
   }
@@ -123,7 +128,8 @@ TEST(Picking, HierarchyAgreesWithBruteForceAndRefits) {
       ++hits;
       EXPECT_NEAR(a->t, b->t, 1e-9);
       // same triangle, or a tie on a shared edge at the same t
-      if (a->triangle != b->triangle) EXPECT_NEAR(a->t, b->t, 1e-12);
+      if (a->triangle != b->triangle)
+        EXPECT_NEAR(a->t, b->t, 1e-12);
       else
         for (int k = 0; k < 3; ++k) EXPECT_NEAR(a->bary[k], b->bary[k], 1e-9);
     }
@@ -131,7 +137,8 @@ TEST(Picking, HierarchyAgreesWithBruteForceAndRefits) {
   };
   check(skin.positions);
   // move the mesh: refit must give the same answers as brute force on the moved positions
-  auto moved = fixtures::transformed(skin.positions, fixtures::rotation(30, {1, 2, 0}) * 1.3, {0.2, -0.1, 0.3});
+  auto moved =
+      fixtures::transformed(skin.positions, fixtures::rotation(30, {1, 2, 0}) * 1.3, {0.2, -0.1, 0.3});
   bvh.refit(moved);
   check(moved);
 }
@@ -213,7 +220,8 @@ TEST(Picking, BoxSelectSkipsPointsBehindTheCameraAndHidden) {
 
 TEST(Picking, JointNearestWithinRadius) {
   const Camera cam = front_camera(4.0);
-  std::vector<glm::vec3> joints = {{0, 0, 0}, {0.3f, 0, 0}, {0.3f, 0, -1}};  // 2 lies just behind 1, about 11 px away on screen
+  std::vector<glm::vec3> joints = {
+      {0, 0, 0}, {0.3f, 0, 0}, {0.3f, 0, -1}};  // 2 lies just behind 1, about 11 px away on screen
   const glm::dvec2 j1 = cam.project({0.3, 0, 0}, 800, 600).pixel;
   EXPECT_EQ(pick_joint(cam, kView, j1 + glm::dvec2(2, -1), joints, 8.0), std::optional<uint32_t>(1));
   EXPECT_EQ(pick_joint(cam, kView, {400, 300}, joints, 8.0), std::optional<uint32_t>(0));
@@ -243,8 +251,8 @@ TEST(Picking, DemoSkinPicksWellUnderAMillisecond) {
   const double build_ms = std::chrono::duration<double, std::milli>(t1 - t0).count();
   const double pick_ms = std::chrono::duration<double, std::milli>(t2 - t1).count() / n;
   const double refit_ms = std::chrono::duration<double, std::milli>(t3 - t2).count();
-  std::printf("demo skin %zu triangles: build %.2f ms, pick %.4f ms, refit %.2f ms, %d/%d rays hit\n", tris.size(),
-              build_ms, pick_ms, refit_ms, hits, n);
+  std::printf("demo skin %zu triangles: build %.2f ms, pick %.4f ms, refit %.2f ms, %d/%d rays hit\n",
+              tris.size(), build_ms, pick_ms, refit_ms, hits, n);
   EXPECT_GT(hits, n / 10);
   EXPECT_LT(pick_ms, 0.25) << "a pick must take well under 1 ms";
   // the pick at the centre of the framed character agrees with brute force

@@ -1,0 +1,737 @@
+#include "core/auto_cage.h"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <unordered_map>
+#include <unordered_set>
+
+// the mesh header first: QuadricT.hh needs the vector traits it brings
+#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+
+#include <tbb/parallel_for.h>
+#include <OpenMesh/Core/Geometry/QuadricT.hh>
+#include <OpenMesh/Core/System/omstream.hh>
+#include <OpenMesh/Tools/Decimater/DecimaterT.hh>
+#include <OpenMesh/Tools/Decimater/ModAspectRatioT.hh>
+#include <OpenMesh/Tools/Decimater/ModNormalFlippingT.hh>
+#include <glm/geometric.hpp>
+#include <glm/gtc/matrix_inverse.hpp>
+#include <glm/mat4x4.hpp>
+#include <glm/vec4.hpp>
+
+#include "core/cage.h"
+#include "core/offset_wrap.h"
+#include "core/registration.h"
+#include "core/skinning.h"
+#include "core/surface_distance.h"
+#include "core/triangle_bvh.h"
+#include "core/weld.h"
+
+namespace cagewrap {
+
+namespace {
+
+// Decimation guards.
+constexpr float kMaxAspect = 5.0f;            // no collapse may leave a triangle worse than this (L / h)
+constexpr double kMaxNormalDeviation = 60.0;  // degrees a face normal may turn in one collapse
+// Error added per collapse: isotropy * |edge|^4, so flat regions still prefer short edges (rounder
+// triangles). Area-weighted quadric errors are length^4 too, so the balance does not depend on units.
+constexpr double kIsotropy = 1e-3;
+constexpr double kJointBoost = 8.0;  // error factor at a joint per unit of joint_detail
+// Inflation.
+constexpr double kEdgeShare = 0.25;  // per step, a vertex moves at most this share of its shortest edge
+constexpr double kRoomShare = 0.4;   // ... and this share of the free distance in front of it
+constexpr int kMaxInflateSteps = 64;
+constexpr double kRelax = 0.5;  // tangential relaxation weight between steps
+constexpr int kMaxFitRounds = 12;
+constexpr double kFullBend =
+    0.35;  // radians (20 degrees): a valley this sharp gets only concave_share of the clearance
+constexpr double kFitMargin = 0.2;  // fitted skin points end at least this share of the clearance inside
+
+struct CageTraits : OpenMesh::DefaultTraits {
+  using Point = OpenMesh::Vec3d;
+  using Normal = OpenMesh::Vec3d;
+};
+using OmMesh = OpenMesh::TriMesh_ArrayKernelT<CageTraits>;
+
+// Area-weighted error quadrics (Garland-Heckbert) times a per-vertex factor that grows near joints,
+// plus a small edge-length term.
+template <class MeshT>
+class ModCageQuadricT : public OpenMesh::Decimater::ModBaseT<MeshT> {
+ public:
+  DECIMATING_MODULE(ModCageQuadricT, MeshT, CageQuadric);
+  using Quadric = OpenMesh::Geometry::QuadricT<double>;
+
+  explicit ModCageQuadricT(MeshT& mesh) : Base(mesh, false) { mesh.add_property(quadrics_); }
+  ~ModCageQuadricT() override { Base::mesh().remove_property(quadrics_); }
+  // A vertex property of the mesh holding each vertex's error factor (>= 1).
+  void set_factors(OpenMesh::VPropHandleT<double> factor) { factor_ = factor; }
+
+  void initialize() override {
+    MeshT& m = Base::mesh();
+    for (auto v : m.vertices()) m.property(quadrics_, v).clear();
+    for (auto f : m.faces()) {
+      auto fv = m.fv_iter(f);
+      const auto v0 = *fv, v1 = *(++fv), v2 = *(++fv);
+      const OpenMesh::Vec3d p0 = m.point(v0), p1 = m.point(v1), p2 = m.point(v2);
+      OpenMesh::Vec3d n = (p1 - p0) % (p2 - p0);
+      const double twice_area = n.norm();
+      if (twice_area <= 0) continue;
+      n /= twice_area;
+      Quadric q(n[0], n[1], n[2], -(p0 | n));
+      q *= 0.5 * twice_area;
+      m.property(quadrics_, v0) += q;
+      m.property(quadrics_, v1) += q;
+      m.property(quadrics_, v2) += q;
+    }
+  }
+
+  float collapse_priority(const CollapseInfo& ci) override {
+    const MeshT& m = Base::mesh();
+    Quadric q = m.property(quadrics_, ci.v0);
+    q += m.property(quadrics_, ci.v1);
+    const double len2 = (ci.p1 - ci.p0).sqrnorm();
+    const double err = q(ci.p1) + isotropy_ * len2 * len2;
+    return static_cast<float>(err * std::max(m.property(factor_, ci.v0), m.property(factor_, ci.v1)));
+  }
+
+  void postprocess_collapse(const CollapseInfo& ci) override {
+    Base::mesh().property(quadrics_, ci.v1) += Base::mesh().property(quadrics_, ci.v0);
+  }
+
+ private:
+  OpenMesh::VPropHandleT<Quadric> quadrics_;
+  OpenMesh::VPropHandleT<double> factor_;
+  double isotropy_ = kIsotropy;
+};
+
+double face_aspect(const OmMesh& m, OmMesh::FaceHandle f) {
+  auto fv = m.cfv_iter(f);
+  const OpenMesh::Vec3d a = m.point(*fv), b = m.point(*(++fv)), c = m.point(*(++fv));
+  return triangle_aspect({a[0], a[1], a[2]}, {b[0], b[1], b[2]}, {c[0], c[1], c[2]});
+}
+
+// Worst aspect of the faces around `v` were it moved to `to`, or infinity when a face would turn
+// by more than the decimater's normal guard allows.
+double ring_aspect_if_moved(OmMesh& m, OmMesh::VertexHandle v, const OpenMesh::Vec3d& to,
+                            OmMesh::FaceHandle skip0, OmMesh::FaceHandle skip1) {
+  const OpenMesh::Vec3d from = m.point(v);
+  std::vector<std::pair<OmMesh::FaceHandle, OpenMesh::Vec3d>> before;
+  for (auto f : m.vf_range(v))
+    if (f != skip0 && f != skip1) before.emplace_back(f, m.calc_face_normal(f));
+  m.set_point(v, to);
+  double worst = 0.0;
+  const double min_cos = std::cos(kMaxNormalDeviation * 3.141592653589793 / 180.0);
+  for (const auto& [f, n] : before) {
+    if ((m.calc_face_normal(f) | n) < min_cos)
+      worst = INFINITY;
+    else
+      worst = std::max(worst, face_aspect(m, f));
+  }
+  m.set_point(v, from);
+  return worst;
+}
+
+// What the decimater's aspect guard cannot fix (slivers it inherited): flips the longest edge of a
+// cap, or collapses the shortest edge of a needle, whenever that makes the neighbourhood better.
+void clean_slivers(OmMesh& m) {
+  m.request_vertex_status();
+  m.request_edge_status();
+  m.request_face_status();
+  for (int pass = 0; pass < 4; ++pass) {
+    bool changed = false;
+    for (auto f : m.faces()) {
+      if (m.status(f).deleted()) continue;
+      const double aspect = face_aspect(m, f);
+      if (aspect <= kMaxAspect) continue;
+      OmMesh::HalfedgeHandle longest, shortest;
+      double lmax = -1, lmin = INFINITY;
+      for (auto h : m.fh_range(f)) {
+        const double l = m.calc_edge_length(h);
+        if (l > lmax) lmax = l, longest = h;
+        if (l < lmin) lmin = l, shortest = h;
+      }
+      // a cap: flip its longest edge when both new triangles are better than the worse old one
+      const auto e = m.edge_handle(longest);
+      if (!m.is_boundary(e) && m.is_flip_ok(e)) {
+        const auto g = m.opposite_face_handle(longest);
+        const double old_worst = std::max(aspect, face_aspect(m, g));
+        const OpenMesh::Vec3d n0 = m.calc_face_normal(f) + m.calc_face_normal(g);
+        m.flip(e);
+        const double new_worst =
+            std::max(face_aspect(m, m.face_handle(longest)), face_aspect(m, m.opposite_face_handle(longest)));
+        const bool folded = (m.calc_face_normal(m.face_handle(longest)) | n0) <= 0 ||
+                            (m.calc_face_normal(m.opposite_face_handle(longest)) | n0) <= 0;
+        if (new_worst < old_worst && !folded) {
+          changed = true;
+          continue;
+        }
+        m.flip(e);  // undo
+      }
+      // a needle: collapse its shortest edge onto either end
+      for (auto h : {shortest, m.opposite_halfedge_handle(shortest)}) {
+        if (!m.is_collapse_ok(h)) continue;
+        const auto from = m.from_vertex_handle(h), to = m.to_vertex_handle(h);
+        const double after =
+            ring_aspect_if_moved(m, from, m.point(to), m.face_handle(h), m.opposite_face_handle(h));
+        if (after < aspect && after <= kNeedleAspect) {
+          m.collapse(h);
+          changed = true;
+          break;
+        }
+      }
+    }
+    if (!changed) break;
+  }
+  m.garbage_collection();
+}
+
+class Cancelled {};
+
+struct Stage {
+  const AutoCageProgress& progress;
+  bool cancelled() const { return progress.cancel && progress.cancel->load(std::memory_order_relaxed); }
+  void report(const char* stage, double share) const {
+    if (progress.on_progress) progress.on_progress(stage, std::clamp(share, 0.0, 1.0));
+  }
+  void check() const {
+    if (cancelled()) throw Cancelled{};
+  }
+};
+
+class DecimateObserver : public OpenMesh::Decimater::Observer {
+ public:
+  DecimateObserver(const Stage& stage, size_t expected, double lo, double hi)
+      : Observer(std::max<size_t>(expected / 50, 1)),
+        stage_(stage),
+        expected_(std::max<size_t>(expected, 1)),
+        lo_(lo),
+        hi_(hi) {}
+  void notify(size_t step) override {
+    stage_.report("decimate", lo_ + (hi_ - lo_) * double(step) / expected_);
+  }
+  bool abort() const override { return stage_.cancelled(); }
+
+ private:
+  const Stage& stage_;
+  size_t expected_;
+  double lo_, hi_;
+};
+
+// Triangle surface as flat arrays with the adjacency the inflation needs.
+struct Surface {
+  std::vector<glm::dvec3> p;               // #V
+  std::vector<Tri> tris;                   // #T
+  std::vector<std::vector<uint32_t>> nbr;  // #V one-ring vertices
+  std::vector<uint32_t> piece;             // #V connected piece of each vertex
+
+  void build_adjacency() {
+    nbr.assign(p.size(), {});
+    for (const Tri& t : tris)
+      for (int k = 0; k < 3; ++k) {
+        nbr[t[k]].push_back(t[(k + 1) % 3]);
+        nbr[t[k]].push_back(t[(k + 2) % 3]);
+      }
+    for (auto& n : nbr) {
+      std::sort(n.begin(), n.end());
+      n.erase(std::unique(n.begin(), n.end()), n.end());
+    }
+    piece.assign(p.size(), UINT32_MAX);
+    uint32_t count = 0;
+    std::vector<uint32_t> stack;
+    for (uint32_t seed = 0; seed < p.size(); ++seed) {
+      if (piece[seed] != UINT32_MAX) continue;
+      piece[seed] = count;
+      stack.push_back(seed);
+      while (!stack.empty()) {
+        const uint32_t v = stack.back();
+        stack.pop_back();
+        for (uint32_t u : nbr[v])
+          if (piece[u] == UINT32_MAX) {
+            piece[u] = count;
+            stack.push_back(u);
+          }
+      }
+      ++count;
+    }
+  }
+  std::vector<glm::dvec3> normals() const {  // area-weighted, unit
+    std::vector<glm::dvec3> n(p.size(), glm::dvec3(0.0));
+    for (const Tri& t : tris) {
+      const glm::dvec3 c = glm::cross(p[t[1]] - p[t[0]], p[t[2]] - p[t[0]]);
+      for (uint32_t v : t) n[v] += c;
+    }
+    for (auto& x : n) {
+      const double l = glm::length(x);
+      x = l > 0 ? x / l : glm::dvec3(0.0);
+    }
+    return n;
+  }
+  double shortest_edge(uint32_t v) const {
+    double s = INFINITY;
+    for (uint32_t u : nbr[v]) s = std::min(s, glm::length(p[u] - p[v]));
+    return s;
+  }
+  std::vector<glm::vec3> float_positions() const { return {p.begin(), p.end()}; }
+};
+
+// Free distance in front of each vertex along its normal: the first triangle of the surface itself
+// met from its outer side (one met from behind belongs to a piece this one already overlaps), on
+// a piece this one does not already overlap (`overlapping`: sorted piece pairs lo << 32 | hi).
+std::vector<double> room_ahead(const Surface& s, const std::vector<glm::dvec3>& n, double eps,
+                               std::span<const uint64_t> overlapping) {
+  const auto fp = s.float_positions();
+  TriangleBvh bvh(fp, s.tris);
+  std::vector<double> room(s.p.size(), INFINITY);
+  tbb::parallel_for(size_t(0), s.p.size(), [&](size_t v) {
+    if (glm::dot(n[v], n[v]) == 0.0) return;
+    std::vector<TriangleHit> hits;
+    bvh.all_hits(Ray{s.p[v], n[v]}, eps, INFINITY, hits);
+    for (const TriangleHit& h : hits) {
+      const Tri& t = s.tris[h.triangle];
+      const uint32_t i = s.piece[v], j = s.piece[t[0]];
+      if (i != j && std::binary_search(overlapping.begin(), overlapping.end(),
+                                       (uint64_t(std::min(i, j)) << 32) | std::max(i, j)))
+        continue;
+      if (glm::dot(glm::cross(s.p[t[1]] - s.p[t[0]], s.p[t[2]] - s.p[t[0]]), n[v]) < 0)
+        room[v] = std::min(room[v], h.t);
+    }
+  });
+  return room;
+}
+
+// Flips the pieces (connected through edges) that are wound inside-out: negative volume about
+// their own centroid. Returns how many were flipped.
+uint32_t orient_pieces(std::span<const glm::vec3> p, std::vector<Tri>& tris) {
+  std::vector<uint32_t> parent(tris.size());
+  for (uint32_t i = 0; i < parent.size(); ++i) parent[i] = i;
+  auto find = [&](uint32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  std::unordered_map<uint64_t, uint32_t> first;
+  first.reserve(tris.size() * 2);
+  for (uint32_t t = 0; t < tris.size(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t a = tris[t][k], b = tris[t][(k + 1) % 3];
+      auto [it, fresh] = first.try_emplace((uint64_t(std::min(a, b)) << 32) | std::max(a, b), t);
+      if (!fresh) {
+        const uint32_t x = find(t), y = find(it->second);
+        if (x != y) parent[std::max(x, y)] = std::min(x, y);
+      }
+    }
+  std::unordered_map<uint32_t, glm::dvec4> centroid;  // xyz sum, count
+  for (uint32_t t = 0; t < tris.size(); ++t)
+    for (uint32_t v : tris[t]) centroid[find(t)] += glm::dvec4(glm::dvec3(p[v]), 1.0);
+  std::unordered_map<uint32_t, double> volume;
+  for (uint32_t t = 0; t < tris.size(); ++t) {
+    const glm::dvec4 c = centroid[find(t)];
+    const glm::dvec3 o = glm::dvec3(c) / c.w;
+    const glm::dvec3 a = glm::dvec3(p[tris[t][0]]) - o, b = glm::dvec3(p[tris[t][1]]) - o,
+                     d = glm::dvec3(p[tris[t][2]]) - o;
+    volume[find(t)] += glm::dot(a, glm::cross(b, d));
+  }
+  uint32_t flipped = 0;
+  for (const auto& [root, vol] : volume) flipped += vol < 0 ? 1 : 0;
+  for (uint32_t t = 0; t < tris.size(); ++t)
+    if (volume[find(t)] < 0) std::swap(tris[t][1], tris[t][2]);
+  return flipped;
+}
+
+// Moves each vertex by up to want[v] along its normal, bounded by its edges and the room ahead;
+// relaxes tangentially after each step; a step that makes the surface pass through itself is taken
+// back for the vertices involved, which then stay. Returns the distance each vertex moved.
+std::vector<double> push_out(Surface& s, std::vector<double> want, double eps, const Stage& stage) {
+  const size_t n_v = s.p.size();
+  const SurfaceDistance base(s.float_positions(), s.tris);
+  std::vector<double> moved(n_v, 0.0);
+  std::vector<char> frozen(n_v, 0);
+  // pieces of the skin that already overlap each other may keep doing so; any other crossing is
+  // the step's doing
+  std::vector<uint64_t> overlapping;  // piece pairs (lo << 32 | hi), sorted
+  auto pair_of = [&](const SelfCrossing& x) {
+    const uint32_t i = s.piece[x.a], j = s.piece[s.tris[x.triangle][0]];
+    return (uint64_t(std::min(i, j)) << 32) | std::max(i, j);
+  };
+  for (const SelfCrossing& x : self_crossings(s.float_positions(), s.tris))
+    if (s.piece[x.a] != s.piece[s.tris[x.triangle][0]]) overlapping.push_back(pair_of(x));
+  std::sort(overlapping.begin(), overlapping.end());
+  const std::vector<double> room0 = room_ahead(s, s.normals(), eps, overlapping);
+  for (int step = 0; step < kMaxInflateSteps; ++step) {
+    stage.check();
+    const auto n = s.normals();
+    const auto room = room_ahead(s, n, eps, overlapping);
+    std::vector<double> d(n_v, 0.0);
+    std::vector<glm::dvec3> next = s.p;
+    bool any = false;
+    for (size_t v = 0; v < n_v; ++v) {
+      if (frozen[v]) continue;
+      // never use more than kRoomShare of the gap seen at the start: the other side moves too
+      const double cap = std::max(0.0, kRoomShare * room0[v] - moved[v]);
+      d[v] = std::min({want[v], kEdgeShare * s.shortest_edge(v), kRoomShare * room[v], cap});
+      if (!(d[v] > eps)) {
+        d[v] = 0.0;
+        continue;
+      }
+      next[v] += d[v] * n[v];
+      any = true;
+    }
+    if (!any) break;
+    // tangential relaxation: towards the one-ring centroid, within the tangent plane; where the
+    // plane is tilted against the surface this also sinks the vertex, so the distance to the
+    // surface we started from is restored along the normal
+    const std::vector<glm::dvec3> prev = s.p;
+    s.p = next;
+    tbb::parallel_for(size_t(0), n_v, [&](size_t v) {
+      if (frozen[v] || s.nbr[v].empty()) return;
+      glm::dvec3 c(0.0);
+      for (uint32_t u : s.nbr[v]) c += next[u];
+      glm::dvec3 t = c / double(s.nbr[v].size()) - next[v];
+      t -= glm::dot(t, n[v]) * n[v];
+      const glm::dvec3 relaxed = next[v] + kRelax * t;
+      const double lost = std::abs(base.query(next[v]).distance) - std::abs(base.query(relaxed).distance);
+      s.p[v] = relaxed + std::max(lost, 0.0) * n[v];
+    });
+    // take the step back where the surface now passes through itself
+    for (int attempt = 0; attempt < 8; ++attempt) {
+      bool reverted = false;
+      for (const SelfCrossing& x : self_crossings(s.float_positions(), s.tris)) {
+        if (std::binary_search(overlapping.begin(), overlapping.end(), pair_of(x))) continue;
+        const Tri& t = s.tris[x.triangle];
+        for (uint32_t v : {x.a, x.b, t[0], t[1], t[2]}) {
+          frozen[v] = 1;
+          if (s.p[v] != prev[v]) {
+            s.p[v] = prev[v];
+            d[v] = 0.0;
+            reverted = true;
+          }
+        }
+      }
+      if (!reverted) break;
+    }
+    for (size_t v = 0; v < n_v; ++v) {
+      want[v] -= d[v];
+      moved[v] += d[v];
+    }
+  }
+  return moved;
+}
+
+// Concavity of each vertex: the largest bend (radians) of a concave (valley) edge around it; 0 when
+// every incident edge is flat or convex.
+std::vector<double> concavity(const Surface& s) {
+  std::unordered_map<uint64_t, std::array<uint32_t, 2>> edge_faces;  // second = UINT32_MAX when single
+  edge_faces.reserve(s.tris.size() * 2);
+  for (uint32_t t = 0; t < s.tris.size(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t a = s.tris[t][k], b = s.tris[t][(k + 1) % 3];
+      auto [it, fresh] = edge_faces.try_emplace((uint64_t(std::min(a, b)) << 32) | std::max(a, b),
+                                                std::array<uint32_t, 2>{t, UINT32_MAX});
+      if (!fresh) it->second[1] = t;
+    }
+  auto normal = [&](uint32_t t) {
+    const Tri& f = s.tris[t];
+    return glm::normalize(glm::cross(s.p[f[1]] - s.p[f[0]], s.p[f[2]] - s.p[f[0]]));
+  };
+  std::vector<double> c(s.p.size(), 0.0);
+  for (const auto& [key, f] : edge_faces) {
+    if (f[1] == UINT32_MAX) continue;
+    const uint32_t a = uint32_t(key >> 32), b = uint32_t(key & 0xffffffffu);
+    const Tri& t1 = s.tris[f[1]];
+    const uint32_t apex = t1[0] + t1[1] + t1[2] - a - b;  // the far corner of the second face
+    const glm::dvec3 n0 = normal(f[0]), n1 = normal(f[1]);
+    if (!(glm::dot(s.p[apex] - s.p[a], n0) > 0)) continue;  // convex or flat
+    const double bend = std::acos(std::clamp(glm::dot(n0, n1), -1.0, 1.0));
+    c[a] = std::max(c[a], bend);
+    c[b] = std::max(c[b], bend);
+  }
+  return c;
+}
+
+}  // namespace
+
+Status validate(const AutoCageParams& p) {
+  auto bad = [](const std::string& m) { return Status(make_error(ErrorCode::kInvalidArgument, m)); };
+  if (p.target_faces < 4) return bad("target faces must be at least 4 (a tetrahedron)");
+  if (!(p.joint_detail >= 0 && std::isfinite(p.joint_detail))) return bad("joint detail must be >= 0");
+  if (!(p.joint_radius > 0 && std::isfinite(p.joint_radius))) return bad("joint radius must be > 0");
+  if (!(p.concave_share >= 0 && p.concave_share <= 1)) return bad("concave share must be in [0, 1]");
+  if (!(p.inflate >= 0 && std::isfinite(p.inflate))) return bad("inflate distance must be >= 0");
+  if (!(p.wrap_cell > 0 && p.wrap_cell < 0.1))
+    return bad("wrap cell must be in (0, 0.1) of the bbox diagonal");
+  if (!(p.weld_tolerance >= 0 && p.weld_tolerance < 0.1)) return bad("weld tolerance must be in [0, 0.1)");
+  return validate(p.bind);
+}
+
+std::vector<glm::vec3> bind_joint_positions(const Character& character) {
+  std::vector<glm::vec3> out;
+  std::unordered_set<uint32_t> seen;
+  for (const Skin& skin : character.skins)
+    for (size_t j = 0; j < skin.joints.size(); ++j) {
+      if (!seen.insert(skin.joints[j]).second) continue;
+      const glm::mat4 bind = glm::inverse(skin.inverse_bind[j]);
+      out.emplace_back(bind[3]);
+    }
+  if (character.skins.empty() && character.skeleton.size() > 0) {
+    for (const glm::mat4& g : character.skeleton.global_transforms(character.skeleton.rest_pose()))
+      out.emplace_back(g[3]);
+  }
+  return out;
+}
+
+Result<AutoCageReport> build_auto_cage(const Character& character, const AutoCageParams& params,
+                                       const AutoCageProgress& progress) {
+  if (character.num_triangles() == 0)
+    return make_error(ErrorCode::kEmpty, character.source + ": has no triangles to wrap a cage around");
+  return build_auto_cage(combined_topology(character), bind_joint_positions(character), params, progress);
+}
+
+Result<AutoCageReport> build_auto_cage(const PolyMesh& skin, std::span<const glm::vec3> joints,
+                                       const AutoCageParams& params, const AutoCageProgress& progress) {
+  if (auto s = validate(params); !s) return s.error();
+  if (auto s = validate_mesh(skin, "skin"); !s) return s.error();
+  const auto t_start = std::chrono::steady_clock::now();
+  const Stage stage{progress};
+  AutoCageReport r;
+  try {
+    // ------------------------------------------------------------ join and weld
+    stage.report("weld", 0.0);
+    const std::vector<Tri> input = triangulate(skin).triangles;
+    if (input.empty()) return make_error(ErrorCode::kEmpty, "skin: has no faces to wrap a cage around");
+    r.input_vertices = static_cast<uint32_t>(skin.num_vertices());
+    r.input_triangles = static_cast<uint32_t>(input.size());
+    const Aabb box = bounding_box(skin.positions);
+    const double diag = box.diagonal();
+    if (!(diag > 0))
+      return make_error(ErrorCode::kEmpty, "skin: all vertices coincide; there is nothing to wrap");
+    const Weld weld = weld_vertices(skin.positions, params.weld_tolerance * diag);
+    uint32_t collapsed = 0;
+    std::vector<Tri> tris = weld_triangles(input, weld.remap, &collapsed);
+    r.welded_vertices = static_cast<uint32_t>(weld.positions.size());
+    const MeshCheck welded = check_mesh(weld.positions, tris, false);
+    // outward orientation, piece by piece: a closed piece wound inside-out has negative volume
+    if (const uint32_t flipped = orient_pieces(weld.positions, tris); flipped > 0)
+      r.warnings.push_back(std::to_string(flipped) +
+                           " pieces of the skin were wound inside-out and were turned");
+    r.inflate_distance = params.inflate_absolute ? params.inflate : params.inflate * diag;
+    const bool clean = welded.closed() && welded.manifold() && welded.oriented() && welded.components == 1;
+    r.wrapped = params.wrap == WrapMode::kAlways || (params.wrap == WrapMode::kAuto && !clean);
+    std::vector<glm::vec3> base_positions = weld.positions;  // what the decimater starts from
+    if (r.wrapped) {
+      stage.report("wrap", 0.02);
+      const double offset = r.inflate_distance > 0 ? r.inflate_distance : 3.0 * params.wrap_cell * diag;
+      r.inflate_distance = offset;
+      IsoSurface wrap = offset_wrap(weld.positions, tris, offset, params.wrap_cell * diag);
+      r.wrap_triangles = static_cast<uint32_t>(wrap.triangles.size());
+      r.warnings.push_back(
+          "the welded skin is " + std::to_string(welded.components) + " pieces with " +
+          std::to_string(welded.boundary_edges) + " boundary, " + std::to_string(welded.non_manifold_edges) +
+          " non-manifold and " + std::to_string(welded.misoriented_edges) +
+          " misoriented edges; the cage wraps it as one surface " + std::to_string(offset) + " out");
+      base_positions = std::move(wrap.positions);
+      tris = std::move(wrap.triangles);
+    } else if (!clean) {
+      r.warnings.push_back("the welded skin has " + std::to_string(welded.boundary_edges) +
+                           " boundary edges in " + std::to_string(welded.components) +
+                           " pieces; the cage follows them and is open too");
+    }
+    stage.check();
+
+    // ------------------------------------------------------------ decimate
+    stage.report("decimate", 0.05);
+    OmMesh mesh;
+    std::vector<OmMesh::VertexHandle> vh;
+    vh.reserve(base_positions.size());
+    for (const glm::vec3& p : base_positions) vh.push_back(mesh.add_vertex(OpenMesh::Vec3d(p.x, p.y, p.z)));
+    uint32_t rejected = 0;
+    {
+      // faces that would make an edge or vertex non-manifold are left out (OpenMesh refuses them)
+      const bool was_enabled = ::omerr().is_enabled();
+      ::omerr().disable();
+      for (const Tri& t : tris) {
+        if (!mesh.add_face(vh[t[0]], vh[t[1]], vh[t[2]]).is_valid()) ++rejected;
+      }
+      if (was_enabled) ::omerr().enable();
+    }
+    r.dropped_triangles = collapsed + (r.wrapped ? 0 : rejected);
+    if (rejected > 0)
+      r.warnings.push_back(std::to_string(rejected) + (r.wrapped ? " wrap" : " skin") +
+                           " triangles would make a non-manifold edge or vertex and were left out");
+    if (mesh.n_faces() < 4)
+      return make_error(ErrorCode::kEmpty, "skin: fewer than 4 usable triangles after welding");
+
+    // error factors near joints
+    std::vector<double> factor(mesh.n_vertices(), 1.0);
+    r.joints = static_cast<uint32_t>(joints.size());
+    if (params.joint_detail > 0 && !joints.empty()) {
+      std::vector<double> radius(joints.size());
+      for (size_t j = 0; j < joints.size(); ++j) {
+        double nearest = INFINITY;
+        for (const glm::vec3& p : weld.positions)
+          nearest = std::min(nearest, glm::length(glm::dvec3(p) - glm::dvec3(joints[j])));
+        radius[j] = std::max(params.joint_radius * diag, 1.5 * nearest);
+      }
+      tbb::parallel_for(size_t(0), base_positions.size(), [&](size_t v) {
+        double g = 0.0;
+        for (size_t j = 0; j < joints.size(); ++j) {
+          const double d = glm::length(glm::dvec3(base_positions[v]) - glm::dvec3(joints[j])) / radius[j];
+          g = std::max(g, std::exp(-d * d));
+        }
+        factor[v] = 1.0 + params.joint_detail * kJointBoost * g;
+      });
+    }
+
+    OpenMesh::VPropHandleT<double> factor_prop;
+    mesh.add_property(factor_prop);
+    for (auto v : mesh.vertices()) mesh.property(factor_prop, v) = factor[v.idx()];
+    mesh.request_face_normals();  // before the normal-flipping module, which would compute them noisily
+    mesh.update_face_normals();
+    // One pass of collapses down to `faces`; the aspect guard is optional because a marching
+    // tetrahedra wrap starts full of slivers, which it would refuse to touch.
+    auto decimate = [&](size_t faces, bool aspect_guard, double lo, double hi) {
+      using Decimater = OpenMesh::Decimater::DecimaterT<OmMesh>;
+      Decimater dec(mesh);
+      ModCageQuadricT<OmMesh>::Handle hq;
+      OpenMesh::Decimater::ModAspectRatioT<OmMesh>::Handle ha;
+      OpenMesh::Decimater::ModNormalFlippingT<OmMesh>::Handle hn;
+      dec.add(hq);
+      dec.add(hn);
+      dec.module(hq).set_factors(factor_prop);
+      dec.module(hn).set_max_normal_deviation(kMaxNormalDeviation);
+      if (aspect_guard) {
+        dec.add(ha);
+        dec.module(ha).set_aspect_ratio(kMaxAspect);
+      }
+      const size_t expected = mesh.n_faces() > faces ? (mesh.n_faces() - faces) / 2 : 1;
+      DecimateObserver observer(stage, expected, lo, hi);
+      dec.set_observer(&observer);
+      if (!dec.initialize()) return false;
+      dec.decimate_to_faces(0, faces);
+      mesh.garbage_collection();
+      return true;
+    };
+    bool started = true;
+    if (r.wrapped) started = decimate(4 * size_t(params.target_faces), false, 0.05, 0.45);
+    stage.check();
+    if (started) started = decimate(params.target_faces, true, r.wrapped ? 0.45 : 0.05, 0.6);
+    if (!started) return make_error(ErrorCode::kInvalidArgument, "the decimater could not start");
+    clean_slivers(mesh);
+    stage.check();
+
+    // ------------------------------------------------------------ inflate
+    stage.report("inflate", 0.6);
+    Surface s;
+    s.p.reserve(mesh.n_vertices());
+    for (auto v : mesh.vertices()) {
+      const auto& p = mesh.point(v);
+      s.p.emplace_back(p[0], p[1], p[2]);
+    }
+    for (auto f : mesh.faces()) {
+      auto fv = mesh.fv_iter(f);
+      const uint32_t a = fv->idx(), b = (++fv)->idx(), c = (++fv)->idx();
+      s.tris.push_back({a, b, c});
+    }
+    // drop vertices no face uses (isolated after the decimation or the weld)
+    {
+      std::vector<uint32_t> used(s.p.size(), UINT32_MAX);
+      std::vector<glm::dvec3> p;
+      for (Tri& t : s.tris)
+        for (uint32_t& v : t) {
+          if (used[v] == UINT32_MAX) {
+            used[v] = static_cast<uint32_t>(p.size());
+            p.push_back(s.p[v]);
+          }
+          v = used[v];
+        }
+      s.p = std::move(p);
+    }
+    s.build_adjacency();
+    const double eps = 1e-9 * diag;
+    if (!r.wrapped && r.inflate_distance > 0) {  // a wrap is built at the clearance already
+      // less clearance in valleys: a skin point under a concave cage edge projects inside neither
+      // neighbouring element, and the blind wedge widens with the depth of the point
+      const auto conc = concavity(s);
+      std::vector<double> want(s.p.size());
+      for (size_t v = 0; v < want.size(); ++v)
+        want[v] =
+            r.inflate_distance * (1.0 - (1.0 - params.concave_share) * std::min(conc[v] / kFullBend, 1.0));
+      const auto moved = push_out(s, want, eps, stage);
+      size_t short_of = 0;
+      for (size_t v = 0; v < want.size(); ++v) short_of += moved[v] < 0.999 * want[v] ? 1 : 0;
+      if (short_of > 0)
+        r.warnings.push_back(std::to_string(short_of) +
+                             " cage vertices moved out less than the inflate distance (no room in front)");
+    }
+
+    // ------------------------------------------------------------ fit: push out where skin points remain
+    // outside
+    stage.report("check", 0.75);
+    // signed distance of every skin point; a point the nearest surface calls outside is confirmed with
+    // the winding number (it may lie inside another, overlapping piece)
+    auto signed_distances = [&] {
+      SurfaceDistance sd(s.float_positions(), s.tris);
+      std::vector<SurfacePoint> q(skin.positions.size());
+      tbb::parallel_for(size_t(0), q.size(), [&](size_t i) {
+        const glm::dvec3 p(skin.positions[i]);
+        q[i] = sd.query(p);
+        if (q[i].distance > 0 && sd.winding_number(p) > 0.5) q[i].distance = -q[i].distance;
+      });
+      return q;
+    };
+    std::vector<SurfacePoint> dist = signed_distances();
+    const double margin = kFitMargin * r.inflate_distance;
+    for (int round = 0; params.fit_skin && round < kMaxFitRounds; ++round) {
+      stage.check();
+      std::vector<double> want(s.p.size(), 0.0);
+      bool any = false;
+      for (const SurfacePoint& q : dist) {
+        const double need = q.distance + margin;
+        if (need <= 0) continue;
+        any = true;
+        const double top = std::max({q.bary.x, q.bary.y, q.bary.z});
+        const Tri& t = s.tris[q.triangle];
+        for (int k = 0; k < 3; ++k) want[t[k]] = std::max(want[t[k]], need * q.bary[k] / top);
+      }
+      if (!any) break;
+      push_out(s, want, eps, stage);
+      dist = signed_distances();
+    }
+
+    // ------------------------------------------------------------ report
+    r.cage.positions = s.float_positions();
+    for (const Tri& t : s.tris) r.cage.add_face({t[0], t[1], t[2]});
+    r.faces = static_cast<uint32_t>(s.tris.size());
+    r.vertices = static_cast<uint32_t>(s.p.size());
+    r.check = check_mesh(r.cage.positions, s.tris);
+    if (r.check.self_intersections > 0)
+      r.warnings.push_back(
+          "the cage passes through itself at " + std::to_string(r.check.self_intersections) +
+          " edge-triangle crossings (parts of the skin are closer than the decimation error)");
+    for (const SurfacePoint& q : dist) {
+      r.max_distance = std::max(r.max_distance, std::abs(q.distance));
+      if (q.distance > 0) {
+        ++r.outside_points;
+        r.max_outside = std::max(r.max_outside, q.distance);
+      }
+    }
+    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+
+    stage.report("bind", 0.8);
+    auto cage = make_cage(r.cage, "auto cage");
+    if (!cage) return cage.error();
+    BindProgress bp;
+    bp.cancel = progress.cancel;
+    auto binding = bind_skin(skin.positions, *cage, r.cage.positions, params.bind, {}, bp);
+    if (!binding) return binding.error();
+    r.quality = binding->quality();
+    r.bind_seconds = binding->seconds;
+    stage.report("bind", 1.0);
+  } catch (const Cancelled&) {
+    return make_error(ErrorCode::kCancelled, "the cage build was cancelled");
+  }
+  return r;
+}
+
+}  // namespace cagewrap

@@ -1,0 +1,99 @@
+#!/usr/bin/env bash
+# CLI checks for `cagewrap cage`: the demo character's cage, a round trip through `bind`, the real
+# mannequin when present, and errors.
+# $1 = cagewrap binary, $2 = shared assets folder (may be absent).
+set -uo pipefail
+BIN="$1"
+ASSETS="${2:-}"
+DEMO="$(cd "$(dirname "$0")/../.." && pwd)/assets/demo_character.glb"
+TMP=$(mktemp -d)
+trap 'rm -rf "$TMP"' EXIT
+passed=0
+failed=0
+check() {  # check "what" command...
+  local what="$1"
+  shift
+  if "$@"; then
+    passed=$((passed + 1))
+  else
+    failed=$((failed + 1))
+    echo "FAIL: $what"
+  fi
+}
+field() { awk -v k="$1" '$1 == k {print $2}' "$2"; }  # first value after a one-word key
+between() { [[ "$1" =~ ^[0-9.]+$ ]] && awk -v x="$1" -v lo="$2" -v hi="$3" 'BEGIN {exit !(x >= lo && x <= hi)}'; }
+
+# The demo character: a closed, clean 1,500-2,500 face cage that wraps every skin vertex.
+"$BIN" cage --mesh "$DEMO" --faces 2000 --out "$TMP/cage.obj" > "$TMP/report.txt" 2> "$TMP/err.txt"
+check "cage on the demo exits 0 ($(cat "$TMP/err.txt"))" test $? -eq 0
+cat "$TMP/report.txt"
+faces=$(field faces "$TMP/report.txt")
+check "faces '$faces' in 1500..2500" between "$faces" 1500 2500
+check "the cage is closed" grep -Eq '^closed +yes \(0 boundary edges, 1 components\)' "$TMP/report.txt"
+check "no non-manifold edges" grep -Eq '^non-manifold +0 edges' "$TMP/report.txt"
+check "consistently oriented" grep -Eq '^misoriented +0 edges' "$TMP/report.txt"
+check "no self-crossings" grep -Eq '^self-crossings +0 ' "$TMP/report.txt"
+check "no degenerate triangles" grep -Eq '^degenerate +0 triangles' "$TMP/report.txt"
+check "no needles" grep -Eq '^needles +0 triangles' "$TMP/report.txt"
+check "no skin vertex outside" grep -Eq '^outside points +0$' "$TMP/report.txt"
+check "one closed piece is not wrapped" grep -Eq '^wrapped +no$' "$TMP/report.txt"
+quality=$(field quality "$TMP/report.txt" | tr -d '%')
+check "quality '$quality' reported and at least 95%" between "$quality" 95 100
+seconds=$(field seconds "$TMP/report.txt")
+check "seconds '$seconds' under 30" between "$seconds" 0 30
+check "the OBJ has $faces faces" test "$(grep -c '^f ' "$TMP/cage.obj")" -eq "$faces"
+verts=$(field vertices "$TMP/report.txt")
+check "the OBJ has $verts vertices" test "$(grep -c '^v ' "$TMP/cage.obj")" -eq "$verts"
+
+# Round trip: the written cage binds the demo skin with the same quality figure.
+"$BIN" skin --character "$DEMO" --out "$TMP/skin.obj" > /dev/null
+"$BIN" bind --mesh "$TMP/skin.obj" --cage "$TMP/cage.obj" --out "$TMP/b.cwb" > "$TMP/bind.txt"
+check "bind with the written cage exits 0" test $? -eq 0
+bq=$(awk '$1 == "cage" && $2 == "quality" {print $3}' "$TMP/bind.txt" | tr -d '%')
+check "bind reports the same quality ($bq vs $quality)" awk -v a="$bq" -v b="$quality" 'BEGIN {d = a - b; exit !(a != "" && d < 0.05 && d > -0.05)}'
+
+# Parameters: more joint detail and a uniform clearance still give clean cages; no fit is allowed.
+"$BIN" cage --mesh "$DEMO" --faces 1500 --joint-detail 2 --concave-share 1 --inflate 0.005 --out "$TMP/c2.obj" > "$TMP/r2.txt"
+check "cage with options exits 0" test $? -eq 0
+check "1500 faces asked, at most 1500 built" between "$(field faces "$TMP/r2.txt")" 1400 1500
+check "clean with options" grep -Eq '^needles +0 triangles' "$TMP/r2.txt"
+"$BIN" cage --mesh "$TMP/skin.obj" --faces 800 --inflate 0.02 --inflate-absolute --out "$TMP/c3.obj" > "$TMP/r3.txt"
+check "cage from an OBJ mesh (no skeleton) exits 0" test $? -eq 0
+check "no joints from an OBJ" grep -Eq '^joints +0$' "$TMP/r3.txt"
+check "absolute inflate is printed as given" grep -Eq '^inflate +0\.02$' "$TMP/r3.txt"
+
+# Errors: non-zero exit and a message naming the problem.
+"$BIN" cage --mesh "$DEMO" --faces 2 --out "$TMP/x.obj" 2> "$TMP/err.txt"
+check "too few faces fails" test $? -ne 0
+check "too few faces is named" grep -q "target faces must be at least 4" "$TMP/err.txt"
+"$BIN" cage --mesh "$TMP/none.glb" --out "$TMP/x.obj" 2> "$TMP/err.txt"
+check "a missing file fails" test $? -ne 0
+check "a missing file is named" grep -q "none.glb: no such file" "$TMP/err.txt"
+"$BIN" cage --mesh "$DEMO" --out "$TMP/x.ply" 2> "$TMP/err.txt"
+check "a non-OBJ output fails" test $? -ne 0
+check "a non-OBJ output is named" grep -q "x.ply: the cage is written as .obj" "$TMP/err.txt"
+"$BIN" cage --mesh "$DEMO" --concave-share 3 --out "$TMP/x.obj" 2> "$TMP/err.txt"
+check "a bad concave share fails and is named" grep -q "concave share must be in" "$TMP/err.txt"
+"$BIN" cage --mesh "$DEMO" --wrap sometimes --out "$TMP/x.obj" 2> "$TMP/err.txt"
+check "a bad wrap mode fails" test $? -ne 0
+
+# The real mannequin (59 separate, overlapping segments), when the shared assets are here.
+if [[ -n "$ASSETS" && -f "$ASSETS/mannequiny.glb" ]]; then
+  "$BIN" cage --mesh "$ASSETS/mannequiny.glb" --out "$TMP/m.obj" > "$TMP/m.txt"
+  check "cage on mannequiny exits 0" test $? -eq 0
+  cat "$TMP/m.txt"
+  check "mannequiny faces in 1500..2000" between "$(field faces "$TMP/m.txt")" 1500 2000
+  check "mannequiny: 45 joints" grep -Eq '^joints +45$' "$TMP/m.txt"
+  check "mannequiny: its 59 pieces are reported" grep -q "the welded skin is 59 pieces" "$TMP/m.txt"
+  check "mannequiny: wrapped" grep -Eq '^wrapped +yes' "$TMP/m.txt"
+  check "mannequiny: one closed cage" grep -Eq '^closed +yes \(0 boundary edges, 1 components\)' "$TMP/m.txt"
+  check "mannequiny: no needles" grep -Eq '^needles +0 triangles' "$TMP/m.txt"
+  check "mannequiny: quality reported" grep -Eq '^quality +[0-9.]+%' "$TMP/m.txt"
+  "$BIN" cage --mesh "$ASSETS/mannequiny.glb" --wrap never --out "$TMP/m2.obj" > "$TMP/m2.txt"
+  check "mannequiny --wrap never keeps the pieces" grep -Eq '^closed +no' "$TMP/m2.txt"
+else
+  echo "shared assets not found; skipped the mannequin checks"
+fi
+
+echo "$passed passed, $failed failed"
+[[ $failed -eq 0 ]]
