@@ -171,8 +171,10 @@ void Editor::set_scene(std::unique_ptr<Scene> scene) {
 
 void Editor::load_initial() {
   std::string path = options_.file;
+  std::string cage = options_.cage;
   if (path.empty()) {
     path = demo_character_path();
+    if (cage.empty() && !path.empty()) cage = demo_cage_path(path);  // the demo's own generated cage
     if (path.empty()) {  // not found beside the binary: make it (deterministic, about a second)
       path = "/tmp/cagewrap_demo_character.glb";
       auto st = write_glb(path, make_demo_character());
@@ -180,14 +182,14 @@ void Editor::load_initial() {
     }
   }
   std::vector<std::string> warnings;
-  auto s = has_extension(path, ".cagewrap") ? load_project_scene(path, warnings) : load_scene(path, options_.cage);
+  auto s = has_extension(path, ".cagewrap") ? load_project_scene(path, warnings) : load_scene(path, cage);
   for (const auto& w : warnings) log("warning: " + w);
   if (!s.ok()) {
     error_modal_ = s.error().message;
     log("error: " + s.error().message, true);
     return;
   }
-  log("opened " + path + (options_.cage.empty() ? "" : " with cage " + options_.cage));
+  log("opened " + path + (cage.empty() ? "" : " with cage " + cage));
   for (const auto& w : s.value()->doc().character->warnings) log("warning: " + w);
   set_scene(std::move(s).value());
 }

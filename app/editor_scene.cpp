@@ -166,6 +166,11 @@ Result<std::unique_ptr<Scene>> load_project_scene(const std::string& project_pat
   return make_scene(std::move(loaded->document));
 }
 
+std::string demo_cage_path(const std::string& character_path) {
+  std::filesystem::path p = std::filesystem::path(character_path).parent_path() / "demo_cage.obj";
+  return std::filesystem::exists(p) ? p.string() : std::string();
+}
+
 std::string demo_character_path() {
   namespace fs = std::filesystem;
   std::vector<fs::path> candidates;

@@ -93,5 +93,7 @@ Result<std::unique_ptr<Scene>> load_project_scene(const std::string& project_pat
 // The demo character shipped in assets/ (found beside the executable or the source tree), or
 // generated in-process when the file cannot be found.
 std::string demo_character_path();
+// The cage made for it by `cagewrap cage` (assets/demo_cage.obj beside the character), or "".
+std::string demo_cage_path(const std::string& character_path);
 
 }  // namespace cagewrap::app

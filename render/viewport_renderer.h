@@ -25,7 +25,7 @@ struct ViewportStyle {
   bool show_grid = true;
   bool wireframe = false;  // skin as wireframe
   bool xray = false;       // skin translucent, cage and skeleton on top
-  float cage_opacity = 0.18f;
+  float cage_opacity = 0.07f;
 };
 
 struct ViewParams {
