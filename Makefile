@@ -25,7 +25,8 @@ test: build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
 
 $(BUILD_SAN)/build.ninja:
-	cmake -S . -B $(BUILD_SAN) -G Ninja -DCMAKE_BUILD_TYPE=Debug -DCAGEWRAP_SANITIZE=ON -DCAGEWRAP_SHARED_ASSETS=$(SHARED_ASSETS) $(CMAKE_FLAGS)
+	# the editor is left out: Mesa and X11 keep allocations to exit, which LeakSanitizer reports
+	cmake -S . -B $(BUILD_SAN) -G Ninja -DCMAKE_BUILD_TYPE=Debug -DCAGEWRAP_SANITIZE=ON -DCAGEWRAP_GUI=OFF -DCAGEWRAP_SHARED_ASSETS=$(SHARED_ASSETS) $(CMAKE_FLAGS)
 
 test-sanitize: setup $(BUILD_SAN)/build.ninja
 	cmake --build $(BUILD_SAN) -j $(JOBS)
