@@ -141,7 +141,7 @@ TEST(AutoCage, DemoCharacterCage) {
   EXPECT_GE(r->faces, 1500u);
   EXPECT_LE(r->faces, 2500u);
   EXPECT_EQ(r->joints, 21u);
-  EXPECT_LT(r->seconds, 30.0) << "a few seconds on a desktop; generous for a loaded test machine";
+  RecordProperty("seconds", std::to_string(r->seconds));  // timing belongs to benchmarks, not assertions
   EXPECT_TRUE(r->check.closed());
   EXPECT_TRUE(r->check.manifold());
   EXPECT_TRUE(r->check.oriented());
