@@ -400,7 +400,7 @@ TEST(GltfLoader, MannequinyLoadsWithoutErrors) {
   for (const Clip& clip : c->clips) EXPECT_GT(clip.duration, 0.0) << clip.name;
   for (const auto& w : c->warnings) std::printf("warning: %s\n", w.c_str());
   std::printf("mannequiny.glb loaded in %.3f s\n", seconds);
-  EXPECT_LT(seconds, 5.0);  // well under a second in Release; generous for sanitizer builds
+  RecordProperty("load_seconds", std::to_string(seconds));  // timing belongs to benchmarks, not assertions
 }
 
 TEST(GltfLoader, OtherRealAssetsLoad) {
