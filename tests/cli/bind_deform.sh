@@ -31,24 +31,7 @@ same_after_shift_bin() {
 
 # ---------------------------------------------------------------------------------------- fixtures
 # skin: an octahedron of radius 0.5 with one vertex off-centre; cage: the cube [-1,1]^3 as 6 quads
-cat >"$T/skin.obj" <<'EOF'
-v 0.5 0 0
-v -0.5 0 0
-v 0 0.5 0
-v 0 -0.5 0
-v 0 0 0.5
-v 0 0 -0.5
-v 0.1 0.2 -0.3
-f 1 3 5
-f 3 2 5
-f 2 4 5
-f 4 1 5
-f 3 1 6
-f 2 3 6
-f 4 2 6
-f 1 4 6
-f 1 7 3
-EOF
+write_skin_fixture
 cat >"$T/cage.obj" <<'EOF'
 v -1 -1 -1
 v 1 -1 -1

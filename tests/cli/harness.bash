@@ -39,3 +39,25 @@ finish() {
   [ "$failed" -eq 0 ]
 }
 
+
+# write_skin_fixture: $T/skin.obj, an octahedron of radius 0.5 with one vertex off-centre (7 vertices, 9 faces)
+write_skin_fixture() {
+cat >"$T/skin.obj" <<'EOF'
+v 0.5 0 0
+v -0.5 0 0
+v 0 0.5 0
+v 0 -0.5 0
+v 0 0 0.5
+v 0 0 -0.5
+v 0.1 0.2 -0.3
+f 1 3 5
+f 3 2 5
+f 2 4 5
+f 4 1 5
+f 3 1 6
+f 2 3 6
+f 4 2 6
+f 1 4 6
+f 1 7 3
+EOF
+}
