@@ -24,6 +24,9 @@
 #include "app/editor_scene.h"
 #include "core/camera.h"
 #include "core/mesh_io.h"
+#include "core/move_gizmo.h"
+#include "core/soft_selection.h"
+#include "core/triangle_bvh.h"
 #include "core/picking.h"
 #include "core/project_io.h"
 #include "core/selection.h"
@@ -37,6 +40,9 @@ namespace {
 
 // Fixed panel layout (pixels): the 3-D view is what the panels leave free.
 constexpr float kMenuHeight = 19.0f, kLeftWidth = 260.0f, kRightWidth = 300.0f, kBottomHeight = 170.0f;
+
+enum class SelectMode : uint8_t { kCageVertices, kCageFaces, kSkinVertices, kJoints };  // F5..F8
+enum class SelectOp : uint8_t { kAll, kNone, kInvert, kGrow, kShrink, kMirror };
 
 struct LogLine {
   std::string text;
@@ -58,13 +64,27 @@ class Editor {
   void handle_input();
   glm::dvec2 to_view(const ImVec2& p) const;
   bool in_view(const ImVec2& p) const;
+  static const char* mode_name(SelectMode m);
+  IndexSet& active_set();
+  uint32_t active_count() const;
+  void edit_selection(SelectOp op);
+  std::vector<glm::vec3> face_centroids(std::span<const glm::vec3> positions) const;
+  double scene_size() const;
+  double mirror_tolerance() const;
+  IndexSet move_set() const;
+  Result<MoveWeights> move_weights_now() const;
   std::optional<glm::dvec3> selection_centre() const;
-  bool gizmo_handles(glm::dvec2& centre, glm::dvec2 ends[3]) const;
-  void apply_move(const glm::dvec3& delta);
-  void begin_move();
+  GizmoLayout gizmo() const;
+  void apply_move(const glm::dvec3& total);
+  bool begin_move(GizmoHandle handle, glm::dvec2 from);
   void end_move();
   double grid_spacing() const;
+  const TriangleBvh& skin_occluder();
   void click_select(const ImVec2& mouse, bool add, bool remove);
+  void box_select_in_mode(const ImVec2& a, const ImVec2& b, bool add, bool remove);
+  void draw_toolbar();
+  void draw_move_tool();
+  void update_selection_display();
   void draw_gizmo();
   void undo();
   void redo();
@@ -72,6 +92,7 @@ class Editor {
   bool save_project_to(const std::string& path);
   bool open_path(const std::string& path);
   void run_script_step();
+  void script_gizmo_drag(std::istringstream& in);
   void draw_file_popups();
   void draw_panels();
   void draw_menu();
@@ -92,10 +113,24 @@ class Editor {
   Selection selection_;
   // the 3-D view rectangle in window pixels (top-left origin), updated every frame
   float view_x_ = 0, view_y_ = 0, view_w_ = 1, view_h_ = 1;
-  // gizmo drag: -1 none, 0..2 axis, 3 screen plane
-  int drag_axis_ = -1;
-  glm::dvec3 drag_total_{0.0};
+  SelectMode mode_ = SelectMode::kCageVertices;
+  SoftSelectionParams soft_;
+  MirrorParams mirror_;                   // tolerance set from mirror_tolerance_share_ when used
+  double mirror_tolerance_share_ = 1e-3;  // of the skin's bounding-box diagonal
+  // gizmo drag
+  GizmoHandle drag_handle_ = GizmoHandle::kNone;
+  glm::dvec2 drag_from_{0.0};    // view pixels where it began
+  glm::dvec3 drag_centre_{0.0};  // gizmo centre when it began
+  glm::dvec3 drag_total_{0.0};   // displacement so far (snapped)
+  MoveWeights drag_weights_;
   Document drag_start_;
+  PolygonPicker cage_picker_;
+  TriangleBvh skin_bvh_;
+  bool skin_bvh_built_ = false;
+  // what the viewport shows of the selection, rebuilt when the selection or the tool changes
+  std::vector<float> cage_weights_;
+  std::vector<uint8_t> face_mask_, joint_mask_;
+  std::string display_key_;
   bool box_selecting_ = false;
   ImVec2 box_start_{0, 0};
   std::string project_path_input_;
@@ -106,13 +141,11 @@ class Editor {
   std::string pending_screenshot_;
   std::string dropped_;  // a file dropped on the window, opened next frame
   std::string title_;
-  std::vector<uint8_t> selected_mask_;
   std::unique_ptr<Scene> scene_;
   std::deque<LogLine> log_;
   std::string error_modal_;
   bool show_help_ = false;
   bool topology_dirty_ = true;
-  int selected_joint_ = -1;
   double fps_ = 0.0;
 };
 
@@ -163,7 +196,9 @@ bool Editor::open_window() {
 void Editor::set_scene(std::unique_ptr<Scene> scene) {
   scene_ = std::move(scene);
   topology_dirty_ = true;
-  selected_joint_ = -1;
+  skin_bvh_built_ = false;
+  display_key_.clear();
+  soft_.radius = 0.1 * scene_size();
   if (options_.play && scene_->clip >= 0) scene_->player.play();
   selection_ = Selection{};
   frame_all();
@@ -205,8 +240,44 @@ void Editor::upload_topology() {
                                                            ? std::span<const Tri>()
                                                            : std::span<const Tri>(reinterpret_cast<const Tri*>(scene_->skin_topology.face_vertices.data()),
                                                                                   scene_->skin_topology.face_vertices.size() / 3));
-  if (scene_->doc().cage) renderer_->set_cage_topology(scene_->doc().cage->polygons, scene_->doc().cage->elements);
+  if (const Cage* cage = scene_->doc().cage.get()) {
+    renderer_->set_cage_topology(cage->polygons, cage->elements, cage->element_face);
+    cage_picker_ = PolygonPicker(cage->polygons);
+  }
+  skin_bvh_built_ = false;
+  display_key_.clear();
   topology_dirty_ = false;
+}
+
+// Rebuilds the per-vertex display of the selection (soft weights, face and joint masks) when the
+// selection, the tool settings or the cage changed.
+void Editor::update_selection_display() {
+  const Cage* cage = scene_->doc().cage.get();
+  std::string key = std::to_string(reinterpret_cast<uintptr_t>(cage)) + "/" + std::to_string(static_cast<int>(mode_)) + "/" +
+                    std::to_string(soft_.enabled) + std::to_string(soft_.radius) + std::to_string(static_cast<int>(soft_.falloff)) +
+                    std::to_string(static_cast<int>(soft_.distance)) + "/" + std::to_string(mirror_.enabled) +
+                    std::to_string(mirror_tolerance_share_) + "/";
+  for (const IndexSet* set : {&selection_.cage_vertices, &selection_.cage_faces, &selection_.joints}) {
+    key += std::to_string(set->size()) + ":";
+    for (uint32_t i : *set) key += std::to_string(i) + ",";
+  }
+  if (key == display_key_) return;
+  display_key_ = std::move(key);
+  cage_weights_.clear();
+  face_mask_.clear();
+  if (cage) {
+    auto w = move_weights_now();
+    if (w.ok()) cage_weights_ = w.value().dense(cage->num_vertices());
+    if (mode_ != SelectMode::kCageFaces)  // the vertex selection stays visible in the other modes
+      for (uint32_t v : selection_.cage_vertices)
+        if (v < cage_weights_.size()) cage_weights_[v] = std::max(cage_weights_[v], 1.0f);
+    face_mask_.assign(cage->polygons.num_faces(), 0);
+    for (uint32_t f : selection_.cage_faces)
+      if (f < face_mask_.size()) face_mask_[f] = 1;
+  }
+  joint_mask_.assign(scene_->joint_heads.size(), 0);
+  for (uint32_t j : selection_.joints)
+    if (j < joint_mask_.size()) joint_mask_[j] = 1;
 }
 
 glm::dvec2 Editor::to_view(const ImVec2& p) const { return {p.x - view_x_, p.y - view_y_}; }
@@ -215,110 +286,242 @@ bool Editor::in_view(const ImVec2& p) const {
   return p.x >= view_x_ && p.y >= view_y_ && p.x < view_x_ + view_w_ && p.y < view_y_ + view_h_;
 }
 
+const char* Editor::mode_name(SelectMode m) {
+  switch (m) {
+    case SelectMode::kCageVertices: return "cage vertices";
+    case SelectMode::kCageFaces: return "cage faces";
+    case SelectMode::kSkinVertices: return "skin vertices";
+    case SelectMode::kJoints: return "joints";
+  }
+  return "?";
+}
+
+IndexSet& Editor::active_set() {
+  switch (mode_) {
+    case SelectMode::kCageFaces: return selection_.cage_faces;
+    case SelectMode::kSkinVertices: return selection_.skin_vertices;
+    case SelectMode::kJoints: return selection_.joints;
+    case SelectMode::kCageVertices: break;
+  }
+  return selection_.cage_vertices;
+}
+
+uint32_t Editor::active_count() const {
+  if (!scene_) return 0;
+  const Cage* cage = scene_->doc().cage.get();
+  switch (mode_) {
+    case SelectMode::kCageVertices: return cage ? static_cast<uint32_t>(cage->num_vertices()) : 0;
+    case SelectMode::kCageFaces: return cage ? static_cast<uint32_t>(cage->polygons.num_faces()) : 0;
+    case SelectMode::kSkinVertices: return static_cast<uint32_t>(scene_->skin_rest.size());
+    case SelectMode::kJoints: return static_cast<uint32_t>(scene_->joint_heads.size());
+  }
+  return 0;
+}
+
+// Select menu operations on the active mode's set.
+void Editor::edit_selection(SelectOp op) {
+  if (!scene_) return;
+  IndexSet& s = active_set();
+  const uint32_t n = active_count();
+  const Cage* cage = scene_->doc().cage.get();
+  const bool cage_mode = mode_ == SelectMode::kCageVertices || mode_ == SelectMode::kCageFaces;
+  if (cage_mode && !cage) return;
+  switch (op) {
+    case SelectOp::kAll: s = select_all(n); break;
+    case SelectOp::kNone: s.clear(); break;
+    case SelectOp::kInvert: s = invert(s, n); break;
+    case SelectOp::kGrow:
+    case SelectOp::kShrink: {
+      const bool grow = op == SelectOp::kGrow;
+      if (mode_ == SelectMode::kCageVertices) s = grow ? grow_vertices(s, cage->polygons) : shrink_vertices(s, cage->polygons);
+      else if (mode_ == SelectMode::kCageFaces) s = grow ? grow_faces(s, cage->polygons) : shrink_faces(s, cage->polygons);
+      else if (mode_ == SelectMode::kSkinVertices) s = grow ? grow_vertices(s, scene_->skin_topology) : shrink_vertices(s, scene_->skin_topology);
+      break;
+    }
+    case SelectOp::kMirror: {
+      const double tol = mirror_tolerance();
+      if (mode_ == SelectMode::kCageVertices) s.add(mirror_x(s, cage->polygons.positions, tol).mirrored.indices());
+      else if (mode_ == SelectMode::kSkinVertices) s.add(mirror_x(s, scene_->skin_rest, tol).mirrored.indices());
+      else if (mode_ == SelectMode::kJoints) s.add(mirror_x(s, scene_->joint_heads, tol).mirrored.indices());
+      else if (mode_ == SelectMode::kCageFaces) {
+        std::vector<glm::vec3> centroids = face_centroids(cage->polygons.positions);
+        s.add(mirror_x(s, centroids, tol).mirrored.indices());
+      }
+      break;
+    }
+  }
+}
+
+std::vector<glm::vec3> Editor::face_centroids(std::span<const glm::vec3> positions) const {
+  std::vector<glm::vec3> c;
+  if (!scene_ || !scene_->doc().cage) return c;
+  const PolyMesh& m = scene_->doc().cage->polygons;
+  c.reserve(m.num_faces());
+  for (size_t f = 0; f < m.num_faces(); ++f) {
+    glm::dvec3 sum(0.0);
+    for (uint32_t v : m.face(f)) sum += glm::dvec3(positions[v]);
+    c.emplace_back(sum / double(std::max<size_t>(1, m.face(f).size())));
+  }
+  return c;
+}
+
+double Editor::scene_size() const { return scene_ ? std::max(bounding_box(scene_->skin_rest).diagonal(), 1e-9) : 1.0; }
+double Editor::mirror_tolerance() const { return mirror_tolerance_share_ * scene_size(); }
+
+// The cage vertices a move acts on: the selected vertices, or the corners of the selected faces.
+IndexSet Editor::move_set() const {
+  if (!scene_ || !scene_->doc().cage) return {};
+  if (mode_ == SelectMode::kCageVertices) return selection_.cage_vertices;
+  if (mode_ == SelectMode::kCageFaces) return face_vertices(selection_.cage_faces, scene_->doc().cage->polygons);
+  return {};
+}
+
+// Soft-selection and mirror shares of the move set, measured on the rest cage (so a pose or an
+// earlier sculpt does not change which vertices follow).
+Result<MoveWeights> Editor::move_weights_now() const {
+  const Cage& cage = *scene_->doc().cage;
+  MirrorParams mirror = mirror_;
+  mirror.tolerance = mirror_tolerance();
+  return move_weights(move_set(), cage.polygons.positions, cage.polygons, soft_, mirror);
+}
+
 std::optional<glm::dvec3> Editor::selection_centre() const {
-  if (!scene_ || !scene_->doc().cage || selection_.cage_vertices.indices().empty()) return std::nullopt;
+  IndexSet s = move_set();
+  if (s.empty()) return std::nullopt;
   glm::dvec3 c(0.0);
-  for (uint32_t v : selection_.cage_vertices.indices()) c += glm::dvec3(scene_->cage_posed[v]);
-  return c / double(selection_.cage_vertices.indices().size());
+  for (uint32_t v : s) c += glm::dvec3(scene_->cage_posed[v]);
+  return c / double(s.size());
 }
 
-// Screen-space axis handles of the move gizmo: end points in window pixels.
-bool Editor::gizmo_handles(glm::dvec2& centre, glm::dvec2 ends[3]) const {
+GizmoLayout Editor::gizmo() const {
   auto c = selection_centre();
-  if (!c) return false;
-  Viewport vp{view_w_, view_h_};
-  ScreenPoint sc = camera_.project(*c, vp.width, vp.height);
-  if (!sc.in_clip_range) return false;
-  centre = sc.pixel + glm::dvec2(view_x_, view_y_);
-  const double len_world = 80.0 * camera_.world_per_pixel(view_h_) * (sc.view_depth / camera_.distance());
-  for (int a = 0; a < 3; ++a) {
-    glm::dvec3 axis(0.0);
-    axis[a] = len_world;
-    ends[a] = camera_.project(*c + axis, vp.width, vp.height).pixel + glm::dvec2(view_x_, view_y_);
-  }
-  return true;
+  if (!c) return {};
+  GizmoLayout g = gizmo_layout(camera_, Viewport{view_w_, view_h_}, drag_handle_ != GizmoHandle::kNone ? drag_centre_ + drag_total_ : *c);
+  return g;
 }
 
-void Editor::apply_move(const glm::dvec3& delta) {
-  // one drag = one undo step: the document is rebuilt from the drag's start each time
-  drag_total_ += delta;
-  glm::dvec3 total = drag_total_;
-  if (ImGui::GetIO().KeyCtrl) {  // snap the displacement to the grid
-    const double g = grid_spacing();
-    total = glm::round(total / g) * g;
-  }
-  auto verts = selection_.cage_vertices.indices();
-  scene_->live = scene_->moved(drag_start_, verts, total);
+// One drag = one undo step: the document is rebuilt from the drag's start with the drag's total
+// displacement each time, so nothing accumulates rounding and undo restores the start exactly.
+void Editor::apply_move(const glm::dvec3& total) {
+  drag_total_ = ImGui::GetIO().KeyCtrl ? snap_displacement(total, grid_spacing()) : total;
+  scene_->live = scene_->moved(drag_start_, drag_weights_, drag_total_);
 }
 
-void Editor::begin_move() {
+bool Editor::begin_move(GizmoHandle handle, glm::dvec2 from) {
+  auto w = move_weights_now();
+  if (!w.ok()) {
+    log("error: " + w.error().message, true);
+    return false;
+  }
+  drag_weights_ = std::move(w).value();
+  if (!drag_weights_.unmatched.empty())
+    log("warning: X-mirror: " + std::to_string(drag_weights_.unmatched.size()) + " selected vertices have no counterpart (first: vertex " +
+        std::to_string(drag_weights_.unmatched.front()) + ")");
   drag_start_ = scene_->doc();
   drag_total_ = glm::dvec3(0.0);
+  drag_handle_ = handle;
+  drag_from_ = from;
+  drag_centre_ = selection_centre().value_or(glm::dvec3(0.0));
   scene_->history.begin(drag_start_);
+  return true;
 }
 
 void Editor::end_move() {
   if (scene_->live) scene_->history.commit("Move cage vertices", *scene_->live);
   else scene_->history.cancel();
   scene_->live.reset();
-  drag_axis_ = -1;
+  drag_handle_ = GizmoHandle::kNone;
 }
 
 double Editor::grid_spacing() const {
-  double diag = scene_ ? bounding_box(scene_->skin_rest).diagonal() : 1.0;
-  return std::pow(10.0, std::floor(std::log10(std::max(diag, 1e-6) / 10.0)));
+  return std::pow(10.0, std::floor(std::log10(scene_size() / 10.0)));
 }
 
+const TriangleBvh& Editor::skin_occluder() {
+  const auto& fv = scene_->skin_topology.face_vertices;
+  std::span<const Tri> tris(reinterpret_cast<const Tri*>(fv.data()), fv.size() / 3);
+  if (!skin_bvh_built_) {
+    skin_bvh_ = TriangleBvh(scene_->skin_posed, tris);
+    skin_bvh_built_ = true;
+  } else {
+    skin_bvh_.refit(scene_->skin_posed);
+  }
+  return skin_bvh_;
+}
+
+// Click: replace, shift adds, ctrl removes. In cage-vertex mode a click that misses every vertex
+// may still pick a joint (the skeleton is drawn on top).
 void Editor::click_select(const ImVec2& mouse, bool add, bool remove) {
   Viewport vp{view_w_, view_h_};
   glm::dvec2 px = to_view(mouse);
-  if (scene_->doc().cage && style_.show_cage) {
-    auto v = pick_vertex(camera_, vp, px, scene_->cage_posed, 8.0);
-    if (v) {
-      uint32_t idx[1] = {*v};
-      if (remove) selection_.cage_vertices.remove(idx);
-      else if (add) selection_.cage_vertices.add(idx);
-      else selection_.cage_vertices.set(idx);
-      return;
-    }
+  std::optional<uint32_t> hit;
+  IndexSet* set = &active_set();
+  switch (mode_) {
+    case SelectMode::kCageVertices:
+      if (scene_->doc().cage && style_.show_cage) hit = pick_vertex(camera_, vp, px, scene_->cage_posed, 8.0);
+      if (!hit && style_.show_skeleton && (hit = pick_joint(camera_, vp, px, scene_->joint_heads, 8.0))) set = &selection_.joints;
+      break;
+    case SelectMode::kCageFaces:
+      if (scene_->doc().cage && style_.show_cage) {
+        cage_picker_.refit(scene_->cage_posed);
+        if (auto f = cage_picker_.pick(camera_.ray(px.x, px.y, vp.width, vp.height))) hit = f->face;
+      }
+      break;
+    case SelectMode::kSkinVertices:
+      if (style_.show_skin) hit = pick_vertex(camera_, vp, px, scene_->skin_posed, 8.0, style_.xray ? nullptr : &skin_occluder());
+      break;
+    case SelectMode::kJoints:
+      if (style_.show_skeleton) hit = pick_joint(camera_, vp, px, scene_->joint_heads, 8.0);
+      break;
   }
-  if (style_.show_skeleton) {
-    auto j = pick_joint(camera_, vp, px, scene_->joint_heads, 8.0);
-    if (j) {
-      selected_joint_ = static_cast<int>(*j);
-      return;
+  if (hit) {
+    uint32_t idx[1] = {*hit};
+    if (remove) set->remove(idx);
+    else if (add) set->add(idx);
+    else {
+      if (set != &active_set()) active_set().clear();
+      set->set(idx);
     }
+    return;
   }
   if (!add && !remove) {
-    selection_.cage_vertices.clear();
-    selected_joint_ = -1;
+    active_set().clear();
+    if (mode_ == SelectMode::kCageVertices) selection_.joints.clear();
   }
+}
+
+void Editor::box_select_in_mode(const ImVec2& a, const ImVec2& b, bool add, bool remove) {
+  Viewport vp{view_w_, view_h_};
+  std::vector<uint32_t> hits;
+  switch (mode_) {
+    case SelectMode::kCageVertices:
+      if (scene_->doc().cage) hits = box_select(camera_, vp, to_view(a), to_view(b), scene_->cage_posed);
+      break;
+    case SelectMode::kCageFaces:
+      if (scene_->doc().cage) hits = box_select(camera_, vp, to_view(a), to_view(b), face_centroids(scene_->cage_posed));
+      break;
+    case SelectMode::kSkinVertices:
+      hits = box_select(camera_, vp, to_view(a), to_view(b), scene_->skin_posed, style_.xray ? nullptr : &skin_occluder());
+      break;
+    case SelectMode::kJoints:
+      hits = box_select(camera_, vp, to_view(a), to_view(b), scene_->joint_heads);
+      break;
+  }
+  IndexSet& s = active_set();
+  if (remove) s.remove(hits);
+  else if (add) s.add(hits);
+  else s.set(hits);
 }
 
 void Editor::handle_input() {
   ImGuiIO& io = ImGui::GetIO();
   const bool over_view = in_view(io.MousePos) && !io.WantCaptureMouse;
-  if (scene_ && drag_axis_ >= 0) {  // a gizmo drag in progress
+  if (scene_ && drag_handle_ != GizmoHandle::kNone) {  // a gizmo drag in progress
     if (!io.MouseDown[0]) {
       end_move();
     } else if (io.MouseDelta.x != 0 || io.MouseDelta.y != 0) {
-      glm::dvec2 centre, ends[3];
-      if (gizmo_handles(centre, ends)) {
-        glm::dvec2 d(io.MouseDelta.x, io.MouseDelta.y);
-        const double wpp = camera_.world_per_pixel(view_h_);
-        if (drag_axis_ == 3) {
-          apply_move(wpp * (d.x * camera_.right() - d.y * camera_.up()));
-        } else {
-          glm::dvec2 axis = ends[drag_axis_] - centre;
-          double len = glm::length(axis);
-          if (len > 1e-3) {
-            const double world_len = 80.0 * wpp * (camera_.project(*selection_centre(), view_w_, view_h_).view_depth / camera_.distance());
-            glm::dvec3 dir(0.0);
-            dir[drag_axis_] = 1.0;
-            apply_move(dir * (glm::dot(d, axis / len) / len * world_len));
-          }
-        }
-      }
+      auto d = gizmo_drag(camera_, Viewport{view_w_, view_h_}, drag_handle_, drag_centre_, drag_from_, to_view(io.MousePos));
+      if (d) apply_move(*d);
     }
     return;
   }
@@ -330,20 +533,9 @@ void Editor::handle_input() {
     else if (io.MouseDown[2]) camera_.pan(d.x, d.y, view_h_);
     if (io.MouseWheel != 0) camera_.zoom(io.MouseWheel);
     if (!alt && ImGui::IsMouseClicked(0)) {
-      glm::dvec2 centre, ends[3];
-      int hit = -1;
-      if (gizmo_handles(centre, ends)) {
-        glm::dvec2 m(io.MousePos.x, io.MousePos.y);
-        if (glm::length(m - centre) < 9) hit = 3;
-        for (int a = 0; a < 3 && hit < 0; ++a) {
-          glm::dvec2 ab = ends[a] - centre;
-          double t = glm::clamp(glm::dot(m - centre, ab) / std::max(glm::dot(ab, ab), 1e-9), 0.0, 1.0);
-          if (glm::length(m - (centre + t * ab)) < 6 && t > 0.15) hit = a;
-        }
-      }
-      if (hit >= 0) {
-        drag_axis_ = hit;
-        begin_move();
+      const GizmoHandle hit = gizmo_hit(gizmo(), to_view(io.MousePos));
+      if (hit != GizmoHandle::kNone) {
+        begin_move(hit, to_view(io.MousePos));
       } else {
         box_selecting_ = true;
         box_start_ = io.MousePos;
@@ -354,14 +546,9 @@ void Editor::handle_input() {
     box_selecting_ = false;
     ImVec2 m = io.MousePos;
     const bool add = io.KeyShift, remove = io.KeyCtrl;
-    if (std::abs(m.x - box_start_.x) < 4 && std::abs(m.y - box_start_.y) < 4) {
-      click_select(m, add, remove);
-    } else if (scene_ && scene_->doc().cage) {
-      auto hits = box_select(camera_, Viewport{view_w_, view_h_}, to_view(box_start_), to_view(m), scene_->cage_posed);
-      if (remove) selection_.cage_vertices.remove(hits);
-      else if (add) selection_.cage_vertices.add(hits);
-      else selection_.cage_vertices.set(hits);
-    }
+    if (!scene_) return;
+    if (std::abs(m.x - box_start_.x) < 4 && std::abs(m.y - box_start_.y) < 4) click_select(m, add, remove);
+    else box_select_in_mode(box_start_, m, add, remove);
   }
   if (!io.WantCaptureKeyboard && scene_) {
     const bool ctrl = io.KeyCtrl, shift = io.KeyShift;
@@ -370,15 +557,18 @@ void Editor::handle_input() {
     if (ctrl && ImGui::IsKeyPressed(GLFW_KEY_S)) request_save();
     if (ctrl && ImGui::IsKeyPressed(GLFW_KEY_O)) open_open_popup_ = true;
     if (ctrl && ImGui::IsKeyPressed(GLFW_KEY_Q)) quit_requested_ = true;
-    if (ctrl && ImGui::IsKeyPressed(GLFW_KEY_A) && scene_->doc().cage)
-      selection_.cage_vertices = select_all(scene_->doc().cage->num_vertices());
-    if (ctrl && ImGui::IsKeyPressed(GLFW_KEY_I) && scene_->doc().cage)
-      selection_.cage_vertices = invert(selection_.cage_vertices, scene_->doc().cage->num_vertices());
-    if (!ctrl && ImGui::IsKeyPressed(GLFW_KEY_KP_ADD) && scene_->doc().cage)
-      selection_.cage_vertices = grow_vertices(selection_.cage_vertices, scene_->doc().cage->polygons);
-    if (!ctrl && ImGui::IsKeyPressed(GLFW_KEY_KP_SUBTRACT) && scene_->doc().cage)
-      selection_.cage_vertices = shrink_vertices(selection_.cage_vertices, scene_->doc().cage->polygons);
-    if (ImGui::IsKeyPressed(GLFW_KEY_ESCAPE)) selection_.cage_vertices.clear();
+    if (ctrl && ImGui::IsKeyPressed(GLFW_KEY_A)) edit_selection(SelectOp::kAll);
+    if (ctrl && ImGui::IsKeyPressed(GLFW_KEY_I)) edit_selection(SelectOp::kInvert);
+    if (ctrl && ImGui::IsKeyPressed(GLFW_KEY_M)) edit_selection(SelectOp::kMirror);
+    if (!ctrl && (ImGui::IsKeyPressed(GLFW_KEY_KP_ADD) || ImGui::IsKeyPressed(GLFW_KEY_PERIOD))) edit_selection(SelectOp::kGrow);
+    if (!ctrl && (ImGui::IsKeyPressed(GLFW_KEY_KP_SUBTRACT) || ImGui::IsKeyPressed(GLFW_KEY_COMMA))) edit_selection(SelectOp::kShrink);
+    if (ImGui::IsKeyPressed(GLFW_KEY_ESCAPE)) edit_selection(SelectOp::kNone);
+    for (int k = 0; k < 4; ++k)
+      if (ImGui::IsKeyPressed(GLFW_KEY_F5 + k)) mode_ = static_cast<SelectMode>(k);
+    if (!ctrl && ImGui::IsKeyPressed(GLFW_KEY_B)) soft_.enabled = !soft_.enabled;
+    if (ImGui::IsKeyPressed(GLFW_KEY_LEFT_BRACKET)) soft_.radius = std::max(soft_.radius / 1.25, 1e-4 * scene_size());
+    if (ImGui::IsKeyPressed(GLFW_KEY_RIGHT_BRACKET)) soft_.radius = std::min(soft_.radius * 1.25, 2.0 * scene_size());
+    if (shift && !ctrl && ImGui::IsKeyPressed(GLFW_KEY_X)) mirror_.enabled = !mirror_.enabled;
     if (!ctrl && ImGui::IsKeyPressed(GLFW_KEY_F)) frame_all();
     if (ImGui::IsKeyPressed(GLFW_KEY_SPACE)) scene_->player.playing() ? scene_->player.pause() : scene_->player.play();
     if (ImGui::IsKeyPressed(GLFW_KEY_KP_1) || ImGui::IsKeyPressed(GLFW_KEY_1)) camera_.set_preset(ctrl ? ViewPreset::kBack : ViewPreset::kFront);
@@ -397,16 +587,36 @@ void Editor::draw_gizmo() {
     dl->AddRectFilled(box_start_, m, IM_COL32(255, 160, 40, 40));
     dl->AddRect(box_start_, m, IM_COL32(255, 160, 40, 200));
   }
-  glm::dvec2 centre, ends[3];
-  if (!scene_ || !gizmo_handles(centre, ends)) return;
+  if (!scene_) return;
+  const GizmoLayout g = gizmo();
+  if (!g.visible) return;
+  const ImU32 active = IM_COL32(255, 230, 80, 255);
   const ImU32 colours[3] = {IM_COL32(235, 70, 70, 255), IM_COL32(90, 220, 90, 255), IM_COL32(80, 130, 255, 255)};
-  ImVec2 c(static_cast<float>(centre.x), static_cast<float>(centre.y));
-  for (int a = 0; a < 3; ++a) {
-    ImVec2 e(static_cast<float>(ends[a].x), static_cast<float>(ends[a].y));
-    dl->AddLine(c, e, drag_axis_ == a ? IM_COL32(255, 230, 80, 255) : colours[a], 3.0f);
-    dl->AddCircleFilled(e, 5.0f, drag_axis_ == a ? IM_COL32(255, 230, 80, 255) : colours[a]);
+  const ImVec2 o(view_x_, view_y_);
+  auto at = [&](glm::dvec2 p) { return ImVec2(o.x + static_cast<float>(p.x), o.y + static_cast<float>(p.y)); };
+  for (int p = 0; p < 3; ++p) {  // plane squares, coloured by their normal axis
+    const bool on = static_cast<int>(drag_handle_) == 3 + p;
+    ImVec2 q[4];
+    for (int k = 0; k < 4; ++k) q[k] = at(g.plane[p][k]);
+    dl->AddConvexPolyFilled(q, 4, on ? IM_COL32(255, 230, 80, 150) : (colours[p] & 0x00FFFFFF) | 0x60000000);
+    dl->AddPolyline(q, 4, on ? active : colours[p], ImDrawFlags_Closed, 1.5f);
   }
-  dl->AddRect(ImVec2(c.x - 6, c.y - 6), ImVec2(c.x + 6, c.y + 6), drag_axis_ == 3 ? IM_COL32(255, 230, 80, 255) : IM_COL32(230, 230, 230, 255), 0, 0, 2.0f);
+  for (int a = 0; a < 3; ++a) {
+    const bool on = static_cast<int>(drag_handle_) == a;
+    dl->AddLine(at(g.centre), at(g.axis_end[a]), on ? active : colours[a], 3.0f);
+    dl->AddCircleFilled(at(g.axis_end[a]), 5.0f, on ? active : colours[a]);
+  }
+  const ImVec2 c = at(g.centre);
+  dl->AddRect(ImVec2(c.x - 6, c.y - 6), ImVec2(c.x + 6, c.y + 6), drag_handle_ == GizmoHandle::kScreen ? active : IM_COL32(230, 230, 230, 255), 0, 0, 2.0f);
+  if (drag_handle_ != GizmoHandle::kNone) {
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "%+.4f %+.4f %+.4f", drag_total_.x, drag_total_.y, drag_total_.z);
+    dl->AddText(ImVec2(c.x + 12, c.y + 10), IM_COL32(255, 255, 255, 230), buf);
+  }
+  if (soft_.enabled) {  // the soft radius as a circle at the centre's depth
+    const double px = soft_.radius / std::max(g.world_length / kGizmoAxisPixels, 1e-12);
+    dl->AddCircle(c, static_cast<float>(px), IM_COL32(255, 240, 90, 110), 64, 1.0f);
+  }
 }
 
 void Editor::undo() {
@@ -483,16 +693,25 @@ void Editor::draw_menu() {
     const bool u = scene_ && scene_->history.can_undo(), r = scene_ && scene_->history.can_redo();
     if (ImGui::MenuItem(u ? scene_->history.undo_label().c_str() : "Undo", "Ctrl+Z", false, u)) undo();
     if (ImGui::MenuItem(r ? scene_->history.redo_label().c_str() : "Redo", "Ctrl+Shift+Z", false, r)) redo();
+    ImGui::EndMenu();
+  }
+  if (ImGui::BeginMenu("Select")) {
+    const char* keys[] = {"F5", "F6", "F7", "F8"};
+    for (int k = 0; k < 4; ++k)
+      if (ImGui::MenuItem(mode_name(static_cast<SelectMode>(k)), keys[k], mode_ == static_cast<SelectMode>(k)))
+        mode_ = static_cast<SelectMode>(k);
     ImGui::Separator();
-    const bool cage = scene_ && scene_->doc().cage;
-    if (ImGui::MenuItem("Select all", "Ctrl+A", false, cage)) selection_.cage_vertices = select_all(scene_->doc().cage->num_vertices());
-    if (ImGui::MenuItem("Select none", "Esc", false, cage)) selection_.cage_vertices.clear();
-    if (ImGui::MenuItem("Invert selection", "Ctrl+I", false, cage))
-      selection_.cage_vertices = invert(selection_.cage_vertices, scene_->doc().cage->num_vertices());
-    if (ImGui::MenuItem("Grow selection", "Num+", false, cage))
-      selection_.cage_vertices = grow_vertices(selection_.cage_vertices, scene_->doc().cage->polygons);
-    if (ImGui::MenuItem("Shrink selection", "Num-", false, cage))
-      selection_.cage_vertices = shrink_vertices(selection_.cage_vertices, scene_->doc().cage->polygons);
+    const bool any = active_count() > 0;
+    const bool meshy = mode_ != SelectMode::kJoints;
+    if (ImGui::MenuItem("All", "Ctrl+A", false, any)) edit_selection(SelectOp::kAll);
+    if (ImGui::MenuItem("None", "Esc", false, any)) edit_selection(SelectOp::kNone);
+    if (ImGui::MenuItem("Invert", "Ctrl+I", false, any)) edit_selection(SelectOp::kInvert);
+    if (ImGui::MenuItem("Grow", "Num+ or .", false, any && meshy)) edit_selection(SelectOp::kGrow);
+    if (ImGui::MenuItem("Shrink", "Num- or ,", false, any && meshy)) edit_selection(SelectOp::kShrink);
+    if (ImGui::MenuItem("Add mirror (X)", "Ctrl+M", false, any)) edit_selection(SelectOp::kMirror);
+    ImGui::Separator();
+    ImGui::MenuItem("Soft selection", "B", &soft_.enabled);
+    ImGui::MenuItem("X-mirror editing", "Shift+X", &mirror_.enabled);
     ImGui::EndMenu();
   }
   if (ImGui::BeginMenu("View")) {
@@ -531,8 +750,11 @@ void Editor::draw_outliner() {
         int depth = 0;
         for (int32_t p = ch.skeleton.node(i).parent; p >= 0; p = ch.skeleton.node(static_cast<size_t>(p)).parent) ++depth;
         ImGui::Indent(depth * 8.0f);
-        if (ImGui::Selectable(ch.skeleton.node(i).name.c_str(), selected_joint_ == static_cast<int>(i)))
-          selected_joint_ = static_cast<int>(i);
+        if (ImGui::Selectable(ch.skeleton.node(i).name.c_str(), selection_.joints.contains(static_cast<uint32_t>(i)))) {
+          uint32_t idx[1] = {static_cast<uint32_t>(i)};
+          if (ImGui::GetIO().KeyCtrl) selection_.joints.toggle(idx);
+          else selection_.joints.set(idx);
+        }
         ImGui::Unindent(depth * 8.0f);
       }
       ImGui::TreePop();
@@ -560,6 +782,7 @@ void Editor::draw_properties() {
   ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x - kRightWidth, kMenuHeight), ImGuiCond_Always);
   ImGui::SetNextWindowSize(ImVec2(kRightWidth, io.DisplaySize.y - kMenuHeight - kBottomHeight), ImGuiCond_Always);
   ImGui::Begin("Properties", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
+  draw_move_tool();
   if (scene_ && scene_->doc().cage) {
     BindParams& p = scene_->params;
     ImGui::TextUnformatted("Binding");
@@ -603,6 +826,63 @@ void Editor::draw_properties() {
     ImGui::TextWrapped("No cage: the skin shows the file's own linear blend skinning. Open with --cage to bind a cage.");
   }
   ImGui::End();
+}
+
+// Selection mode buttons along the top of the 3-D view.
+void Editor::draw_toolbar() {
+  ImGui::SetNextWindowPos(ImVec2(view_x_ + view_w_ - 10, view_y_ + 10), ImGuiCond_Always, ImVec2(1, 0));
+  ImGui::SetNextWindowBgAlpha(0.55f);
+  ImGui::Begin("toolbar", nullptr, ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoSavedSettings |
+                                       ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoNav);
+  const char* labels[] = {"Vertices", "Faces", "Skin", "Joints"};
+  const char* tips[] = {"Select cage vertices (F5)", "Select cage faces (F6)", "Select skin vertices (F7)", "Select joints (F8)"};
+  for (int k = 0; k < 4; ++k) {
+    if (k) ImGui::SameLine();
+    const bool on = mode_ == static_cast<SelectMode>(k);
+    if (on) ImGui::PushStyleColor(ImGuiCol_Button, ImVec4(0.85f, 0.5f, 0.1f, 1));
+    if (ImGui::Button(labels[k])) mode_ = static_cast<SelectMode>(k);
+    if (on) ImGui::PopStyleColor();
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", tips[k]);
+  }
+  ImGui::SameLine();
+  ImGui::TextDisabled("|");
+  ImGui::SameLine();
+  ImGui::Checkbox("Soft", &soft_.enabled);
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("Soft selection (B); radius with [ and ]");
+  ImGui::SameLine();
+  ImGui::Checkbox("Mirror X", &mirror_.enabled);
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("X-mirror editing (Shift+X)");
+  if (scene_) {
+    const IndexSet& s = active_set();
+    ImGui::TextDisabled("%zu %s selected", s.size(), mode_name(mode_));
+  }
+  ImGui::End();
+}
+
+// Settings of the move tool: soft selection and X-mirror.
+void Editor::draw_move_tool() {
+  if (!scene_ || !scene_->doc().cage) return;
+  if (!ImGui::CollapsingHeader("Move tool", ImGuiTreeNodeFlags_DefaultOpen)) return;
+  ImGui::Checkbox("soft selection (B)", &soft_.enabled);
+  ImGui::BeginDisabled(!soft_.enabled);
+  float r = static_cast<float>(soft_.radius);
+  const float size = static_cast<float>(scene_size());
+  if (ImGui::SliderFloat("radius", &r, 1e-3f * size, size, "%.4f", ImGuiSliderFlags_Logarithmic)) soft_.radius = r;
+  int falloff = static_cast<int>(soft_.falloff);
+  const char* falloffs[] = {"smooth", "linear", "sharp", "constant"};
+  if (ImGui::Combo("falloff", &falloff, falloffs, 4)) soft_.falloff = static_cast<Falloff>(falloff);
+  int dist = static_cast<int>(soft_.distance);
+  const char* dists[] = {"volume (straight line)", "surface (along edges)"};
+  if (ImGui::Combo("distance", &dist, dists, 2)) soft_.distance = static_cast<FalloffDistance>(dist);
+  ImGui::EndDisabled();
+  ImGui::Checkbox("X-mirror editing (Shift+X)", &mirror_.enabled);
+  ImGui::BeginDisabled(!mirror_.enabled);
+  float tol = static_cast<float>(mirror_tolerance_share_ * 100.0);
+  if (ImGui::SliderFloat("tolerance % of size", &tol, 0.01f, 2.0f, "%.2f", ImGuiSliderFlags_Logarithmic))
+    mirror_tolerance_share_ = tol / 100.0;
+  ImGui::EndDisabled();
+  ImGui::TextDisabled("snap step (Ctrl while dragging): %g", grid_spacing());
+  ImGui::Spacing();
 }
 
 void Editor::draw_timeline() {
@@ -691,14 +971,29 @@ void Editor::draw_stats() {
 void Editor::draw_help() {
   if (!show_help_) return;
   ImGui::Begin("Shortcuts", &show_help_, ImGuiWindowFlags_AlwaysAutoResize);
-  const char* rows[][2] = {{"Alt+LMB drag / RMB drag", "orbit"}, {"MMB drag (Alt optional)", "pan"},
-                           {"wheel / Alt+RMB drag", "zoom"},     {"F", "frame everything"},
-                           {"1 / 3 / 7 (numpad too)", "front / side / top view"},
-                           {"Space", "play / pause"},            {"W", "wireframe"},
-                           {"Alt+X", "X-ray"},                   {"F1", "this window"}};
+  const char* rows[][2] = {{"Alt+LMB drag / RMB drag", "orbit"},
+                           {"MMB drag (Alt optional)", "pan"},
+                           {"wheel / Alt+RMB drag", "zoom"},
+                           {"F", "frame everything"},
+                           {"1 / 3 / 7 (numpad too)", "front / side / top view (Ctrl: opposite)"},
+                           {"F5 F6 F7 F8", "select cage vertices / cage faces / skin vertices / joints"},
+                           {"click, drag a box", "select (Shift adds, Ctrl removes)"},
+                           {"Ctrl+A / Esc / Ctrl+I", "select all / none / invert"},
+                           {"Num+ Num- (or . ,)", "grow / shrink selection"},
+                           {"Ctrl+M", "add the mirror (X) of the selection"},
+                           {"gizmo: arrow / square / centre", "move along an axis / in a plane / in the view"},
+                           {"Ctrl while dragging", "snap to the grid"},
+                           {"B, [ ]", "soft selection on/off, smaller/larger radius"},
+                           {"Shift+X", "X-mirror editing on/off"},
+                           {"Ctrl+Z / Ctrl+Shift+Z, Ctrl+Y", "undo / redo"},
+                           {"Ctrl+O / Ctrl+S / Ctrl+Q", "open / save / quit"},
+                           {"Space", "play / pause"},
+                           {"W", "wireframe"},
+                           {"Alt+X", "X-ray"},
+                           {"F1", "this window"}};
   for (auto& r : rows) {
     ImGui::TextUnformatted(r[0]);
-    ImGui::SameLine(210);
+    ImGui::SameLine(250);
     ImGui::TextDisabled("%s", r[1]);
   }
   ImGui::End();
@@ -759,7 +1054,12 @@ void Editor::draw_file_popups() {
 // Scripted editor actions, one per line, for tests (`--script file`):
 //   wait N | select_cage_vertex I [add] | select_cage_vertices_all | move DX DY DZ | undo | redo
 //   save PATH | screenshot PATH | play | pause | time T
-// `move` goes through the gizmo's own path: one drag, one undo step.
+//   mode cage_vertices|cage_faces|skin_vertices|joints | select_cage_face I [add]
+//   select_skin_vertex I [add] | select_joint I [add] | click_cage_vertex I
+//   select all|none|invert|grow|shrink|mirror | soft on|off [R] [FALLOFF] [volume|surface]
+//   mirror on|off | view front|right|top | clip NAME|rest | gizmo_drag x|y|z|yz|xz|xy|screen DX DY
+// `move` goes through the gizmo's own path: one drag, one undo step. `gizmo_drag` grabs a handle
+// where a person would (hit-tested like a click) and drags it DX, DY pixels.
 void Editor::run_script_step() {
   if (script_wait_ > 0) {
     --script_wait_;
@@ -784,9 +1084,76 @@ void Editor::run_script_step() {
     } else if (cmd == "move") {
       glm::dvec3 d;
       in >> d.x >> d.y >> d.z;
-      begin_move();
-      apply_move(d);
-      end_move();
+      if (begin_move(GizmoHandle::kScreen, glm::dvec2(0.0))) {
+        apply_move(d);
+        end_move();
+      }
+    } else if (cmd == "gizmo_drag") {
+      script_gizmo_drag(in);
+    } else if (cmd == "mode") {
+      std::string m;
+      in >> m;
+      bool found = false;
+      for (int k = 0; k < 4; ++k) {
+        std::string name = mode_name(static_cast<SelectMode>(k));
+        std::replace(name.begin(), name.end(), ' ', '_');
+        if (name == m) mode_ = static_cast<SelectMode>(k), found = true;
+      }
+      if (!found) log("error: script line " + std::to_string(script_pos_) + ": unknown mode '" + m + "'", true);
+    } else if (cmd == "select_cage_face" || cmd == "select_skin_vertex" || cmd == "select_joint") {
+      uint32_t i;
+      std::string mode;
+      in >> i >> mode;
+      uint32_t idx[1] = {i};
+      IndexSet& set = cmd == "select_cage_face" ? selection_.cage_faces
+                      : cmd == "select_skin_vertex" ? selection_.skin_vertices : selection_.joints;
+      if (mode == "add") set.add(idx);
+      else set.set(idx);
+    } else if (cmd == "click_cage_vertex") {  // a real click at the vertex's projection: exercises picking
+      uint32_t i;
+      in >> i;
+      if (i < scene_->cage_posed.size()) {
+        glm::dvec2 p = camera_.project(glm::dvec3(scene_->cage_posed[i]), view_w_, view_h_).pixel;
+        click_select(ImVec2(view_x_ + static_cast<float>(p.x), view_y_ + static_cast<float>(p.y)), false, false);
+      }
+    } else if (cmd == "select") {
+      std::string op;
+      in >> op;
+      const char* names[] = {"all", "none", "invert", "grow", "shrink", "mirror"};
+      for (int k = 0; k < 6; ++k)
+        if (op == names[k]) edit_selection(static_cast<SelectOp>(k));
+    } else if (cmd == "soft") {  // soft on|off [radius] [smooth|linear|sharp|constant] [volume|surface]
+      std::string on, word;
+      in >> on;
+      soft_.enabled = on == "on";
+      double r;
+      if (in >> r) soft_.radius = r;
+      while (in >> word) {
+        for (int k = 0; k < 4; ++k)
+          if (word == falloff_name(static_cast<Falloff>(k))) soft_.falloff = static_cast<Falloff>(k);
+        if (word == "surface") soft_.distance = FalloffDistance::kSurface;
+        if (word == "volume") soft_.distance = FalloffDistance::kVolume;
+      }
+    } else if (cmd == "mirror") {
+      std::string on;
+      in >> on;
+      mirror_.enabled = on == "on";
+    } else if (cmd == "clip") {  // NAME, or "rest" for the bind pose
+      std::string name;
+      in >> name;
+      const auto& clips = scene_->doc().character->clips;
+      scene_->clip = -1;
+      scene_->player = ClipPlayer(0.0);
+      for (size_t i = 0; i < clips.size(); ++i)
+        if (clips[i].name == name) {
+          scene_->clip = static_cast<int32_t>(i);
+          scene_->player = ClipPlayer(clips[i].duration);
+        }
+      if (name != "rest" && scene_->clip < 0) log("error: script line " + std::to_string(script_pos_) + ": no clip '" + name + "'", true);
+    } else if (cmd == "view") {  // front | right | top
+      std::string v;
+      in >> v;
+      camera_.set_preset(v == "right" ? ViewPreset::kRight : v == "top" ? ViewPreset::kTop : ViewPreset::kFront);
     } else if (cmd == "undo") undo();
     else if (cmd == "redo") redo();
     else if (cmd == "save") {
@@ -806,6 +1173,35 @@ void Editor::run_script_step() {
   }
 }
 
+void Editor::script_gizmo_drag(std::istringstream& in) {
+  std::string name;
+  glm::dvec2 d(0.0);
+  in >> name >> d.x >> d.y;
+  const char* names[] = {"x", "y", "z", "yz", "xz", "xy", "screen"};
+  int h = -1;
+  for (int k = 0; k < 7; ++k)
+    if (name == names[k]) h = k;
+  const GizmoLayout g = gizmo();
+  if (h < 0 || !g.visible) {
+    log("error: script line " + std::to_string(script_pos_) + ": no gizmo handle '" + name + "' to drag", true);
+    return;
+  }
+  glm::dvec2 grab = g.centre;  // where a person grabs each handle
+  if (h < 3) grab = g.centre + 0.75 * (g.axis_end[h] - g.centre);
+  else if (h < 6) grab = 0.25 * (g.plane[h - 3][0] + g.plane[h - 3][1] + g.plane[h - 3][2] + g.plane[h - 3][3]);
+  const GizmoHandle hit = gizmo_hit(g, grab);
+  if (hit != static_cast<GizmoHandle>(h)) {
+    log("error: script line " + std::to_string(script_pos_) + ": the click meant for handle '" + name + "' hit another", true);
+    return;
+  }
+  if (!begin_move(hit, grab)) return;
+  for (int step = 1; step <= 4; ++step) {  // a few mouse-move events, as a real drag sends
+    auto total = gizmo_drag(camera_, Viewport{view_w_, view_h_}, hit, drag_centre_, grab, grab + d * (step / 4.0));
+    if (total) apply_move(*total);
+  }
+  end_move();
+}
+
 void Editor::draw_panels() {
   draw_menu();
   draw_file_popups();
@@ -815,6 +1211,7 @@ void Editor::draw_panels() {
   draw_timeline();
   draw_log();
   draw_stats();
+  draw_toolbar();
   draw_help();
 }
 
@@ -891,13 +1288,10 @@ int Editor::run() {
       scene_->update_pose();
       if (topology_dirty_) upload_topology();
       renderer_->update_skin(scene_->skin_posed);
-      if (scene_->doc().cage) {
-        selected_mask_.assign(scene_->doc().cage->num_vertices(), 0);
-        for (uint32_t v : selection_.cage_vertices.indices())
-          if (v < selected_mask_.size()) selected_mask_[v] = 1;
-        renderer_->update_cage(scene_->cage_posed, selected_mask_);
-      }
-      renderer_->update_skeleton(scene_->joint_heads, scene_->bones, selected_joint_);
+      update_selection_display();
+      if (scene_->doc().cage) renderer_->update_cage(scene_->cage_posed, cage_weights_, face_mask_);
+      renderer_->update_skin_selection(scene_->skin_posed, selection_.skin_vertices.indices());
+      renderer_->update_skeleton(scene_->joint_heads, scene_->bones, joint_mask_);
       std::string title = "cagewrap - " + (scene_->doc().project_path.empty() ? std::string("untitled") : scene_->doc().project_path) +
                           (scene_->history.dirty(scene_->doc()) ? " *" : "");
       if (title != title_) glfwSetWindowTitle(window_, (title_ = title).c_str());

@@ -60,14 +60,15 @@ void Scene::document_changed() {
   if (needs_rebind() && !job) start_bind();
 }
 
-Document Scene::moved(const Document& from, std::span<const uint32_t> vertices, const glm::dvec3& world_delta) const {
+Document Scene::moved(const Document& from, const MoveWeights& weights, const glm::dvec3& world_delta) const {
   std::vector<glm::vec3> offsets = from.cage_offsets;
   offsets.resize(from.cage ? from.cage->num_vertices() : 0, glm::vec3(0.f));
-  for (uint32_t v : vertices) {
+  for (size_t i = 0; i < weights.vertices.size(); ++i) {
+    const uint32_t v = weights.vertices[i];
     if (v >= offsets.size()) continue;
     // the offset lives in the bind space of the vertex's joint: undo the joint's linear part
     glm::dmat3 lin = v < cage_skinning.size() ? glm::dmat3(glm::mat3(cage_skinning[v])) : glm::dmat3(1.0);
-    offsets[v] += glm::vec3(glm::inverse(lin) * world_delta);
+    offsets[v] += glm::vec3(glm::inverse(lin) * weights.displacement(i, world_delta));
   }
   return with_cage_offsets(from, std::move(offsets));
 }

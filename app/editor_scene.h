@@ -18,6 +18,7 @@
 #include "core/document.h"
 #include "core/history.h"
 #include "core/registration.h"
+#include "core/soft_selection.h"
 
 namespace cagewrap::app {
 
@@ -77,9 +78,10 @@ struct Scene {
   void start_bind();
   // Polls the running job; returns a message when it finished (bound, failed or cancelled).
   std::optional<std::string> poll_bind();
-  // Moves cage vertices of the driver by a world-space displacement at the current pose (stored as
-  // offsets in each vertex's joint bind space) and returns the new document (not yet in history).
-  Document moved(const Document& from, std::span<const uint32_t> vertices, const glm::dvec3& world_delta) const;
+  // Moves cage vertices of the driver by a world-space displacement at the current pose, each by its
+  // share (soft selection, X-mirror: core/soft_selection.h), stored as offsets in each vertex's joint
+  // bind space, and returns the new document (not yet in history).
+  Document moved(const Document& from, const MoveWeights& weights, const glm::dvec3& world_delta) const;
 
  private:
   std::shared_ptr<const Cage> pending_cage_;   // the cage the running job binds

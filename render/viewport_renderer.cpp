@@ -1,5 +1,7 @@
 #include "render/viewport_renderer.h"
 
+#include <algorithm>
+
 #include <glm/gtc/matrix_transform.hpp>
 
 namespace cagewrap::render {
@@ -9,6 +11,15 @@ const glm::vec4 kSkinColor(0.78f, 0.62f, 0.52f, 1.0f);
 const glm::vec4 kCageFaceColor(0.35f, 0.62f, 0.95f, 1.0f);
 const glm::vec4 kCageEdgeColor(0.30f, 0.70f, 1.00f, 0.95f);
 const glm::vec4 kSelectedColor(1.00f, 0.62f, 0.10f, 1.0f);
+const glm::vec4 kSoftColor(1.00f, 0.95f, 0.25f, 1.0f);  // soft selection: edge colour -> this -> selected
+const glm::vec4 kCagePointColor(0.15f, 0.45f, 0.85f, 1.0f);
+const glm::vec4 kSkinPointColor(1.00f, 0.35f, 0.55f, 1.0f);
+
+glm::vec4 weight_color(float w, const glm::vec4& base) {
+  if (w >= 0.999f) return kSelectedColor;
+  if (w <= 0.0f) return base;
+  return glm::mix(base, kSoftColor, 0.35f + 0.65f * w);
+}
 const glm::vec4 kBoneColor(0.95f, 0.95f, 0.35f, 1.0f);
 const glm::vec4 kJointColor(0.95f, 0.80f, 0.20f, 1.0f);
 }  // namespace
@@ -18,6 +29,8 @@ bool ViewportRenderer::init(std::string& log) {
   if (!line_program_.build("line.vert.glsl", "line.frag.glsl", log)) return false;
   skin_ = std::make_unique<TriangleBuffer>();
   cage_faces_ = std::make_unique<TriangleBuffer>();
+  cage_selected_faces_ = std::make_unique<TriangleBuffer>();
+  skin_points_ = std::make_unique<LineBuffer>();
   cage_edges_ = std::make_unique<LineBuffer>();
   cage_points_ = std::make_unique<LineBuffer>();
   bones_ = std::make_unique<LineBuffer>();
@@ -40,34 +53,54 @@ void ViewportRenderer::update_skin(std::span<const glm::vec3> positions) {
 
 void ViewportRenderer::set_skin_colors(std::span<const glm::vec4> colors) { skin_->upload_colors(colors); }
 
-void ViewportRenderer::set_cage_topology(const PolyMesh& polygons, std::span<const Tri> elements) {
+void ViewportRenderer::set_cage_topology(const PolyMesh& polygons, std::span<const Tri> elements,
+                                         std::span<const uint32_t> element_face) {
   cage_faces_->upload_indices(elements);
+  cage_elements_.assign(elements.begin(), elements.end());
+  element_face_.assign(element_face.begin(), element_face.end());
+  uploaded_face_mask_.assign(1, 2);  // forces the highlight to be rebuilt
   cage_normals_ = NormalComputer(polygons.num_vertices(), elements);
   cage_normal_data_.assign(polygons.num_vertices(), glm::vec3(0.f));
   cage_edge_list_ = unique_edges(polygons);  // polygon edges only: no triangulation diagonals
 }
 
-void ViewportRenderer::update_cage(std::span<const glm::vec3> positions, std::span<const uint8_t> selected) {
+void ViewportRenderer::update_cage(std::span<const glm::vec3> positions, std::span<const float> weights,
+                                   std::span<const uint8_t> selected_faces) {
   cage_normals_.compute(positions, cage_normal_data_);
   cage_faces_->upload_positions(positions, cage_normal_data_);
+  if (!std::equal(selected_faces.begin(), selected_faces.end(), uploaded_face_mask_.begin(), uploaded_face_mask_.end())) {
+    selected_elements_.clear();
+    for (size_t e = 0; e < cage_elements_.size() && e < element_face_.size(); ++e)
+      if (element_face_[e] < selected_faces.size() && selected_faces[element_face_[e]]) selected_elements_.push_back(cage_elements_[e]);
+    cage_selected_faces_->upload_indices(selected_elements_);
+    uploaded_face_mask_.assign(selected_faces.begin(), selected_faces.end());
+  }
+  if (!selected_elements_.empty()) cage_selected_faces_->upload_positions(positions, cage_normal_data_);
+  auto w = [&](uint32_t v) { return v < weights.size() ? weights[v] : 0.0f; };
   scratch_positions_.clear();
   scratch_colors_.clear();
   for (auto [a, b] : cage_edge_list_) {
     scratch_positions_.push_back(positions[a]);
     scratch_positions_.push_back(positions[b]);
-    bool sa = !selected.empty() && selected[a], sb = !selected.empty() && selected[b];
-    scratch_colors_.push_back(sa ? kSelectedColor : kCageEdgeColor);
-    scratch_colors_.push_back(sb ? kSelectedColor : kCageEdgeColor);
+    scratch_colors_.push_back(weight_color(w(a), kCageEdgeColor));
+    scratch_colors_.push_back(weight_color(w(b), kCageEdgeColor));
   }
   cage_edges_->upload(scratch_positions_, scratch_colors_);
-  scratch_colors_.assign(positions.size(), glm::vec4(0.15f, 0.45f, 0.85f, 1.0f));
-  for (size_t i = 0; i < selected.size() && i < positions.size(); ++i)
-    if (selected[i]) scratch_colors_[i] = kSelectedColor;
+  scratch_colors_.resize(positions.size());
+  for (size_t i = 0; i < positions.size(); ++i) scratch_colors_[i] = weight_color(w(static_cast<uint32_t>(i)), kCagePointColor);
   cage_points_->upload(positions, scratch_colors_);
 }
 
+void ViewportRenderer::update_skin_selection(std::span<const glm::vec3> skin_positions, std::span<const uint32_t> selected) {
+  scratch_positions_.clear();
+  for (uint32_t v : selected)
+    if (v < skin_positions.size()) scratch_positions_.push_back(skin_positions[v]);
+  scratch_colors_.assign(scratch_positions_.size(), kSkinPointColor);
+  skin_points_->upload(scratch_positions_, scratch_colors_);
+}
+
 void ViewportRenderer::update_skeleton(std::span<const glm::vec3> heads, std::span<const std::array<uint32_t, 2>> bones,
-                                       int selected) {
+                                       std::span<const uint8_t> selected) {
   scratch_positions_.clear();
   scratch_colors_.clear();
   for (auto [a, b] : bones) {
@@ -78,7 +111,8 @@ void ViewportRenderer::update_skeleton(std::span<const glm::vec3> heads, std::sp
   }
   bones_->upload(scratch_positions_, scratch_colors_);
   scratch_colors_.assign(heads.size(), kJointColor);
-  if (selected >= 0 && static_cast<size_t>(selected) < heads.size()) scratch_colors_[static_cast<size_t>(selected)] = kSelectedColor;
+  for (size_t j = 0; j < selected.size() && j < heads.size(); ++j)
+    if (selected[j]) scratch_colors_[j] = kSelectedColor;
   joints_->upload(heads, scratch_colors_);
 }
 
@@ -160,6 +194,10 @@ void ViewportRenderer::draw(const ViewParams& v, const ViewportStyle& style) {
     mesh_program_.set("u_color", glm::vec4(glm::vec3(kCageFaceColor), style.cage_opacity));
     glDepthMask(GL_FALSE);
     cage_faces_->draw();
+    if (!selected_elements_.empty()) {
+      mesh_program_.set("u_color", glm::vec4(glm::vec3(kSelectedColor), 0.45f));
+      cage_selected_faces_->draw();
+    }
     glDepthMask(GL_TRUE);
     line_program_.use();
     line_program_.set("u_depth_bias", on_top ? 1.0f : 0.0005f);
@@ -168,6 +206,14 @@ void ViewportRenderer::draw(const ViewParams& v, const ViewportStyle& style) {
     line_program_.set("u_point_size", 5.0f);
     line_program_.set("u_round_points", 1);
     cage_points_->draw(GL_POINTS);
+    line_program_.set("u_round_points", 0);
+  }
+  if (skin_points_->size() > 0) {
+    line_program_.use();
+    line_program_.set("u_depth_bias", on_top ? 1.0f : 0.0005f);
+    line_program_.set("u_point_size", 6.0f);
+    line_program_.set("u_round_points", 1);
+    skin_points_->draw(GL_POINTS);
     line_program_.set("u_round_points", 0);
   }
   if (style.show_skeleton) {

@@ -44,13 +44,18 @@ class ViewportRenderer {
   // Per-vertex colours over the skin (heat maps); empty to return to the plain material.
   void set_skin_colors(std::span<const glm::vec4> colors);
 
-  void set_cage_topology(const PolyMesh& polygons, std::span<const Tri> elements);
-  // `selected` (#Vc, may be empty) highlights cage vertices.
-  void update_cage(std::span<const glm::vec3> positions, std::span<const uint8_t> selected);
+  // element_face: #E polygon of each element (Cage::element_face), for face highlights.
+  void set_cage_topology(const PolyMesh& polygons, std::span<const Tri> elements, std::span<const uint32_t> element_face);
+  // `weights` (#Vc, may be empty) colour cage vertices: 1 = selected, (0, 1) = soft selection share.
+  // `selected_faces` (#polygons, may be empty) highlights polygons.
+  void update_cage(std::span<const glm::vec3> positions, std::span<const float> weights,
+                   std::span<const uint8_t> selected_faces);
+  // Selected skin vertices drawn as points over the skin.
+  void update_skin_selection(std::span<const glm::vec3> skin_positions, std::span<const uint32_t> selected);
 
-  // Joint heads (#J) and bones as joint index pairs; `selected` joint highlighted (-1: none).
+  // Joint heads (#J) and bones as joint index pairs; `selected` (#J mask, may be empty) highlighted.
   void update_skeleton(std::span<const glm::vec3> heads, std::span<const std::array<uint32_t, 2>> bones,
-                       int selected);
+                       std::span<const uint8_t> selected);
 
   void draw(const ViewParams& view, const ViewportStyle& style);
 
@@ -59,8 +64,11 @@ class ViewportRenderer {
   void draw_axes(const ViewParams& v);
 
   GlProgram mesh_program_, line_program_;
-  std::unique_ptr<TriangleBuffer> skin_, cage_faces_;
-  std::unique_ptr<LineBuffer> cage_edges_, cage_points_, bones_, joints_, grid_, axes_;
+  std::unique_ptr<TriangleBuffer> skin_, cage_faces_, cage_selected_faces_;
+  std::unique_ptr<LineBuffer> cage_edges_, cage_points_, skin_points_, bones_, joints_, grid_, axes_;
+  std::vector<Tri> cage_elements_, selected_elements_;
+  std::vector<uint32_t> element_face_;
+  std::vector<uint8_t> uploaded_face_mask_;
   NormalComputer skin_normals_, cage_normals_;
   std::vector<glm::vec3> skin_normal_data_, cage_normal_data_;
   std::vector<std::array<uint32_t, 2>> cage_edge_list_;

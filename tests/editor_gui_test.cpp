@@ -11,79 +11,16 @@
 #include <string>
 #include <vector>
 
-#include <stb_image.h>
-
 #include <nlohmann/json.hpp>
 
+#include "tests/gui_harness.h"
 #include "tests/test_assets.h"
 
 namespace {
 
 namespace fs = std::filesystem;
+using namespace cagewrap::test;
 
-struct Image {
-  int w = 0, h = 0;
-  std::vector<unsigned char> rgb;  // w x h x 3
-  const unsigned char* at(int x, int y) const { return &rgb[(static_cast<size_t>(y) * w + x) * 3]; }
-};
-
-bool gui_available(std::string& why) {
-  if (std::system("command -v xvfb-run >/dev/null 2>&1") != 0) {
-    why = "xvfb-run not installed";
-    return false;
-  }
-  if (!CAGEWRAP_TESTS_HAVE_EDITOR) {
-    why = "cagewrap was built without the editor (CAGEWRAP_GUI=OFF)";
-    return false;
-  }
-  return true;
-}
-
-// Runs the editor and returns the screenshot (asserting exit status 0).
-Image screenshot(const std::string& args, const std::string& name) {
-  fs::path dir = fs::temp_directory_path() / "cagewrap_gui_test";
-  fs::create_directories(dir);
-  fs::path png = dir / (name + ".png");
-  fs::remove(png);
-  std::string cmd = "xvfb-run -a -s '-screen 0 1280x720x24' " + std::string(CAGEWRAP_BINARY) +
-                    " --width 1280 --height 720 --screenshot " + png.string() + " " + args + " > " +
-                    (dir / (name + ".log")).string() + " 2>&1";
-  int rc = std::system(cmd.c_str());
-  EXPECT_EQ(rc, 0) << cmd;
-  Image img;
-  int n = 0;
-  unsigned char* data = stbi_load(png.string().c_str(), &img.w, &img.h, &n, 3);
-  EXPECT_NE(data, nullptr) << png;
-  if (data) {
-    img.rgb.assign(data, data + static_cast<size_t>(img.w) * img.h * 3);
-    stbi_image_free(data);
-  }
-  return img;
-}
-
-// The 3-D view: what the fixed panels leave free (see app/editor.cpp).
-constexpr int kLeft = 262, kRight = 302, kTop = 21, kBottom = 172;
-
-double share_differing(const Image& a, const Image& b, int tolerance) {
-  size_t diff = 0, total = 0;
-  for (int y = kTop; y < a.h - kBottom; ++y)
-    for (int x = kLeft; x < a.w - kRight; ++x, ++total) {
-      const unsigned char *p = a.at(x, y), *q = b.at(x, y);
-      if (std::abs(p[0] - q[0]) > tolerance || std::abs(p[1] - q[1]) > tolerance || std::abs(p[2] - q[2]) > tolerance) ++diff;
-    }
-  return total ? double(diff) / total : 0.0;
-}
-
-// Share of view pixels that are the skin's warm colour (red clearly above blue).
-double skin_share(const Image& img) {
-  size_t skin = 0, total = 0;
-  for (int y = kTop; y < img.h - kBottom; ++y)
-    for (int x = kLeft; x < img.w - kRight; ++x, ++total) {
-      const unsigned char* p = img.at(x, y);
-      if (p[0] > 90 && p[0] > p[2] + 30) ++skin;
-    }
-  return total ? double(skin) / total : 0.0;
-}
 
 TEST(EditorGui, DemoCharacterIsVisibleFramedAndAnimates) {
   std::string why;
@@ -149,18 +86,8 @@ TEST(EditorGui, MoveCageVerticesUndoRedoSave) {
   }
   std::string args = "--script " + script.string();  // no file: the demo character and its cage
   screenshot(args, "script_final");
-  auto load = [](const std::string& p) {
-    Image img;
-    int n;
-    unsigned char* d = stbi_load(p.c_str(), &img.w, &img.h, &n, 3);
-    if (d) {
-      img.rgb.assign(d, d + static_cast<size_t>(img.w) * img.h * 3);
-      stbi_image_free(d);
-    }
-    return img;
-  };
-  Image before = load(shot("before")), moved = load(shot("moved")), undone = load(shot("undone")),
-        redone = load(shot("redone"));
+  Image before = load_png(shot("before")), moved = load_png(shot("moved")), undone = load_png(shot("undone")),
+        redone = load_png(shot("redone"));
   ASSERT_FALSE(before.rgb.empty() || moved.rgb.empty() || undone.rgb.empty() || redone.rgb.empty());
   EXPECT_GT(share_differing(before, moved, 24), 0.001) << "moving two cage vertices must change the skin";
   EXPECT_LT(share_differing(before, undone, 24), 0.0005) << "undo must restore the picture";

@@ -67,7 +67,9 @@ TEST(MoveGizmo, AxisDragMovesOnlyAlongTheAxisAndFollowsTheCursor) {
     auto d = gizmo_drag(c, kView, static_cast<GizmoHandle>(a), centre, from, from + along + 0.2 * perp);
     ASSERT_TRUE(d.has_value());
     for (int k = 0; k < 3; ++k) {
-      if (k != a) EXPECT_EQ((*d)[k], 0.0);
+      if (k != a) {
+        EXPECT_EQ((*d)[k], 0.0);
+      }
     }
     // without the wobble the axis moves by one world length: the tip lands where the mouse went
     auto straight = gizmo_drag(c, kView, static_cast<GizmoHandle>(a), centre, g.centre, g.axis_end[a]);

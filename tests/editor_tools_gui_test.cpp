@@ -1,0 +1,159 @@
+// The editor's selection modes and move tool, run for real under Xvfb on the demo character at its
+// bind pose: a click picks the front-most vertex under the cursor, a plane drag of the gizmo with
+// soft selection and X-mirror moves exactly what core/soft_selection.h says (checked in the saved
+// project), a face selection moves the face's corners, and a skin selection is drawn.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <string>
+
+#include <glm/geometric.hpp>
+#include <nlohmann/json.hpp>
+
+#include "core/mesh_io.h"
+#include "core/selection.h"
+#include "tests/fixtures.h"
+#include "tests/gui_harness.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using namespace cagewrap;
+using namespace cagewrap::test;
+
+std::vector<glm::dvec3> saved_offsets(const fs::path& project) {
+  std::vector<glm::dvec3> out;
+  std::ifstream in(project);
+  EXPECT_TRUE(in) << project;
+  if (!in) return out;
+  auto j = nlohmann::json::parse(in);
+  for (const auto& o : j.at("cage").at("offsets")) out.emplace_back(o[0].get<double>(), o[1].get<double>(), o[2].get<double>());
+  return out;
+}
+
+PolyMesh demo_cage() {
+  auto m = load_mesh(std::string(CAGEWRAP_SOURCE_DIR) + "/assets/demo_cage.obj");
+  EXPECT_TRUE(m.ok()) << (m.ok() ? "" : m.error().message);
+  return m.ok() ? std::move(m).value() : PolyMesh{};
+}
+
+void write_script(const fs::path& path, const std::string& text) { std::ofstream(path) << text; }
+
+// A box cage around the demo character, 6 x 6 quads a side, symmetric across x = 0 (the auto cage
+// is only nearly symmetric), written as OBJ.
+PolyMesh symmetric_cage(const fs::path& path) {
+  const Aabb box = bounding_box(demo_cage().positions);
+  const glm::dvec3 half(std::max(-box.lo.x, box.hi.x) * 1.05, 0.5 * (box.hi.y - box.lo.y) * 1.05, 0.5 * (box.hi.z - box.lo.z) * 1.05);
+  const glm::dvec3 centre(0.0, box.center().y, box.center().z);
+  PolyMesh m = fixtures::box_cage(1.0, 6).polygons;
+  for (auto& p : m.positions) p = glm::vec3(centre + glm::dvec3(p) * half);
+  EXPECT_TRUE(save_obj(path.string(), m.positions, m).ok());
+  return m;
+}
+
+TEST(EditorTools, ClickPicksTheFrontVertexAndSoftMirroredPlaneDragMovesBothSides) {
+  std::string why;
+  if (!gui_available(why)) GTEST_SKIP() << why;
+  const fs::path cage_path = gui_test_dir() / "tools_symmetric_cage.obj";
+  PolyMesh cage = symmetric_cage(cage_path);
+  ASSERT_GT(cage.num_vertices(), 0u);
+  // the front-most vertex (largest z) among those well off the mirror plane, the one with the
+  // lowest y of those: the front view looks down -Z, so a click on its projection must pick it and
+  // nothing behind it
+  const Aabb box = bounding_box(cage.positions);
+  uint32_t v = 0;
+  auto better = [&](uint32_t i) {
+    const glm::vec3 p = cage.positions[i], q = cage.positions[v];
+    if (std::abs(p.x) < 0.1 * box.diagonal()) return false;
+    if (std::abs(q.x) < 0.1 * box.diagonal()) return true;
+    return p.z > q.z + 1e-6 || (std::abs(p.z - q.z) <= 1e-6 && p.y < q.y - 1e-6) ||
+           (std::abs(p.z - q.z) <= 1e-6 && std::abs(p.y - q.y) <= 1e-6 && p.x > q.x);
+  };
+  for (uint32_t i = 0; i < cage.num_vertices(); ++i)
+    if (better(i)) v = i;
+  auto mirror = mirror_x(IndexSet{v}, cage.positions, 1e-3 * box.diagonal());
+  ASSERT_EQ(mirror.mirrored.size(), 1u) << "the box cage is symmetric";
+  const uint32_t m = mirror.mirrored.indices()[0];
+  ASSERT_NE(m, v);
+
+  fs::path dir = gui_test_dir(), project = dir / "tools_soft.cagewrap", script = dir / "tools_soft.script";
+  fs::remove(project);
+  const double radius = 0.15 * box.diagonal();
+  write_script(script, "clip rest\nview front\nwait 2\nclick_cage_vertex " + std::to_string(v) + "\nsoft on " + std::to_string(radius) +
+                           " linear\nmirror on\ngizmo_drag xy 30 -20\nsave " + project.string() + "\n");
+  screenshot(std::string(CAGEWRAP_SOURCE_DIR) + "/assets/demo_character.glb --cage " + cage_path.string() + " --script " + script.string(),
+             "tools_soft");
+  auto off = saved_offsets(project);
+  ASSERT_EQ(off.size(), cage.num_vertices());
+  const glm::dvec3 d = off[v];
+  EXPECT_GT(std::abs(d.x), 1e-4) << "the plane drag moves along x";
+  EXPECT_GT(d.y, 1e-4) << "dragging up moves up";
+  EXPECT_NEAR(d.z, 0.0, 1e-9) << "an XY-plane drag never changes z";
+  EXPECT_NEAR(off[m].x, -d.x, 1e-6);  // the counterpart: x negated
+  EXPECT_NEAR(off[m].y, d.y, 1e-6);
+  EXPECT_NEAR(off[m].z, 0.0, 1e-6);
+  // soft selection: every other moved vertex lies within the radius of v or m and moves by a share
+  // in (0, 1) of d or of its mirror image
+  size_t soft_moved = 0;
+  for (uint32_t i = 0; i < off.size(); ++i) {
+    if (i == v || i == m || glm::length(off[i]) == 0.0) continue;
+    ++soft_moved;
+    const glm::dvec3 p(cage.positions[i]);
+    const double dv = glm::length(p - glm::dvec3(cage.positions[v])), dm = glm::length(p - glm::dvec3(cage.positions[m]));
+    EXPECT_LT(std::min(dv, dm), radius * (1 + 1e-6)) << "vertex " << i;
+    const glm::dvec3 ref = dv <= dm ? d : glm::dvec3(-d.x, d.y, d.z);
+    const double share = glm::dot(off[i], ref) / glm::dot(ref, ref);
+    EXPECT_GT(share, 0.0) << "vertex " << i;
+    EXPECT_LT(share, 1.0) << "vertex " << i;
+    EXPECT_NEAR(glm::length(off[i] - share * ref), 0.0, 1e-5) << "vertex " << i << " moves along the drag";
+  }
+  EXPECT_GT(soft_moved, 4u) << "the falloff reaches the neighbours";
+}
+
+TEST(EditorTools, FaceSelectionMovesTheFaceCornersOnly) {
+  std::string why;
+  if (!gui_available(why)) GTEST_SKIP() << why;
+  PolyMesh cage = demo_cage();
+  ASSERT_GT(cage.num_faces(), 20u);
+  fs::path dir = gui_test_dir(), project = dir / "tools_face.cagewrap", script = dir / "tools_face.script";
+  fs::remove(project);
+  write_script(script, "clip rest\nwait 2\nmode cage_faces\nselect_cage_face 17\nmove 0 0.05 0\nsave " + project.string() + "\n");
+  screenshot("--script " + script.string(), "tools_face");
+  auto off = saved_offsets(project);
+  ASSERT_EQ(off.size(), cage.num_vertices());
+  std::vector<bool> corner(cage.num_vertices(), false);
+  for (uint32_t c : cage.face(17)) corner[c] = true;
+  for (uint32_t i = 0; i < off.size(); ++i) {
+    if (corner[i]) {
+      EXPECT_NEAR(off[i].y, 0.05, 1e-6) << "corner " << i;
+    } else {
+      EXPECT_EQ(glm::length(off[i]), 0.0) << "vertex " << i;
+    }
+  }
+}
+
+// Pink points are the skin selection's colour (render/viewport_renderer.cpp).
+size_t pink_pixels(const Image& img) {
+  size_t n = 0;
+  for (int y = kTop; y < img.h - kBottom; ++y)
+    for (int x = kLeft; x < img.w - kRight; ++x) {
+      const unsigned char* p = img.at(x, y);
+      if (p[0] > 220 && p[1] < 120 && p[2] > 100 && p[2] < 180) ++n;
+    }
+  return n;
+}
+
+TEST(EditorTools, SkinSelectionIsDrawn) {
+  std::string why;
+  if (!gui_available(why)) GTEST_SKIP() << why;
+  fs::path dir = gui_test_dir(), script = dir / "tools_skin.script";
+  write_script(script, "clip rest\nwait 2\nmode skin_vertices\nselect_skin_vertex 20000\nselect grow\nselect grow\nselect grow\nwait 1\n");
+  Image selected = screenshot("--script " + script.string(), "tools_skin");
+  write_script(script, "clip rest\nwait 3\n");
+  Image plain = screenshot("--script " + script.string(), "tools_skin_none");
+  EXPECT_GT(pink_pixels(selected), 20u);
+  EXPECT_EQ(pink_pixels(plain), 0u);
+}
+
+}  // namespace

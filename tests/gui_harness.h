@@ -1,0 +1,93 @@
+// Running the real editor under Xvfb for GUI tests: availability check, a run that returns the
+// screenshot, PNG loading and image comparisons over the 3-D view (the fixed panels excluded).
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <stb_image.h>
+
+namespace cagewrap::test {
+
+struct Image {
+  int w = 0, h = 0;
+  std::vector<unsigned char> rgb;  // w x h x 3
+  const unsigned char* at(int x, int y) const { return &rgb[(static_cast<size_t>(y) * w + x) * 3]; }
+};
+
+inline Image load_png(const std::string& path) {
+  Image img;
+  int n = 0;
+  unsigned char* d = stbi_load(path.c_str(), &img.w, &img.h, &n, 3);
+  if (d) {
+    img.rgb.assign(d, d + static_cast<size_t>(img.w) * img.h * 3);
+    stbi_image_free(d);
+  }
+  return img;
+}
+
+inline bool gui_available(std::string& why) {
+  if (std::system("command -v xvfb-run >/dev/null 2>&1") != 0) {
+    why = "xvfb-run not installed";
+    return false;
+  }
+  if (!CAGEWRAP_TESTS_HAVE_EDITOR) {
+    why = "cagewrap was built without the editor (CAGEWRAP_GUI=OFF)";
+    return false;
+  }
+  return true;
+}
+
+// Runs the editor and returns the screenshot (asserting exit status 0).
+inline Image screenshot(const std::string& args, const std::string& name) {
+  std::filesystem::path dir = std::filesystem::temp_directory_path() / "cagewrap_gui_test";
+  std::filesystem::create_directories(dir);
+  std::filesystem::path png = dir / (name + ".png");
+  std::filesystem::remove(png);
+  std::string cmd = "xvfb-run -a -s '-screen 0 1280x720x24' " + std::string(CAGEWRAP_BINARY) +
+                    " --width 1280 --height 720 --screenshot " + png.string() + " " + args + " > " +
+                    (dir / (name + ".log")).string() + " 2>&1";
+  int rc = std::system(cmd.c_str());
+  EXPECT_EQ(rc, 0) << cmd;
+  Image img = load_png(png.string());
+  EXPECT_FALSE(img.rgb.empty()) << png;
+  return img;
+}
+
+// The 3-D view: what the fixed panels leave free (see app/editor.cpp).
+constexpr int kLeft = 262, kRight = 302, kTop = 21, kBottom = 172;
+
+inline double share_differing(const Image& a, const Image& b, int tolerance) {
+  size_t diff = 0, total = 0;
+  for (int y = kTop; y < a.h - kBottom; ++y)
+    for (int x = kLeft; x < a.w - kRight; ++x, ++total) {
+      const unsigned char *p = a.at(x, y), *q = b.at(x, y);
+      if (std::abs(p[0] - q[0]) > tolerance || std::abs(p[1] - q[1]) > tolerance || std::abs(p[2] - q[2]) > tolerance) ++diff;
+    }
+  return total ? double(diff) / total : 0.0;
+}
+
+// Share of view pixels that are the skin's warm colour (red clearly above blue).
+inline double skin_share(const Image& img) {
+  size_t skin = 0, total = 0;
+  for (int y = kTop; y < img.h - kBottom; ++y)
+    for (int x = kLeft; x < img.w - kRight; ++x, ++total) {
+      const unsigned char* p = img.at(x, y);
+      if (p[0] > 90 && p[0] > p[2] + 30) ++skin;
+    }
+  return total ? double(skin) / total : 0.0;
+}
+
+// A scratch folder for GUI test files.
+inline std::filesystem::path gui_test_dir() {
+  std::filesystem::path dir = std::filesystem::temp_directory_path() / "cagewrap_gui_test";
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+}  // namespace cagewrap::test
