@@ -11,20 +11,14 @@
 
 namespace cagewrap::app {
 
-BindJob::BindJob(std::vector<glm::vec3> skin, Cage cage, BindParams params)
-    : skin_(std::move(skin)), cage_(std::move(cage)), params_(params) {
-  thread_ = std::thread([this] {
+std::unique_ptr<BindJob> start_bind_job(std::vector<glm::vec3> skin, Cage cage, BindParams params) {
+  return std::make_unique<BindJob>("binding", [skin = std::move(skin), cage = std::move(cage), params](
+                                                  const BindJob::Progress& progress, const std::atomic<bool>& cancel) {
     BindProgress p;
-    p.on_progress = [this](double f) { progress_ = f; };
-    p.cancel = &cancel_;
-    result_.emplace(bind_skin(skin_, cage_, cage_.polygons.positions, params_, {}, p));
-    done_ = true;
+    p.on_progress = [&progress](double f) { progress("bind", f); };
+    p.cancel = &cancel;
+    return bind_skin(skin, cage, cage.polygons.positions, params, {}, p);
   });
-}
-
-BindJob::~BindJob() {
-  cancel_ = true;
-  if (thread_.joinable()) thread_.join();
 }
 
 bool Scene::needs_rebind() const {
@@ -38,7 +32,7 @@ bool Scene::needs_rebind() const {
 
 void Scene::start_bind() {
   if (!doc().cage || job) return;
-  job = std::make_unique<BindJob>(skin_rest, *doc().cage, params);
+  job = start_bind_job(skin_rest, *doc().cage, params);
   pending_cage_ = doc().cage;
 }
 
@@ -95,6 +89,8 @@ std::optional<std::string> Scene::poll_bind() {
     message = r.error().code == ErrorCode::kCancelled ? "bind cancelled" : "error: " + r.error().message;
   }
   job.reset();
+  // the cage changed while this bind ran (an edit, undo, a new cage): bind the current one
+  if (doc().cage && pending_cage_ != doc().cage) start_bind();
   return message;
 }
 

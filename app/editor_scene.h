@@ -10,6 +10,7 @@
 #include <thread>
 #include <vector>
 
+#include "app/background_task.h"
 #include "core/animation.h"
 #include "core/cage.h"
 #include "core/cage_attachment.h"
@@ -23,25 +24,8 @@
 namespace cagewrap::app {
 
 // A bind running on a worker thread, with progress and cancel; the UI polls it every frame.
-class BindJob {
- public:
-  BindJob(std::vector<glm::vec3> skin, Cage cage, BindParams params);
-  ~BindJob();
-  double progress() const { return progress_.load(); }
-  bool done() const { return done_.load(); }
-  void cancel() { cancel_ = true; }
-  // Valid once done(): the binding, or the error (kCancelled when cancelled).
-  Result<Binding>& result() { return *result_; }
-
- private:
-  std::vector<glm::vec3> skin_;
-  Cage cage_;
-  BindParams params_;
-  std::atomic<double> progress_{0.0};
-  std::atomic<bool> cancel_{false}, done_{false};
-  std::optional<Result<Binding>> result_;
-  std::thread thread_;
-};
+using BindJob = BackgroundTask<Binding>;
+std::unique_ptr<BindJob> start_bind_job(std::vector<glm::vec3> skin, Cage cage, BindParams params);
 
 struct Scene {
   explicit Scene(Document doc) : history(std::move(doc)) {}
