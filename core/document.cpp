@@ -6,6 +6,7 @@
 #include "core/check.h"
 #include "core/file_hash.h"
 #include "core/gltf_loader.h"
+#include "core/cage_import.h"
 #include "core/mesh_io.h"
 
 namespace cagewrap {
@@ -30,7 +31,7 @@ Result<Document> document_from_files(const std::string& character_path, const st
   doc.character_path = character_path;
   doc.character_hash = std::move(hash).value();
   if (!cage_path.empty()) {
-    auto mesh = load_mesh(cage_path);
+    auto mesh = load_cage_mesh(cage_path);
     if (!mesh) return mesh.error();
     auto cage = make_cage(std::move(mesh).value(), cage_path);
     if (!cage) return cage.error();
