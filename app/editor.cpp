@@ -21,6 +21,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "app/cage_tools.h"
 #include "app/editor_scene.h"
 #include "core/camera.h"
 #include "core/mesh_io.h"
@@ -142,6 +143,9 @@ class Editor {
   std::string dropped_;  // a file dropped on the window, opened next frame
   std::string title_;
   std::unique_ptr<Scene> scene_;
+  CageTools cage_tools_;
+  EditorHooks hooks_;
+  std::shared_ptr<const Cage> shown_cage_;  // the cage whose topology the renderer holds
   std::deque<LogLine> log_;
   std::string error_modal_;
   bool show_help_ = false;
@@ -714,6 +718,10 @@ void Editor::draw_menu() {
     ImGui::MenuItem("X-mirror editing", "Shift+X", &mirror_.enabled);
     ImGui::EndMenu();
   }
+  if (ImGui::BeginMenu("Cage", scene_ != nullptr)) {
+    cage_tools_.menu_items(*scene_, selection_, hooks_);
+    ImGui::EndMenu();
+  }
   if (ImGui::BeginMenu("View")) {
     ImGui::MenuItem("Skin", nullptr, &style_.show_skin);
     ImGui::MenuItem("Cage", nullptr, &style_.show_cage);
@@ -1058,6 +1066,7 @@ void Editor::draw_file_popups() {
 //   select_skin_vertex I [add] | select_joint I [add] | click_cage_vertex I
 //   select all|none|invert|grow|shrink|mirror | soft on|off [R] [FALLOFF] [volume|surface]
 //   mirror on|off | view front|right|top | clip NAME|rest | gizmo_drag x|y|z|yz|xz|xy|screen DX DY
+//   auto_cage [FACES] | import_cage PATH
 // `move` goes through the gizmo's own path: one drag, one undo step. `gizmo_drag` grabs a handle
 // where a person would (hit-tested like a click) and drags it DX, DY pixels.
 void Editor::run_script_step() {
@@ -1150,6 +1159,16 @@ void Editor::run_script_step() {
           scene_->player = ClipPlayer(clips[i].duration);
         }
       if (name != "rest" && scene_->clip < 0) log("error: script line " + std::to_string(script_pos_) + ": no clip '" + name + "'", true);
+    } else if (cmd == "auto_cage") {  // [FACES]: builds in the background; the script waits for it
+      uint32_t faces;
+      if (in >> faces) cage_tools_.auto_params().target_faces = faces;
+      cage_tools_.open_auto_cage_dialog();
+      cage_tools_.start_auto_cage(*scene_);
+      script_wait_ = 1;  // the next steps run once it is done
+    } else if (cmd == "import_cage") {
+      std::string p;
+      in >> p;
+      cage_tools_.import_cage(*scene_, p, hooks_);
     } else if (cmd == "view") {  // front | right | top
       std::string v;
       in >> v;
@@ -1212,6 +1231,7 @@ void Editor::draw_panels() {
   draw_log();
   draw_stats();
   draw_toolbar();
+  if (scene_) cage_tools_.draw_windows(*scene_, hooks_);
   draw_help();
 }
 
@@ -1249,6 +1269,11 @@ int Editor::run() {
     }
     for (std::string line; std::getline(in, line);) script_.push_back(line);
   }
+  hooks_.log = [this](const std::string& text, bool error) { log(text, error); };
+  hooks_.show_error = [this](const std::string& message) {
+    error_modal_ = message;
+    log("error: " + message, true);
+  };
   load_initial();
   int frame = 0;
   int exit_code = 0;
@@ -1275,13 +1300,24 @@ int Editor::run() {
     ImGui::NewFrame();
     handle_input();
     // a scripted run waits for the first bind so that the steps act on the deformed skin
-    if (!script_.empty() && !(scene_ && scene_->job)) run_script_step();
+    if (!script_.empty() && !(scene_ && (scene_->job || cage_tools_.busy()))) run_script_step();
 
     if (scene_) {
       if (auto msg = scene_->poll_bind()) {
         log(*msg, msg->rfind("error", 0) == 0);
         if (scene_->binding && !scene_->binding->invalid_elements.empty())
           log("warning: " + std::to_string(scene_->binding->invalid_elements.size()) + " cage elements skipped (zero area, non-finite or duplicate)");
+      }
+      cage_tools_.poll(*scene_, hooks_);
+      if (scene_->doc().cage != shown_cage_) {  // a new cage (edit, undo, import): new topology?
+        const Cage* c = scene_->doc().cage.get();
+        if (!c || !shown_cage_ || c->num_vertices() != shown_cage_->num_vertices() || c->polygons.face_vertices != shown_cage_->polygons.face_vertices) {
+          selection_.cage_vertices.clear();
+          selection_.cage_faces.clear();
+          topology_dirty_ = true;
+        }
+        shown_cage_ = scene_->doc().cage;
+        display_key_.clear();
       }
       // scripted runs advance a fixed 1/30 s per frame so they are reproducible
       scene_->player.advance(scripted ? 1.0 / 30.0 : dt);
@@ -1290,7 +1326,8 @@ int Editor::run() {
       renderer_->update_skin(scene_->skin_posed);
       update_selection_display();
       if (scene_->doc().cage) renderer_->update_cage(scene_->cage_posed, cage_weights_, face_mask_);
-      renderer_->update_skin_selection(scene_->skin_posed, selection_.skin_vertices.indices());
+      renderer_->update_skin_points(scene_->skin_posed, selection_.skin_vertices.indices(),
+                                    cage_tools_.show_failing() ? std::span<const uint32_t>(cage_tools_.failing_points()) : std::span<const uint32_t>());
       renderer_->update_skeleton(scene_->joint_heads, scene_->bones, joint_mask_);
       std::string title = "cagewrap - " + (scene_->doc().project_path.empty() ? std::string("untitled") : scene_->doc().project_path) +
                           (scene_->history.dirty(scene_->doc()) ? " *" : "");
@@ -1320,7 +1357,7 @@ int Editor::run() {
       pending_screenshot_.clear();
     }
     const bool script_done = script_pos_ >= script_.size() && script_wait_ == 0;
-    if (!options_.screenshot.empty() && frame >= options_.frames && script_done && !(scene_ && scene_->job)) {
+    if (!options_.screenshot.empty() && frame >= options_.frames && script_done && !(scene_ && (scene_->job || cage_tools_.busy()))) {
       exit_code = save_screenshot(options_.screenshot) ? 0 : 1;
       break;
     }

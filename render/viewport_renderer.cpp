@@ -14,6 +14,7 @@ const glm::vec4 kSelectedColor(1.00f, 0.62f, 0.10f, 1.0f);
 const glm::vec4 kSoftColor(1.00f, 0.95f, 0.25f, 1.0f);  // soft selection: edge colour -> this -> selected
 const glm::vec4 kCagePointColor(0.15f, 0.45f, 0.85f, 1.0f);
 const glm::vec4 kSkinPointColor(1.00f, 0.35f, 0.55f, 1.0f);
+const glm::vec4 kFlaggedPointColor(0.95f, 0.10f, 0.10f, 1.0f);
 
 glm::vec4 weight_color(float w, const glm::vec4& base) {
   if (w >= 0.999f) return kSelectedColor;
@@ -91,11 +92,20 @@ void ViewportRenderer::update_cage(std::span<const glm::vec3> positions, std::sp
   cage_points_->upload(positions, scratch_colors_);
 }
 
-void ViewportRenderer::update_skin_selection(std::span<const glm::vec3> skin_positions, std::span<const uint32_t> selected) {
+void ViewportRenderer::update_skin_points(std::span<const glm::vec3> skin_positions, std::span<const uint32_t> selected,
+                                          std::span<const uint32_t> flagged) {
   scratch_positions_.clear();
+  scratch_colors_.clear();
+  for (uint32_t v : flagged)
+    if (v < skin_positions.size()) {
+      scratch_positions_.push_back(skin_positions[v]);
+      scratch_colors_.push_back(kFlaggedPointColor);
+    }
   for (uint32_t v : selected)
-    if (v < skin_positions.size()) scratch_positions_.push_back(skin_positions[v]);
-  scratch_colors_.assign(scratch_positions_.size(), kSkinPointColor);
+    if (v < skin_positions.size()) {
+      scratch_positions_.push_back(skin_positions[v]);
+      scratch_colors_.push_back(kSkinPointColor);
+    }
   skin_points_->upload(scratch_positions_, scratch_colors_);
 }
 

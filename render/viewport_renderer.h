@@ -50,8 +50,10 @@ class ViewportRenderer {
   // `selected_faces` (#polygons, may be empty) highlights polygons.
   void update_cage(std::span<const glm::vec3> positions, std::span<const float> weights,
                    std::span<const uint8_t> selected_faces);
-  // Selected skin vertices drawn as points over the skin.
-  void update_skin_selection(std::span<const glm::vec3> skin_positions, std::span<const uint32_t> selected);
+  // Skin vertices drawn as points over the skin: the selection (pink) and flagged points (red, e.g.
+  // those failing the cage-quality test).
+  void update_skin_points(std::span<const glm::vec3> skin_positions, std::span<const uint32_t> selected,
+                          std::span<const uint32_t> flagged);
 
   // Joint heads (#J) and bones as joint index pairs; `selected` (#J mask, may be empty) highlighted.
   void update_skeleton(std::span<const glm::vec3> heads, std::span<const std::array<uint32_t, 2>> bones,

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <iterator>
 #include <string>
 
 #include <glm/geometric.hpp>
@@ -154,6 +155,37 @@ TEST(EditorTools, SkinSelectionIsDrawn) {
   Image plain = screenshot("--script " + script.string(), "tools_skin_none");
   EXPECT_GT(pink_pixels(selected), 20u);
   EXPECT_EQ(pink_pixels(plain), 0u);
+}
+
+// Cage > Import and Cage > Automatic cage, each one undo step: the saved projects hold the new
+// cages, and an undo after the import brings the demo cage back.
+TEST(EditorTools, ImportAndAutomaticCageAreUndoableSteps) {
+  std::string why;
+  if (!gui_available(why)) GTEST_SKIP() << why;
+  const fs::path dir = gui_test_dir(), box = dir / "tools_import_box.obj";
+  PolyMesh imported = symmetric_cage(box);
+  const size_t demo_vertices = demo_cage().num_vertices();
+  const fs::path p_import = dir / "tools_import.cagewrap", p_undo = dir / "tools_import_undo.cagewrap",
+                 p_auto = dir / "tools_auto.cagewrap", script = dir / "tools_import.script";
+  for (const auto& p : {p_import, p_undo, p_auto}) fs::remove(p);
+  write_script(script, "clip rest\nwait 2\nimport_cage " + box.string() + "\nsave " + p_import.string() + "\nundo\nsave " +
+                           p_undo.string() + "\nauto_cage 600\nsave " + p_auto.string() + "\n");
+  screenshot("--script " + script.string(), "tools_import");
+  auto cage_of = [](const fs::path& p) {
+    std::ifstream in(p);
+    EXPECT_TRUE(in) << p;
+    return in ? nlohmann::json::parse(in).at("cage") : nlohmann::json();
+  };
+  EXPECT_EQ(cage_of(p_import).at("positions").size(), imported.num_vertices());
+  EXPECT_EQ(cage_of(p_undo).at("positions").size(), demo_vertices);
+  const auto automatic = cage_of(p_auto);
+  const size_t faces = automatic.at("faces").size();
+  EXPECT_GT(faces, 300u);
+  EXPECT_LE(faces, 600u);
+  std::ifstream log(dir / "tools_import.log");
+  std::string text((std::istreambuf_iterator<char>(log)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("automatic cage: "), std::string::npos) << text;
+  EXPECT_NE(text.find("cage quality"), std::string::npos) << text;
 }
 
 }  // namespace
