@@ -26,6 +26,7 @@
 #include "core/camera.h"
 #include "core/mesh_io.h"
 #include "core/move_gizmo.h"
+#include "core/rotate_gizmo.h"
 #include "core/soft_selection.h"
 #include "core/triangle_bvh.h"
 #include "core/picking.h"
@@ -85,6 +86,12 @@ class Editor {
   void box_select_in_mode(const ImVec2& a, const ImVec2& b, bool add, bool remove);
   void draw_toolbar();
   void draw_move_tool();
+  void draw_pose_panel();
+  int posed_joint() const;
+  RotateGizmoLayout rotate_gizmo() const;
+  void begin_rotate(RotateHandle handle, glm::dvec2 from);
+  void apply_rotate(double angle);
+  void set_override(uint32_t node, const glm::quat& q);
   void update_selection_display();
   void draw_gizmo();
   void undo();
@@ -94,6 +101,7 @@ class Editor {
   bool open_path(const std::string& path);
   void run_script_step();
   void script_gizmo_drag(std::istringstream& in);
+  void script_rotate_drag(std::istringstream& in);
   void draw_file_popups();
   void draw_panels();
   void draw_menu();
@@ -125,6 +133,13 @@ class Editor {
   glm::dvec3 drag_total_{0.0};   // displacement so far (snapped)
   MoveWeights drag_weights_;
   Document drag_start_;
+  // joint rotation drag (posing is view state: not undone, never saved)
+  RotateHandle rot_handle_ = RotateHandle::kNone;
+  glm::dvec2 rot_from_{0.0};
+  RotateGizmoLayout rot_layout_;  // at the drag's start
+  glm::quat rot_start_{1, 0, 0, 0};
+  glm::vec3 rot_local_axis_{1, 0, 0};
+  double rot_angle_ = 0.0;
   PolygonPicker cage_picker_;
   TriangleBvh skin_bvh_;
   bool skin_bvh_built_ = false;
@@ -520,6 +535,15 @@ void Editor::box_select_in_mode(const ImVec2& a, const ImVec2& b, bool add, bool
 void Editor::handle_input() {
   ImGuiIO& io = ImGui::GetIO();
   const bool over_view = in_view(io.MousePos) && !io.WantCaptureMouse;
+  if (scene_ && rot_handle_ != RotateHandle::kNone) {  // a joint rotation in progress
+    if (!io.MouseDown[0]) {
+      rot_handle_ = RotateHandle::kNone;
+    } else if (io.MouseDelta.x != 0 || io.MouseDelta.y != 0) {
+      auto a = rotate_gizmo_angle(camera_, Viewport{view_w_, view_h_}, rot_layout_, rot_handle_, rot_from_, to_view(io.MousePos));
+      if (a) apply_rotate(*a);
+    }
+    return;
+  }
   if (scene_ && drag_handle_ != GizmoHandle::kNone) {  // a gizmo drag in progress
     if (!io.MouseDown[0]) {
       end_move();
@@ -538,7 +562,10 @@ void Editor::handle_input() {
     if (io.MouseWheel != 0) camera_.zoom(io.MouseWheel);
     if (!alt && ImGui::IsMouseClicked(0)) {
       const GizmoHandle hit = gizmo_hit(gizmo(), to_view(io.MousePos));
-      if (hit != GizmoHandle::kNone) {
+      const RotateHandle ring = rotate_gizmo_hit(rotate_gizmo(), to_view(io.MousePos));
+      if (ring != RotateHandle::kNone) {
+        begin_rotate(ring, to_view(io.MousePos));
+      } else if (hit != GizmoHandle::kNone) {
         begin_move(hit, to_view(io.MousePos));
       } else {
         box_selecting_ = true;
@@ -578,10 +605,58 @@ void Editor::handle_input() {
     if (ImGui::IsKeyPressed(GLFW_KEY_KP_1) || ImGui::IsKeyPressed(GLFW_KEY_1)) camera_.set_preset(ctrl ? ViewPreset::kBack : ViewPreset::kFront);
     if (ImGui::IsKeyPressed(GLFW_KEY_KP_3) || ImGui::IsKeyPressed(GLFW_KEY_3)) camera_.set_preset(ctrl ? ViewPreset::kLeft : ViewPreset::kRight);
     if (ImGui::IsKeyPressed(GLFW_KEY_KP_7) || ImGui::IsKeyPressed(GLFW_KEY_7)) camera_.set_preset(ctrl ? ViewPreset::kBottom : ViewPreset::kTop);
+    if (ImGui::IsKeyPressed(GLFW_KEY_L) && !ctrl) scene_->show_file_skinning = !scene_->show_file_skinning;
     if (ImGui::IsKeyPressed(GLFW_KEY_W) && !ctrl) style_.wireframe = !style_.wireframe;
     if (ImGui::IsKeyPressed(GLFW_KEY_X) && io.KeyAlt) style_.xray = !style_.xray;
     if (ImGui::IsKeyPressed(GLFW_KEY_F1)) show_help_ = !show_help_;
   }
+}
+
+// The joint the rotation gizmo acts on: the one selected joint in joint mode.
+int Editor::posed_joint() const {
+  if (!scene_ || mode_ != SelectMode::kJoints || selection_.joints.size() != 1) return -1;
+  const uint32_t j = selection_.joints.indices()[0];
+  return j < scene_->joint_globals.size() ? static_cast<int>(j) : -1;
+}
+
+RotateGizmoLayout Editor::rotate_gizmo() const {
+  const int j = posed_joint();
+  if (j < 0) return {};
+  if (rot_handle_ != RotateHandle::kNone) return rot_layout_;
+  const glm::mat4& g = scene_->joint_globals[static_cast<size_t>(j)];
+  const glm::dmat3 axes{glm::dvec3(g[0]), glm::dvec3(g[1]), glm::dvec3(g[2])};
+  return rotate_gizmo_layout(camera_, Viewport{view_w_, view_h_}, glm::dvec3(g[3]), axes);
+}
+
+void Editor::set_override(uint32_t node, const glm::quat& q) {
+  auto& o = scene_->pose_override;
+  if (o.size() < scene_->joint_globals.size()) o.resize(scene_->joint_globals.size(), glm::quat(1, 0, 0, 0));
+  if (node < o.size()) o[node] = glm::normalize(q);
+}
+
+void Editor::begin_rotate(RotateHandle handle, glm::dvec2 from) {
+  const int j = posed_joint();
+  if (j < 0) return;
+  rot_layout_ = rotate_gizmo();
+  rot_handle_ = handle;
+  rot_from_ = from;
+  rot_angle_ = 0.0;
+  const auto& o = scene_->pose_override;
+  rot_start_ = static_cast<size_t>(j) < o.size() ? o[static_cast<size_t>(j)] : glm::quat(1, 0, 0, 0);
+  // local = clip * override and global = parent * local: turning the joint by angle a about a world
+  // axis w is override' = override * angleAxis(a, inverse(global rotation) * w)
+  const glm::mat4& g = scene_->joint_globals[static_cast<size_t>(j)];
+  const glm::mat3 rot(glm::normalize(glm::vec3(g[0])), glm::normalize(glm::vec3(g[1])), glm::normalize(glm::vec3(g[2])));
+  const glm::vec3 w(rotate_handle_axis(camera_, rot_layout_, handle));
+  rot_local_axis_ = glm::normalize(glm::transpose(rot) * w);
+}
+
+void Editor::apply_rotate(double angle) {
+  const int j = posed_joint();
+  if (j < 0) return;
+  if (ImGui::GetIO().KeyCtrl) angle = snap_angle(angle, glm::radians(5.0));
+  rot_angle_ = angle;
+  set_override(static_cast<uint32_t>(j), rot_start_ * glm::angleAxis(static_cast<float>(angle), rot_local_axis_));
 }
 
 void Editor::draw_gizmo() {
@@ -592,6 +667,30 @@ void Editor::draw_gizmo() {
     dl->AddRect(box_start_, m, IM_COL32(255, 160, 40, 200));
   }
   if (!scene_) return;
+  if (const RotateGizmoLayout r = rotate_gizmo(); r.visible) {
+    const ImVec2 o(view_x_, view_y_);
+    auto at = [&](glm::dvec2 p) { return ImVec2(o.x + static_cast<float>(p.x), o.y + static_cast<float>(p.y)); };
+    const ImU32 colours[3] = {IM_COL32(235, 70, 70, 255), IM_COL32(90, 220, 90, 255), IM_COL32(80, 130, 255, 255)};
+    for (int k = 0; k < 3; ++k) {
+      const bool on = static_cast<int>(rot_handle_) == k;
+      const size_t n = r.rings[k].size();
+      for (size_t i = 0; i < n; ++i) {
+        const size_t i2 = (i + 1) % n;
+        const bool front = r.front[k][i] && r.front[k][i2];
+        const ImU32 c = on ? IM_COL32(255, 230, 80, 255) : (front ? colours[k] : (colours[k] & 0x00FFFFFF) | 0x50000000);
+        dl->AddLine(at(r.rings[k][i]), at(r.rings[k][i2]), c, front ? 2.5f : 1.0f);
+      }
+    }
+    for (size_t i = 0; i < r.view_ring.size(); ++i)
+      dl->AddLine(at(r.view_ring[i]), at(r.view_ring[(i + 1) % r.view_ring.size()]),
+                  rot_handle_ == RotateHandle::kView ? IM_COL32(255, 230, 80, 255) : IM_COL32(220, 220, 220, 160), 1.5f);
+    if (rot_handle_ != RotateHandle::kNone) {
+      char buf[48];
+      std::snprintf(buf, sizeof buf, "%+.1f deg", glm::degrees(rot_angle_));
+      dl->AddText(ImVec2(at(r.centre).x + 14, at(r.centre).y + 12), IM_COL32(255, 255, 255, 230), buf);
+    }
+    return;
+  }
   const GizmoLayout g = gizmo();
   if (!g.visible) return;
   const ImU32 active = IM_COL32(255, 230, 80, 255);
@@ -791,6 +890,7 @@ void Editor::draw_properties() {
   ImGui::SetNextWindowSize(ImVec2(kRightWidth, io.DisplaySize.y - kMenuHeight - kBottomHeight), ImGuiCond_Always);
   ImGui::Begin("Properties", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
   draw_move_tool();
+  draw_pose_panel();
   if (scene_ && scene_->doc().cage) {
     BindParams& p = scene_->params;
     ImGui::TextUnformatted("Binding");
@@ -865,6 +965,30 @@ void Editor::draw_toolbar() {
     ImGui::TextDisabled("%zu %s selected", s.size(), mode_name(mode_));
   }
   ImGui::End();
+}
+
+// Posing: the selected joint's rotation on top of the clip as angles, reset buttons, comparison.
+void Editor::draw_pose_panel() {
+  if (!scene_) return;
+  if (!ImGui::CollapsingHeader("Pose", ImGuiTreeNodeFlags_DefaultOpen)) return;
+  const Character& ch = *scene_->doc().character;
+  if (selection_.joints.size() == 1 && selection_.joints.indices()[0] < ch.skeleton.size()) {
+    const uint32_t j = selection_.joints.indices()[0];
+    ImGui::Text("%s", ch.skeleton.node(j).name.c_str());
+    const auto& o = scene_->pose_override;
+    const glm::quat q = j < o.size() ? o[j] : glm::quat(1, 0, 0, 0);
+    glm::vec3 euler = glm::degrees(glm::eulerAngles(q));
+    if (ImGui::DragFloat3("rotate (deg)", &euler.x, 0.5f, -180.0f, 180.0f, "%.1f")) set_override(j, glm::quat(glm::radians(euler)));
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("About the joint's local X, Y, Z, on top of the clip");
+    if (ImGui::Button("Reset joint")) set_override(j, glm::quat(1, 0, 0, 0));
+    ImGui::SameLine();
+  } else {
+    ImGui::TextDisabled("select one joint (F8) to pose it with the rings or here");
+  }
+  if (ImGui::Button("Reset pose")) scene_->pose_override.clear();
+  ImGui::Checkbox("show the file's own skinning (L)", &scene_->show_file_skinning);
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("Compare the cage deformation with the character's linear blend skinning");
+  ImGui::Spacing();
 }
 
 // Settings of the move tool: soft selection and X-mirror.
@@ -1066,7 +1190,8 @@ void Editor::draw_file_popups() {
 //   select_skin_vertex I [add] | select_joint I [add] | click_cage_vertex I
 //   select all|none|invert|grow|shrink|mirror | soft on|off [R] [FALLOFF] [volume|surface]
 //   mirror on|off | view front|right|top | clip NAME|rest | gizmo_drag x|y|z|yz|xz|xy|screen DX DY
-//   auto_cage [FACES] | import_cage PATH
+//   auto_cage [FACES] | import_cage PATH | pose NODE X Y Z | reset_pose | compare on|off
+//   rotate_drag x|y|z|view DEGREES
 // `move` goes through the gizmo's own path: one drag, one undo step. `gizmo_drag` grabs a handle
 // where a person would (hit-tested like a click) and drags it DX, DY pixels.
 void Editor::run_script_step() {
@@ -1169,6 +1294,20 @@ void Editor::run_script_step() {
       std::string p;
       in >> p;
       cage_tools_.import_cage(*scene_, p, hooks_);
+    } else if (cmd == "pose") {  // NODE X Y Z: the joint's rotation on top of the clip, degrees
+      uint32_t node;
+      glm::vec3 deg(0.f);
+      in >> node >> deg.x >> deg.y >> deg.z;
+      if (scene_->joint_globals.empty()) scene_->update_pose();
+      set_override(node, glm::quat(glm::radians(deg)));
+    } else if (cmd == "reset_pose") {
+      scene_->pose_override.clear();
+    } else if (cmd == "compare") {
+      std::string on;
+      in >> on;
+      scene_->show_file_skinning = on == "on";
+    } else if (cmd == "rotate_drag") {  // x|y|z|view DEGREES: grabs the ring where a person would
+      script_rotate_drag(in);
     } else if (cmd == "view") {  // front | right | top
       std::string v;
       in >> v;
@@ -1219,6 +1358,47 @@ void Editor::script_gizmo_drag(std::istringstream& in) {
     if (total) apply_move(*total);
   }
   end_move();
+}
+
+// Grabs a ring at its point nearest the viewer (the view ring at its right) and drags it along
+// the ring by the given angle, through the same hit test and angle code as the mouse.
+void Editor::script_rotate_drag(std::istringstream& in) {
+  std::string name;
+  double degrees = 0.0;
+  in >> name >> degrees;
+  const char* names[] = {"x", "y", "z", "view"};
+  int h = -1;
+  for (int k = 0; k < 4; ++k)
+    if (name == names[k]) h = k;
+  const RotateGizmoLayout g = rotate_gizmo();
+  if (h < 0 || !g.visible) {
+    log("error: script line " + std::to_string(script_pos_) + ": no rotation ring '" + name + "' (select one joint in joint mode)", true);
+    return;
+  }
+  const RotateHandle handle = static_cast<RotateHandle>(h);
+  const glm::dvec3 axis = rotate_handle_axis(camera_, g, handle);
+  // the grab point: on the ring, nearest the viewer (view ring: any point)
+  const glm::dvec3 to_eye = glm::normalize(camera_.eye() - g.world_centre);
+  glm::dvec3 radial = to_eye - glm::dot(to_eye, axis) * axis;
+  if (h == 3 || glm::length(radial) < 1e-6) radial = glm::dvec3(camera_.right());
+  radial = glm::normalize(radial);
+  const double r = h == 3 ? g.world_radius * kRotateViewRingShare : g.world_radius;
+  auto pixel_at = [&](double a) {
+    const glm::dvec3 p = g.world_centre + r * (std::cos(a) * radial + std::sin(a) * glm::cross(axis, radial));
+    return camera_.project(p, view_w_, view_h_).pixel;
+  };
+  const glm::dvec2 grab = pixel_at(0.0);
+  const RotateHandle hit = rotate_gizmo_hit(g, grab);
+  if (hit != handle) {
+    log("error: script line " + std::to_string(script_pos_) + ": the click meant for ring '" + name + "' hit another", true);
+    return;
+  }
+  begin_rotate(hit, grab);
+  for (int step = 1; step <= 4; ++step) {
+    auto a = rotate_gizmo_angle(camera_, Viewport{view_w_, view_h_}, rot_layout_, hit, grab, pixel_at(glm::radians(degrees) * step / 4.0));
+    if (a) apply_rotate(*a);
+  }
+  rot_handle_ = RotateHandle::kNone;
 }
 
 void Editor::draw_panels() {

@@ -94,10 +94,18 @@ std::optional<std::string> Scene::poll_bind() {
   return message;
 }
 
+Pose Scene::current_pose() const {
+  Pose pose = sample_pose(*doc().character, clip, player.time(), player.looping());
+  for (size_t i = 0; i < pose_override.size() && i < pose.local.size(); ++i)
+    pose.local[i].rotation = glm::normalize(pose.local[i].rotation * pose_override[i]);
+  return pose;
+}
+
 void Scene::update_pose() {
   const Character& ch = *doc().character;
-  Pose pose = sample_pose(ch, clip, player.time(), player.looping());
+  Pose pose = current_pose();
   std::vector<glm::mat4> globals = ch.skeleton.global_transforms(pose);
+  joint_globals = globals;
   joint_heads.resize(globals.size());
   for (size_t i = 0; i < globals.size(); ++i) joint_heads[i] = glm::vec3(globals[i][3]);
   bones.clear();
@@ -131,6 +139,7 @@ void Scene::update_pose() {
       skin_from_cage = s.ok();
     }
   }
+  if (show_file_skinning) skin_from_cage = false;
   if (!skin_from_cage) skin_posed = skin_character(ch, pose);
 }
 

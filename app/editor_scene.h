@@ -10,6 +10,8 @@
 #include <thread>
 #include <vector>
 
+#include <glm/gtc/quaternion.hpp>
+
 #include "app/background_task.h"
 #include "core/animation.h"
 #include "core/cage.h"
@@ -19,6 +21,7 @@
 #include "core/document.h"
 #include "core/history.h"
 #include "core/registration.h"
+#include "core/skeleton.h"
 #include "core/soft_selection.h"
 
 namespace cagewrap::app {
@@ -45,9 +48,14 @@ struct Scene {
   // animation (view state: never undone)
   int32_t clip = -1;
   ClipPlayer player;
+  // The artist's posing on top of the clip: per node, a local rotation applied after the clip's
+  // (local = clip * override); empty or identity = none. View state, like the time.
+  std::vector<glm::quat> pose_override;
+  bool show_file_skinning = false;  // compare: show the file's own linear blend skinning instead
 
   // the current frame
   std::vector<glm::vec3> cage_posed, skin_posed, joint_heads;
+  std::vector<glm::mat4> joint_globals;  // #nodes world transforms of the current pose
   std::vector<glm::dmat3> cage_linear;
   std::vector<glm::mat4> cage_skinning;  // skinning matrix of each cage vertex's joint
   std::vector<std::array<uint32_t, 2>> bones;
@@ -57,6 +65,8 @@ struct Scene {
   bool needs_rebind() const;
   // Call after the document changed (undo, redo, load): re-attaches and rebinds what it must.
   void document_changed();
+  // The pose shown: the clip at the player's time (the rest pose without a clip) and the overrides.
+  Pose current_pose() const;
   // Poses skeleton and cage at the player's time and deforms the skin.
   void update_pose();
   void start_bind();

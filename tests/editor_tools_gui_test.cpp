@@ -188,4 +188,27 @@ TEST(EditorTools, ImportAndAutomaticCageAreUndoableSteps) {
   EXPECT_NE(text.find("cage quality"), std::string::npos) << text;
 }
 
+// Posing a joint with the rotation gizmo (a drag along its X ring, hit-tested like a click) gives
+// the same picture as setting the angle directly; the pose changes the skin, and the comparison
+// with the file's own skinning shows a different skin.
+TEST(EditorTools, RotationRingPosesTheJointLikeTheAngleFields) {
+  std::string why;
+  if (!gui_available(why)) GTEST_SKIP() << why;
+  const fs::path dir = gui_test_dir(), script = dir / "tools_rotate.script";
+  const std::string head = "clip rest\nwait 2\nmode joints\nselect_joint 7\n";  // forearm.L
+  write_script(script, head + "rotate_drag x 50\nwait 2\n");
+  Image dragged = screenshot("--script " + script.string(), "tools_rotate_drag");
+  write_script(script, head + "pose 7 50 0 0\nwait 2\n");
+  Image typed = screenshot("--script " + script.string(), "tools_rotate_typed");
+  write_script(script, head + "wait 2\n");
+  Image rest = screenshot("--script " + script.string(), "tools_rotate_rest");
+  write_script(script, head + "pose 7 50 0 0\ncompare on\nwait 2\n");
+  Image file_skinning = screenshot("--script " + script.string(), "tools_rotate_lbs");
+  ASSERT_FALSE(dragged.rgb.empty() || typed.rgb.empty() || rest.rgb.empty() || file_skinning.rgb.empty());
+  EXPECT_GT(share_differing(rest, typed, 24), 0.002) << "bending the forearm changes the picture";
+  // the gizmo overlay differs (it shows the angle while dragging only), the character must not
+  EXPECT_LT(share_differing(dragged, typed, 24), 0.001) << "the ring drag turns the joint by the dragged angle";
+  EXPECT_GT(share_differing(typed, file_skinning, 24), 0.0005) << "the file's skinning is not the cage deformation";
+}
+
 }  // namespace
