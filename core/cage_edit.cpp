@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <string>
 
@@ -10,6 +11,12 @@
 namespace cagewrap {
 
 namespace {
+
+std::string format_number(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", x);
+  return buf;
+}
 
 // Merges vertex clusters: remap (#V) gives each old vertex its new id (0..count-1).
 Result<CageEdit> merge_clusters(const Cage& cage, std::span<const uint32_t> remap, uint32_t count) {
@@ -83,11 +90,10 @@ Result<CageEdit> merge_clusters(const Cage& cage, std::span<const uint32_t> rema
 
 Result<CageEdit> merge_vertices(const Cage& cage, std::span<const uint32_t> vertices) {
   if (auto s = validate_mesh(cage.polygons, "cage"); !s) return s.error();
-  if (vertices.empty()) return make_error(ErrorCode::kInvalidArgument, "no vertices given to merge");
-  if (auto s = check_indices(vertices, cage.num_vertices(), "vertex"); !s) return s.error();
+  auto mask = selection_mask(vertices, cage.num_vertices(), "vertex", "merge");
+  if (!mask) return mask.error();
+  const std::vector<uint8_t>& merged = *mask;
   const uint32_t target = *std::min_element(vertices.begin(), vertices.end());
-  std::vector<uint8_t> merged(cage.num_vertices(), 0);
-  for (uint32_t v : vertices) merged[v] = 1;
   std::vector<uint32_t> remap(cage.num_vertices());
   uint32_t count = 0;
   for (uint32_t v = 0; v < remap.size(); ++v) remap[v] = merged[v] && v != target ? remap[target] : count++;
@@ -97,7 +103,7 @@ Result<CageEdit> merge_vertices(const Cage& cage, std::span<const uint32_t> vert
 Result<CageEdit> weld_cage_vertices(const Cage& cage, double distance) {
   if (!(distance > 0) || !std::isfinite(distance))
     return make_error(ErrorCode::kInvalidArgument,
-                      "the weld distance must be positive and finite, not " + std::to_string(distance));
+                      "the weld distance must be positive and finite, not " + format_number(distance));
   if (auto s = validate_mesh(cage.polygons, "cage"); !s) return s.error();
   Weld w = weld_vertices(cage.polygons.positions, distance);
   return merge_clusters(cage, w.remap, static_cast<uint32_t>(w.positions.size()));
@@ -105,10 +111,8 @@ Result<CageEdit> weld_cage_vertices(const Cage& cage, double distance) {
 
 Result<CageEdit> flip_faces(const Cage& cage, std::span<const uint32_t> faces) {
   if (auto s = validate_mesh(cage.polygons, "cage"); !s) return s.error();
-  if (faces.empty()) return make_error(ErrorCode::kInvalidArgument, "no faces given to flip");
-  if (auto s = check_indices(faces, cage.polygons.num_faces(), "face"); !s) return s.error();
-  std::vector<uint8_t> flip(cage.polygons.num_faces(), 0);
-  for (uint32_t f : faces) flip[f] = 1;
+  auto flip = selection_mask(faces, cage.polygons.num_faces(), "face", "flip");
+  if (!flip) return flip.error();
   const PolyMesh& old = cage.polygons;
   PolyMesh out;
   out.positions = old.positions;
@@ -118,7 +122,7 @@ Result<CageEdit> flip_faces(const Cage& cage, std::span<const uint32_t> faces) {
   for (size_t f = 0; f < old.num_faces(); ++f) {
     auto c = old.face(f);
     corners.assign(c.begin(), c.end());
-    if (flip[f]) std::reverse(corners.begin() + 1, corners.end());
+    if ((*flip)[f]) std::reverse(corners.begin() + 1, corners.end());
     out.add_face(corners);
     for (uint32_t v : corners) domain.emplace_back(old.positions[v]);
   }

@@ -308,12 +308,10 @@ Result<CageEdit> subdivide_loop(const Cage& cage, uint32_t levels, LoopNonTriang
 
 Result<CageEdit> refine_faces(const Cage& cage, std::span<const uint32_t> faces) {
   if (auto s = validate_mesh(cage.polygons, "cage"); !s) return s.error();
-  if (faces.empty()) return make_error(ErrorCode::kInvalidArgument, "no faces given to refine");
-  if (auto s = check_indices(faces, cage.polygons.num_faces(), "face"); !s) return s.error();
-  std::vector<uint8_t> red(cage.polygons.num_faces(), 0);
-  for (uint32_t f : faces) red[f] = 1;
+  auto red = selection_mask(faces, cage.polygons.num_faces(), "face", "refine");
+  if (!red) return red.error();
   std::vector<uint32_t> mids;
-  return split_faces(cage, build_edges(cage.polygons), std::move(red), mids);
+  return split_faces(cage, build_edges(cage.polygons), std::move(red).value(), mids);
 }
 
 }  // namespace cagewrap

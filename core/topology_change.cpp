@@ -388,13 +388,19 @@ void set_dropped_faces(CageTopologyChange& change) {
     if (!has_child[f]) change.dropped_faces.push_back(f);
 }
 
-Status check_indices(std::span<const uint32_t> ids, size_t count, const char* what) {
-  for (uint32_t i : ids)
+Result<std::vector<uint8_t>> selection_mask(std::span<const uint32_t> ids, size_t count, const char* what,
+                                            const char* verb) {
+  const std::string plural = std::string(what) == "vertex" ? "vertices" : std::string(what) + "s";
+  if (ids.empty()) return make_error(ErrorCode::kInvalidArgument, "no " + plural + " given to " + verb);
+  std::vector<uint8_t> mask(count, 0);
+  for (uint32_t i : ids) {
     if (i >= count)
       return make_error(ErrorCode::kIndexOutOfRange, std::string(what) + " " + std::to_string(i) +
                                                          " out of range: the cage has " + std::to_string(count) +
-                                                         " " + (std::string(what) == "vertex" ? "vertices" : std::string(what) + "s"));
-  return Ok{};
+                                                         " " + plural);
+    mask[i] = 1;
+  }
+  return mask;
 }
 
 }  // namespace cagewrap

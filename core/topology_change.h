@@ -124,7 +124,10 @@ void set_element_parents(const Cage& before, const Cage& after, std::span<const 
 // Fills change.dropped_faces from change.face_parent.
 void set_dropped_faces(CageTopologyChange& change);
 
-// "vertex 40 out of range: the cage has 30 vertices" for the first bad id; `what` is "vertex" or "face".
-Status check_indices(std::span<const uint32_t> ids, size_t count, const char* what);
+// A selection as flags (#count): 1 for each id given. Errors: no id ("no faces given to flip", with
+// `what` = "face" and `verb` = "flip"), an id out of range ("vertex 40 out of range: the cage has 30
+// vertices"; `what` is "vertex" or "face").
+Result<std::vector<uint8_t>> selection_mask(std::span<const uint32_t> ids, size_t count, const char* what,
+                                            const char* verb);
 
 }  // namespace cagewrap

@@ -17,6 +17,15 @@
 
 namespace cagewrap::test {
 
+// Regular octahedron of radius 1 (vertices +x -x +y -y +z -z), 8 outward triangles.
+inline Cage octahedron_cage() {
+  PolyMesh m;
+  m.positions = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  for (auto f : std::vector<Tri>{{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4}, {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}})
+    m.add_face(f);
+  return std::move(make_cage(std::move(m), "octahedron")).value();
+}
+
 struct PolygonEdges {
   std::map<std::pair<uint32_t, uint32_t>, int> directed;    // a -> b: how many faces traverse it
   std::map<std::pair<uint32_t, uint32_t>, int> undirected;  // (min, max): how many faces use it

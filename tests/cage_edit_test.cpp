@@ -17,19 +17,11 @@ using test::manifold_and_oriented;
 using test::rows_reproduce;
 using test::signed_volume;
 
-// Regular octahedron of radius 1: +x -x +y -y +z -z, outward faces.
-Cage octahedron() {
-  PolyMesh m;
-  m.positions = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-  for (auto f : std::vector<Tri>{{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4}, {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}})
-    m.add_face(f);
-  return std::move(make_cage(std::move(m), "octahedron")).value();
-}
 
 V face_of(const PolyMesh& m, size_t f) { return V(m.face(f).begin(), m.face(f).end()); }
 
 TEST(MergeVertices, MergesAtTheCentroidAndDropsCollapsedFaces) {
-  const Cage oct = octahedron();
+  const Cage oct = test::octahedron_cage();
   auto r = merge_vertices(oct, V{2, 0});
   ASSERT_TRUE(r.ok()) << r.error().message;
   const Cage& c = r->cage;
@@ -104,7 +96,7 @@ TEST(MergeVertices, QuadLosesACornerAndKeepsItsElementsParents) {
 
 TEST(WeldCageVertices, JoinsCopiesAtASeam) {
   // the octahedron with +x duplicated (vertex 6, 1e-5 away) for the faces below z = 0: an open seam
-  Cage oct = octahedron();
+  Cage oct = test::octahedron_cage();
   PolyMesh m = oct.polygons;
   m.positions.push_back({1.f, 1e-5f, 0.f});
   for (size_t f = 4; f < m.num_faces(); ++f)
@@ -173,7 +165,7 @@ TEST(TriangulateCage, ElementsBecomeFacesOneToOne) {
 }
 
 TEST(CageEditErrors, NameTheVertexOrFace) {
-  const Cage oct = octahedron();
+  const Cage oct = test::octahedron_cage();
   EXPECT_TRUE(Fails(merge_vertices(oct, V{1, 40}), ErrorCode::kIndexOutOfRange,
                     {"vertex 40 out of range", "6 vertices"}));
   EXPECT_TRUE(Fails(merge_vertices(oct, V{}), ErrorCode::kInvalidArgument, {"no vertices"}));

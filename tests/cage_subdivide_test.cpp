@@ -27,13 +27,6 @@ using test::signed_volume;
 
 Cage cage_of(PolyMesh m) { return std::move(make_cage(std::move(m), "test cage")).value(); }
 
-Cage octahedron() {
-  PolyMesh m;
-  m.positions = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-  for (auto f : std::vector<Tri>{{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4}, {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}})
-    m.add_face(f);
-  return cage_of(std::move(m));
-}
 
 // n x n vertices on z = 0, quads split into triangles: an open disc-like sheet.
 Cage triangle_grid(int n) {
@@ -118,7 +111,7 @@ TEST(SubdivideLinear, TrianglesQuadsAndOctagonsAtTwoLevels) {
   expect_conforming_on_surface(cyl, *two);
   expect_elements_inside_parents(cyl, *two);
 
-  const Cage oct = octahedron();
+  const Cage oct = test::octahedron_cage();
   auto tri = subdivide_linear(oct);
   ASSERT_TRUE(tri.ok());
   EXPECT_EQ(tri->cage.num_vertices(), 6u + 12u);
@@ -212,7 +205,7 @@ TEST(SubdivideLoop, BoundaryFollowsTheBoundaryRules) {
 TEST(SubdivideLoop, RejectsPolygonsWhenAsked) {
   EXPECT_TRUE(Fails(subdivide_loop(fixtures::box_cage(1.0, 1), 1, LoopNonTriangles::kReject),
                     ErrorCode::kInvalidArgument, {"face 0 is not a triangle", "4 corners"}));
-  EXPECT_TRUE(subdivide_loop(octahedron(), 1, LoopNonTriangles::kReject).ok());
+  EXPECT_TRUE(subdivide_loop(test::octahedron_cage(), 1, LoopNonTriangles::kReject).ok());
 }
 
 // ------------------------------------------------------------------------------------------ red-green
@@ -241,7 +234,7 @@ TEST(RefineFaces, TwoTrianglesRedAndGreen) {
 }
 
 TEST(RefineFaces, ClosureTurnsTwiceSplitTrianglesRed) {
-  const Cage oct = octahedron();
+  const Cage oct = test::octahedron_cage();
   // faces 0 (0 2 4) and 2 (1 3 4): faces 1 and 3 share an edge with each, so they turn red; the lower
   // four have one split edge each and are bisected
   auto r = refine_faces(oct, V{2, 0});
@@ -323,7 +316,7 @@ TEST(RefineFaces, SelectingEveryFaceIsLinearSubdivision) {
 }
 
 TEST(SubdivideErrors, NameTheFaceAndTheLevels) {
-  const Cage oct = octahedron();
+  const Cage oct = test::octahedron_cage();
   EXPECT_TRUE(Fails(refine_faces(oct, V{1, 12}), ErrorCode::kIndexOutOfRange, {"face 12 out of range", "8 faces"}));
   EXPECT_TRUE(Fails(refine_faces(oct, V{}), ErrorCode::kInvalidArgument, {"no faces"}));
   EXPECT_TRUE(Fails(subdivide_linear(oct, 0), ErrorCode::kInvalidArgument, {"levels must be 1 to 6", "not 0"}));

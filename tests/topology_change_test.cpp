@@ -14,6 +14,7 @@
 #include "core/deformer.h"
 #include "core/registration.h"
 #include "core/topology_change.h"
+#include "tests/cage_checks.h"
 #include "tests/expect_error.h"
 #include "tests/fixtures.h"
 
@@ -21,14 +22,6 @@ namespace cagewrap {
 namespace {
 
 using V = std::vector<uint32_t>;
-
-Cage octahedron() {
-  PolyMesh m;
-  m.positions = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-  for (auto f : std::vector<Tri>{{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4}, {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}})
-    m.add_face(f);
-  return std::move(make_cage(std::move(m), "octahedron")).value();
-}
 
 Document document_with(const Cage& cage) {
   Document doc;
@@ -41,7 +34,7 @@ Document document_with(const Cage& cage) {
 glm::vec3 field(const glm::vec3& p) { return {0.5f * p.x - p.z + 0.1f, 2.0f * p.y, 0.3f - 0.25f * p.x}; }
 
 TEST(TopologyChange, IdentityAndComposition) {
-  const Cage oct = octahedron();
+  const Cage oct = test::octahedron_cage();
   const CageTopologyChange id = identity_change(oct);
   EXPECT_TRUE(check_change(id, oct, oct).ok());
   auto one = subdivide_linear(oct);
@@ -65,7 +58,7 @@ TEST(TopologyChange, IdentityAndComposition) {
 }
 
 TEST(TopologyChange, CheckChangeNamesTheMismatch) {
-  const Cage oct = octahedron();
+  const Cage oct = test::octahedron_cage();
   auto one = subdivide_linear(oct);
   ASSERT_TRUE(one.ok());
   EXPECT_TRUE(Fails(check_change(one->change, fixtures::box_cage(), one->cage), ErrorCode::kTopologyMismatch,
@@ -77,7 +70,7 @@ TEST(TopologyChange, CheckChangeNamesTheMismatch) {
 }
 
 TEST(TopologyChange, SetEditsPassToChildrenAndSurvivors) {
-  const Cage oct = octahedron();
+  const Cage oct = test::octahedron_cage();
   auto one = subdivide_linear(oct);
   ASSERT_TRUE(one.ok());
   std::vector<SetEdit> edits = {{7, {2}, {0}}, {3, {5, 2}, {}}};
@@ -102,7 +95,7 @@ TEST(TopologyChange, SetEditsPassToChildrenAndSurvivors) {
 }
 
 TEST(TopologyChange, VertexAttributesAndLabels) {
-  const Cage oct = octahedron();
+  const Cage oct = test::octahedron_cage();
   auto loop = subdivide_loop(oct);
   ASSERT_TRUE(loop.ok());
   std::vector<glm::vec3> values;
@@ -132,7 +125,7 @@ TEST(TopologyChange, VertexAttributesAndLabels) {
 }
 
 TEST(ApplyTopologyChange, CarriesOffsetsAndEditsAndChecksTheCage) {
-  const Cage oct = octahedron();
+  const Cage oct = test::octahedron_cage();
   Document doc = document_with(oct);
   doc.set_edits = {{0, {1}, {}}};
   for (const auto& p : oct.polygons.positions) doc.cage_offsets.push_back(field(p));
