@@ -25,8 +25,8 @@ std::string join_ids(std::span<const uint32_t> ids, size_t most) {
 }
 
 void print_counts(const char* label, const Cage& c) {
-  std::printf("%-17s %zu vertices, %zu faces, %zu elements\n", label, c.num_vertices(), c.polygons.num_faces(),
-              c.num_elements());
+  std::printf("%-17s %zu vertices, %zu faces, %zu elements\n", label, c.num_vertices(),
+              c.polygons.num_faces(), c.num_elements());
 }
 
 }  // namespace
@@ -40,7 +40,8 @@ void add_cage_edit_command(CLI::App& app, int& exit_code) {
     double weld_distance = 0.0;
   };
   auto args = std::make_shared<Args>();
-  auto* cmd = app.add_subcommand("cage-edit", "change the cage's topology: subdivide, refine, flip, weld, merge");
+  auto* cmd =
+      app.add_subcommand("cage-edit", "change the cage's topology: subdivide, refine, flip, weld, merge");
   cmd->add_option("--in", args->in, "cage to edit (.obj .ply .off .stl)")->required();
   cmd->add_option("--out", args->out, "edited cage to write (.obj)")->required();
   auto* subdivide = cmd->add_option("--subdivide", args->subdivide, "uniform subdivision: linear or loop")
@@ -82,7 +83,8 @@ void add_cage_edit_command(CLI::App& app, int& exit_code) {
     std::string what;
     if (subdivide->count()) {
       what = "subdivide " + args->subdivide + ", " + std::to_string(args->levels) + " level(s)";
-      r = args->subdivide == "loop" ? subdivide_loop(*cage, args->levels) : subdivide_linear(*cage, args->levels);
+      r = args->subdivide == "loop" ? subdivide_loop(*cage, args->levels)
+                                    : subdivide_linear(*cage, args->levels);
     } else if (refine->count()) {
       what = "refine faces " + join_ids(args->refine_faces, 20);
       r = refine_faces(*cage, args->refine_faces);

@@ -14,9 +14,9 @@ namespace {
 
 // The polygon edges of a mesh, each once, with the faces around them.
 struct EdgeTable {
-  std::vector<uint32_t> corner_edge;             // per corner (face_vertices index): edge to the next corner
-  std::vector<std::array<uint32_t, 2>> ends;     // #E, a < b, in order of first use
-  std::vector<uint32_t> face_offsets, faces;     // edge -> faces using it (CSR)
+  std::vector<uint32_t> corner_edge;          // per corner (face_vertices index): edge to the next corner
+  std::vector<std::array<uint32_t, 2>> ends;  // #E, a < b, in order of first use
+  std::vector<uint32_t> face_offsets, faces;  // edge -> faces using it (CSR)
   size_t num_edges() const { return ends.size(); }
   std::span<const uint32_t> faces_of(size_t e) const {
     return {faces.data() + face_offsets[e], face_offsets[e + 1] - face_offsets[e]};
@@ -47,7 +47,8 @@ EdgeTable build_edges(const PolyMesh& m) {
   t.faces.resize(t.face_offsets.back());
   std::vector<uint32_t> fill(t.face_offsets.begin(), t.face_offsets.end() - 1);
   for (size_t f = 0; f < m.num_faces(); ++f)
-    for (uint32_t k = m.face_start[f]; k < m.face_start[f + 1]; ++k) t.faces[fill[t.corner_edge[k]]++] = uint32_t(f);
+    for (uint32_t k = m.face_start[f]; k < m.face_start[f + 1]; ++k)
+      t.faces[fill[t.corner_edge[k]]++] = uint32_t(f);
   return t;
 }
 
@@ -79,7 +80,8 @@ Result<CageEdit> split_faces(const Cage& cage, const EdgeTable& edges, std::vect
   std::vector<uint8_t> flags;
   auto face_flags = [&](size_t f) {
     flags.clear();
-    for (uint32_t k = old.face_start[f]; k < old.face_start[f + 1]; ++k) flags.push_back(split[edges.corner_edge[k]]);
+    for (uint32_t k = old.face_start[f]; k < old.face_start[f + 1]; ++k)
+      flags.push_back(split[edges.corner_edge[k]]);
     return std::span<const uint8_t>(flags);
   };
   auto make_red = [&](size_t f) {
@@ -288,7 +290,8 @@ Result<CageEdit> subdivide_loop(const Cage& cage, uint32_t levels, LoopNonTriang
         first = std::min(first, f);
       }
     if (non_triangles == LoopNonTriangles::kReject)
-      return make_error(ErrorCode::kInvalidArgument, "face " + std::to_string(first) + " is not a triangle (" +
+      return make_error(ErrorCode::kInvalidArgument, "face " + std::to_string(first) +
+                                                         " is not a triangle (" +
                                                          std::to_string(cage.polygons.face(first).size()) +
                                                          " corners); Loop subdivision needs triangles");
     auto t = triangulate_cage(cage);

@@ -2,10 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <glm/geometric.hpp>
 #include <memory>
 #include <optional>
-
-#include <glm/geometric.hpp>
 
 #include "core/check.h"
 
@@ -183,8 +182,9 @@ Status check_change(const CageTopologyChange& change, const Cage& before, const 
     auto weights = change.weights_of_vertex(v);
     for (size_t i = 0; i < parents.size(); ++i) {
       if (parents[i] >= change.old_vertices)
-        return make_error(ErrorCode::kIndexOutOfRange, "new vertex " + std::to_string(v) + " names old vertex " +
-                                                           std::to_string(parents[i]) + " out of range");
+        return make_error(ErrorCode::kIndexOutOfRange, "new vertex " + std::to_string(v) +
+                                                           " names old vertex " + std::to_string(parents[i]) +
+                                                           " out of range");
       sum += weights[i];
     }
     if (parents.empty() || std::abs(sum - 1.0) > 1e-6)
@@ -194,16 +194,17 @@ Status check_change(const CageTopologyChange& change, const Cage& before, const 
   for (size_t f = 0; f < change.num_faces(); ++f)
     if (change.face_parent[f] >= change.old_faces)
       return make_error(ErrorCode::kIndexOutOfRange, "new face " + std::to_string(f) + " names old face " +
-                                                         std::to_string(change.face_parent[f]) + " out of range");
+                                                         std::to_string(change.face_parent[f]) +
+                                                         " out of range");
   for (size_t e = 0; e < change.num_elements(); ++e) {
     auto parents = change.parents_of_element(e);
     if (parents.empty())
       return make_error(ErrorCode::kInvalidArgument, "new element " + std::to_string(e) + " has no parent");
     for (uint32_t k : parents)
       if (k >= change.old_elements)
-        return make_error(ErrorCode::kIndexOutOfRange, "new element " + std::to_string(e) +
-                                                           " names old element " + std::to_string(k) +
-                                                           " out of range");
+        return make_error(
+            ErrorCode::kIndexOutOfRange,
+            "new element " + std::to_string(e) + " names old element " + std::to_string(k) + " out of range");
   }
   return Ok{};
 }
@@ -244,7 +245,8 @@ std::vector<glm::vec3> interpolate_vertex_attribute(const CageTopologyChange& ch
   return out;
 }
 
-std::vector<double> interpolate_vertex_attribute(const CageTopologyChange& change, std::span<const double> old_values) {
+std::vector<double> interpolate_vertex_attribute(const CageTopologyChange& change,
+                                                 std::span<const double> old_values) {
   CAGEWRAP_CHECK(old_values.size() == change.old_vertices, "one value per old vertex");
   std::vector<double> out(change.num_vertices(), 0.0);
   for (size_t v = 0; v < out.size(); ++v) {
@@ -255,21 +257,24 @@ std::vector<double> interpolate_vertex_attribute(const CageTopologyChange& chang
   return out;
 }
 
-std::vector<uint32_t> carry_vertex_labels(const CageTopologyChange& change, std::span<const uint32_t> old_labels) {
+std::vector<uint32_t> carry_vertex_labels(const CageTopologyChange& change,
+                                          std::span<const uint32_t> old_labels) {
   CAGEWRAP_CHECK(old_labels.size() == change.old_vertices, "one label per old vertex");
   std::vector<uint32_t> out(change.num_vertices());
   for (size_t v = 0; v < out.size(); ++v) out[v] = old_labels[dominant_parent(change, v)];
   return out;
 }
 
-Result<std::vector<SetEdit>> carry_set_edits(const CageTopologyChange& change, std::span<const SetEdit> edits) {
+Result<std::vector<SetEdit>> carry_set_edits(const CageTopologyChange& change,
+                                             std::span<const SetEdit> edits) {
   for (const SetEdit& e : edits)
     for (const auto* list : {&e.exclude, &e.include})
       for (uint32_t k : *list)
         if (k >= change.old_elements)
           return make_error(ErrorCode::kIndexOutOfRange,
-                            "set edit of point " + std::to_string(e.point) + " names element " + std::to_string(k) +
-                                " but the cage had " + std::to_string(change.old_elements) + " elements");
+                            "set edit of point " + std::to_string(e.point) + " names element " +
+                                std::to_string(k) + " but the cage had " +
+                                std::to_string(change.old_elements) + " elements");
   const ElementChildren children = element_children(change);
   auto carry = [&](const std::vector<uint32_t>& old_ids) {
     std::vector<uint32_t> ids;
@@ -307,7 +312,8 @@ Result<Document> apply_topology_change(const Document& doc, const CageEdit& edit
 
 void set_element_parents(const Cage& before, const Cage& after, std::span<const glm::dvec3> corner_domain,
                          CageTopologyChange& change) {
-  CAGEWRAP_CHECK(corner_domain.size() == after.polygons.face_vertices.size(), "one domain point per new corner");
+  CAGEWRAP_CHECK(corner_domain.size() == after.polygons.face_vertices.size(),
+                 "one domain point per new corner");
   CAGEWRAP_CHECK(change.face_parent.size() == after.polygons.num_faces(), "face parents come first");
   // old polygon -> its elements
   const size_t old_faces = before.polygons.num_faces();
@@ -316,7 +322,8 @@ void set_element_parents(const Cage& before, const Cage& after, std::span<const 
   for (size_t f = 0; f < old_faces; ++f) start[f + 1] += start[f];
   {
     std::vector<uint32_t> fill(start.begin(), start.end() - 1);
-    for (size_t e = 0; e < before.num_elements(); ++e) elems[fill[before.element_face[e]]++] = static_cast<uint32_t>(e);
+    for (size_t e = 0; e < before.num_elements(); ++e)
+      elems[fill[before.element_face[e]]++] = static_cast<uint32_t>(e);
   }
   const auto& old_pos = before.polygons.positions;
   std::vector<std::optional<PlaneBasis>> bases(old_faces);  // built on first use
@@ -351,13 +358,15 @@ void set_element_parents(const Cage& before, const Cage& after, std::span<const 
         }
       }
       if (change.element_parents.size() == first) {  // degenerate, or outside the old polygon
-        const P2 c = {(domain[0][0] + domain[1][0] + domain[2][0]) / 3, (domain[0][1] + domain[1][1] + domain[2][1]) / 3};
+        const P2 c = {(domain[0][0] + domain[1][0] + domain[2][0]) / 3,
+                      (domain[0][1] + domain[1][1] + domain[2][1]) / 3};
         uint32_t best = candidates[0];
         double best_d = 1e300;
         for (uint32_t k : candidates) {
           const Tri& t = before.elements[k];
-          const double d = distance2_to_triangle(c, {basis(glm::dvec3(old_pos[t[0]])), basis(glm::dvec3(old_pos[t[1]])),
-                                                     basis(glm::dvec3(old_pos[t[2]]))});
+          const double d =
+              distance2_to_triangle(c, {basis(glm::dvec3(old_pos[t[0]])), basis(glm::dvec3(old_pos[t[1]])),
+                                        basis(glm::dvec3(old_pos[t[2]]))});
           if (d < best_d) {
             best_d = d;
             best = k;
@@ -371,7 +380,8 @@ void set_element_parents(const Cage& before, const Cage& after, std::span<const 
 }
 
 Result<CageEdit> make_cage_edit(const Cage& before, PolyMesh polygons, CageTopologyChange change,
-                                std::span<const glm::dvec3> corner_domain, std::vector<std::string> warnings) {
+                                std::span<const glm::dvec3> corner_domain,
+                                std::vector<std::string> warnings) {
   auto cage = make_cage(std::move(polygons), "edited cage");
   if (!cage) return cage.error();
   CageEdit edit{std::move(cage).value(), std::move(change), std::move(warnings)};
@@ -396,8 +406,8 @@ Result<std::vector<uint8_t>> selection_mask(std::span<const uint32_t> ids, size_
   for (uint32_t i : ids) {
     if (i >= count)
       return make_error(ErrorCode::kIndexOutOfRange, std::string(what) + " " + std::to_string(i) +
-                                                         " out of range: the cage has " + std::to_string(count) +
-                                                         " " + plural);
+                                                         " out of range: the cage has " +
+                                                         std::to_string(count) + " " + plural);
     mask[i] = 1;
   }
   return mask;

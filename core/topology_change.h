@@ -12,11 +12,10 @@
 #pragma once
 
 #include <cstdint>
+#include <glm/vec3.hpp>
 #include <span>
 #include <string>
 #include <vector>
-
-#include <glm/vec3.hpp>
 
 #include "core/binding.h"
 #include "core/cage.h"
@@ -75,14 +74,16 @@ CageTopologyChange compose(const CageTopologyChange& first, const CageTopologyCh
 // to one); errors name the first mismatch.
 Status check_change(const CageTopologyChange& change, const Cage& before, const Cage& after);
 
-// The new vertex with the largest weight among v's parents (ties: the lowest old id).
+// The old vertex with the largest weight among new vertex v's parents (ties: the lowest old id).
 uint32_t dominant_parent(const CageTopologyChange& change, size_t v);
 
 // Children of each old element: ids[offsets[k] .. offsets[k+1]) are the new elements listing k.
 struct ElementChildren {
   std::vector<uint32_t> offsets;  // #E_old + 1
   std::vector<uint32_t> ids;      // sorted per old element
-  std::span<const uint32_t> of(size_t k) const { return {ids.data() + offsets[k], offsets[k + 1] - offsets[k]}; }
+  std::span<const uint32_t> of(size_t k) const {
+    return {ids.data() + offsets[k], offsets[k + 1] - offsets[k]};
+  }
 };
 ElementChildren element_children(const CageTopologyChange& change);
 
@@ -90,14 +91,17 @@ ElementChildren element_children(const CageTopologyChange& change);
 // Continuous quantities (driver offsets, keypose offsets): the weighted sum of the parents' values.
 std::vector<glm::vec3> interpolate_vertex_attribute(const CageTopologyChange& change,
                                                     std::span<const glm::vec3> old_values);
-std::vector<double> interpolate_vertex_attribute(const CageTopologyChange& change, std::span<const double> old_values);
+std::vector<double> interpolate_vertex_attribute(const CageTopologyChange& change,
+                                                 std::span<const double> old_values);
 // Labels (a cage vertex's joint): the value of the dominant parent.
-std::vector<uint32_t> carry_vertex_labels(const CageTopologyChange& change, std::span<const uint32_t> old_labels);
+std::vector<uint32_t> carry_vertex_labels(const CageTopologyChange& change,
+                                          std::span<const uint32_t> old_labels);
 
 // Set edits across the change: an edit naming old element k names all of k's children instead (for a
 // merge, the surviving elements; an element with no child drops out). Edits left with no element are
 // removed. Errors: an edit naming an element the old cage does not have.
-Result<std::vector<SetEdit>> carry_set_edits(const CageTopologyChange& change, std::span<const SetEdit> edits);
+Result<std::vector<SetEdit>> carry_set_edits(const CageTopologyChange& change,
+                                             std::span<const SetEdit> edits);
 
 // The document with `edit.cage` as its rest cage, its driver offsets interpolated (they live in joint
 // bind space: interpolating them is exact when the parents follow the same joint, an approximation

@@ -5,11 +5,10 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <glm/geometric.hpp>
 #include <map>
 #include <utility>
 #include <vector>
-
-#include <glm/geometric.hpp>
 
 #include "core/cage.h"
 #include "core/geometry.h"
@@ -21,7 +20,8 @@ namespace cagewrap::test {
 inline Cage octahedron_cage() {
   PolyMesh m;
   m.positions = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-  for (auto f : std::vector<Tri>{{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4}, {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}})
+  for (auto f : std::vector<Tri>{
+           {0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4}, {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}})
     m.add_face(f);
   return std::move(make_cage(std::move(m), "octahedron")).value();
 }
@@ -49,11 +49,12 @@ inline ::testing::AssertionResult manifold_and_oriented(const PolyMesh& m) {
   PolygonEdges e = polygon_edges(m);
   for (auto [edge, n] : e.undirected)
     if (n > 2)
-      return ::testing::AssertionFailure() << "edge " << edge.first << "-" << edge.second << " has " << n << " faces";
+      return ::testing::AssertionFailure()
+             << "edge " << edge.first << "-" << edge.second << " has " << n << " faces";
   for (auto [edge, n] : e.directed)
     if (n > 1)
-      return ::testing::AssertionFailure() << "edge " << edge.first << "->" << edge.second << " traversed " << n
-                                           << " times (misoriented)";
+      return ::testing::AssertionFailure()
+             << "edge " << edge.first << "->" << edge.second << " traversed " << n << " times (misoriented)";
   return ::testing::AssertionSuccess();
 }
 
@@ -76,7 +77,8 @@ inline ::testing::AssertionResult no_t_junctions(const PolyMesh& m, double tol =
       const double t = glm::dot(p - a, b - a) / len2;
       if (t <= 1e-6 || t >= 1 - 1e-6) continue;
       if (glm::length(a + t * (b - a) - p) < tol * std::sqrt(len2))
-        return ::testing::AssertionFailure() << "vertex " << v << " hangs on edge " << edge.first << "-" << edge.second;
+        return ::testing::AssertionFailure()
+               << "vertex " << v << " hangs on edge " << edge.first << "-" << edge.second;
     }
   }
   return ::testing::AssertionSuccess();
@@ -87,7 +89,8 @@ inline double distance_to_cage(const glm::dvec3& p, const Cage& cage) {
   double best = 1e300;
   for (const Tri& t : cage.elements) {
     const auto& x = cage.polygons.positions;
-    ClosestPoint cp = closest_point_on_triangle(p, glm::dvec3(x[t[0]]), glm::dvec3(x[t[1]]), glm::dvec3(x[t[2]]));
+    ClosestPoint cp =
+        closest_point_on_triangle(p, glm::dvec3(x[t[0]]), glm::dvec3(x[t[1]]), glm::dvec3(x[t[2]]));
     best = std::min(best, std::sqrt(cp.dist2));
   }
   return best;
@@ -104,8 +107,8 @@ inline double signed_volume(const Cage& cage) {
 }
 
 // A change's vertex rows reproduce the new positions from the old ones (to tol).
-inline ::testing::AssertionResult rows_reproduce(const CageTopologyChange& c, const Cage& before, const Cage& after,
-                                                 double tol = 1e-5) {
+inline ::testing::AssertionResult rows_reproduce(const CageTopologyChange& c, const Cage& before,
+                                                 const Cage& after, double tol = 1e-5) {
   auto p = interpolate_vertex_attribute(c, before.polygons.positions);
   for (size_t v = 0; v < p.size(); ++v)
     if (glm::length(glm::dvec3(p[v]) - glm::dvec3(after.polygons.positions[v])) > tol)

@@ -1,10 +1,11 @@
 // Tests for core/cage_edit.h: merging and welding vertices (collapsed faces dropped and reported),
 // flipping faces, triangulating; the topology change each returns; every error.
+#include "core/cage_edit.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "core/cage_edit.h"
 #include "tests/cage_checks.h"
 #include "tests/expect_error.h"
 #include "tests/fixtures.h"
@@ -17,8 +18,9 @@ using test::manifold_and_oriented;
 using test::rows_reproduce;
 using test::signed_volume;
 
-
-V face_of(const PolyMesh& m, size_t f) { return V(m.face(f).begin(), m.face(f).end()); }
+V face_of(const PolyMesh& m, size_t f) {
+  return V(m.face(f).begin(), m.face(f).end());
+}
 
 TEST(MergeVertices, MergesAtTheCentroidAndDropsCollapsedFaces) {
   const Cage oct = test::octahedron_cage();
@@ -66,7 +68,8 @@ TEST(MergeVertices, DuplicateFacesAreDroppedAndOneVertexIsANoOp) {
   EXPECT_EQ(r->cage.polygons.num_faces(), 1u);
   EXPECT_EQ(r->change.dropped_faces, (V{0, 1, 3}));
   ASSERT_EQ(r->warnings.size(), 3u);
-  EXPECT_NE(r->warnings[2].find("face 3 now has the same corners as face 2"), std::string::npos) << r->warnings[2];
+  EXPECT_NE(r->warnings[2].find("face 3 now has the same corners as face 2"), std::string::npos)
+      << r->warnings[2];
 
   auto same = merge_vertices(tet, V{2, 2});
   ASSERT_TRUE(same.ok());
@@ -90,7 +93,8 @@ TEST(MergeVertices, QuadLosesACornerAndKeepsItsElementsParents) {
   EXPECT_TRUE(r->change.dropped_faces.empty());
   // each new triangle lies in its old quad and overlaps the old elements of that quad only
   for (size_t e = 0; e < r->cage.num_elements(); ++e)
-    for (uint32_t k : r->change.parents_of_element(e)) EXPECT_EQ(two.element_face[k], r->change.face_parent[e]);
+    for (uint32_t k : r->change.parents_of_element(e))
+      EXPECT_EQ(two.element_face[k], r->change.face_parent[e]);
   EXPECT_TRUE(check_change(r->change, two, r->cage).ok());
 }
 
@@ -172,7 +176,8 @@ TEST(CageEditErrors, NameTheVertexOrFace) {
   EXPECT_TRUE(Fails(merge_vertices(oct, V{0, 1, 2, 3, 4, 5}), ErrorCode::kEmpty, {"collapses every face"}));
   EXPECT_TRUE(Fails(weld_cage_vertices(oct, 0.0), ErrorCode::kInvalidArgument, {"weld distance"}));
   EXPECT_TRUE(Fails(weld_cage_vertices(oct, NAN), ErrorCode::kInvalidArgument, {"weld distance"}));
-  EXPECT_TRUE(Fails(flip_faces(oct, V{2, 12}), ErrorCode::kIndexOutOfRange, {"face 12 out of range", "8 faces"}));
+  EXPECT_TRUE(
+      Fails(flip_faces(oct, V{2, 12}), ErrorCode::kIndexOutOfRange, {"face 12 out of range", "8 faces"}));
   EXPECT_TRUE(Fails(flip_faces(oct, V{}), ErrorCode::kInvalidArgument, {"no faces"}));
   Cage bad = oct;
   bad.polygons.positions[3].x = NAN;

@@ -1,6 +1,8 @@
 // Tests for core/cage_subdivide.h: linear subdivision keeps the surface, Loop smooths and converges
 // (counts V + E and 4F, boundary rules), red-green refinement leaves no T-junction and keeps the
 // surface closed, manifold and oriented; quads; errors.
+#include "core/cage_subdivide.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -8,7 +10,6 @@
 #include <set>
 
 #include "core/cage_edit.h"
-#include "core/cage_subdivide.h"
 #include "core/mesh_check.h"
 #include "tests/cage_checks.h"
 #include "tests/expect_error.h"
@@ -25,8 +26,9 @@ using test::no_t_junctions;
 using test::rows_reproduce;
 using test::signed_volume;
 
-Cage cage_of(PolyMesh m) { return std::move(make_cage(std::move(m), "test cage")).value(); }
-
+Cage cage_of(PolyMesh m) {
+  return std::move(make_cage(std::move(m), "test cage")).value();
+}
 
 // n x n vertices on z = 0, quads split into triangles: an open disc-like sheet.
 Cage triangle_grid(int n) {
@@ -42,11 +44,14 @@ Cage triangle_grid(int n) {
   return cage_of(std::move(m));
 }
 
-size_t count_edges(const PolyMesh& m) { return unique_edges(m).size(); }
+size_t count_edges(const PolyMesh& m) {
+  return unique_edges(m).size();
+}
 
 double boundary_length(const PolyMesh& m) {
   double len = 0.0;
-  for (auto [a, b] : boundary_edges(m)) len += glm::length(glm::dvec3(m.positions[a]) - glm::dvec3(m.positions[b]));
+  for (auto [a, b] : boundary_edges(m))
+    len += glm::length(glm::dvec3(m.positions[a]) - glm::dvec3(m.positions[b]));
   return len;
 }
 
@@ -74,8 +79,9 @@ void expect_elements_inside_parents(const Cage& before, const CageEdit& r) {
     double best = 1e300;
     for (uint32_t k : r.change.parents_of_element(e)) {
       const Tri& o = before.elements[k];
-      best = std::min(best, closest_point_on_triangle(c, glm::dvec3(ox[o[0]]), glm::dvec3(ox[o[1]]),
-                                                      glm::dvec3(ox[o[2]])).dist2);
+      best = std::min(
+          best, closest_point_on_triangle(c, glm::dvec3(ox[o[0]]), glm::dvec3(ox[o[1]]), glm::dvec3(ox[o[2]]))
+                    .dist2);
     }
     EXPECT_LT(std::sqrt(best), 1e-6) << "element " << e;
   }
@@ -119,7 +125,8 @@ TEST(SubdivideLinear, TrianglesQuadsAndOctagonsAtTwoLevels) {
   EXPECT_TRUE(tri->cage.polygons.all_triangles());
   expect_conforming_on_surface(oct, *tri);
   for (size_t e = 0; e < tri->cage.num_elements(); ++e)
-    EXPECT_EQ(V(tri->change.parents_of_element(e).begin(), tri->change.parents_of_element(e).end()), (V{uint32_t(e / 4)}));
+    EXPECT_EQ(V(tri->change.parents_of_element(e).begin(), tri->change.parents_of_element(e).end()),
+              (V{uint32_t(e / 4)}));
 }
 
 // ------------------------------------------------------------------------------------------ Loop
@@ -163,7 +170,8 @@ TEST(SubdivideLoop, ConvergesAndShrinksTowardTheLimit) {
   for (uint32_t levels = 1; levels <= 4; ++levels) {
     auto r = subdivide_loop(cube, levels);
     ASSERT_TRUE(r.ok());
-    for (int c = 0; c < 8; ++c) corner_path[c].emplace_back(r->cage.polygons.positions[c]);  // even vertices keep ids
+    for (int c = 0; c < 8; ++c)
+      corner_path[c].emplace_back(r->cage.polygons.positions[c]);  // even vertices keep ids
     const double volume = signed_volume(r->cage);
     EXPECT_LT(volume, volume_before);  // smoothing a convex shape only removes volume
     volume_before = volume;
@@ -317,9 +325,11 @@ TEST(RefineFaces, SelectingEveryFaceIsLinearSubdivision) {
 
 TEST(SubdivideErrors, NameTheFaceAndTheLevels) {
   const Cage oct = test::octahedron_cage();
-  EXPECT_TRUE(Fails(refine_faces(oct, V{1, 12}), ErrorCode::kIndexOutOfRange, {"face 12 out of range", "8 faces"}));
+  EXPECT_TRUE(
+      Fails(refine_faces(oct, V{1, 12}), ErrorCode::kIndexOutOfRange, {"face 12 out of range", "8 faces"}));
   EXPECT_TRUE(Fails(refine_faces(oct, V{}), ErrorCode::kInvalidArgument, {"no faces"}));
-  EXPECT_TRUE(Fails(subdivide_linear(oct, 0), ErrorCode::kInvalidArgument, {"levels must be 1 to 6", "not 0"}));
+  EXPECT_TRUE(
+      Fails(subdivide_linear(oct, 0), ErrorCode::kInvalidArgument, {"levels must be 1 to 6", "not 0"}));
   EXPECT_TRUE(Fails(subdivide_loop(oct, 7), ErrorCode::kInvalidArgument, {"levels must be 1 to 6", "not 7"}));
   Cage bad = oct;
   bad.polygons.face_vertices[4] = 99;  // face 1 uses a vertex that does not exist

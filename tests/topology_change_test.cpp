@@ -2,6 +2,8 @@
 // errors of apply_topology_change; and the key property: a bound, edited cage subdivided (linear,
 // Loop, local) and rebound with its carried edits still reproduces the skin at rest, and the carried
 // exclusions still take effect.
+#include "core/topology_change.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -13,7 +15,6 @@
 #include "core/cage_subdivide.h"
 #include "core/deformer.h"
 #include "core/registration.h"
-#include "core/topology_change.h"
 #include "tests/cage_checks.h"
 #include "tests/expect_error.h"
 #include "tests/fixtures.h"
@@ -31,7 +32,9 @@ Document document_with(const Cage& cage) {
 }
 
 // An affine field of the rest positions: interpolating it with affine weights is exact.
-glm::vec3 field(const glm::vec3& p) { return {0.5f * p.x - p.z + 0.1f, 2.0f * p.y, 0.3f - 0.25f * p.x}; }
+glm::vec3 field(const glm::vec3& p) {
+  return {0.5f * p.x - p.z + 0.1f, 2.0f * p.y, 0.3f - 0.25f * p.x};
+}
 
 TEST(TopologyChange, IdentityAndComposition) {
   const Cage oct = test::octahedron_cage();
@@ -66,7 +69,8 @@ TEST(TopologyChange, CheckChangeNamesTheMismatch) {
   EXPECT_TRUE(Fails(check_change(one->change, oct, oct), ErrorCode::kTopologyMismatch, {"ends at a cage"}));
   CageTopologyChange broken = one->change;
   broken.vertex_weights[0] = 0.5;
-  EXPECT_TRUE(Fails(check_change(broken, oct, one->cage), ErrorCode::kInvalidArgument, {"new vertex 0", "sum"}));
+  EXPECT_TRUE(
+      Fails(check_change(broken, oct, one->cage), ErrorCode::kInvalidArgument, {"new vertex 0", "sum"}));
 }
 
 TEST(TopologyChange, SetEditsPassToChildrenAndSurvivors) {
@@ -90,8 +94,8 @@ TEST(TopologyChange, SetEditsPassToChildrenAndSurvivors) {
   ASSERT_EQ(m->size(), 1u);
   EXPECT_EQ((*m)[0].exclude, (V{0}));  // old element 1 is new element 0; old 0 collapsed
 
-  EXPECT_TRUE(Fails(carry_set_edits(one->change, std::vector<SetEdit>{{4, {99}, {}}}), ErrorCode::kIndexOutOfRange,
-                    {"point 4", "element 99", "8 elements"}));
+  EXPECT_TRUE(Fails(carry_set_edits(one->change, std::vector<SetEdit>{{4, {99}, {}}}),
+                    ErrorCode::kIndexOutOfRange, {"point 4", "element 99", "8 elements"}));
 }
 
 TEST(TopologyChange, VertexAttributesAndLabels) {
@@ -106,8 +110,10 @@ TEST(TopologyChange, VertexAttributesAndLabels) {
     EXPECT_LT(glm::length(carried[v] - field(loop->cage.polygons.positions[v])), 1e-5f) << v;
   std::vector<double> scalars = {0, 1, 2, 3, 4, 5};
   auto s = interpolate_vertex_attribute(loop->change, std::span<const double>(scalars));
-  EXPECT_NEAR(s[4], 4 * (1 - 4 * (5.0 / 8 - std::pow(3.0 / 8 + 0.25 * std::cos(M_PI / 2), 2)) / 4) +
-                         (5.0 / 8 - std::pow(3.0 / 8 + 0.25 * std::cos(M_PI / 2), 2)) / 4 * (0 + 2 + 1 + 3), 1e-12);
+  EXPECT_NEAR(s[4],
+              4 * (1 - 4 * (5.0 / 8 - std::pow(3.0 / 8 + 0.25 * std::cos(M_PI / 2), 2)) / 4) +
+                  (5.0 / 8 - std::pow(3.0 / 8 + 0.25 * std::cos(M_PI / 2), 2)) / 4 * (0 + 2 + 1 + 3),
+              1e-12);
 
   // labels: even vertices keep theirs; an edge vertex (3/8, 3/8, 1/8, 1/8) takes its lower end's
   std::vector<uint32_t> joints = {10, 11, 12, 13, 14, 15};
@@ -148,8 +154,8 @@ TEST(ApplyTopologyChange, CarriesOffsetsAndEditsAndChecksTheCage) {
   EXPECT_TRUE(plain->cage_offsets.empty());
 
   EXPECT_TRUE(Fails(apply_topology_change(Document{}, *edit), ErrorCode::kInvalidArgument, {"no cage"}));
-  EXPECT_TRUE(Fails(apply_topology_change(document_with(fixtures::box_cage()), *edit), ErrorCode::kTopologyMismatch,
-                    {"vertex count"}));
+  EXPECT_TRUE(Fails(apply_topology_change(document_with(fixtures::box_cage()), *edit),
+                    ErrorCode::kTopologyMismatch, {"vertex count"}));
   Document bad_edit = doc;
   bad_edit.set_edits = {{0, {40}, {}}};
   EXPECT_TRUE(Fails(apply_topology_change(bad_edit, *edit), ErrorCode::kIndexOutOfRange, {"element 40"}));
@@ -176,7 +182,8 @@ struct EditedArm {
   }
 };
 
-Binding bind_or_die(const PolyMesh& skin, const Cage& cage, const BindParams& params, std::span<const SetEdit> edits) {
+Binding bind_or_die(const PolyMesh& skin, const Cage& cage, const BindParams& params,
+                    std::span<const SetEdit> edits) {
   auto b = bind_skin(skin.positions, cage, cage.polygons.positions, params, edits);
   EXPECT_TRUE(b.ok()) << (b.ok() ? "" : b.error().message);
   return std::move(b).value();
@@ -237,7 +244,8 @@ TEST_P(CarriedEdits, RestIsReproducedAndExclusionsStillApply) {
   // the excluded elements' children, and the carried edits name exactly them
   const ElementChildren children = element_children(edit->change);
   V excluded;
-  for (uint32_t k : arm.excluded) excluded.insert(excluded.end(), children.of(k).begin(), children.of(k).end());
+  for (uint32_t k : arm.excluded)
+    excluded.insert(excluded.end(), children.of(k).begin(), children.of(k).end());
   std::sort(excluded.begin(), excluded.end());
   excluded.erase(std::unique(excluded.begin(), excluded.end()), excluded.end());
   ASSERT_GE(excluded.size(), 2u);
@@ -263,7 +271,8 @@ TEST_P(CarriedEdits, RestIsReproducedAndExclusionsStillApply) {
   const double diag = bounding_box(arm.skin.positions).diagonal();
   EXPECT_LE(rest_error(edited, arm.skin, cage.polygons.positions), 1e-5 * diag);
   EXPECT_EQ(points_using(edited, arm.edits, excluded), 0u);
-  for (const SetEdit& e : arm.edits) EXPECT_FALSE(ids_of_point(edited, e.point).empty()) << "point " << e.point;
+  for (const SetEdit& e : arm.edits)
+    EXPECT_FALSE(ids_of_point(edited, e.point).empty()) << "point " << e.point;
   // without the edits the same points do use them: the carried edit makes the difference
   Binding plain = bind_or_die(arm.skin, cage, carried->params, {});
   EXPECT_GE(points_using(plain, arm.edits, excluded), arm.edits.size() * 9 / 10);
@@ -271,7 +280,8 @@ TEST_P(CarriedEdits, RestIsReproducedAndExclusionsStillApply) {
   // and the default (extended) variant reproduces the rest too
   BindParams extended = carried->params;
   extended.variant = Variant::kExtended;
-  EXPECT_LE(rest_error(bind_or_die(arm.skin, cage, extended, carried->set_edits), arm.skin, cage.polygons.positions),
+  EXPECT_LE(rest_error(bind_or_die(arm.skin, cage, extended, carried->set_edits), arm.skin,
+                       cage.polygons.positions),
             1e-5 * diag);
 
   // the offsets follow: an affine field of the rest cage stays that field
