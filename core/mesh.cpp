@@ -57,16 +57,22 @@ Status validate_mesh(const PolyMesh& mesh, const std::string& what) {
   return Ok{};
 }
 
+glm::dvec3 newell_normal(std::span<const glm::vec3> positions, std::span<const uint32_t> corners) {
+  const size_t n = corners.size();
+  glm::dvec3 normal(0.0);
+  for (size_t i = 0; i < n; ++i) {
+    glm::dvec3 a(positions[corners[i]]), b(positions[corners[(i + 1) % n]]);
+    normal += glm::dvec3((a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y));
+  }
+  return normal;
+}
+
 namespace {
 
 // Ear clipping of one polygon projected on its Newell plane; false when it finds no ear.
 bool ear_clip(const PolyMesh& mesh, std::span<const uint32_t> corners, std::vector<Tri>& out) {
   const size_t n = corners.size();
-  glm::dvec3 normal(0.0);
-  for (size_t i = 0; i < n; ++i) {
-    glm::dvec3 a(mesh.positions[corners[i]]), b(mesh.positions[corners[(i + 1) % n]]);
-    normal += glm::dvec3((a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y));
-  }
+  glm::dvec3 normal = newell_normal(mesh.positions, corners);
   if (glm::length(normal) == 0.0) return false;
   normal = glm::normalize(normal);
   glm::dvec3 u = std::abs(normal.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);

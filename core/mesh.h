@@ -44,6 +44,9 @@ Aabb bounding_box(std::span<const glm::vec3> points);
 // Checks every coordinate is finite and every corner index is in range; names `what` in messages.
 Status validate_mesh(const PolyMesh& mesh, const std::string& what);
 
+// Newell's normal of a polygon (not normalized; its length is twice the area of a planar polygon).
+glm::dvec3 newell_normal(std::span<const glm::vec3> positions, std::span<const uint32_t> corners);
+
 // Triangulates every polygon (ear clipping in the polygon's best-fit plane, fan as a fallback).
 // #T triangles and, for each, the polygon it came from.
 struct Triangulation {

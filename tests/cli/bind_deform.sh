@@ -32,22 +32,7 @@ same_after_shift_bin() {
 # ---------------------------------------------------------------------------------------- fixtures
 # skin: an octahedron of radius 0.5 with one vertex off-centre; cage: the cube [-1,1]^3 as 6 quads
 write_skin_fixture
-cat >"$T/cage.obj" <<'EOF'
-v -1 -1 -1
-v 1 -1 -1
-v 1 1 -1
-v -1 1 -1
-v -1 -1 1
-v 1 -1 1
-v 1 1 1
-v -1 1 1
-f 1 4 3 2
-f 5 6 7 8
-f 1 2 6 5
-f 2 3 7 6
-f 3 4 8 7
-f 4 1 5 8
-EOF
+write_cube_fixture "$T/cage.obj"
 awk '$1 == "v" { printf "v %s %s %s\n", $2 + 1, $3 + 2, $4 + 3; next } { print }' "$T/cage.obj" >"$T/cage_posed.obj"
 NPTS=7
 

@@ -61,3 +61,23 @@ f 1 4 6
 f 1 7 3
 EOF
 }
+
+# write_cube_fixture FILE: the cube [-1,1]^3 as 6 outward quads (8 vertices)
+write_cube_fixture() {
+cat >"$1" <<'EOF2'
+v -1 -1 -1
+v 1 -1 -1
+v 1 1 -1
+v -1 1 -1
+v -1 -1 1
+v 1 -1 1
+v 1 1 1
+v -1 1 1
+f 1 4 3 2
+f 5 6 7 8
+f 1 2 6 5
+f 2 3 7 6
+f 3 4 8 7
+f 4 1 5 8
+EOF2
+}
