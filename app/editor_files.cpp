@@ -73,7 +73,7 @@ void EditorFiles::browse(FilePurpose purpose, const std::string& near_path, cons
 std::optional<EditorFiles::Choice> EditorFiles::draw_browser() {
   if (!browser_.is_open()) return std::nullopt;
   auto chosen = browser_.draw();
-  if (!browser_.is_open() && !browser_.directory().empty()) prefs_.last_directory = browser_.directory();
+  if (!browser_.directory().empty()) prefs_.last_directory = browser_.directory();
   if (!chosen) return std::nullopt;
   return Choice{browser_.purpose(), *chosen};
 }

@@ -53,7 +53,10 @@ void FileBrowser::open(FilePurpose purpose, const std::string& directory, const 
   opening_ = true;
 }
 
-void FileBrowser::set_path_field() { std::snprintf(path_field_, sizeof path_field_, "%s", model_.directory().c_str()); }
+void FileBrowser::set_path_field() {
+  std::snprintf(path_field_, sizeof path_field_, "%s", model_.directory().c_str());
+  ++path_generation_;
+}
 
 bool FileBrowser::select(const std::string& name) {
   const auto& entries = model_.entries();
@@ -66,7 +69,10 @@ bool FileBrowser::select(const std::string& name) {
   return false;
 }
 
-void FileBrowser::set_file_name(const std::string& name) { std::snprintf(name_field_, sizeof name_field_, "%s", name.c_str()); }
+void FileBrowser::set_file_name(const std::string& name) {
+  std::snprintf(name_field_, sizeof name_field_, "%s", name.c_str());
+  ++name_generation_;  // a field being typed in keeps its own text: this makes it a new field
+}
 
 std::optional<std::string> FileBrowser::choose(const std::string& path) {
   std::error_code ec;
@@ -119,7 +125,10 @@ void FileBrowser::draw_toolbar() {
   const float right = ImGui::CalcTextSize("Hidden files").x + ImGui::GetFrameHeight() + ImGui::CalcTextSize("Refresh").x +
                       4 * ImGui::GetStyle().ItemSpacing.x + 2 * ImGui::GetStyle().FramePadding.x;
   ImGui::SetNextItemWidth(-right);
-  if (ImGui::InputText("##folder", path_field_, sizeof path_field_, ImGuiInputTextFlags_EnterReturnsTrue)) {
+  ImGui::PushID(path_generation_);
+  const bool entered = ImGui::InputText("##folder", path_field_, sizeof path_field_, ImGuiInputTextFlags_EnterReturnsTrue);
+  ImGui::PopID();
+  if (entered) {
     const std::string typed = path_field_;
     selected_ = -1;
     if (auto file = model_.enter_typed_path(typed)) {  // a file typed in the folder field
@@ -256,7 +265,7 @@ std::optional<std::string> FileBrowser::draw() {
   // footer: what is listed, the name field when saving, the buttons
   const DirectoryListing& l = model_.listing();
   std::string listed = joined(info.extensions) + " files";
-  if (l.filtered_count) listed += ", " + std::to_string(l.filtered_count) + " other files not shown";
+  if (l.filtered_count) listed += ", " + std::to_string(l.filtered_count) + (l.filtered_count == 1 ? " other file" : " other files") + " not shown";
   if (l.hidden_count) listed += ", " + std::to_string(l.hidden_count) + " hidden";
   ImGui::TextDisabled("%s", listed.c_str());
   bool enter = false;
@@ -266,7 +275,9 @@ std::optional<std::string> FileBrowser::draw() {
     ImGui::SameLine();
     ImGui::SetNextItemWidth(-1);
     if (ImGui::IsWindowAppearing()) ImGui::SetKeyboardFocusHere();
+    ImGui::PushID(name_generation_);
     enter = ImGui::InputText("##name", name_field_, sizeof name_field_, ImGuiInputTextFlags_EnterReturnsTrue);
+    ImGui::PopID();
   }
   const float button = 110.0f;
   ImGui::SetCursorPosX(ImGui::GetWindowContentRegionMax().x - 2 * button - ImGui::GetStyle().ItemSpacing.x);

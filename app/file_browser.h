@@ -65,6 +65,7 @@ class FileBrowser {
   bool keys_free_ = false;            // this frame: no field was being typed in, no question up
   char path_field_[4096] = {};
   char name_field_[1024] = {};
+  int name_generation_ = 0, path_generation_ = 0;  // bumped when a field is set from outside it
 };
 
 }  // namespace cagewrap::app

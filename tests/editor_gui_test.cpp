@@ -15,6 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "tests/editor_gui_harness.h"
 #include "tests/test_assets.h"
 
 namespace {
@@ -27,17 +28,7 @@ struct Image {
   const unsigned char* at(int x, int y) const { return &rgb[(static_cast<size_t>(y) * w + x) * 3]; }
 };
 
-bool gui_available(std::string& why) {
-  if (std::system("command -v xvfb-run >/dev/null 2>&1") != 0) {
-    why = "xvfb-run not installed";
-    return false;
-  }
-  if (!CAGEWRAP_TESTS_HAVE_EDITOR) {
-    why = "cagewrap was built without the editor (CAGEWRAP_GUI=OFF)";
-    return false;
-  }
-  return true;
-}
+using cagewrap::test::gui_available;
 
 // Runs the editor and returns the screenshot (asserting exit status 0).
 Image screenshot(const std::string& args, const std::string& name) {
@@ -45,9 +36,8 @@ Image screenshot(const std::string& args, const std::string& name) {
   fs::create_directories(dir);
   fs::path png = dir / (name + ".png");
   fs::remove(png);
-  std::string cmd = "xvfb-run -a -s '-screen 0 1280x720x24' " + std::string(CAGEWRAP_BINARY) +
-                    " --width 1280 --height 720 --screenshot " + png.string() + " " + args + " > " +
-                    (dir / (name + ".log")).string() + " 2>&1";
+  std::string cmd = cagewrap::test::editor_command("--width 1280 --height 720 --screenshot " + png.string() + " " + args,
+                                                   (dir / ("config_" + name)).string(), (dir / (name + ".log")).string());
   int rc = std::system(cmd.c_str());
   EXPECT_EQ(rc, 0) << cmd;
   Image img;
