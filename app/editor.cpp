@@ -782,23 +782,15 @@ void Editor::act_on(const EditorFiles::Choice& choice) {
   quit_after_save_ = false;
 }
 
-// A new cage for the character, as one undo step: it follows the skeleton and is bound as one
-// opened with --cage; offsets and set edits made for the old cage go with it.
 bool Editor::import_cage(const std::string& path) {
   if (!scene_) return false;
-  auto mesh = load_mesh(path);
-  auto cage = mesh ? make_cage(std::move(mesh).value(), path) : Result<Cage>(mesh.error());
-  if (!cage) {
-    error_modal_ = cage.error().message;
-    log("error: " + cage.error().message, true);
+  auto imported = scene_->import_cage(path);
+  if (!imported) {
+    error_modal_ = imported.error().message;
+    log("error: " + imported.error().message, true);
     return false;
   }
-  scene_->job.reset();  // a bind of the old cage (cancelled)
-  Document doc = with_cage(scene_->doc(), std::make_shared<const Cage>(std::move(cage).value()));
-  doc = with_set_edits(with_cage_offsets(doc, {}), {});
-  scene_->history.push("Import cage " + std::filesystem::path(path).filename().string(), std::move(doc));
-  scene_->document_changed();
-  log("imported cage " + path + " (" + std::to_string(scene_->doc().cage->num_vertices()) + " vertices)");
+  log(*imported);
   return true;
 }
 

@@ -60,6 +60,19 @@ void Scene::document_changed() {
   if (needs_rebind() && !job) start_bind();
 }
 
+Result<std::string> Scene::import_cage(const std::string& path) {
+  auto mesh = load_mesh(path);
+  if (!mesh) return mesh.error();
+  auto cage = make_cage(std::move(mesh).value(), path);
+  if (!cage) return cage.error();
+  job.reset();  // a bind of the old cage: cancelled
+  Document next = with_cage(doc(), std::make_shared<const Cage>(std::move(cage).value()));
+  next = with_set_edits(with_cage_offsets(next, {}), {});
+  history.push("Import cage " + std::filesystem::path(path).filename().string(), std::move(next));
+  document_changed();
+  return "imported cage " + path + " (" + std::to_string(doc().cage->num_vertices()) + " vertices)";
+}
+
 Document Scene::moved(const Document& from, std::span<const uint32_t> vertices, const glm::dvec3& world_delta) const {
   std::vector<glm::vec3> offsets = from.cage_offsets;
   offsets.resize(from.cage ? from.cage->num_vertices() : 0, glm::vec3(0.f));

@@ -77,6 +77,10 @@ struct Scene {
   void start_bind();
   // Polls the running job; returns a message when it finished (bound, failed or cancelled).
   std::optional<std::string> poll_bind();
+  // Replaces the cage with one read from a mesh file (.obj .ply .off .stl), as one undo step: it
+  // follows the skeleton and is bound like one opened with --cage; offsets and set edits made for
+  // the old cage go with it. Returns the message to log; errors name the file.
+  Result<std::string> import_cage(const std::string& path);
   // Moves cage vertices of the driver by a world-space displacement at the current pose (stored as
   // offsets in each vertex's joint bind space) and returns the new document (not yet in history).
   Document moved(const Document& from, std::span<const uint32_t> vertices, const glm::dvec3& world_delta) const;
