@@ -711,7 +711,8 @@ void Editor::draw_help() {
                            {"wheel / Alt+RMB drag", "zoom"},     {"F", "frame everything"},
                            {"1 / 3 / 7 (numpad too)", "front / side / top view"},
                            {"Space", "play / pause"},            {"W", "wireframe"},
-                           {"Alt+X", "X-ray"},                   {"F1", "this window"}};
+                           {"Alt+X", "X-ray"},                   {"F1", "this window"},
+                           {"Ctrl+O / Ctrl+S", "open / save"},    {"F12", "screenshot"}};
   for (auto& r : rows) {
     ImGui::TextUnformatted(r[0]);
     ImGui::SameLine(210);
