@@ -26,6 +26,20 @@ std::string short_folder(const std::string& dir, size_t max = 48) {
   return s;
 }
 
+// The View menu's toggles as remembered in the preferences.
+struct DisplayToggle {
+  bool Preferences::*pref;
+  bool render::ViewportStyle::*view;
+};
+constexpr DisplayToggle kDisplayToggles[] = {
+    {&Preferences::show_skin, &render::ViewportStyle::show_skin},
+    {&Preferences::show_cage, &render::ViewportStyle::show_cage},
+    {&Preferences::show_skeleton, &render::ViewportStyle::show_skeleton},
+    {&Preferences::show_grid, &render::ViewportStyle::show_grid},
+    {&Preferences::wireframe, &render::ViewportStyle::wireframe},
+    {&Preferences::xray, &render::ViewportStyle::xray},
+};
+
 }  // namespace
 
 std::vector<std::string> EditorFiles::load() {
@@ -43,21 +57,11 @@ std::string EditorFiles::save() {
 }
 
 void EditorFiles::apply(render::ViewportStyle& style) const {
-  style.show_skin = prefs_.show_skin;
-  style.show_cage = prefs_.show_cage;
-  style.show_skeleton = prefs_.show_skeleton;
-  style.show_grid = prefs_.show_grid;
-  style.wireframe = prefs_.wireframe;
-  style.xray = prefs_.xray;
+  for (const auto& [pref, view] : kDisplayToggles) style.*view = prefs_.*pref;
 }
 
 void EditorFiles::remember(const render::ViewportStyle& style, int window_width, int window_height) {
-  prefs_.show_skin = style.show_skin;
-  prefs_.show_cage = style.show_cage;
-  prefs_.show_skeleton = style.show_skeleton;
-  prefs_.show_grid = style.show_grid;
-  prefs_.wireframe = style.wireframe;
-  prefs_.xray = style.xray;
+  for (const auto& [pref, view] : kDisplayToggles) prefs_.*pref = style.*view;
   if (window_width > 0 && window_height > 0) {
     prefs_.window_width = window_width;
     prefs_.window_height = window_height;
