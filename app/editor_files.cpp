@@ -20,7 +20,8 @@ std::string short_folder(const std::string& dir, size_t max = 48) {
   const char* home = std::getenv("HOME");
   if (home && *home) {
     const std::string h = absolute_path(home);
-    if (h != "/" && s.compare(0, h.size(), h) == 0 && (s.size() == h.size() || s[h.size()] == '/')) s.replace(0, h.size(), "~");
+    if (h != "/" && s.compare(0, h.size(), h) == 0 && (s.size() == h.size() || s[h.size()] == '/'))
+      s.replace(0, h.size(), "~");
   }
   if (s.size() > max) s.replace(max / 3, s.size() - (max - 3), "...");  // keeps max / 3 + the rest
   return s;
@@ -46,7 +47,8 @@ std::vector<std::string> EditorFiles::load() {
   path_ = preferences_path();
   auto loaded = load_preferences(path_);
   prefs_ = std::move(loaded.prefs);
-  if (path_.empty()) loaded.warnings.push_back("no config folder (HOME is not set): preferences will not be remembered");
+  if (path_.empty())
+    loaded.warnings.push_back("no config folder (HOME is not set): preferences will not be remembered");
   return loaded.warnings;
 }
 
@@ -109,16 +111,18 @@ std::optional<std::string> EditorFiles::draw_recent_menu(std::string& message) {
     const std::string label = fp.filename().string() + (exists ? "" : " (missing)");
     ImGui::PushID(static_cast<int>(i));
     // the folder goes in the shortcut column: dimmed, and it tells apart files of the same name
-    if (ImGui::MenuItem(label.c_str(), short_folder(fp.parent_path().string()).c_str(), false, exists)) open = p;
+    if (ImGui::MenuItem(label.c_str(), short_folder(fp.parent_path().string()).c_str(), false, exists))
+      open = p;
     if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled))
-      ImGui::SetTooltip("%s%s", p.c_str(), exists ? "" : "\nno longer exists (File > Open Recent > Remove missing files)");
+      ImGui::SetTooltip("%s%s", p.c_str(),
+                        exists ? "" : "\nno longer exists (File > Open Recent > Remove missing files)");
     ImGui::PopID();
   }
   ImGui::Separator();
   if (ImGui::MenuItem("Remove missing files", nullptr, false, !missing.empty())) {
     for (const auto& m : missing) remove_recent_file(prefs_, m);
-    message = "removed " + std::to_string(missing.size()) + " missing file" + (missing.size() == 1 ? "" : "s") +
-              " from the recent files";
+    message = "removed " + std::to_string(missing.size()) + " missing file" +
+              (missing.size() == 1 ? "" : "s") + " from the recent files";
     if (auto error = save(); !error.empty()) message = "warning: " + error;
   }
   if (ImGui::MenuItem("Clear list")) {

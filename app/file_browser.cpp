@@ -15,7 +15,9 @@ constexpr const char* kPopupId = "###file_browser";
 const ImVec4 kFolderColour(0.55f, 0.78f, 1.0f, 1.0f);
 const ImVec4 kErrorColour(1.0f, 0.45f, 0.4f, 1.0f);
 
-bool key_pressed(ImGuiKey key) { return ImGui::IsKeyPressed(ImGui::GetKeyIndex(key)); }
+bool key_pressed(ImGuiKey key) {
+  return ImGui::IsKeyPressed(ImGui::GetKeyIndex(key));
+}
 
 std::string joined(const std::vector<std::string>& extensions) {
   std::string out;
@@ -26,15 +28,20 @@ std::string joined(const std::vector<std::string>& extensions) {
 }  // namespace
 
 const FilePurposeInfo& purpose_info(FilePurpose purpose) {
-  static const FilePurposeInfo kOpen{"Open project or character", "Open", {".cagewrap", ".glb", ".gltf"}, "", false};
+  static const FilePurposeInfo kOpen{
+      "Open project or character", "Open", {".cagewrap", ".glb", ".gltf"}, "", false};
   static const FilePurposeInfo kSave{"Save project as", "Save", {".cagewrap"}, ".cagewrap", true};
   static const FilePurposeInfo kCage{"Import cage", "Import", {".obj", ".ply", ".off", ".stl"}, "", false};
   static const FilePurposeInfo kShot{"Save screenshot", "Save", {".png"}, ".png", true};
   switch (purpose) {
-    case FilePurpose::kOpen: return kOpen;
-    case FilePurpose::kSaveProject: return kSave;
-    case FilePurpose::kImportCage: return kCage;
-    case FilePurpose::kScreenshot: return kShot;
+    case FilePurpose::kOpen:
+      return kOpen;
+    case FilePurpose::kSaveProject:
+      return kSave;
+    case FilePurpose::kImportCage:
+      return kCage;
+    case FilePurpose::kScreenshot:
+      return kShot;
   }
   return kOpen;
 }
@@ -88,7 +95,9 @@ std::optional<std::string> FileBrowser::accept() {
   error_.clear();
   const FilePurposeInfo& info = purpose_info(purpose_);
   const auto& entries = model_.entries();
-  const FileEntry* sel = selected_ >= 0 && selected_ < static_cast<int>(entries.size()) ? &entries[static_cast<size_t>(selected_)] : nullptr;
+  const FileEntry* sel = selected_ >= 0 && selected_ < static_cast<int>(entries.size())
+                             ? &entries[static_cast<size_t>(selected_)]
+                             : nullptr;
   if (!info.save) {
     if (!sel) {
       error_ = "select a file to " + std::string(info.action) + " (or double-click it)";
@@ -122,22 +131,27 @@ void FileBrowser::draw_toolbar() {
   }
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("Parent folder (Backspace)");
   ImGui::SameLine();
-  const float right = ImGui::CalcTextSize("Hidden files").x + ImGui::GetFrameHeight() + ImGui::CalcTextSize("Refresh").x +
-                      4 * ImGui::GetStyle().ItemSpacing.x + 2 * ImGui::GetStyle().FramePadding.x;
+  const float right = ImGui::CalcTextSize("Hidden files").x + ImGui::GetFrameHeight() +
+                      ImGui::CalcTextSize("Refresh").x + 4 * ImGui::GetStyle().ItemSpacing.x +
+                      2 * ImGui::GetStyle().FramePadding.x;
   ImGui::SetNextItemWidth(-right);
   ImGui::PushID(path_generation_);
-  const bool entered = ImGui::InputText("##folder", path_field_, sizeof path_field_, ImGuiInputTextFlags_EnterReturnsTrue);
+  const bool entered =
+      ImGui::InputText("##folder", path_field_, sizeof path_field_, ImGuiInputTextFlags_EnterReturnsTrue);
   ImGui::PopID();
   if (entered) {
     const std::string typed = path_field_;
     selected_ = -1;
     if (auto file = model_.enter_typed_path(typed)) {  // a file typed in the folder field
-      if (purpose_info(purpose_).save) set_file_name(std::filesystem::path(*file).filename().string());
-      else if (select(std::filesystem::path(*file).filename().string())) confirm_requested_ = true;
+      if (purpose_info(purpose_).save)
+        set_file_name(std::filesystem::path(*file).filename().string());
+      else if (select(std::filesystem::path(*file).filename().string()))
+        confirm_requested_ = true;
     }
     if (model_.error().empty()) set_path_field();  // on an error the typed text stays to be corrected
   }
-  if (ImGui::IsItemHovered() && !ImGui::IsItemActive()) ImGui::SetTooltip("Type a folder (or a file) and press Enter; ~ is your home");
+  if (ImGui::IsItemHovered() && !ImGui::IsItemActive())
+    ImGui::SetTooltip("Type a folder (or a file) and press Enter; ~ is your home");
   ImGui::SameLine();
   if (ImGui::Button("Refresh")) model_.refresh();
   ImGui::SameLine();
@@ -152,21 +166,25 @@ int FileBrowser::draw_entries() {
   const FilePurposeInfo& info = purpose_info(purpose_);
   const auto& entries = model_.entries();
   int activated = -1;
-  const float footer = ImGui::GetFrameHeightWithSpacing() * (info.save ? 3.0f : 2.0f) + ImGui::GetStyle().ItemSpacing.y;
-  const ImGuiTableFlags flags = ImGuiTableFlags_ScrollY | ImGuiTableFlags_RowBg | ImGuiTableFlags_BordersOuter |
-                                ImGuiTableFlags_BordersV | ImGuiTableFlags_Resizable;
+  const float footer =
+      ImGui::GetFrameHeightWithSpacing() * (info.save ? 3.0f : 2.0f) + ImGui::GetStyle().ItemSpacing.y;
+  const ImGuiTableFlags flags = ImGuiTableFlags_ScrollY | ImGuiTableFlags_RowBg |
+                                ImGuiTableFlags_BordersOuter | ImGuiTableFlags_BordersV |
+                                ImGuiTableFlags_Resizable;
   if (!ImGui::BeginTable("entries", 3, flags, ImVec2(0, -footer))) return -1;
   ImGui::TableSetupScrollFreeze(0, 1);
   ImGui::TableSetupColumn("Name", ImGuiTableColumnFlags_WidthStretch);
   ImGui::TableSetupColumn("Size", ImGuiTableColumnFlags_WidthFixed, ImGui::CalcTextSize("1023.0 MB").x);
-  ImGui::TableSetupColumn("Modified", ImGuiTableColumnFlags_WidthFixed, ImGui::CalcTextSize("2000-00-00 00:00").x);
+  ImGui::TableSetupColumn("Modified", ImGuiTableColumnFlags_WidthFixed,
+                          ImGui::CalcTextSize("2000-00-00 00:00").x);
   ImGui::TableHeadersRow();
   if (ImGui::IsWindowAppearing()) ImGui::SetScrollY(0.0f);
   // keyboard: arrows move the selection, Enter confirms, Backspace goes up (not while typing)
   bool scroll_to_selection = false;
   if (keys_free_ && !entries.empty()) {
     const int n = static_cast<int>(entries.size());
-    if (key_pressed(ImGuiKey_DownArrow)) selected_ = std::min(n - 1, selected_ + 1), scroll_to_selection = true;
+    if (key_pressed(ImGuiKey_DownArrow))
+      selected_ = std::min(n - 1, selected_ + 1), scroll_to_selection = true;
     if (key_pressed(ImGuiKey_UpArrow)) selected_ = std::max(0, selected_ - 1), scroll_to_selection = true;
     if (scroll_to_selection && info.save && !entries[static_cast<size_t>(selected_)].is_directory)
       set_file_name(entries[static_cast<size_t>(selected_)].name);
@@ -180,10 +198,13 @@ int FileBrowser::draw_entries() {
       ImGui::TableNextRow();
       ImGui::TableSetColumnIndex(0);
       ImGui::PushID(i);
-      if (e.is_directory) ImGui::PushStyleColor(ImGuiCol_Text, kFolderColour);
-      else if (e.is_hidden) ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
+      if (e.is_directory)
+        ImGui::PushStyleColor(ImGuiCol_Text, kFolderColour);
+      else if (e.is_hidden)
+        ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
       const std::string label = e.is_directory ? e.name + "/" : e.name;
-      if (ImGui::Selectable(label.c_str(), selected_ == i, ImGuiSelectableFlags_SpanAllColumns | ImGuiSelectableFlags_AllowDoubleClick)) {
+      if (ImGui::Selectable(label.c_str(), selected_ == i,
+                            ImGuiSelectableFlags_SpanAllColumns | ImGuiSelectableFlags_AllowDoubleClick)) {
         selected_ = i;
         if (info.save && !e.is_directory) set_file_name(e.name);
         if (ImGui::IsMouseDoubleClicked(0)) activated = i;
@@ -193,7 +214,8 @@ int FileBrowser::draw_entries() {
       ImGui::TableNextColumn();
       if (!e.is_directory) {
         const std::string size = e.size ? format_size(*e.size) : "?";
-        ImGui::SetCursorPosX(ImGui::GetCursorPosX() + ImGui::GetColumnWidth() - ImGui::CalcTextSize(size.c_str()).x);
+        ImGui::SetCursorPosX(ImGui::GetCursorPosX() + ImGui::GetColumnWidth() -
+                             ImGui::CalcTextSize(size.c_str()).x);
         ImGui::TextUnformatted(size.c_str());
       }
       ImGui::TableNextColumn();
@@ -221,13 +243,15 @@ std::optional<std::string> FileBrowser::draw_overwrite_question() {
     ImGui::Text("%s already exists.", overwrite_.c_str());
     ImGui::TextUnformatted("Replace it?");
     ImGui::Spacing();
-    if (ImGui::Button("Replace", ImVec2(120, 0)) || confirm_requested_ || (!just_asked && key_pressed(ImGuiKey_Enter))) {
+    if (ImGui::Button("Replace", ImVec2(120, 0)) || confirm_requested_ ||
+        (!just_asked && key_pressed(ImGuiKey_Enter))) {
       chosen = overwrite_;
       overwrite_.clear();
       ImGui::CloseCurrentPopup();
     }
     ImGui::SameLine();
-    if (ImGui::Button("Cancel", ImVec2(120, 0)) || cancel_requested_ || (!just_asked && key_pressed(ImGuiKey_Escape))) {
+    if (ImGui::Button("Cancel", ImVec2(120, 0)) || cancel_requested_ ||
+        (!just_asked && key_pressed(ImGuiKey_Escape))) {
       overwrite_.clear();
       ImGui::CloseCurrentPopup();
     }
@@ -247,8 +271,10 @@ std::optional<std::string> FileBrowser::draw() {
     open_ = true;
   }
   const ImVec2 display = ImGui::GetIO().DisplaySize;
-  ImGui::SetNextWindowPos(ImVec2(display.x * 0.5f, display.y * 0.5f), ImGuiCond_Appearing, ImVec2(0.5f, 0.5f));
-  ImGui::SetNextWindowSize(ImVec2(std::min(860.0f, display.x - 40), std::min(540.0f, display.y - 40)), ImGuiCond_Appearing);
+  ImGui::SetNextWindowPos(ImVec2(display.x * 0.5f, display.y * 0.5f), ImGuiCond_Appearing,
+                          ImVec2(0.5f, 0.5f));
+  ImGui::SetNextWindowSize(ImVec2(std::min(860.0f, display.x - 40), std::min(540.0f, display.y - 40)),
+                           ImGuiCond_Appearing);
   bool keep = true;
   if (!ImGui::BeginPopupModal(title.c_str(), &keep, ImGuiWindowFlags_NoSavedSettings)) {
     open_ = false;  // closed with its title bar's X
@@ -265,7 +291,9 @@ std::optional<std::string> FileBrowser::draw() {
   // footer: what is listed, the name field when saving, the buttons
   const DirectoryListing& l = model_.listing();
   std::string listed = joined(info.extensions) + " files";
-  if (l.filtered_count) listed += ", " + std::to_string(l.filtered_count) + (l.filtered_count == 1 ? " other file" : " other files") + " not shown";
+  if (l.filtered_count)
+    listed += ", " + std::to_string(l.filtered_count) +
+              (l.filtered_count == 1 ? " other file" : " other files") + " not shown";
   if (l.hidden_count) listed += ", " + std::to_string(l.hidden_count) + " hidden";
   ImGui::TextDisabled("%s", listed.c_str());
   bool enter = false;
@@ -305,7 +333,8 @@ std::optional<std::string> FileBrowser::draw() {
   }
   if (!overwrite_.empty())
     if (auto replaced = draw_overwrite_question()) chosen = replaced;
-  if (chosen || cancel || (!question_up && cancel_requested_) || (keys_free_ && key_pressed(ImGuiKey_Escape))) {
+  if (chosen || cancel || (!question_up && cancel_requested_) ||
+      (keys_free_ && key_pressed(ImGuiKey_Escape))) {
     cancel_requested_ = false;
     ImGui::CloseCurrentPopup();
     open_ = false;

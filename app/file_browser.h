@@ -15,8 +15,8 @@ namespace cagewrap::app {
 enum class FilePurpose { kOpen, kSaveProject, kImportCage, kScreenshot };
 
 struct FilePurposeInfo {
-  const char* title;   // window title ("Open")
-  const char* action;  // the confirm button ("Open", "Save")
+  const char* title;                    // window title ("Open")
+  const char* action;                   // the confirm button ("Open", "Save")
   std::vector<std::string> extensions;  // files listed (lower case, with the dot)
   const char* default_extension;        // appended to a typed save name without one
   bool save;                            // a file name field, and the overwrite question
@@ -58,11 +58,11 @@ class FileBrowser {
   FilePurpose purpose_ = FilePurpose::kOpen;
   bool opening_ = false, open_ = false, close_ = false;
   bool confirm_requested_ = false, cancel_requested_ = false;
-  int selected_ = -1;                 // index into model_.entries()
-  std::string error_;                 // from the last confirm (a bad save name); the model has its own
-  std::string overwrite_;             // asks before replacing this file
-  bool ask_overwrite_ = false;        // opens the question on the next draw
-  bool keys_free_ = false;            // this frame: no field was being typed in, no question up
+  int selected_ = -1;           // index into model_.entries()
+  std::string error_;           // from the last confirm (a bad save name); the model has its own
+  std::string overwrite_;       // asks before replacing this file
+  bool ask_overwrite_ = false;  // opens the question on the next draw
+  bool keys_free_ = false;      // this frame: no field was being typed in, no question up
   char path_field_[4096] = {};
   char name_field_[1024] = {};
   int name_generation_ = 0, path_generation_ = 0;  // bumped when a field is set from outside it

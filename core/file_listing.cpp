@@ -15,8 +15,12 @@ namespace fs = std::filesystem;
 
 namespace {
 
-char lower(char c) { return static_cast<char>(std::tolower(static_cast<unsigned char>(c))); }
-bool is_digit(char c) { return c >= '0' && c <= '9'; }
+char lower(char c) {
+  return static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+}
+bool is_digit(char c) {
+  return c >= '0' && c <= '9';
+}
 
 std::string trimmed(const std::string& s) {
   const size_t b = s.find_first_not_of(" \t\r\n");
@@ -26,7 +30,8 @@ std::string trimmed(const std::string& s) {
 
 std::string extension_list(const std::vector<std::string>& extensions) {
   std::string out;
-  for (size_t i = 0; i < extensions.size(); ++i) out += (i ? (i + 1 == extensions.size() ? " or " : ", ") : "") + extensions[i];
+  for (size_t i = 0; i < extensions.size(); ++i)
+    out += (i ? (i + 1 == extensions.size() ? " or " : ", ") : "") + extensions[i];
   return out;
 }
 
@@ -37,7 +42,8 @@ bool matches_extension(const std::string& name, const std::vector<std::string>& 
   for (const auto& ext : extensions) {
     if (name.size() <= ext.size()) continue;  // ".glb" alone is a hidden file, not a glTF
     bool same = true;
-    for (size_t i = 0; i < ext.size() && same; ++i) same = lower(name[name.size() - ext.size() + i]) == lower(ext[i]);
+    for (size_t i = 0; i < ext.size() && same; ++i)
+      same = lower(name[name.size() - ext.size() + i]) == lower(ext[i]);
     if (same) return true;
   }
   return false;
@@ -96,7 +102,8 @@ std::string parent_directory(const std::string& dir) {
 Error directory_error(const std::string& dir, std::error_code ec) {
   if (ec == std::errc::no_such_file_or_directory)
     return make_error(ErrorCode::kFileNotFound, "the folder " + dir + " does not exist");
-  if (ec == std::errc::not_a_directory) return make_error(ErrorCode::kInvalidArgument, dir + " is a file, not a folder");
+  if (ec == std::errc::not_a_directory)
+    return make_error(ErrorCode::kInvalidArgument, dir + " is a file, not a folder");
   return make_error(ErrorCode::kFileUnreadable, "cannot read the folder " + dir + " (" + ec.message() + ")");
 }
 
@@ -108,7 +115,8 @@ Result<DirectoryListing> list_directory(const std::string& dir, const FileFilter
   if (status.type() == fs::file_type::not_found)
     return directory_error(listing.directory, std::make_error_code(std::errc::no_such_file_or_directory));
   if (ec) return directory_error(listing.directory, ec);
-  if (!fs::is_directory(status)) return directory_error(listing.directory, std::make_error_code(std::errc::not_a_directory));
+  if (!fs::is_directory(status))
+    return directory_error(listing.directory, std::make_error_code(std::errc::not_a_directory));
   fs::directory_iterator it(listing.directory, ec);
   if (ec) return directory_error(listing.directory, ec);
   for (; it != fs::directory_iterator(); it.increment(ec)) {
@@ -158,7 +166,8 @@ Result<SaveTarget> resolve_save_name(const std::string& dir, const std::string& 
   std::error_code ec;
   const std::string parent = fs::path(target.path).parent_path().string();
   if (!fs::is_directory(parent, ec))
-    return make_error(ErrorCode::kFileNotFound, "cannot save " + target.path + ": the folder " + parent + " does not exist");
+    return make_error(ErrorCode::kFileNotFound,
+                      "cannot save " + target.path + ": the folder " + parent + " does not exist");
   const fs::file_status st = fs::status(target.path, ec);
   if (fs::is_directory(st))
     return make_error(ErrorCode::kInvalidArgument, target.path + " is a folder: type a file name");
@@ -176,8 +185,10 @@ std::string format_size(uint64_t bytes) {
     ++u;
   }
   char buf[32];
-  if (v < 10.0) std::snprintf(buf, sizeof buf, "%.1f %s", v, units[u]);
-  else std::snprintf(buf, sizeof buf, "%.0f %s", v, units[u]);
+  if (v < 10.0)
+    std::snprintf(buf, sizeof buf, "%.1f %s", v, units[u]);
+  else
+    std::snprintf(buf, sizeof buf, "%.0f %s", v, units[u]);
   return buf;
 }
 

@@ -16,9 +16,9 @@ namespace cagewrap {
 struct FileEntry {
   std::string name;  // the entry's name in its folder (no path)
   bool is_directory = false;
-  bool is_hidden = false;             // the name starts with '.'
-  std::optional<uint64_t> size;       // bytes (files only); nullopt when it could not be read
-  std::optional<int64_t> modified;    // seconds since the Unix epoch; nullopt when it could not be read
+  bool is_hidden = false;           // the name starts with '.'
+  std::optional<uint64_t> size;     // bytes (files only); nullopt when it could not be read
+  std::optional<int64_t> modified;  // seconds since the Unix epoch; nullopt when it could not be read
 };
 
 struct FileFilter {
@@ -28,10 +28,10 @@ struct FileFilter {
 };
 
 struct DirectoryListing {
-  std::string directory;  // absolute and normalised (no "." or ".." components, no trailing '/')
+  std::string directory;           // absolute and normalised (no "." or ".." components, no trailing '/')
   std::vector<FileEntry> entries;  // folders first, then files, each in natural_less order
-  size_t hidden_count = 0;    // entries left out because they are hidden
-  size_t filtered_count = 0;  // files left out because of their extension
+  size_t hidden_count = 0;         // entries left out because they are hidden
+  size_t filtered_count = 0;       // files left out because of their extension
 };
 
 // True when `name` ends with one of `extensions` (case-insensitive); always true for an empty list.

@@ -3,9 +3,8 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
-
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "core/atomic_write.h"
 #include "core/file_listing.h"
@@ -55,26 +54,31 @@ void read_known_fields(Json& j, Preferences& p, const std::string& path, std::ve
       for (const auto& r : *it) {
         if (!r.is_string() || r.get<std::string>().empty()) continue;  // skipped quietly: a list stays usable
         if (p.recent_files.size() < kMaxRecentFiles &&
-            std::find(p.recent_files.begin(), p.recent_files.end(), r.get<std::string>()) == p.recent_files.end())
+            std::find(p.recent_files.begin(), p.recent_files.end(), r.get<std::string>()) ==
+                p.recent_files.end())
           p.recent_files.push_back(r.get<std::string>());
       }
     }
     j.erase(it);
   }
   if (auto it = j.find("last_directory"); it != j.end()) {
-    if (it->is_string()) p.last_directory = it->get<std::string>();
-    else bad("last_directory", "is not a string");
+    if (it->is_string())
+      p.last_directory = it->get<std::string>();
+    else
+      bad("last_directory", "is not a string");
     j.erase(it);
   }
   if (auto it = j.find("window"); it != j.end()) {
     if (it->is_object()) {
-      for (auto [key, member] : {std::pair{"width", &Preferences::window_width}, std::pair{"height", &Preferences::window_height}}) {
+      for (auto [key, member] : {std::pair{"width", &Preferences::window_width},
+                                 std::pair{"height", &Preferences::window_height}}) {
         auto f = it->find(key);
         if (f == it->end()) continue;
         if (f->is_number_integer() && f->get<int64_t>() >= kMinWindow && f->get<int64_t>() <= kMaxWindow)
           p.*member = f->get<int>();
         else
-          bad(std::string("window.") + key, "is not a whole number from " + std::to_string(kMinWindow) + " to " + std::to_string(kMaxWindow));
+          bad(std::string("window.") + key, "is not a whole number from " + std::to_string(kMinWindow) +
+                                                " to " + std::to_string(kMaxWindow));
         it->erase(f);
       }
       if (it->empty()) j.erase(it);
@@ -88,8 +92,10 @@ void read_known_fields(Json& j, Preferences& p, const std::string& path, std::ve
       for (const Flag& flag : kDisplayFlags) {
         auto f = it->find(flag.key);
         if (f == it->end()) continue;
-        if (f->is_boolean()) p.*flag.member = f->get<bool>();
-        else bad(std::string("display.") + flag.key, "is not true or false");
+        if (f->is_boolean())
+          p.*flag.member = f->get<bool>();
+        else
+          bad(std::string("display.") + flag.key, "is not true or false");
         it->erase(f);
       }
       if (it->empty()) j.erase(it);
@@ -104,8 +110,10 @@ void read_known_fields(Json& j, Preferences& p, const std::string& path, std::ve
 void add_missing(Json& dst, const Json& src) {
   for (auto it = src.begin(); it != src.end(); ++it) {
     auto d = dst.find(it.key());
-    if (d == dst.end()) dst[it.key()] = it.value();
-    else if (d->is_object() && it->is_object()) add_missing(*d, *it);
+    if (d == dst.end())
+      dst[it.key()] = it.value();
+    else if (d->is_object() && it->is_object())
+      add_missing(*d, *it);
   }
 }
 
@@ -136,13 +144,15 @@ bool remove_recent_file(Preferences& prefs, const std::string& path) {
 std::string preferences_directory(const char* override_dir, const char* xdg_config_home, const char* home) {
   auto set = [](const char* s) { return s && *s; };
   if (set(override_dir)) return absolute_path(override_dir);
-  if (set(xdg_config_home) && xdg_config_home[0] == '/') return absolute_path(std::string(xdg_config_home) + "/cagewrap");
+  if (set(xdg_config_home) && xdg_config_home[0] == '/')
+    return absolute_path(std::string(xdg_config_home) + "/cagewrap");
   if (set(home)) return absolute_path(std::string(home) + "/.config/cagewrap");
   return {};
 }
 
 std::string preferences_directory() {
-  return preferences_directory(std::getenv("CAGEWRAP_CONFIG_DIR"), std::getenv("XDG_CONFIG_HOME"), std::getenv("HOME"));
+  return preferences_directory(std::getenv("CAGEWRAP_CONFIG_DIR"), std::getenv("XDG_CONFIG_HOME"),
+                               std::getenv("HOME"));
 }
 
 std::string preferences_path() {
@@ -167,8 +177,10 @@ PreferencesLoad load_preferences(const std::string& path) {
   }
   Json j = Json::parse(text.str(), nullptr, /*allow_exceptions=*/false);
   if (j.is_discarded() || !j.is_object()) {
-    out.warnings.push_back(path + ": not a valid preferences file (corrupt JSON); using the defaults, and it will be "
-                                  "replaced when preferences are saved");
+    out.warnings.push_back(
+        path +
+        ": not a valid preferences file (corrupt JSON); using the defaults, and it will be "
+        "replaced when preferences are saved");
     return out;
   }
   if (auto f = j.find("format"); f != j.end() && (!f->is_string() || f->get<std::string>() != kFormat)) {
@@ -201,11 +213,14 @@ std::string preferences_to_json(const Preferences& prefs) {
 }
 
 Status save_preferences(const std::string& path, const Preferences& prefs) {
-  if (path.empty()) return make_error(ErrorCode::kWrite, "no config folder to save the preferences in (HOME is not set)");
+  if (path.empty())
+    return make_error(ErrorCode::kWrite, "no config folder to save the preferences in (HOME is not set)");
   std::error_code ec;
   const fs::path dir = fs::path(path).parent_path();
   if (!dir.empty()) fs::create_directories(dir, ec);
-  if (ec) return make_error(ErrorCode::kWrite, path + ": could not save the preferences (creating the folder " + dir.string() + ": " + ec.message() + ")");
+  if (ec)
+    return make_error(ErrorCode::kWrite, path + ": could not save the preferences (creating the folder " +
+                                             dir.string() + ": " + ec.message() + ")");
   return write_file_atomic(path, preferences_to_json(prefs));
 }
 

@@ -4,16 +4,14 @@
 // folder here), and the next run reads them back; the overwrite question; a corrupt preferences
 // file is named and replaced; screenshots and cage imports through the browser.
 #include <gtest/gtest.h>
+#include <stb_image.h>
 
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
-#include <string>
-
-#include <stb_image.h>
-
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "tests/editor_gui_harness.h"
 
@@ -42,7 +40,8 @@ class EditorFilesGui : public ::testing::Test {
     const fs::path s = dir_ / (name + ".script");
     std::ofstream(s) << script;
     const fs::path log = dir_ / (name + ".log");
-    const std::string cmd = cagewrap::test::editor_command("--script " + s.string() + " " + args, config().string(), log.string());
+    const std::string cmd = cagewrap::test::editor_command("--script " + s.string() + " " + args,
+                                                           config().string(), log.string());
     EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd << "\n" << read(log);
     return read(log);
   }
@@ -55,8 +54,9 @@ class EditorFilesGui : public ::testing::Test {
 TEST_F(EditorFilesGui, SavedThroughTheBrowserAndRememberedNextTime) {
   const std::string folder = (dir_ / "projects").string();
   // first run: a wireframe toggle, then Save as through the browser
-  std::string log = run("first", "wait 2\ntoggle wireframe\nbrowse save " + folder +
-                                     "\nwait 1\nbrowser_name first\nbrowser_confirm\nwait 2\n",
+  std::string log = run("first",
+                        "wait 2\ntoggle wireframe\nbrowse save " + folder +
+                            "\nwait 1\nbrowser_name first\nbrowser_confirm\nwait 2\n",
                         "--width 1000 --height 600");
   ASSERT_TRUE(fs::exists(project("first"))) << log;
   auto p = prefs();
@@ -71,9 +71,11 @@ TEST_F(EditorFilesGui, SavedThroughTheBrowserAndRememberedNextTime) {
   // "first" asks first (confirmed), then "second" is saved beside it; the window has the size left
   const auto first_written = fs::last_write_time(project("first"));
   const fs::path png = dir_ / "second.png";
-  log = run("second", "wait 2\nbrowse save\nwait 1\nbrowser_name first\nbrowser_confirm\nwait 1\nbrowser_confirm\nwait 2\n"
-                      "browse save\nwait 1\nbrowser_name second\nbrowser_confirm\nwait 2\n",
-            "--screenshot " + png.string());
+  log = run(
+      "second",
+      "wait 2\nbrowse save\nwait 1\nbrowser_name first\nbrowser_confirm\nwait 1\nbrowser_confirm\nwait 2\n"
+      "browse save\nwait 1\nbrowser_name second\nbrowser_confirm\nwait 2\n",
+      "--screenshot " + png.string());
   EXPECT_NE(log.find("saved " + project("first").string()), std::string::npos) << log;
   EXPECT_GE(fs::last_write_time(project("first")), first_written);
   ASSERT_TRUE(fs::exists(project("second"))) << log;
@@ -91,7 +93,8 @@ TEST_F(EditorFilesGui, SavedThroughTheBrowserAndRememberedNextTime) {
 TEST_F(EditorFilesGui, OverwriteCanBeDeclined) {
   std::ofstream(project("keep")) << "precious";
   const std::string log = run("decline", "wait 2\nbrowse save " + (dir_ / "projects").string() +
-                                             "\nwait 1\nbrowser_name keep\nbrowser_confirm\nwait 1\nbrowser_cancel\nwait 1\nbrowser_cancel\nwait 1\n");
+                                             "\nwait 1\nbrowser_name keep\nbrowser_confirm\nwait "
+                                             "1\nbrowser_cancel\nwait 1\nbrowser_cancel\nwait 1\n");
   EXPECT_EQ(read(project("keep")), "precious") << log;
   EXPECT_EQ(log.find("saved"), std::string::npos) << log;
 }
@@ -108,9 +111,12 @@ TEST_F(EditorFilesGui, CorruptPreferencesAreNamedAndReplaced) {
 TEST_F(EditorFilesGui, ScreenshotAndCageImportThroughTheBrowser) {
   // the demo's own cage, imported again through the browser: one undo step, bound again
   const std::string assets = std::string(CAGEWRAP_SOURCE_DIR) + "/assets";
-  const std::string log = run("shot", "wait 2\nbrowse import_cage " + assets + "\nwait 1\nbrowser_select demo_cage.obj\nbrowser_confirm\nwait 2\n"
-                                      "undo\nwait 1\nredo\nwait 1\n"
-                                      "browse screenshot " + dir_.string() + "\nwait 1\nbrowser_name shot\nbrowser_confirm\nwait 4\n");
+  const std::string log =
+      run("shot", "wait 2\nbrowse import_cage " + assets +
+                      "\nwait 1\nbrowser_select demo_cage.obj\nbrowser_confirm\nwait 2\n"
+                      "undo\nwait 1\nredo\nwait 1\n"
+                      "browse screenshot " +
+                      dir_.string() + "\nwait 1\nbrowser_name shot\nbrowser_confirm\nwait 4\n");
   EXPECT_NE(log.find("imported cage " + assets + "/demo_cage.obj (1002 vertices)"), std::string::npos) << log;
   EXPECT_NE(log.find("Import cage demo_cage.obj"), std::string::npos) << "undo names the step\n" << log;
   EXPECT_NE(log.find("saved screenshot " + (dir_ / "shot.png").string()), std::string::npos) << log;

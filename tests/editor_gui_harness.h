@@ -22,9 +22,10 @@ inline bool gui_available(std::string& why) {
 
 // The shell command that runs the editor on a 1280 x 720 virtual screen with `args`, its
 // preferences in `config_dir`, and stdout and stderr in `log`.
-inline std::string editor_command(const std::string& args, const std::string& config_dir, const std::string& log) {
-  return "CAGEWRAP_CONFIG_DIR='" + config_dir + "' xvfb-run -a -s '-screen 0 1280x720x24' " + std::string(CAGEWRAP_BINARY) +
-         " " + args + " > '" + log + "' 2>&1";
+inline std::string editor_command(const std::string& args, const std::string& config_dir,
+                                  const std::string& log) {
+  return "CAGEWRAP_CONFIG_DIR='" + config_dir + "' xvfb-run -a -s '-screen 0 1280x720x24' " +
+         std::string(CAGEWRAP_BINARY) + " " + args + " > '" + log + "' 2>&1";
 }
 
 }  // namespace cagewrap::test

@@ -1,8 +1,9 @@
 // Tests for core/file_listing.h on a temporary folder: order (folders first, natural order),
 // extension filter, hidden files, sizes and times, navigation, typed paths and save names, and
 // that every error names the folder or file.
-#include <gtest/gtest.h>
+#include "core/file_listing.h"
 
+#include <gtest/gtest.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -11,7 +12,6 @@
 #include <ctime>
 #include <filesystem>
 
-#include "core/file_listing.h"
 #include "tests/document_fixtures.h"
 #include "tests/expect_error.h"
 
@@ -72,7 +72,8 @@ TEST(FileListing, NaturalOrderComparesNumbersByValueAndIgnoresCase) {
 TEST_F(FileListingTest, FoldersFirstThenFilteredFilesInNaturalOrder) {
   auto l = list_directory(dir_.string(), FileFilter{kCharacters});
   ASSERT_TRUE(l.ok()) << l.error().message;
-  EXPECT_EQ(names(l->entries), (std::vector<std::string>{"Alpha", "zeta", "hero.cagewrap", "Hero.GLTF", "take2.glb", "take10.glb"}));
+  EXPECT_EQ(names(l->entries), (std::vector<std::string>{"Alpha", "zeta", "hero.cagewrap", "Hero.GLTF",
+                                                         "take2.glb", "take10.glb"}));
   EXPECT_TRUE(l->entries[0].is_directory);
   EXPECT_FALSE(l->entries[2].is_directory);
   EXPECT_EQ(l->hidden_count, 2u);    // .cache and .hidden.glb
@@ -115,7 +116,8 @@ TEST_F(FileListingTest, BrokenLinkIsListedWithoutDetails) {
   fs::create_symlink(dir_ / "gone.glb", dir_ / "link.glb");
   auto l = list_directory(dir_.string(), FileFilter{{".glb"}});
   ASSERT_TRUE(l.ok());
-  auto it = std::find_if(l->entries.begin(), l->entries.end(), [](const FileEntry& e) { return e.name == "link.glb"; });
+  auto it = std::find_if(l->entries.begin(), l->entries.end(),
+                         [](const FileEntry& e) { return e.name == "link.glb"; });
   ASSERT_NE(it, l->entries.end());
   EXPECT_FALSE(it->is_directory);
   EXPECT_FALSE(it->size.has_value());
@@ -131,12 +133,15 @@ TEST_F(FileListingTest, LinkToFolderCountsAsFolder) {
 }
 
 TEST_F(FileListingTest, ErrorsNameTheFolder) {
-  EXPECT_TRUE(Fails(list_directory(path("missing"), {}), ErrorCode::kFileNotFound, {path("missing"), "does not exist"}));
-  EXPECT_TRUE(Fails(list_directory(path("notes.txt"), {}), ErrorCode::kInvalidArgument, {path("notes.txt"), "not a folder"}));
+  EXPECT_TRUE(Fails(list_directory(path("missing"), {}), ErrorCode::kFileNotFound,
+                    {path("missing"), "does not exist"}));
+  EXPECT_TRUE(Fails(list_directory(path("notes.txt"), {}), ErrorCode::kInvalidArgument,
+                    {path("notes.txt"), "not a folder"}));
   if (::geteuid() != 0) {  // root reads any folder
     fs::create_directories(dir_ / "locked");
     ::chmod(path("locked").c_str(), 0);
-    EXPECT_TRUE(Fails(list_directory(path("locked"), {}), ErrorCode::kFileUnreadable, {path("locked"), "cannot read the folder"}));
+    EXPECT_TRUE(Fails(list_directory(path("locked"), {}), ErrorCode::kFileUnreadable,
+                      {path("locked"), "cannot read the folder"}));
     ::chmod(path("locked").c_str(), 0755);
   }
   // the message for an unreadable folder, whoever runs the test
@@ -178,7 +183,8 @@ TEST_F(FileListingTest, SaveNamesGetTheDefaultExtension) {
   t = resolve_save_name(dir_.string(), "Alpha/inner", ext, ".cagewrap");  // a relative sub-path
   ASSERT_TRUE(t.ok());
   EXPECT_EQ(t->path, path("Alpha/inner.cagewrap"));
-  t = resolve_save_name("/elsewhere", path("abs.cagewrap"), ext, ".cagewrap");  // absolute: the folder is ignored
+  t = resolve_save_name("/elsewhere", path("abs.cagewrap"), ext,
+                        ".cagewrap");  // absolute: the folder is ignored
   ASSERT_TRUE(t.ok());
   EXPECT_EQ(t->path, path("abs.cagewrap"));
 }
@@ -192,14 +198,19 @@ TEST_F(FileListingTest, SaveOverAnExistingFileIsFlagged) {
 
 TEST_F(FileListingTest, BadSaveNamesSayWhy) {
   const std::vector<std::string> ext = {".png"};
-  EXPECT_TRUE(Fails(resolve_save_name(dir_.string(), "   ", ext, ".png"), ErrorCode::kInvalidArgument, {"type a file name", dir_.string()}));
-  EXPECT_TRUE(Fails(resolve_save_name(dir_.string(), "Alpha/", ext, ".png"), ErrorCode::kInvalidArgument, {"Alpha/", "names a folder"}));
+  EXPECT_TRUE(Fails(resolve_save_name(dir_.string(), "   ", ext, ".png"), ErrorCode::kInvalidArgument,
+                    {"type a file name", dir_.string()}));
+  EXPECT_TRUE(Fails(resolve_save_name(dir_.string(), "Alpha/", ext, ".png"), ErrorCode::kInvalidArgument,
+                    {"Alpha/", "names a folder"}));
   for (const char* folder : {"..", ".", "Alpha/..", "~"})
-    EXPECT_TRUE(Fails(resolve_save_name(dir_.string(), folder, ext, ".png"), ErrorCode::kInvalidArgument, {"names a folder"})) << folder;
+    EXPECT_TRUE(Fails(resolve_save_name(dir_.string(), folder, ext, ".png"), ErrorCode::kInvalidArgument,
+                      {"names a folder"}))
+        << folder;
   EXPECT_TRUE(Fails(resolve_save_name(dir_.string(), "nowhere/shot", ext, ".png"), ErrorCode::kFileNotFound,
                     {path("nowhere/shot.png"), path("nowhere"), "does not exist"}));
   fs::create_directories(dir_ / "dir.png");
-  EXPECT_TRUE(Fails(resolve_save_name(dir_.string(), "dir.png", ext, ".png"), ErrorCode::kInvalidArgument, {path("dir.png"), "is a folder"}));
+  EXPECT_TRUE(Fails(resolve_save_name(dir_.string(), "dir.png", ext, ".png"), ErrorCode::kInvalidArgument,
+                    {path("dir.png"), "is a folder"}));
 }
 
 TEST(FileListing, SizesAndTimesReadWell) {
@@ -266,7 +277,8 @@ TEST_F(FileListingTest, TypedPathsEnterFoldersOrChooseFiles) {
   EXPECT_EQ(*chosen, path("take2.glb"));
   EXPECT_EQ(m.directory(), dir_.string()) << "choosing a file shows its folder";
   EXPECT_FALSE(m.enter_typed_path("notes.txt").has_value());
-  EXPECT_NE(m.error().find("notes.txt is not a .cagewrap, .glb or .gltf file"), std::string::npos) << m.error();
+  EXPECT_NE(m.error().find("notes.txt is not a .cagewrap, .glb or .gltf file"), std::string::npos)
+      << m.error();
   EXPECT_FALSE(m.enter_typed_path("ghost.glb").has_value());
   EXPECT_NE(m.error().find(path("ghost.glb") + " does not exist"), std::string::npos) << m.error();
   EXPECT_EQ(m.directory(), dir_.string());

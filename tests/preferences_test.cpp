@@ -2,13 +2,13 @@
 // defaults quietly; a corrupt file or a bad field gives the defaults and a warning naming it, never
 // a crash; fields of a newer version survive; the recent list stays short and without repeats; the
 // config folder follows CAGEWRAP_CONFIG_DIR, then XDG_CONFIG_HOME, then HOME.
+#include "core/preferences.h"
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
-
 #include <nlohmann/json.hpp>
 
-#include "core/preferences.h"
 #include "tests/document_fixtures.h"
 
 namespace cagewrap {
@@ -60,7 +60,8 @@ TEST_F(PreferencesTest, MissingFileGivesDefaultsQuietly) {
 }
 
 TEST_F(PreferencesTest, CorruptFileGivesDefaultsAndNamesIt) {
-  for (const char* text : {"{ \"recent_files\": [", "", "[1, 2]", "\x89PNG\r\n", "null", "{\"format\": \"something-else\"}"}) {
+  for (const char* text :
+       {"{ \"recent_files\": [", "", "[1, 2]", "\x89PNG\r\n", "null", "{\"format\": \"something-else\"}"}) {
     write_text(path("preferences.json"), text);
     auto loaded = load_preferences(path("preferences.json"));
     EXPECT_TRUE(loaded.prefs == Preferences{}) << text;
@@ -82,7 +83,8 @@ TEST_F(PreferencesTest, FolderInPlaceOfTheFileIsAWarning) {
 }
 
 TEST_F(PreferencesTest, BadFieldsKeepTheirDefaultAndAreNamed) {
-  write_text(path("p.json"), R"({"window": {"width": "wide", "height": 50}, "display": {"wireframe": 1, "xray": true},
+  write_text(path("p.json"),
+             R"({"window": {"width": "wide", "height": 50}, "display": {"wireframe": 1, "xray": true},
                                   "last_directory": 7, "recent_files": ["/a.glb", 3, "", "/a.glb", "/b.glb"]})");
   auto loaded = load_preferences(path("p.json"));
   EXPECT_EQ(loaded.prefs.window_width, 1600);
