@@ -736,14 +736,20 @@ void Editor::browse(FilePurpose purpose, const std::string& dir) {
   else files_.browse(purpose, near, name);
 }
 
-// Script commands for files (see run_script_step): open PATH | import_cage PATH |
+// Script commands for files (see run_script_step; PATH and NAME are the rest of the line):
+// open PATH | import_cage PATH |
 // browse open|save|import_cage|screenshot [DIR] | browser_select NAME | browser_name NAME |
 // browser_confirm | browser_cancel | toggle wireframe|xray|skin|cage|skeleton|grid
 bool Editor::run_file_script_command(const std::string& cmd, std::istringstream& in) {
+  // the argument is the rest of the line (names may hold spaces); `browse` splits off its first word
   std::string arg, rest;
-  in >> arg;
-  std::getline(in, rest);  // a second argument (browse DIR)
-  rest.erase(0, rest.find_first_not_of(' '));
+  std::getline(in >> std::ws, arg);
+  arg.erase(arg.find_last_not_of(" \t\r") + 1);
+  if (cmd == "browse") {
+    const size_t space = arg.find(' ');
+    if (space != std::string::npos) rest = arg.substr(arg.find_first_not_of(' ', space));
+    arg.resize(std::min(space, arg.size()));
+  }
   if (cmd == "open") open_path(arg);
   else if (cmd == "import_cage") import_cage(arg);
   else if (cmd == "browse") {

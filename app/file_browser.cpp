@@ -91,6 +91,13 @@ std::optional<std::string> FileBrowser::choose(const std::string& path) {
   return path;
 }
 
+std::optional<std::string> FileBrowser::activate(FileEntry entry) {
+  if (!entry.is_directory) return choose(model_.path_of(entry));
+  if (model_.navigate(model_.path_of(entry))) selected_ = -1;
+  set_path_field();
+  return std::nullopt;
+}
+
 std::optional<std::string> FileBrowser::accept() {
   error_.clear();
   const FilePurposeInfo& info = purpose_info(purpose_);
@@ -99,23 +106,12 @@ std::optional<std::string> FileBrowser::accept() {
                              ? &entries[static_cast<size_t>(selected_)]
                              : nullptr;
   if (!info.save) {
-    if (!sel) {
-      error_ = "select a file to " + std::string(info.action) + " (or double-click it)";
-      return std::nullopt;
-    }
-    if (sel->is_directory) {
-      if (model_.navigate(model_.path_of(*sel))) selected_ = -1;
-      set_path_field();
-      return std::nullopt;
-    }
-    return model_.path_of(*sel);
-  }
-  // saving: a selected folder is entered; otherwise the typed name is the file
-  if (sel && sel->is_directory && sel->name != name_field_) {
-    if (model_.navigate(model_.path_of(*sel))) selected_ = -1;
-    set_path_field();
+    if (sel) return activate(*sel);
+    error_ = "select a file first (or double-click it)";
     return std::nullopt;
   }
+  // saving: the typed name is the file; with no name, a selected folder is entered
+  if (sel && sel->is_directory && name_field_[0] == '\0') return activate(*sel);
   auto target = resolve_save_name(model_.directory(), name_field_, info.extensions, info.default_extension);
   if (!target) {
     error_ = target.error().message;
@@ -286,7 +282,10 @@ std::optional<std::string> FileBrowser::draw() {
   draw_toolbar();
   const std::string& error = !error_.empty() ? error_ : model_.error();
   if (!error.empty()) ImGui::TextColored(kErrorColour, "%s", error.c_str());
-  const int activated = draw_entries();
+  int activated = draw_entries();  // double-clicked; Enter on the list acts on the selection
+  if (activated < 0 && keys_free_ && key_pressed(ImGuiKey_Enter) && selected_ >= 0 &&
+      selected_ < static_cast<int>(model_.entries().size()))
+    activated = selected_;
 
   // footer: what is listed, the name field when saving, the buttons
   const DirectoryListing& l = model_.listing();
@@ -317,13 +316,7 @@ std::optional<std::string> FileBrowser::draw() {
   if (question_up) {
     // the question answers confirm and cancel requests
   } else if (activated >= 0) {
-    const FileEntry e = model_.entries()[static_cast<size_t>(activated)];
-    if (e.is_directory) {
-      if (model_.navigate(model_.path_of(e))) selected_ = -1;
-      set_path_field();
-    } else {
-      chosen = choose(model_.path_of(e));
-    }
+    chosen = activate(model_.entries()[static_cast<size_t>(activated)]);
   } else if (confirm || enter || confirm_requested_ || (keys_free_ && key_pressed(ImGuiKey_Enter))) {
     confirm_requested_ = false;
     chosen = accept();

@@ -47,6 +47,9 @@ class FileBrowser {
  private:
   // The confirm button: open the selected file or folder, or resolve the typed save name.
   std::optional<std::string> accept();
+  // Double-click (or Enter on the list): enters a folder, chooses a file. By value: entering a
+  // folder replaces the listing it came from.
+  std::optional<std::string> activate(FileEntry entry);
   std::optional<std::string> choose(const std::string& path);  // asks before replacing a file
   void set_path_field();
   void draw_toolbar();
