@@ -5,6 +5,7 @@
 #endif
 
 #include <cstdio>
+#include <filesystem>
 
 #include "core/cage_import.h"
 #include "core/skinning.h"
@@ -90,7 +91,7 @@ bool CageTools::import_cage(Scene& scene, const std::string& path, const EditorH
     hooks.log("warning: " + path + ": ... and " + std::to_string(problems.total() - problems.lines.size()) + " more", false);
   failing_.clear();
   report_.reset();
-  commit_cage(scene, std::make_shared<const Cage>(std::move(cage).value()), "Import cage");
+  commit_cage(scene, std::make_shared<const Cage>(std::move(cage).value()), "Import cage " + std::filesystem::path(path).filename().string());
   return true;
 }
 
@@ -98,7 +99,7 @@ bool CageTools::import_cage(Scene& scene, const std::string& path, const EditorH
 
 void CageTools::menu_items(Scene& scene, const Selection&, const EditorHooks&) {
   if (ImGui::MenuItem("Automatic cage...", nullptr, false, !job_)) show_dialog_ = true;
-  if (ImGui::MenuItem("Import cage...")) import_requested_ = true;
+  if (ImGui::MenuItem("Import cage... (also in File)")) import_requested_ = true;
   ImGui::Separator();
   ImGui::MenuItem("Show points failing the quality test", nullptr, &show_failing_, !failing_.empty());
   if (ImGui::MenuItem("Last automatic cage report", nullptr, false, report_.has_value())) show_report_ = true;

@@ -22,6 +22,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "app/cage_tools.h"
+#include "app/editor_files.h"
 #include "app/editor_scene.h"
 #include "core/camera.h"
 #include "core/mesh_io.h"
@@ -99,6 +100,10 @@ class Editor {
   void request_save();
   bool save_project_to(const std::string& path);
   bool open_path(const std::string& path);
+  bool import_cage(const std::string& path);
+  void browse(FilePurpose purpose, const std::string& dir = {});
+  void act_on(const EditorFiles::Choice& choice);
+  bool run_file_script_command(const std::string& cmd, std::istringstream& in);
   void run_script_step();
   void script_gizmo_drag(std::istringstream& in);
   void script_rotate_drag(std::istringstream& in);
@@ -112,7 +117,7 @@ class Editor {
   void draw_stats();
   void draw_help();
   void log(std::string text, bool error = false);
-  bool save_screenshot(const std::string& path);
+  bool save_screenshot(const std::string& path, bool view_only = false);
 
   EditorOptions options_;
   GLFWwindow* window_ = nullptr;
@@ -149,8 +154,12 @@ class Editor {
   std::string display_key_;
   bool box_selecting_ = false;
   ImVec2 box_start_{0, 0};
-  std::string project_path_input_;
-  bool open_save_popup_ = false, open_open_popup_ = false, quit_requested_ = false;
+  EditorFiles files_;  // preferences, recent files, the file browser (app/editor_files.h)
+  // requests for the file browser: Save as, Open (Ctrl+O); quit once the Save as is done
+  bool open_save_popup_ = false, open_open_popup_ = false, quit_requested_ = false, quit_after_save_ = false;
+  bool screenshot_view_only_ = false;
+  int pending_screenshot_frames_ = 0;  // frames to wait (a dialog that just closed leaves the picture)
+  std::shared_ptr<const Cage> shown_cage_;  // the cage the renderer and the selection were made for
   std::vector<std::string> script_;
   size_t script_pos_ = 0;
   int script_wait_ = 0;
@@ -160,7 +169,6 @@ class Editor {
   std::unique_ptr<Scene> scene_;
   CageTools cage_tools_;
   EditorHooks hooks_;
-  std::shared_ptr<const Cage> shown_cage_;  // the cage whose topology the renderer holds
   std::deque<LogLine> log_;
   std::string error_modal_;
   bool show_help_ = false;
@@ -244,6 +252,8 @@ void Editor::load_initial() {
     return;
   }
   log("opened " + path + (cage.empty() ? "" : " with cage " + cage));
+  if (!options_.file.empty())
+    if (auto e = files_.add_recent(path); !e.empty()) log("warning: " + e);
   for (const auto& w : s.value()->doc().character->warnings) log("warning: " + w);
   set_scene(std::move(s).value());
 }
@@ -740,12 +750,8 @@ void Editor::redo() {
 
 void Editor::request_save() {
   if (!scene_) return;
-  if (scene_->doc().project_path.empty()) {
-    project_path_input_ = "untitled.cagewrap";
-    open_save_popup_ = true;
-  } else {
-    save_project_to(scene_->doc().project_path);
-  }
+  if (scene_->doc().project_path.empty()) open_save_popup_ = true;
+  else save_project_to(scene_->doc().project_path);
 }
 
 bool Editor::save_project_to(const std::string& path) {
@@ -757,6 +763,7 @@ bool Editor::save_project_to(const std::string& path) {
   }
   scene_->history.mark_saved(path);
   log("saved " + path);
+  if (auto e = files_.add_recent(path); !e.empty()) log("warning: " + e);
   return true;
 }
 
@@ -771,23 +778,31 @@ bool Editor::open_path(const std::string& path) {
   for (const auto& w : warnings) log("warning: " + w);
   log("opened " + path);
   set_scene(std::move(s).value());
+  if (auto e = files_.add_recent(path); !e.empty()) log("warning: " + e);
   return true;
 }
 
 void Editor::draw_menu() {
   if (!ImGui::BeginMainMenuBar()) return;
   if (ImGui::BeginMenu("File")) {
-    if (ImGui::MenuItem("Open...", "Ctrl+O")) {
-      project_path_input_.clear();
-      open_open_popup_ = true;
+    if (ImGui::MenuItem("Open...", "Ctrl+O")) open_open_popup_ = true;
+    if (ImGui::BeginMenu("Open Recent")) {
+      std::string message;
+      auto recent = files_.draw_recent_menu(message);
+      if (!message.empty()) log(message);
+      if (recent && !open_path(*recent) && !std::filesystem::exists(*recent)) log(files_.forget_recent(*recent));
+      ImGui::EndMenu();
     }
     if (ImGui::MenuItem("Save", "Ctrl+S", false, scene_ != nullptr)) request_save();
-    if (ImGui::MenuItem("Save as...", nullptr, false, scene_ != nullptr)) {
-      project_path_input_ = scene_->doc().project_path.empty() ? "untitled.cagewrap" : scene_->doc().project_path;
-      open_save_popup_ = true;
-    }
+    if (ImGui::MenuItem("Save as...", nullptr, false, scene_ != nullptr)) open_save_popup_ = true;
     ImGui::Separator();
-    if (ImGui::MenuItem("Screenshot", "F12")) save_screenshot("cagewrap_screenshot.png");
+    if (ImGui::MenuItem("Import cage...", nullptr, false, scene_ != nullptr)) browse(FilePurpose::kImportCage);
+    ImGui::Separator();
+    if (ImGui::MenuItem("Screenshot...", "F12")) browse(FilePurpose::kScreenshot);
+    if (ImGui::MenuItem("Screenshot of the 3-D view...")) {
+      browse(FilePurpose::kScreenshot);
+      screenshot_view_only_ = true;
+    }
     ImGui::Separator();
     if (ImGui::MenuItem("Quit", "Ctrl+Q")) quit_requested_ = true;
     ImGui::EndMenu();
@@ -1119,6 +1134,7 @@ void Editor::draw_help() {
                            {"Shift+X", "X-mirror editing on/off"},
                            {"Ctrl+Z / Ctrl+Shift+Z, Ctrl+Y", "undo / redo"},
                            {"Ctrl+O / Ctrl+S / Ctrl+Q", "open / save / quit"},
+                           {"F12", "screenshot"},                           {"L", "show the file's own skinning"},
                            {"Space", "play / pause"},
                            {"W", "wireframe"},
                            {"Alt+X", "X-ray"},
@@ -1131,34 +1147,86 @@ void Editor::draw_help() {
   ImGui::End();
 }
 
+// Opens the file browser in `dir`, else near the project, else in the last folder browsed.
+void Editor::browse(FilePurpose purpose, const std::string& dir) {
+  std::string near, name;
+  if (purpose == FilePurpose::kSaveProject && scene_) {
+    near = scene_->doc().project_path;
+    name = near.empty() ? std::filesystem::path(scene_->doc().character_path).stem().string() + ".cagewrap"
+                        : std::filesystem::path(near).filename().string();
+  } else if (purpose == FilePurpose::kScreenshot) {
+    name = "cagewrap_screenshot.png";
+  }
+  screenshot_view_only_ = false;
+  if (!dir.empty()) files_.browser().open(purpose, dir, name);
+  else files_.browse(purpose, near, name);
+}
+
+// Script commands for files (see run_script_step; PATH and NAME are the rest of the line):
+// open PATH | import_cage PATH |
+// browse open|save|import_cage|screenshot [DIR] | browser_select NAME | browser_name NAME |
+// browser_confirm | browser_cancel | toggle wireframe|xray|skin|cage|skeleton|grid
+bool Editor::run_file_script_command(const std::string& cmd, std::istringstream& in) {
+  // the argument is the rest of the line (names may hold spaces); `browse` splits off its first word
+  std::string arg, rest;
+  std::getline(in >> std::ws, arg);
+  arg.erase(arg.find_last_not_of(" \t\r") + 1);
+  if (cmd == "browse") {
+    const size_t space = arg.find(' ');
+    if (space != std::string::npos) rest = arg.substr(arg.find_first_not_of(' ', space));
+    arg.resize(std::min(space, arg.size()));
+  }
+  if (cmd == "open") open_path(arg);
+  else if (cmd == "import_cage") import_cage(arg);
+  else if (cmd == "browse") {
+    const std::pair<const char*, FilePurpose> purposes[] = {{"open", FilePurpose::kOpen}, {"save", FilePurpose::kSaveProject},
+                                                            {"import_cage", FilePurpose::kImportCage}, {"screenshot", FilePurpose::kScreenshot}};
+    auto it = std::find_if(std::begin(purposes), std::end(purposes), [&](const auto& p) { return arg == p.first; });
+    if (it == std::end(purposes)) return false;
+    browse(it->second, rest);
+  } else if (cmd == "browser_select") {
+    if (!files_.browser().select(arg)) log("error: script: no " + arg + " in " + files_.browser().directory(), true);
+  } else if (cmd == "browser_name") files_.browser().set_file_name(arg);
+  else if (cmd == "browser_confirm") files_.browser().confirm();
+  else if (cmd == "browser_cancel") files_.browser().cancel();
+  else if (cmd == "toggle") {
+    bool* flags[] = {&style_.wireframe, &style_.xray, &style_.show_skin, &style_.show_cage, &style_.show_skeleton, &style_.show_grid};
+    const char* names[] = {"wireframe", "xray", "skin", "cage", "skeleton", "grid"};
+    auto it = std::find(std::begin(names), std::end(names), arg);
+    if (it == std::end(names)) return false;
+    bool* f = flags[it - std::begin(names)];
+    *f = !*f;
+  } else return false;
+  return true;
+}
+
+void Editor::act_on(const EditorFiles::Choice& choice) {
+  switch (choice.purpose) {
+    case FilePurpose::kOpen: open_path(choice.path); break;
+    case FilePurpose::kImportCage: import_cage(choice.path); break;
+    case FilePurpose::kSaveProject:
+      if (scene_ && save_project_to(choice.path) && quit_after_save_) glfwSetWindowShouldClose(window_, 1);
+      break;
+    case FilePurpose::kScreenshot:
+      pending_screenshot_ = choice.path;
+      pending_screenshot_frames_ = 2;  // the dialog leaves the picture first
+      break;
+  }
+  quit_after_save_ = false;
+}
+
+bool Editor::import_cage(const std::string& path) {
+  return scene_ && cage_tools_.import_cage(*scene_, path, hooks_);
+}
+
 void Editor::draw_file_popups() {
-  if (open_save_popup_) ImGui::OpenPopup("Save project");
-  if (open_open_popup_) ImGui::OpenPopup("Open");
+  if (!ImGui::GetIO().WantCaptureKeyboard && ImGui::IsKeyPressed(GLFW_KEY_F12)) browse(FilePurpose::kScreenshot);
+  if (open_save_popup_ && scene_) browse(FilePurpose::kSaveProject);
+  if (open_open_popup_) browse(FilePurpose::kOpen);
+  if (cage_tools_.take_import_request()) browse(FilePurpose::kImportCage);
   open_save_popup_ = open_open_popup_ = false;
-  char buf[1024];
-  if (ImGui::BeginPopupModal("Save project", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
-    std::snprintf(buf, sizeof buf, "%s", project_path_input_.c_str());
-    ImGui::TextUnformatted("Project file (.cagewrap):");
-    if (ImGui::InputText("##path", buf, sizeof buf)) project_path_input_ = buf;
-    if (ImGui::Button("Save", ImVec2(120, 0))) {
-      if (save_project_to(project_path_input_)) ImGui::CloseCurrentPopup();
-    }
-    ImGui::SameLine();
-    if (ImGui::Button("Cancel", ImVec2(120, 0))) ImGui::CloseCurrentPopup();
-    ImGui::EndPopup();
-  }
-  if (ImGui::BeginPopupModal("Open", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
-    std::snprintf(buf, sizeof buf, "%s", project_path_input_.c_str());
-    ImGui::TextUnformatted("Project (.cagewrap) or character (.glb, .gltf):");
-    if (ImGui::InputText("##open", buf, sizeof buf)) project_path_input_ = buf;
-    if (ImGui::Button("Open", ImVec2(120, 0))) {
-      open_path(project_path_input_);
-      ImGui::CloseCurrentPopup();
-    }
-    ImGui::SameLine();
-    if (ImGui::Button("Cancel", ImVec2(120, 0))) ImGui::CloseCurrentPopup();
-    ImGui::EndPopup();
-  }
+  if (auto choice = files_.draw_browser()) act_on(*choice);
+  else if (!files_.browsing()) quit_after_save_ = false;  // the Save as was cancelled
   if (quit_requested_) {
     if (scene_ && scene_->history.dirty()) ImGui::OpenPopup("Save changes?");
     else glfwSetWindowShouldClose(window_, 1);
@@ -1168,8 +1236,7 @@ void Editor::draw_file_popups() {
     ImGui::TextUnformatted("The project has unsaved changes.");
     if (ImGui::Button("Save", ImVec2(100, 0))) {
       if (scene_->doc().project_path.empty()) {
-        project_path_input_ = "untitled.cagewrap";
-        open_save_popup_ = true;
+        open_save_popup_ = quit_after_save_ = true;
       } else if (save_project_to(scene_->doc().project_path)) {
         glfwSetWindowShouldClose(window_, 1);
       }
@@ -1191,7 +1258,7 @@ void Editor::draw_file_popups() {
 //   select all|none|invert|grow|shrink|mirror | soft on|off [R] [FALLOFF] [volume|surface]
 //   mirror on|off | view front|right|top | clip NAME|rest | gizmo_drag x|y|z|yz|xz|xy|screen DX DY
 //   auto_cage [FACES] | import_cage PATH | pose NODE X Y Z | reset_pose | compare on|off
-//   rotate_drag x|y|z|view DEGREES
+//   rotate_drag x|y|z|view DEGREES, and those of run_file_script_command
 // `move` goes through the gizmo's own path: one drag, one undo step. `gizmo_drag` grabs a handle
 // where a person would (hit-tested like a click) and drags it DX, DY pixels.
 void Editor::run_script_step() {
@@ -1290,10 +1357,6 @@ void Editor::run_script_step() {
       cage_tools_.open_auto_cage_dialog();
       cage_tools_.start_auto_cage(*scene_);
       script_wait_ = 1;  // the next steps run once it is done
-    } else if (cmd == "import_cage") {
-      std::string p;
-      in >> p;
-      cage_tools_.import_cage(*scene_, p, hooks_);
     } else if (cmd == "pose") {  // NODE X Y Z: the joint's rotation on top of the clip, degrees
       uint32_t node;
       glm::vec3 deg(0.f);
@@ -1327,7 +1390,8 @@ void Editor::run_script_step() {
       double t;
       in >> t;
       scene_->player.scrub(t);
-    } else log("error: script line " + std::to_string(script_pos_) + ": unknown command '" + cmd + "'", true);
+    } else if (!run_file_script_command(cmd, in))
+      log("error: script line " + std::to_string(script_pos_) + ": unknown command '" + cmd + "'", true);
   }
 }
 
@@ -1415,7 +1479,7 @@ void Editor::draw_panels() {
   draw_help();
 }
 
-bool Editor::save_screenshot(const std::string& path) {
+bool Editor::save_screenshot(const std::string& path, bool view_only) {
   int w, h;
   glfwGetFramebufferSize(window_, &w, &h);
   std::vector<unsigned char> pixels(static_cast<size_t>(w) * h * 4);
@@ -1426,7 +1490,14 @@ bool Editor::save_screenshot(const std::string& path) {
   for (int y = 0; y < h; ++y)
     std::copy_n(&pixels[static_cast<size_t>(h - 1 - y) * w * 4], static_cast<size_t>(w) * 4, &flipped[static_cast<size_t>(y) * w * 4]);
   for (size_t i = 3; i < flipped.size(); i += 4) flipped[i] = 255;
-  if (!stbi_write_png(path.c_str(), w, h, 4, flipped.data(), w * 4)) {
+  int x0 = 0, y0 = 0, cw = w, ch = h;  // the whole window, or only the 3-D view
+  if (view_only) {
+    x0 = std::clamp(static_cast<int>(view_x_), 0, w - 1);
+    y0 = std::clamp(static_cast<int>(view_y_), 0, h - 1);
+    cw = std::min(static_cast<int>(view_w_), w - x0);
+    ch = std::min(static_cast<int>(view_h_), h - y0);
+  }
+  if (!stbi_write_png(path.c_str(), cw, ch, 4, flipped.data() + (static_cast<size_t>(y0) * w + x0) * 4, w * 4)) {
     log("error: " + path + ": cannot write the screenshot", true);
     return false;
   }
@@ -1435,6 +1506,12 @@ bool Editor::save_screenshot(const std::string& path) {
 }
 
 int Editor::run() {
+  for (const auto& w : files_.load()) log("warning: " + w);
+  if (options_.width <= 0 || options_.height <= 0) {  // not given: the size the window was left at
+    options_.width = files_.prefs().window_width;
+    options_.height = files_.prefs().window_height;
+  }
+  files_.apply(style_);
   if (!open_window()) return 1;
   glfwSetWindowUserPointer(window_, this);
   glfwSetDropCallback(window_, [](GLFWwindow* w, int count, const char** paths) {
@@ -1532,9 +1609,10 @@ int Editor::run() {
     }
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
     ++frame;
-    if (!pending_screenshot_.empty()) {
-      save_screenshot(pending_screenshot_);
+    if (!pending_screenshot_.empty() && pending_screenshot_frames_-- <= 0) {
+      save_screenshot(pending_screenshot_, screenshot_view_only_);
       pending_screenshot_.clear();
+      screenshot_view_only_ = false;
     }
     const bool script_done = script_pos_ >= script_.size() && script_wait_ == 0;
     if (!options_.screenshot.empty() && frame >= options_.frames && script_done && !(scene_ && (scene_->job || cage_tools_.busy()))) {
@@ -1544,6 +1622,10 @@ int Editor::run() {
     if (options_.screenshot.empty() && !script_.empty() && script_done && frame > 1) break;
     glfwSwapBuffers(window_);
   }
+  int window_w = 0, window_h = 0;
+  glfwGetWindowSize(window_, &window_w, &window_h);
+  files_.remember(style_, window_w, window_h);
+  if (auto e = files_.save(); !e.empty()) log("warning: " + e);
   ImGui_ImplOpenGL3_Shutdown();
   ImGui_ImplGlfw_Shutdown();
   ImGui::DestroyContext();

@@ -12,7 +12,7 @@ struct EditorOptions {
   std::string script;      // editor actions to replay (see Editor::run_script_step)
   std::string screenshot;  // render, save this PNG after `frames` frames, and exit
   int frames = 3;
-  int width = 1600, height = 900;
+  int width = 0, height = 0;  // 0 = the size the window was left at (preferences), else 1600 x 900
   bool play = false;       // start playing the first clip
 };
 

@@ -14,8 +14,8 @@ int main(int argc, char** argv) {
   app.add_option("--screenshot", editor.screenshot, "render the editor, save this PNG and exit (for tests)");
   app.add_option("--script", editor.script, "replay editor actions from this file (tests)");
   app.add_option("--frames", editor.frames, "frames to run before the screenshot")->capture_default_str();
-  app.add_option("--width", editor.width, "window width")->capture_default_str();
-  app.add_option("--height", editor.height, "window height")->capture_default_str();
+  app.add_option("--width", editor.width, "window width (default: as it was left, else 1600)");
+  app.add_option("--height", editor.height, "window height (default: as it was left, else 900)");
   app.add_flag("--play", editor.play, "start playing the first clip");
   app.positionals_at_end(false);
   cagewrap::app::add_bind_command(app, exit_code);

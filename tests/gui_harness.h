@@ -43,15 +43,22 @@ inline bool gui_available(std::string& why) {
   return true;
 }
 
-// Runs the editor and returns the screenshot (asserting exit status 0).
+// The shell command that runs the editor on a 1280 x 720 virtual screen with `args`, its
+// preferences in `config_dir` (a test never reads or writes the user's preferences), and stdout
+// and stderr in `log`.
+inline std::string editor_command(const std::string& args, const std::string& config_dir, const std::string& log) {
+  return "CAGEWRAP_CONFIG_DIR='" + config_dir + "' xvfb-run -a -s '-screen 0 1280x720x24' " + std::string(CAGEWRAP_BINARY) + " " +
+         args + " > '" + log + "' 2>&1";
+}
+
+// Runs the editor and returns the screenshot (asserting exit status 0); its log is NAME.log.
 inline Image screenshot(const std::string& args, const std::string& name) {
   std::filesystem::path dir = std::filesystem::temp_directory_path() / "cagewrap_gui_test";
   std::filesystem::create_directories(dir);
   std::filesystem::path png = dir / (name + ".png");
   std::filesystem::remove(png);
-  std::string cmd = "xvfb-run -a -s '-screen 0 1280x720x24' " + std::string(CAGEWRAP_BINARY) +
-                    " --width 1280 --height 720 --screenshot " + png.string() + " " + args + " > " +
-                    (dir / (name + ".log")).string() + " 2>&1";
+  std::string cmd = editor_command("--width 1280 --height 720 --screenshot " + png.string() + " " + args,
+                                   (dir / ("config_" + name)).string(), (dir / (name + ".log")).string());
   int rc = std::system(cmd.c_str());
   EXPECT_EQ(rc, 0) << cmd;
   Image img = load_png(png.string());
