@@ -7,7 +7,9 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "core/cage_edit.h"
 #include "core/cage_import.h"
+#include "core/cage_subdivide.h"
 #include "core/skinning.h"
 
 namespace cagewrap::app {
@@ -95,11 +97,71 @@ bool CageTools::import_cage(Scene& scene, const std::string& path, const EditorH
   return true;
 }
 
+bool CageTools::apply_edit(Scene& scene, Result<CageEdit> edit, const std::string& label, const EditorHooks& hooks) {
+  if (!edit) {
+    hooks.show_error(edit.error().message);
+    return false;
+  }
+  auto doc = apply_topology_change(scene.doc(), *edit);
+  if (!doc) {
+    hooks.show_error(doc.error().message);
+    return false;
+  }
+  for (const auto& w : edit->warnings) hooks.log("warning: " + label + ": " + w, false);
+  const size_t before = scene.doc().cage->polygons.num_faces();
+  scene.history.push(label, std::move(doc).value());
+  scene.document_changed();
+  failing_.clear();  // they were found for the old cage
+  hooks.log(label + ": " + std::to_string(before) + " -> " + std::to_string(scene.doc().cage->polygons.num_faces()) + " faces, " +
+                std::to_string(scene.doc().cage->num_vertices()) + " vertices",
+            false);
+  return true;
+}
+
+bool CageTools::run_operation(Scene& scene, const Selection& sel, const std::string& op, double arg, const EditorHooks& hooks) {
+  if (!scene.doc().cage) {
+    hooks.show_error("there is no cage to edit: build or import one first (Cage menu)");
+    return false;
+  }
+  const Cage& cage = *scene.doc().cage;
+  const auto levels = static_cast<uint32_t>(arg > 0 ? arg : 1);
+  if (op == "merge") return apply_edit(scene, merge_vertices(cage, sel.cage_vertices.indices()), "Merge vertices", hooks);
+  if (op == "weld") return apply_edit(scene, weld_cage_vertices(cage, arg), "Weld vertices", hooks);
+  if (op == "flip") return apply_edit(scene, flip_faces(cage, sel.cage_faces.indices()), "Flip faces", hooks);
+  if (op == "flip_all") return apply_edit(scene, flip_all_faces(cage), "Flip all faces", hooks);
+  if (op == "linear") return apply_edit(scene, subdivide_linear(cage, levels), "Subdivide (linear)", hooks);
+  if (op == "loop") return apply_edit(scene, subdivide_loop(cage, levels), "Subdivide (Loop)", hooks);
+  if (op == "refine") return apply_edit(scene, refine_faces(cage, sel.cage_faces.indices()), "Refine faces", hooks);
+  if (op == "triangulate") return apply_edit(scene, triangulate_cage(cage), "Triangulate", hooks);
+  hooks.show_error("unknown cage operation '" + op + "'");
+  return false;
+}
+
 #if CAGEWRAP_GUI
 
-void CageTools::menu_items(Scene& scene, const Selection&, const EditorHooks&) {
+void CageTools::menu_items(Scene& scene, const Selection& sel, const EditorHooks& hooks) {
   if (ImGui::MenuItem("Automatic cage...", nullptr, false, !job_)) show_dialog_ = true;
   if (ImGui::MenuItem("Import cage... (also in File)")) import_requested_ = true;
+  ImGui::Separator();
+  const bool cage = scene.doc().cage != nullptr && !job_;
+  if (ImGui::MenuItem("Merge selected vertices", nullptr, false, cage && sel.cage_vertices.size() >= 2))
+    run_operation(scene, sel, "merge", 0, hooks);
+  if (ImGui::BeginMenu("Weld by distance", cage)) {
+    ImGui::SliderFloat("distance (% of size)", &weld_distance_share_, 0.01f, 5.0f, "%.2f", ImGuiSliderFlags_Logarithmic);
+    if (ImGui::MenuItem("Weld")) {
+      const double size = bounding_box(scene.doc().cage->polygons.positions).diagonal();
+      run_operation(scene, sel, "weld", weld_distance_share_ / 100.0 * size, hooks);
+    }
+    ImGui::EndMenu();
+  }
+  if (ImGui::MenuItem("Flip selected faces", nullptr, false, cage && !sel.cage_faces.empty())) run_operation(scene, sel, "flip", 0, hooks);
+  if (ImGui::MenuItem("Flip all faces", nullptr, false, cage)) run_operation(scene, sel, "flip_all", 0, hooks);
+  ImGui::Separator();
+  if (ImGui::MenuItem("Subdivide (linear)", nullptr, false, cage)) run_operation(scene, sel, "linear", 1, hooks);
+  if (ImGui::MenuItem("Subdivide (Loop, smooths)", nullptr, false, cage)) run_operation(scene, sel, "loop", 1, hooks);
+  if (ImGui::MenuItem("Refine selected faces (red-green)", nullptr, false, cage && !sel.cage_faces.empty()))
+    run_operation(scene, sel, "refine", 0, hooks);
+  if (ImGui::MenuItem("Triangulate", nullptr, false, cage)) run_operation(scene, sel, "triangulate", 0, hooks);
   ImGui::Separator();
   ImGui::MenuItem("Show points failing the quality test", nullptr, &show_failing_, !failing_.empty());
   if (ImGui::MenuItem("Last automatic cage report", nullptr, false, report_.has_value())) show_report_ = true;

@@ -14,6 +14,7 @@
 #include "app/background_task.h"
 #include "app/editor_scene.h"
 #include "core/auto_cage.h"
+#include "core/topology_change.h"
 #include "core/selection.h"
 
 namespace cagewrap::app {
@@ -51,6 +52,17 @@ class CageTools {
 
  private:
   void commit_cage(Scene& scene, std::shared_ptr<const Cage> cage, const std::string& label);
+ public:
+  // Applies a topology edit (core/cage_edit.h, core/cage_subdivide.h) to the document as one undo
+  // step, carrying offsets and set edits (core/topology_change.h). False on error (shown, document
+  // unchanged).
+  bool apply_edit(Scene& scene, Result<CageEdit> edit, const std::string& label, const EditorHooks& hooks);
+  // The menu's operations by name, for scripts: merge, weld D, flip, flip_all, linear [N], loop [N],
+  // refine. `selection` supplies the vertices (merge) and faces (flip, refine).
+  bool run_operation(Scene& scene, const Selection& selection, const std::string& op, double arg, const EditorHooks& hooks);
+
+ private:
+  float weld_distance_share_ = 0.01f;  // of the cage's size, for "weld by distance"
 
   AutoCageParams params_;
   bool show_dialog_ = false, show_report_ = false, show_failing_ = true, import_requested_ = false;

@@ -1257,7 +1257,8 @@ void Editor::draw_file_popups() {
 //   select_skin_vertex I [add] | select_joint I [add] | click_cage_vertex I
 //   select all|none|invert|grow|shrink|mirror | soft on|off [R] [FALLOFF] [volume|surface]
 //   mirror on|off | view front|right|top | clip NAME|rest | gizmo_drag x|y|z|yz|xz|xy|screen DX DY
-//   auto_cage [FACES] | import_cage PATH | pose NODE X Y Z | reset_pose | compare on|off
+//   auto_cage [FACES] | cage_op merge|weld D|flip|flip_all|linear [N]|loop [N]|refine|triangulate
+//   import_cage PATH | pose NODE X Y Z | reset_pose | compare on|off
 //   rotate_drag x|y|z|view DEGREES, and those of run_file_script_command
 // `move` goes through the gizmo's own path: one drag, one undo step. `gizmo_drag` grabs a handle
 // where a person would (hit-tested like a click) and drags it DX, DY pixels.
@@ -1357,6 +1358,11 @@ void Editor::run_script_step() {
       cage_tools_.open_auto_cage_dialog();
       cage_tools_.start_auto_cage(*scene_);
       script_wait_ = 1;  // the next steps run once it is done
+    } else if (cmd == "cage_op") {  // merge | weld D | flip | flip_all | linear [N] | loop [N] | refine | triangulate
+      std::string op;
+      double arg = 0.0;
+      in >> op >> arg;
+      cage_tools_.run_operation(*scene_, selection_, op, arg, hooks_);
     } else if (cmd == "pose") {  // NODE X Y Z: the joint's rotation on top of the clip, degrees
       uint32_t node;
       glm::vec3 deg(0.f);

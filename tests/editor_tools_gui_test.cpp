@@ -211,4 +211,43 @@ TEST(EditorTools, RotationRingPosesTheJointLikeTheAngleFields) {
   EXPECT_GT(share_differing(typed, file_skinning, 24), 0.0005) << "the file's skinning is not the cage deformation";
 }
 
+// Cage > Refine selected faces and Subdivide (linear), each one undo step; a sculpted offset
+// follows subdivision (the vertex keeps it, the midpoints of its edges get half).
+TEST(EditorTools, SubdivisionIsOneUndoStepAndCarriesOffsets) {
+  std::string why;
+  if (!gui_available(why)) GTEST_SKIP() << why;
+  PolyMesh cage = demo_cage();
+  ASSERT_TRUE(cage.all_triangles());
+  const fs::path dir = gui_test_dir(), script = dir / "tools_subdivide.script";
+  const fs::path p_refined = dir / "tools_refined.cagewrap", p_undone = dir / "tools_refine_undone.cagewrap",
+                 p_linear = dir / "tools_linear.cagewrap";
+  for (const auto& p : {p_refined, p_undone, p_linear}) fs::remove(p);
+  write_script(script, "clip rest\nwait 2\nmode cage_faces\nselect_cage_face 5\ncage_op refine\nsave " + p_refined.string() +
+                           "\nundo\nsave " + p_undone.string() + "\nmode cage_vertices\nselect_cage_vertex 500\nmove 0 0.1 0\n" +
+                           "cage_op linear\nsave " + p_linear.string() + "\n");
+  screenshot("--script " + script.string(), "tools_subdivide");
+  auto faces_of = [](const fs::path& p) {
+    std::ifstream in(p);
+    EXPECT_TRUE(in) << p;
+    return in ? nlohmann::json::parse(in).at("cage").at("faces").size() : size_t{0};
+  };
+  const size_t f = cage.num_faces();
+  // red-green: the face becomes 4 and each of its 3 neighbours 2
+  EXPECT_EQ(faces_of(p_refined), f + 3 + 3);
+  EXPECT_EQ(faces_of(p_undone), f);
+  EXPECT_EQ(faces_of(p_linear), 4 * f);
+  auto off = saved_offsets(p_linear);
+  size_t full = 0, half = 0;
+  for (const auto& o : off) {
+    if (std::abs(o.y - 0.1) < 1e-6) ++full;
+    else if (std::abs(o.y - 0.05) < 1e-6) ++half;
+    else EXPECT_EQ(glm::length(o), 0.0);
+  }
+  size_t degree = 0;  // edges at vertex 500
+  for (auto [a, b] : unique_edges(cage))
+    if (a == 500 || b == 500) ++degree;
+  EXPECT_EQ(full, 1u);
+  EXPECT_EQ(half, degree);
+}
+
 }  // namespace
