@@ -16,6 +16,7 @@
 #include <cstdio>
 #include <deque>
 #include <fstream>
+#include <functional>
 #include <sstream>
 #include <filesystem>
 
@@ -101,6 +102,7 @@ class Editor {
   bool save_project_to(const std::string& path);
   bool open_path(const std::string& path);
   bool import_cage(const std::string& path);
+  void guard_unsaved(std::function<void()> action);
   void browse(FilePurpose purpose, const std::string& dir = {});
   void act_on(const EditorFiles::Choice& choice);
   bool run_file_script_command(const std::string& cmd, std::istringstream& in);
@@ -156,7 +158,12 @@ class Editor {
   ImVec2 box_start_{0, 0};
   EditorFiles files_;  // preferences, recent files, the file browser (app/editor_files.h)
   // requests for the file browser: Save as, Open (Ctrl+O); quit once the Save as is done
-  bool open_save_popup_ = false, open_open_popup_ = false, quit_requested_ = false, quit_after_save_ = false;
+  bool open_save_popup_ = false, open_open_popup_ = false, quit_requested_ = false;
+  // "Save changes?": what to do once the unsaved work is saved or discarded (quit, open, new), and
+  // what to do after a Save as that the prompt started
+  std::function<void()> pending_action_, after_save_;
+  bool open_prompt_ = false;
+  std::string script_answer_;  // a scripted press of the prompt's Save / Discard / Cancel
   bool screenshot_view_only_ = false;
   int pending_screenshot_frames_ = 0;  // frames to wait (a dialog that just closed leaves the picture)
   std::shared_ptr<const Cage> shown_cage_;  // the cage the renderer and the selection were made for
@@ -785,12 +792,22 @@ bool Editor::open_path(const std::string& path) {
 void Editor::draw_menu() {
   if (!ImGui::BeginMainMenuBar()) return;
   if (ImGui::BeginMenu("File")) {
+    if (ImGui::MenuItem("New from character...")) browse(FilePurpose::kNewFromCharacter);
+    if (ImGui::MenuItem("New on the demo character")) guard_unsaved([this] {
+        const std::string demo = demo_character_path();
+        if (!demo.empty()) open_path(demo);
+        else log("error: the demo character is not installed beside the program", true);
+      });
     if (ImGui::MenuItem("Open...", "Ctrl+O")) open_open_popup_ = true;
     if (ImGui::BeginMenu("Open Recent")) {
       std::string message;
       auto recent = files_.draw_recent_menu(message);
       if (!message.empty()) log(message);
-      if (recent && !open_path(*recent) && !std::filesystem::exists(*recent)) log(files_.forget_recent(*recent));
+      if (recent) {
+        const std::string path = *recent;
+        if (!std::filesystem::exists(path)) log(files_.forget_recent(path));
+        else guard_unsaved([this, path] { open_path(path); });
+      }
       ImGui::EndMenu();
     }
     if (ImGui::MenuItem("Save", "Ctrl+S", false, scene_ != nullptr)) request_save();
@@ -1202,17 +1219,22 @@ bool Editor::run_file_script_command(const std::string& cmd, std::istringstream&
 
 void Editor::act_on(const EditorFiles::Choice& choice) {
   switch (choice.purpose) {
-    case FilePurpose::kOpen: open_path(choice.path); break;
+    case FilePurpose::kOpen:
+    case FilePurpose::kNewFromCharacter: {
+      const std::string path = choice.path;
+      guard_unsaved([this, path] { open_path(path); });
+      break;
+    }
     case FilePurpose::kImportCage: import_cage(choice.path); break;
     case FilePurpose::kSaveProject:
-      if (scene_ && save_project_to(choice.path) && quit_after_save_) glfwSetWindowShouldClose(window_, 1);
+      if (scene_ && save_project_to(choice.path) && after_save_) after_save_();
+      after_save_ = nullptr;
       break;
     case FilePurpose::kScreenshot:
       pending_screenshot_ = choice.path;
       pending_screenshot_frames_ = 2;  // the dialog leaves the picture first
       break;
   }
-  quit_after_save_ = false;
 }
 
 bool Editor::import_cage(const std::string& path) {
@@ -1226,27 +1248,50 @@ void Editor::draw_file_popups() {
   if (cage_tools_.take_import_request()) browse(FilePurpose::kImportCage);
   open_save_popup_ = open_open_popup_ = false;
   if (auto choice = files_.draw_browser()) act_on(*choice);
-  else if (!files_.browsing()) quit_after_save_ = false;  // the Save as was cancelled
+  else if (!files_.browsing()) after_save_ = nullptr;  // the Save as was cancelled
   if (quit_requested_) {
-    if (scene_ && scene_->history.dirty()) ImGui::OpenPopup("Save changes?");
-    else glfwSetWindowShouldClose(window_, 1);
     quit_requested_ = false;
+    guard_unsaved([this] { glfwSetWindowShouldClose(window_, 1); });
   }
+  if (open_prompt_) ImGui::OpenPopup("Save changes?");
+  open_prompt_ = false;
   if (ImGui::BeginPopupModal("Save changes?", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
     ImGui::TextUnformatted("The project has unsaved changes.");
-    if (ImGui::Button("Save", ImVec2(100, 0))) {
+    const std::string answer = std::exchange(script_answer_, std::string());
+    if (ImGui::Button("Save", ImVec2(100, 0)) || answer == "save") {
+      auto action = std::move(pending_action_);
+      pending_action_ = nullptr;
       if (scene_->doc().project_path.empty()) {
-        open_save_popup_ = quit_after_save_ = true;
-      } else if (save_project_to(scene_->doc().project_path)) {
-        glfwSetWindowShouldClose(window_, 1);
+        open_save_popup_ = true;
+        after_save_ = std::move(action);
+      } else if (save_project_to(scene_->doc().project_path) && action) {
+        action();
       }
       ImGui::CloseCurrentPopup();
     }
     ImGui::SameLine();
-    if (ImGui::Button("Discard", ImVec2(100, 0))) glfwSetWindowShouldClose(window_, 1);
+    if (ImGui::Button("Discard", ImVec2(100, 0)) || answer == "discard") {
+      auto action = std::move(pending_action_);
+      pending_action_ = nullptr;
+      ImGui::CloseCurrentPopup();
+      if (action) action();
+    }
     ImGui::SameLine();
-    if (ImGui::Button("Cancel", ImVec2(100, 0))) ImGui::CloseCurrentPopup();
+    if (ImGui::Button("Cancel", ImVec2(100, 0)) || answer == "cancel") {
+      pending_action_ = nullptr;
+      ImGui::CloseCurrentPopup();
+    }
     ImGui::EndPopup();
+  }
+}
+
+// Runs `action` now, or after the artist saved or discarded the unsaved changes (Cancel drops it).
+void Editor::guard_unsaved(std::function<void()> action) {
+  if (scene_ && scene_->history.dirty(scene_->doc())) {
+    pending_action_ = std::move(action);
+    open_prompt_ = true;
+  } else {
+    action();
   }
 }
 
@@ -1258,7 +1303,7 @@ void Editor::draw_file_popups() {
 //   select all|none|invert|grow|shrink|mirror | soft on|off [R] [FALLOFF] [volume|surface]
 //   mirror on|off | view front|right|top | clip NAME|rest | gizmo_drag x|y|z|yz|xz|xy|screen DX DY
 //   auto_cage [FACES] | cage_op merge|weld D|flip|flip_all|linear [N]|loop [N]|refine|triangulate
-//   import_cage PATH | pose NODE X Y Z | reset_pose | compare on|off
+//   open_asking PATH | answer save|discard|cancel | import_cage PATH | pose NODE X Y Z | reset_pose | compare on|off
 //   rotate_drag x|y|z|view DEGREES, and those of run_file_script_command
 // `move` goes through the gizmo's own path: one drag, one undo step. `gizmo_drag` grabs a handle
 // where a person would (hit-tested like a click) and drags it DX, DY pixels.
@@ -1363,6 +1408,14 @@ void Editor::run_script_step() {
       double arg = 0.0;
       in >> op >> arg;
       cage_tools_.run_operation(*scene_, selection_, op, arg, hooks_);
+    } else if (cmd == "open_asking") {  // PATH: as File > Open does, asking first when there are unsaved changes
+      std::string p;
+      std::getline(in >> std::ws, p);
+      guard_unsaved([this, p] { open_path(p); });
+      script_wait_ = 1;
+    } else if (cmd == "answer") {  // save | discard | cancel: presses the button of the open "Save changes?"
+      in >> script_answer_;
+      script_wait_ = 1;
     } else if (cmd == "pose") {  // NODE X Y Z: the joint's rotation on top of the clip, degrees
       uint32_t node;
       glm::vec3 deg(0.f);
@@ -1554,9 +1607,12 @@ int Editor::run() {
     view_y_ = kMenuHeight;
     view_w_ = std::max(1.0f, w - kLeftWidth - kRightWidth);
     view_h_ = std::max(1.0f, h - kMenuHeight - kBottomHeight);
-    if (!dropped_.empty()) {
-      open_path(dropped_);
+    if (!dropped_.empty()) {  // a mesh file becomes the cage; a project or character is opened
+      const std::string path = dropped_;
       dropped_.clear();
+      const bool mesh = has_extension(path, ".obj") || has_extension(path, ".ply") || has_extension(path, ".off") || has_extension(path, ".stl");
+      if (mesh && scene_) import_cage(path);
+      else guard_unsaved([this, path] { open_path(path); });
     }
     ImGui_ImplOpenGL3_NewFrame();
     ImGui_ImplGlfw_NewFrame();

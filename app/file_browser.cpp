@@ -33,6 +33,7 @@ const FilePurposeInfo& purpose_info(FilePurpose purpose) {
   static const FilePurposeInfo kSave{"Save project as", "Save", {".cagewrap"}, ".cagewrap", true};
   static const FilePurposeInfo kCage{"Import cage", "Import", {".obj", ".ply", ".off", ".stl", ".glb", ".gltf"}, "", false};
   static const FilePurposeInfo kShot{"Save screenshot", "Save", {".png"}, ".png", true};
+  static const FilePurposeInfo kNew{"New project from a character", "Create", {".glb", ".gltf"}, "", false};
   switch (purpose) {
     case FilePurpose::kOpen:
       return kOpen;
@@ -42,6 +43,8 @@ const FilePurposeInfo& purpose_info(FilePurpose purpose) {
       return kCage;
     case FilePurpose::kScreenshot:
       return kShot;
+    case FilePurpose::kNewFromCharacter:
+      return kNew;
   }
   return kOpen;
 }

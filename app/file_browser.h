@@ -12,7 +12,7 @@
 
 namespace cagewrap::app {
 
-enum class FilePurpose { kOpen, kSaveProject, kImportCage, kScreenshot };
+enum class FilePurpose { kOpen, kSaveProject, kImportCage, kScreenshot, kNewFromCharacter };
 
 struct FilePurposeInfo {
   const char* title;                    // window title ("Open")

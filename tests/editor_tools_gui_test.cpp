@@ -250,4 +250,25 @@ TEST(EditorTools, SubdivisionIsOneUndoStepAndCarriesOffsets) {
   EXPECT_EQ(half, degree);
 }
 
+// Opening another file with unsaved changes asks first: Cancel keeps the work, Discard opens.
+TEST(EditorTools, OpeningWithUnsavedChangesAsksFirst) {
+  std::string why;
+  if (!gui_available(why)) GTEST_SKIP() << why;
+  const fs::path dir = gui_test_dir(), script = dir / "tools_prompt.script", kept = dir / "tools_prompt_kept.cagewrap",
+                 fresh = dir / "tools_prompt_fresh.cagewrap", prompt_png = dir / "tools_prompt_dialog.png";
+  for (const auto& p : {kept, fresh, prompt_png}) fs::remove(p);
+  const std::string demo = std::string(CAGEWRAP_SOURCE_DIR) + "/assets/demo_character.glb";
+  write_script(script, "clip rest\nwait 2\nselect_cage_vertex 10\nmove 0 0.1 0\nopen_asking " + demo + "\nwait 1\nscreenshot " +
+                           prompt_png.string() + "\nanswer cancel\nsave " + kept.string() + "\nmove 0 0.1 0\nopen_asking " + demo +
+                           "\nanswer discard\nwait 2\nsave " + fresh.string() + "\n");
+  screenshot("--script " + script.string(), "tools_prompt");
+  auto k = saved_offsets(kept);
+  ASSERT_GT(k.size(), 10u);
+  EXPECT_NEAR(k[10].y, 0.1, 1e-6) << "Cancel keeps the document and its move";
+  std::ifstream in(fresh);
+  ASSERT_TRUE(in) << fresh;
+  EXPECT_TRUE(nlohmann::json::parse(in).at("cage").at("positions").empty()) << "Discard opened the character alone, a new untitled project";
+  EXPECT_TRUE(fs::exists(prompt_png));
+}
+
 }  // namespace
