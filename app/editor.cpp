@@ -153,6 +153,8 @@ class Editor {
   // what the viewport shows of the selection, rebuilt when the selection or the tool changes
   std::vector<float> cage_weights_;
   std::vector<uint8_t> face_mask_, joint_mask_;
+  std::vector<glm::vec4> bone_colors_;  // per cage vertex, when colouring the cage by bone
+  bool color_by_bone_ = false;
   std::string display_key_;
   bool box_selecting_ = false;
   ImVec2 box_start_{0, 0};
@@ -297,8 +299,40 @@ void Editor::update_selection_display() {
     key += std::to_string(set->size()) + ":";
     for (uint32_t i : *set) key += std::to_string(i) + ",";
   }
+  key += "/bones" + std::to_string(color_by_bone_) + std::to_string(reinterpret_cast<uintptr_t>(scene_->attachment ? scene_->attachment->joint.data() : nullptr));
   if (key == display_key_) return;
   display_key_ = std::move(key);
+  // the cage coloured by the bone each vertex follows; in joint mode the selected joints' vertices
+  // are highlighted
+  bone_colors_.clear();
+  if (cage && scene_->attachment && scene_->attachment->joint.size() == cage->num_vertices()) {
+    const Character& ch = *scene_->doc().character;
+    const auto& joints = ch.skins[scene_->attachment->skin].joints;
+    if (color_by_bone_) {
+      bone_colors_.resize(cage->num_vertices());
+      for (size_t v = 0; v < bone_colors_.size(); ++v) {
+        const double hue = std::fmod(0.618033988749895 * scene_->attachment->joint[v], 1.0) * 6.0;
+        const double x = 1.0 - std::abs(std::fmod(hue, 2.0) - 1.0);
+        glm::vec3 rgb = hue < 1 ? glm::vec3(1, x, 0) : hue < 2 ? glm::vec3(x, 1, 0) : hue < 3 ? glm::vec3(0, 1, x)
+                      : hue < 4 ? glm::vec3(0, x, 1) : hue < 5 ? glm::vec3(x, 0, 1) : glm::vec3(1, 0, x);
+        bone_colors_[v] = glm::vec4(0.25f + 0.7f * rgb, 1.0f);
+      }
+    }
+    if (mode_ == SelectMode::kJoints && !selection_.joints.empty()) {
+      cage_weights_.assign(cage->num_vertices(), 0.0f);
+      for (size_t v = 0; v < cage_weights_.size(); ++v) {
+        const uint32_t j = scene_->attachment->joint[v];
+        if (j < joints.size() && selection_.joints.contains(joints[j])) cage_weights_[v] = 1.0f;
+      }
+    }
+  }
+  if (mode_ == SelectMode::kJoints && !selection_.joints.empty() && !cage_weights_.empty()) {
+    face_mask_.clear();
+    joint_mask_.assign(scene_->joint_heads.size(), 0);
+    for (uint32_t j : selection_.joints)
+      if (j < joint_mask_.size()) joint_mask_[j] = 1;
+    return;
+  }
   cage_weights_.clear();
   face_mask_.clear();
   if (cage) {
@@ -623,6 +657,7 @@ void Editor::handle_input() {
     if (ImGui::IsKeyPressed(GLFW_KEY_KP_3) || ImGui::IsKeyPressed(GLFW_KEY_3)) camera_.set_preset(ctrl ? ViewPreset::kLeft : ViewPreset::kRight);
     if (ImGui::IsKeyPressed(GLFW_KEY_KP_7) || ImGui::IsKeyPressed(GLFW_KEY_7)) camera_.set_preset(ctrl ? ViewPreset::kBottom : ViewPreset::kTop);
     if (ImGui::IsKeyPressed(GLFW_KEY_L) && !ctrl) scene_->show_file_skinning = !scene_->show_file_skinning;
+    if (ImGui::IsKeyPressed(GLFW_KEY_C) && !ctrl) color_by_bone_ = !color_by_bone_;
     if (ImGui::IsKeyPressed(GLFW_KEY_W) && !ctrl) style_.wireframe = !style_.wireframe;
     if (ImGui::IsKeyPressed(GLFW_KEY_X) && io.KeyAlt) style_.xray = !style_.xray;
     if (ImGui::IsKeyPressed(GLFW_KEY_F1)) show_help_ = !show_help_;
@@ -859,6 +894,7 @@ void Editor::draw_menu() {
     ImGui::MenuItem("Skeleton", nullptr, &style_.show_skeleton);
     ImGui::MenuItem("Grid", nullptr, &style_.show_grid);
     ImGui::Separator();
+    ImGui::MenuItem("Cage coloured by bone", "C", &color_by_bone_);
     ImGui::MenuItem("Wireframe", "W", &style_.wireframe);
     ImGui::MenuItem("X-ray", "Alt+X", &style_.xray);
     ImGui::Separator();
@@ -1151,7 +1187,7 @@ void Editor::draw_help() {
                            {"Shift+X", "X-mirror editing on/off"},
                            {"Ctrl+Z / Ctrl+Shift+Z, Ctrl+Y", "undo / redo"},
                            {"Ctrl+O / Ctrl+S / Ctrl+Q", "open / save / quit"},
-                           {"F12", "screenshot"},                           {"L", "show the file's own skinning"},
+                           {"F12", "screenshot"},                           {"L", "show the file's own skinning"},                   {"C", "colour the cage by bone (joint mode: the selected joints' vertices light up)"},
                            {"Space", "play / pause"},
                            {"W", "wireframe"},
                            {"Alt+X", "X-ray"},
@@ -1644,7 +1680,7 @@ int Editor::run() {
       if (topology_dirty_) upload_topology();
       renderer_->update_skin(scene_->skin_posed);
       update_selection_display();
-      if (scene_->doc().cage) renderer_->update_cage(scene_->cage_posed, cage_weights_, face_mask_);
+      if (scene_->doc().cage) renderer_->update_cage(scene_->cage_posed, cage_weights_, face_mask_, bone_colors_);
       renderer_->update_skin_points(scene_->skin_posed, selection_.skin_vertices.indices(),
                                     cage_tools_.show_failing() ? std::span<const uint32_t>(cage_tools_.failing_points()) : std::span<const uint32_t>());
       renderer_->update_skeleton(scene_->joint_heads, scene_->bones, joint_mask_);

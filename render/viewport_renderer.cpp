@@ -66,7 +66,7 @@ void ViewportRenderer::set_cage_topology(const PolyMesh& polygons, std::span<con
 }
 
 void ViewportRenderer::update_cage(std::span<const glm::vec3> positions, std::span<const float> weights,
-                                   std::span<const uint8_t> selected_faces) {
+                                   std::span<const uint8_t> selected_faces, std::span<const glm::vec4> base_colors) {
   cage_normals_.compute(positions, cage_normal_data_);
   cage_faces_->upload_positions(positions, cage_normal_data_);
   if (!std::equal(selected_faces.begin(), selected_faces.end(), uploaded_face_mask_.begin(), uploaded_face_mask_.end())) {
@@ -83,12 +83,13 @@ void ViewportRenderer::update_cage(std::span<const glm::vec3> positions, std::sp
   for (auto [a, b] : cage_edge_list_) {
     scratch_positions_.push_back(positions[a]);
     scratch_positions_.push_back(positions[b]);
-    scratch_colors_.push_back(weight_color(w(a), kCageEdgeColor));
-    scratch_colors_.push_back(weight_color(w(b), kCageEdgeColor));
+    scratch_colors_.push_back(weight_color(w(a), a < base_colors.size() ? base_colors[a] : kCageEdgeColor));
+    scratch_colors_.push_back(weight_color(w(b), b < base_colors.size() ? base_colors[b] : kCageEdgeColor));
   }
   cage_edges_->upload(scratch_positions_, scratch_colors_);
   scratch_colors_.resize(positions.size());
-  for (size_t i = 0; i < positions.size(); ++i) scratch_colors_[i] = weight_color(w(static_cast<uint32_t>(i)), kCagePointColor);
+  for (size_t i = 0; i < positions.size(); ++i)
+    scratch_colors_[i] = weight_color(w(static_cast<uint32_t>(i)), i < base_colors.size() ? base_colors[i] : kCagePointColor);
   cage_points_->upload(positions, scratch_colors_);
 }
 

@@ -48,8 +48,9 @@ class ViewportRenderer {
   void set_cage_topology(const PolyMesh& polygons, std::span<const Tri> elements, std::span<const uint32_t> element_face);
   // `weights` (#Vc, may be empty) colour cage vertices: 1 = selected, (0, 1) = soft selection share.
   // `selected_faces` (#polygons, may be empty) highlights polygons.
+  // `base_colors` (#Vc, may be empty) replace the plain vertex and edge colour (e.g. by bone).
   void update_cage(std::span<const glm::vec3> positions, std::span<const float> weights,
-                   std::span<const uint8_t> selected_faces);
+                   std::span<const uint8_t> selected_faces, std::span<const glm::vec4> base_colors = {});
   // Skin vertices drawn as points over the skin: the selection (pink) and flagged points (red, e.g.
   // those failing the cage-quality test).
   void update_skin_points(std::span<const glm::vec3> skin_positions, std::span<const uint32_t> selected,
