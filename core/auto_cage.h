@@ -51,7 +51,9 @@ struct AutoCageParams {
   bool fit_skin = true;          // push the cage out locally where skin points remain outside
   WrapMode wrap = WrapMode::kAuto;  // kAuto: wrap unless the welded skin is one closed, clean piece
   double wrap_cell =
-      0.005;        // grid cell of the wrap, relative to the bbox diagonal (at most half the clearance)
+      0.005;  // grid cell of the wrap, relative to the bbox diagonal (at most half the clearance)
+  bool shell_per_piece = true;  // wrap each piece of the skin (or group of small neighbouring pieces)
+                                // in its own closed shell; false: one offset surface around everything
   BindParams bind;  // for the cage-quality figure
 };
 
@@ -74,7 +76,8 @@ struct AutoCageReport {
   uint32_t dropped_triangles = 0;  // collapsed or repeated by the weld, or not manifold
   uint32_t joints = 0;             // joint positions that steered the detail
   bool wrapped = false;            // built from the offset surface of the whole skin
-  uint32_t wrap_triangles = 0;     // triangles of that surface before decimation
+  uint32_t wrap_triangles = 0;     // triangles of the wrap surfaces before decimation
+  uint32_t shells = 0;             // closed surfaces the cage is made of (1 unless wrapped per piece)
   // cage
   uint32_t faces = 0, vertices = 0;
   double inflate_distance = 0.0;  // scene units
@@ -84,9 +87,10 @@ struct AutoCageReport {
   uint32_t outside_points = 0;  // skin vertices outside the cage
   double max_distance = 0.0;    // largest distance from a skin vertex to the cage surface
   double quality = 0.0;  // Binding::quality(): share of points close to and projecting inside an element
+  std::vector<uint32_t> failures;  // skin vertices failing that test (quality_failures()), sorted
   // time
   double seconds = 0.0;       // building the cage (weld to checks)
-  double bind_seconds = 0.0;  // binding the skin for the quality figure
+  double bind_seconds = 0.0;  // binding the skin for the quality figure and listing its failures
   std::vector<std::string> warnings;
 };
 
