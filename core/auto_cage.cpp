@@ -4,6 +4,8 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <functional>
 #include <memory>
 #include <thread>
@@ -36,6 +38,7 @@
 namespace cagewrap {
 
 namespace {
+struct TmpTimer { const char* n; std::chrono::steady_clock::time_point t0 = std::chrono::steady_clock::now(); ~TmpTimer(){ if (getenv("CW_T")) fprintf(stderr, "TIMING %s %.3f\n", n, std::chrono::duration<double>(std::chrono::steady_clock::now()-t0).count()); } };
 
 // Decimation guards.
 constexpr float kMaxAspect = 5.0f;            // no collapse may leave a triangle worse than this (L / h)
@@ -407,6 +410,73 @@ std::vector<double> push_out(Surface& s, std::vector<double> want, double eps, c
   return moved;
 }
 
+// Where a skin point is against the cage: `distance` is signed (> 0 outside) against the cage as a
+// solid, the union of its closed shells: the depth inside the shell that holds the point deepest,
+// or the distance to the nearest shell when none holds it; `triangle` and `bary` locate the closest
+// point on that shell. `nearest` is the distance to the closest cage surface of any shell.
+struct SkinDepth {
+  double distance = 0.0;
+  uint32_t triangle = 0;
+  glm::dvec3 bary{0.0};
+  double nearest = 0.0;
+};
+
+// `shells` > 1: the surface is that many closed pieces (Surface::piece), signed by each piece's own
+// pseudonormals. Otherwise one surface, possibly open or overlapping itself: a point the nearest
+// sheet calls outside is confirmed with the winding number.
+std::vector<SkinDepth> skin_depths(const Surface& s, size_t shells, std::span<const glm::vec3> skin) {
+  std::vector<SkinDepth> out(skin.size());
+  const auto fp = s.float_positions();
+  if (shells <= 1) {
+    const SurfaceDistance sd(fp, s.tris);
+    tbb::parallel_for(size_t(0), skin.size(), [&](size_t i) {
+      const glm::dvec3 p(skin[i]);
+      const SurfacePoint q = sd.query(p);
+      SkinDepth& d = out[i];
+      d.distance = q.distance > 0 && sd.winding_number(p) > 0.5 ? -q.distance : q.distance;
+      d.triangle = q.triangle;
+      d.bary = q.bary;
+      d.nearest = std::abs(q.distance);
+    });
+    return out;
+  }
+  uint32_t pieces = 0;
+  for (uint32_t x : s.piece) pieces = std::max(pieces, x + 1);
+  std::vector<std::vector<uint32_t>> ids(pieces);  // global triangle of each piece's triangle
+  std::vector<Aabb> box(pieces);
+  for (uint32_t t = 0; t < s.tris.size(); ++t) {
+    const uint32_t k = s.piece[s.tris[t][0]];
+    ids[k].push_back(t);
+    for (uint32_t v : s.tris[t]) box[k].extend(s.p[v]);
+  }
+  std::vector<std::unique_ptr<SurfaceDistance>> sd(pieces);
+  tbb::parallel_for(uint32_t(0), pieces, [&](uint32_t k) {
+    std::vector<Tri> tris;
+    for (uint32_t t : ids[k]) tris.push_back(s.tris[t]);
+    sd[k] = std::make_unique<SurfaceDistance>(fp, tris);
+  });
+  tbb::parallel_for(size_t(0), skin.size(), [&](size_t i) {
+    const glm::dvec3 p(skin[i]);
+    std::vector<std::pair<double, uint32_t>> order;  // box distance, piece
+    for (uint32_t k = 0; k < pieces; ++k)
+      order.emplace_back(std::sqrt(ElementBvh::box_dist2(p, box[k].lo, box[k].hi)), k);
+    std::sort(order.begin(), order.end());
+    SkinDepth& d = out[i];
+    d.distance = d.nearest = INFINITY;
+    for (const auto& [gap, k] : order) {
+      if (gap >= d.nearest) break;  // no closer surface, and a box not holding p holds no depth
+      const SurfacePoint q = sd[k]->query(p);
+      d.nearest = std::min(d.nearest, std::abs(q.distance));
+      if (q.distance < d.distance) {
+        d.distance = q.distance;
+        d.triangle = ids[k][q.triangle];
+        d.bary = q.bary;
+      }
+    }
+  });
+  return out;
+}
+
 // Concavity of each vertex: the largest bend (radians) of a concave (valley) edge around it; 0 when
 // every incident edge is flat or convex.
 std::vector<double> concavity(const Surface& s) {
@@ -704,9 +774,11 @@ Decimated decimate_shell(std::span<const glm::vec3> positions, std::span<const T
     OpenMesh::Decimater::ModAspectRatioT<OmMesh>::Handle ha;
     OpenMesh::Decimater::ModNormalFlippingT<OmMesh>::Handle hn;
     dec.add(hq);
-    dec.add(hn);
     dec.module(hq).set_factors(factor_prop);
-    dec.module(hn).set_max_normal_deviation(kMaxNormalDeviation);
+    if (aspect_guard || getenv("CW_NF")) {
+      dec.add(hn);
+      dec.module(hn).set_max_normal_deviation(kMaxNormalDeviation);
+    }
     if (aspect_guard) {
       dec.add(ha);
       dec.module(ha).set_aspect_ratio(kMaxAspect);
@@ -719,7 +791,8 @@ Decimated decimate_shell(std::span<const glm::vec3> positions, std::span<const T
     mesh.garbage_collection();
     return true;
   };
-  if (wrapped) out.started = decimate(4 * size_t(target), false);
+  { TmpTimer t1{"pass1"}; if (wrapped) out.started = decimate(4 * size_t(target), false); }
+  TmpTimer t2{"pass2+clean"};
   progress.stage().check();
   if (out.started) out.started = decimate(target, true);
   if (!out.started) return out;
@@ -842,13 +915,14 @@ Result<AutoCageReport> build_auto_cage(const PolyMesh& skin, std::span<const glm
       std::vector<uint32_t> group(pieces, 0);
       if (params.shell_per_piece && pieces > 1) {
         std::vector<Patch> piece_wraps(pieces);
+        TmpTimer t1{"piecewraps+group+groupwraps"};
         tbb::parallel_for(uint32_t(0), pieces, [&](uint32_t i) {
           piece_wraps[i] = wrap([&](size_t t) { return tri_piece[t] == i; });
         });
         stage.check();
         std::vector<double> weight(pieces);
         for (uint32_t i = 0; i < pieces; ++i) weight[i] = budget_weight(piece_wraps[i], field);
-        group = group_pieces(weld.positions, tris, tri_piece, pieces, weight, params.target_faces, kMinShellFaces);
+        { TmpTimer tg{"group"}; group = group_pieces(weld.positions, tris, tri_piece, pieces, weight, params.target_faces, kMinShellFaces); }
         const uint32_t groups = *std::max_element(group.begin(), group.end()) + 1;
         shells.resize(groups);
         std::vector<uint32_t> size(groups, 0), only(groups, 0);
@@ -891,6 +965,7 @@ Result<AutoCageReport> build_auto_cage(const PolyMesh& skin, std::span<const glm
       expected += shells[i].tris.size() > budget[i] ? (shells[i].tris.size() - budget[i]) / 2 : 0;
     SharedProgress decimate_progress(stage, expected, 0.05, 0.6);
     std::vector<Decimated> parts(shells.size());
+    TmpTimer td{"decimate"};
     {
       // faces that would make an edge or vertex non-manifold are left out (OpenMesh refuses them)
       const bool was_enabled = ::omerr().is_enabled();
@@ -941,25 +1016,16 @@ Result<AutoCageReport> build_auto_cage(const PolyMesh& skin, std::span<const glm
     // ------------------------------------------------------------ fit: push out where skin points remain
     // outside
     stage.report("check", 0.75);
-    // signed distance of every skin point; a point the nearest surface calls outside is confirmed with
-    // the winding number (it may lie inside another, overlapping piece)
-    auto signed_distances = [&] {
-      SurfaceDistance sd(s.float_positions(), s.tris);
-      std::vector<SurfacePoint> q(skin.positions.size());
-      tbb::parallel_for(size_t(0), q.size(), [&](size_t i) {
-        const glm::dvec3 p(skin.positions[i]);
-        q[i] = sd.query(p);
-        if (q[i].distance > 0 && sd.winding_number(p) > 0.5) q[i].distance = -q[i].distance;
-      });
-      return q;
-    };
-    std::vector<SurfacePoint> dist = signed_distances();
+    const size_t n_shells = r.wrapped ? r.shells : 1;
+    auto signed_distances = [&] { return skin_depths(s, n_shells, skin.positions); };
+    TmpTimer tf{"fit"};
+    std::vector<SkinDepth> dist = signed_distances();
     const double margin = kFitMargin * r.inflate_distance;
     for (int round = 0; params.fit_skin && round < kMaxFitRounds; ++round) {
       stage.check();
       std::vector<double> want(s.p.size(), 0.0);
       bool any = false;
-      for (const SurfacePoint& q : dist) {
+      for (const SkinDepth& q : dist) {
         const double need = q.distance + margin;
         if (need <= 0) continue;
         any = true;
@@ -982,8 +1048,8 @@ Result<AutoCageReport> build_auto_cage(const PolyMesh& skin, std::span<const glm
       r.warnings.push_back(
           "the cage passes through itself at " + std::to_string(r.check.self_intersections) +
           " edge-triangle crossings (parts of the skin are closer than the decimation error)");
-    for (const SurfacePoint& q : dist) {
-      r.max_distance = std::max(r.max_distance, std::abs(q.distance));
+    for (const SkinDepth& q : dist) {
+      r.max_distance = std::max(r.max_distance, q.nearest);
       if (q.distance > 0) {
         ++r.outside_points;
         r.max_outside = std::max(r.max_outside, q.distance);

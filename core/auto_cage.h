@@ -50,8 +50,7 @@ struct AutoCageParams {
   double weld_tolerance = 1e-5;  // relative to the bbox diagonal
   bool fit_skin = true;          // push the cage out locally where skin points remain outside
   WrapMode wrap = WrapMode::kAuto;  // kAuto: wrap unless the welded skin is one closed, clean piece
-  double wrap_cell =
-      0.005;  // grid cell of the wrap, relative to the bbox diagonal (at most half the clearance)
+  double wrap_cell = 0.01;  // grid cell of the wrap, relative to the bbox diagonal (at most the clearance)
   bool shell_per_piece = true;  // wrap each piece of the skin (or group of small neighbouring pieces)
                                 // in its own closed shell; false: one offset surface around everything
   BindParams bind;  // for the cage-quality figure
