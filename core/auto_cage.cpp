@@ -29,6 +29,7 @@
 #include "core/cage.h"
 #include "core/element_bvh.h"
 #include "core/offset_wrap.h"
+#include "core/quad_pairing.h"
 #include "core/registration.h"
 #include "core/skinning.h"
 #include "core/surface_distance.h"
@@ -1039,9 +1040,17 @@ Result<AutoCageReport> build_auto_cage(const PolyMesh& skin, std::span<const glm
     }
 
     // ------------------------------------------------------------ report
-    r.cage.positions = s.float_positions();
-    for (const Tri& t : s.tris) r.cage.add_face({t[0], t[1], t[2]});
-    r.faces = static_cast<uint32_t>(s.tris.size());
+    const auto final_positions = s.float_positions();
+    if (params.quads) {
+      QuadPairing paired = pair_quads(final_positions, s.tris);
+      r.cage = std::move(paired.mesh);
+      r.quads = paired.quads;
+    } else {
+      r.cage.positions = final_positions;
+      for (const Tri& t : s.tris) r.cage.add_face({t[0], t[1], t[2]});
+    }
+    r.faces = static_cast<uint32_t>(r.cage.num_faces());
+    r.triangles = static_cast<uint32_t>(s.tris.size());
     r.vertices = static_cast<uint32_t>(s.p.size());
     r.check = check_mesh(r.cage.positions, s.tris);
     if (r.check.self_intersections > 0)

@@ -1,16 +1,20 @@
 // The automatic cage of the paper's workflow (section 5, step 1): "polygonize and weld the
 // character's pieces, decimate, with more resolution near joints", then inflate so the cage
-// wraps the skin. First version: triangles only.
+// wraps the skin, and pair the triangles into quads where they allow it.
 //
 // Pipeline: join every primitive (bind pose) -> weld coincident and seam vertices (tolerance
 // relative to the bounding-box diagonal) -> when the result is not one closed, clean piece (a
-// character modelled as separate or open segments), replace it by one closed offset surface at the
-// clearance distance (offset_wrap.h) -> quadric edge-collapse decimation to the target face
-// count (OpenMesh Decimater) with error scaled up near joints, an aspect-ratio guard against needles
-// and a normal-deviation guard against folds -> inflation along area-weighted vertex normals in
-// small steps (each bounded by a share of the incident edge lengths and by the room in front of
-// the vertex), with tangential relaxation between steps, then local pushes where skin points are
-// still outside -> checks and the cage-quality figure (the skin bound with bind_skin).
+// character modelled as separate or open segments), replace it by closed offset surfaces at the
+// clearance distance (offset_wrap.h): one per piece of the skin, small neighbouring pieces grouped
+// until each group earns a minimum share of the face budget (or one around everything) ->
+// quadric edge-collapse decimation of each surface to its share of the target face count (shared
+// by area, weighted by the joint detail; OpenMesh Decimater) with error scaled up near joints, an
+// aspect-ratio guard against needles and a normal-deviation guard against folds -> inflation along
+// area-weighted vertex normals in small steps (each bounded by a share of the incident edge
+// lengths and by the room in front of the vertex), with tangential relaxation between steps, then
+// local pushes where skin points are still outside -> greedy pairing of nearly coplanar triangles
+// into convex quads (quad_pairing.h) -> checks and the cage-quality figure (the skin bound with
+// bind_skin), with the skin points that fail it.
 //
 // This work is based on: Singh and Kokkevis, "Skinning Characters using Surface-Oriented Free-Form
 // Deformations" (GI 2000), section 5; Garland and Heckbert, "Surface Simplification Using Quadric
@@ -40,7 +44,9 @@ namespace cagewrap {
 enum class WrapMode : uint8_t { kAuto, kAlways, kNever };
 
 struct AutoCageParams {
-  uint32_t target_faces = 2000;   // triangles of the cage (the decimater stops at or just below)
+  uint32_t target_faces = 2000;   // triangles of the cage (the decimater stops at or just below),
+                                  // before they are paired into quads
+  bool quads = true;              // pair nearly coplanar triangles into convex quads (quad_pairing.h)
   double joint_detail = 1.0;      // 0 = uniform; larger keeps more faces near joints
   double joint_radius = 0.04;     // relative to the bbox diagonal: reach of a joint's extra detail
                                   // (at least 1.5x the joint's distance to the skin)
@@ -67,7 +73,8 @@ struct AutoCageProgress {
 };
 
 struct AutoCageReport {
-  PolyMesh cage;  // the cage at rest: triangles, outward
+  PolyMesh cage;  // the cage at rest: quads and triangles, outward; triangulate() gives the decimated
+                  // triangles back (each quad splits along the edge it was merged across)
 
   // input
   uint32_t input_vertices = 0, input_triangles = 0;
@@ -78,7 +85,9 @@ struct AutoCageReport {
   uint32_t wrap_triangles = 0;     // triangles of the wrap surfaces before decimation
   uint32_t shells = 0;             // closed surfaces the cage is made of (1 unless wrapped per piece)
   // cage
-  uint32_t faces = 0, vertices = 0;
+  uint32_t faces = 0, vertices = 0;  // polygons (quads and triangles) and their vertices
+  uint32_t quads = 0;                // faces that are quads
+  uint32_t triangles = 0;            // control elements: the quads' two triangles and the other faces
   double inflate_distance = 0.0;  // scene units
   MeshCheck check;                // degenerate/needle triangles, non-manifold/boundary/misoriented edges
   // skin against cage
