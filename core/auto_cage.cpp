@@ -4,8 +4,6 @@
 #include <array>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <functional>
 #include <memory>
 #include <thread>
@@ -39,7 +37,6 @@
 namespace cagewrap {
 
 namespace {
-struct TmpTimer { const char* n; std::chrono::steady_clock::time_point t0 = std::chrono::steady_clock::now(); ~TmpTimer(){ if (getenv("CW_T")) fprintf(stderr, "TIMING %s %.3f\n", n, std::chrono::duration<double>(std::chrono::steady_clock::now()-t0).count()); } };
 
 // Decimation guards.
 constexpr float kMaxAspect = 5.0f;            // no collapse may leave a triangle worse than this (L / h)
@@ -775,11 +772,9 @@ Decimated decimate_shell(std::span<const glm::vec3> positions, std::span<const T
     OpenMesh::Decimater::ModAspectRatioT<OmMesh>::Handle ha;
     OpenMesh::Decimater::ModNormalFlippingT<OmMesh>::Handle hn;
     dec.add(hq);
+    dec.add(hn);
     dec.module(hq).set_factors(factor_prop);
-    if (aspect_guard || getenv("CW_NF")) {
-      dec.add(hn);
-      dec.module(hn).set_max_normal_deviation(kMaxNormalDeviation);
-    }
+    dec.module(hn).set_max_normal_deviation(kMaxNormalDeviation);
     if (aspect_guard) {
       dec.add(ha);
       dec.module(ha).set_aspect_ratio(kMaxAspect);
@@ -792,8 +787,7 @@ Decimated decimate_shell(std::span<const glm::vec3> positions, std::span<const T
     mesh.garbage_collection();
     return true;
   };
-  { TmpTimer t1{"pass1"}; if (wrapped) out.started = decimate(4 * size_t(target), false); }
-  TmpTimer t2{"pass2+clean"};
+  if (wrapped) out.started = decimate(4 * size_t(target), false);
   progress.stage().check();
   if (out.started) out.started = decimate(target, true);
   if (!out.started) return out;
@@ -916,14 +910,13 @@ Result<AutoCageReport> build_auto_cage(const PolyMesh& skin, std::span<const glm
       std::vector<uint32_t> group(pieces, 0);
       if (params.shell_per_piece && pieces > 1) {
         std::vector<Patch> piece_wraps(pieces);
-        TmpTimer t1{"piecewraps+group+groupwraps"};
         tbb::parallel_for(uint32_t(0), pieces, [&](uint32_t i) {
           piece_wraps[i] = wrap([&](size_t t) { return tri_piece[t] == i; });
         });
         stage.check();
         std::vector<double> weight(pieces);
         for (uint32_t i = 0; i < pieces; ++i) weight[i] = budget_weight(piece_wraps[i], field);
-        { TmpTimer tg{"group"}; group = group_pieces(weld.positions, tris, tri_piece, pieces, weight, params.target_faces, kMinShellFaces); }
+        group = group_pieces(weld.positions, tris, tri_piece, pieces, weight, params.target_faces, kMinShellFaces);
         const uint32_t groups = *std::max_element(group.begin(), group.end()) + 1;
         shells.resize(groups);
         std::vector<uint32_t> size(groups, 0), only(groups, 0);
@@ -966,7 +959,6 @@ Result<AutoCageReport> build_auto_cage(const PolyMesh& skin, std::span<const glm
       expected += shells[i].tris.size() > budget[i] ? (shells[i].tris.size() - budget[i]) / 2 : 0;
     SharedProgress decimate_progress(stage, expected, 0.05, 0.6);
     std::vector<Decimated> parts(shells.size());
-    TmpTimer td{"decimate"};
     {
       // faces that would make an edge or vertex non-manifold are left out (OpenMesh refuses them)
       const bool was_enabled = ::omerr().is_enabled();
@@ -1019,7 +1011,6 @@ Result<AutoCageReport> build_auto_cage(const PolyMesh& skin, std::span<const glm
     stage.report("check", 0.75);
     const size_t n_shells = r.wrapped ? r.shells : 1;
     auto signed_distances = [&] { return skin_depths(s, n_shells, skin.positions); };
-    TmpTimer tf{"fit"};
     std::vector<SkinDepth> dist = signed_distances();
     const double margin = kFitMargin * r.inflate_distance;
     for (int round = 0; params.fit_skin && round < kMaxFitRounds; ++round) {
