@@ -172,6 +172,17 @@ TEST(AutoCage, IsDeterministic) {
   EXPECT_EQ(a->quality, b->quality);
 }
 
+// The cage of a skin with 400 triangles, without (0) and with (2) joint detail.
+std::pair<Result<AutoCageReport>, Result<AutoCageReport>> without_and_with_joint_detail(
+    const PolyMesh& skin, std::span<const glm::vec3> joints) {
+  AutoCageParams p;
+  p.target_faces = 400;
+  p.joint_detail = 0;
+  auto uniform = build_auto_cage(skin, joints, p);
+  p.joint_detail = 2;
+  return {std::move(uniform), build_auto_cage(skin, joints, p)};
+}
+
 TEST(AutoCage, JointDetailPutsMoreVerticesNearJoints) {
   // a capped cylinder bent at nothing: the only thing that differs along it is the joint at x = 2
   const PolyMesh skin = fixtures::cylinder_skin(0.5, 4.0, 48, 80);
@@ -181,12 +192,7 @@ TEST(AutoCage, JointDetailPutsMoreVerticesNearJoints) {
     for (const glm::vec3& v : r.cage.positions) n += std::abs(v.x - 2.0f) < 0.5f ? 1 : 0;
     return n;
   };
-  AutoCageParams p;
-  p.target_faces = 400;
-  p.joint_detail = 0;
-  auto uniform = build_auto_cage(skin, joints, p);
-  p.joint_detail = 2;
-  auto detailed = build_auto_cage(skin, joints, p);
+  auto [uniform, detailed] = without_and_with_joint_detail(skin, joints);
   ASSERT_TRUE(uniform.ok() && detailed.ok());
   std::printf("cage vertices within 0.5 of the joint: %d uniform, %d with joint detail 2\n",
               near_joint(*uniform), near_joint(*detailed));
@@ -217,12 +223,7 @@ TEST(AutoCage, JointDetailWorksOnSeparateShells) {
     }
     return double(near) / std::max(far, 1);
   };
-  AutoCageParams p;
-  p.target_faces = 400;
-  p.joint_detail = 0;
-  auto uniform = build_auto_cage(skin, joints, p);
-  p.joint_detail = 2;
-  auto detailed = build_auto_cage(skin, joints, p);
+  auto [uniform, detailed] = without_and_with_joint_detail(skin, joints);
   ASSERT_TRUE(uniform.ok() && detailed.ok());
   print("two limbs, uniform", *uniform);
   print("two limbs, joint detail 2", *detailed);
@@ -241,6 +242,9 @@ TEST(AutoCage, JointDetailWorksOnSeparateShells) {
               near_over_far(*uniform), near_over_far(*detailed));
   EXPECT_GT(near_over_far(*detailed), 1.5 * near_over_far(*uniform));
   // one offset surface around everything, on request
+  AutoCageParams p;
+  p.target_faces = 400;
+  p.joint_detail = 2;
   p.shell_per_piece = false;
   auto one = build_auto_cage(skin, joints, p);
   ASSERT_TRUE(one.ok());
