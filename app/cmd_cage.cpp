@@ -24,7 +24,8 @@ void print_cage_report(const AutoCageReport& r, const AutoCageParams& p) {
               r.dropped_triangles);
   std::printf("joints            %u\n", r.joints);
   if (r.wrapped && r.shells > 1)
-    std::printf("wrapped           yes (%u closed offset surfaces, %u triangles)\n", r.shells, r.wrap_triangles);
+    std::printf("wrapped           yes (%u closed offset surfaces, %u triangles)\n", r.shells,
+                r.wrap_triangles);
   else if (r.wrapped)
     std::printf("wrapped           yes (offset surface of %u triangles)\n", r.wrap_triangles);
   else

@@ -3,11 +3,10 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <glm/geometric.hpp>
 #include <tuple>
 #include <unordered_map>
 #include <vector>
-
-#include <glm/geometric.hpp>
 
 namespace cagewrap {
 
@@ -69,7 +68,8 @@ QuadPairing pair_quads(std::span<const glm::vec3> positions, std::span<const Tri
       const glm::dvec3 c = p(quad[k]), prev = p(quad[(k + 3) % 4]), next = p(quad[(k + 1) % 4]);
       const double angle = angle_between(prev - c, next - c);
       // convex: each corner turns the same way as the quad's normal
-      ok = angle >= params.min_angle && angle <= params.max_angle && glm::dot(glm::cross(next - c, prev - c), n) > 0;
+      ok = angle >= params.min_angle && angle <= params.max_angle &&
+           glm::dot(glm::cross(next - c, prev - c), n) > 0;
       worst = std::max(worst, std::abs(angle - 90.0));
     }
     if (!ok) continue;

@@ -9,22 +9,21 @@
 #pragma once
 
 #include <cstdint>
-#include <span>
-
 #include <glm/vec3.hpp>
+#include <span>
 
 #include "core/mesh.h"
 
 namespace cagewrap {
 
 struct QuadPairingParams {
-  double max_bend = 20.0;   // degrees between the two triangles' normals
-  double min_angle = 40.0;  // degrees: every corner of the quad at least this ...
+  double max_bend = 20.0;    // degrees between the two triangles' normals
+  double min_angle = 40.0;   // degrees: every corner of the quad at least this ...
   double max_angle = 140.0;  // ... and at most this (below 180: convex)
 };
 
 struct QuadPairing {
-  PolyMesh mesh;         // the input vertices; quads and the triangles left unpaired
+  PolyMesh mesh;  // the input vertices; quads and the triangles left unpaired
   uint32_t quads = 0;
   uint32_t triangles = 0;  // faces left as triangles
 };

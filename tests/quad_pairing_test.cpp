@@ -2,10 +2,10 @@
 // the quads triangulate back into exactly the input triangles.
 #include "core/quad_pairing.h"
 
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
-
-#include <gtest/gtest.h>
 #include <glm/geometric.hpp>
 
 namespace cagewrap {
