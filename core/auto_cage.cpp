@@ -960,13 +960,18 @@ Result<AutoCageReport> build_auto_cage(const PolyMesh& skin, std::span<const glm
     SharedProgress decimate_progress(stage, expected, 0.05, 0.6);
     std::vector<Decimated> parts(shells.size());
     {
-      // faces that would make an edge or vertex non-manifold are left out (OpenMesh refuses them)
-      const bool was_enabled = ::omerr().is_enabled();
-      ::omerr().disable();
+      // faces that would make an edge or vertex non-manifold are left out (OpenMesh refuses them,
+      // and would say so on its error stream; restored on the way out, cancellation included)
+      struct QuietOpenMesh {
+        bool was_enabled = ::omerr().is_enabled();
+        QuietOpenMesh() { ::omerr().disable(); }
+        ~QuietOpenMesh() {
+          if (was_enabled) ::omerr().enable();
+        }
+      } quiet;
       tbb::parallel_for(size_t(0), shells.size(), [&](size_t i) {
         parts[i] = decimate_shell(shells[i].positions, shells[i].tris, field, budget[i], r.wrapped, decimate_progress);
       });
-      if (was_enabled) ::omerr().enable();
     }
     uint32_t rejected = 0;
     for (const Decimated& d : parts) {
