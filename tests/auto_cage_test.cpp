@@ -429,6 +429,25 @@ TEST(AutoCage, CancelStopsTheBuild) {
   auto r = build_auto_cage(fixtures::sphere_skin(0.6, 32, 64), {}, {}, progress);
   ASSERT_FALSE(r.ok());
   EXPECT_EQ(r.error().code, ErrorCode::kCancelled);
+  // several shells decimated at once stop too
+  PolyMesh two = fixtures::sphere_skin(0.6, 32, 64);
+  const uint32_t base = static_cast<uint32_t>(two.num_vertices());
+  const PolyMesh other = fixtures::sphere_skin(0.5, 32, 64);
+  for (const glm::vec3& p : other.positions) two.positions.push_back(p + glm::vec3(1.5f, 0, 0));
+  for (size_t f = 0; f < other.num_faces(); ++f) {
+    std::vector<uint32_t> c(other.face(f).begin(), other.face(f).end());
+    for (uint32_t& v : c) v += base;
+    two.add_face(c);
+  }
+  cancel = false;
+  auto s = build_auto_cage(two, {}, {}, progress);
+  ASSERT_FALSE(s.ok());
+  EXPECT_EQ(s.error().code, ErrorCode::kCancelled);
+  cancel = false;
+  progress.on_progress = nullptr;
+  auto whole = build_auto_cage(two, {}, {}, progress);
+  ASSERT_TRUE(whole.ok()) << whole.error().message;
+  EXPECT_EQ(whole->shells, 2u);
 }
 
 TEST(AutoCage, BadInputIsNamed) {
