@@ -64,6 +64,7 @@ void add_cage_command(CLI::App& app, int& exit_code) {
     std::string mesh, out, failures;
     AutoCageParams params;
     bool no_fit = false;
+    bool one_surface = false;
     std::string wrap = "auto";
     BindOptions bind;
   };
@@ -89,9 +90,11 @@ void add_cage_command(CLI::App& app, int& exit_code) {
       ->capture_default_str();
   cmd->add_flag("--inflate-absolute", args->params.inflate_absolute, "--inflate is in scene units");
   cmd->add_option("--wrap", args->wrap,
-                  "auto: wrap separate/open pieces in one offset surface; always; never")
+                  "auto: wrap separate/open pieces in closed offset surfaces (one per piece); always; never")
       ->check(CLI::IsMember({"auto", "always", "never"}))
       ->capture_default_str();
+  cmd->add_flag("--one-surface", args->one_surface,
+                "when wrapping, one offset surface around all pieces instead of one per piece");
   cmd->add_flag("--no-fit", args->no_fit, "do not push the cage out where skin points stay outside");
   cmd->add_option("--out", args->out, "cage to write (.obj)")->required();
   cmd->add_option("--failures", args->failures,
@@ -106,6 +109,7 @@ void add_cage_command(CLI::App& app, int& exit_code) {
     if (!finish_bind_options(args->bind)) return;
     args->params.bind = args->bind.params;
     args->params.fit_skin = !args->no_fit;
+    args->params.shell_per_piece = !args->one_surface;
     args->params.wrap = args->wrap == "always"  ? WrapMode::kAlways
                         : args->wrap == "never" ? WrapMode::kNever
                                                 : WrapMode::kAuto;

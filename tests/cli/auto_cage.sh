@@ -110,6 +110,8 @@ if [[ -n "$ASSETS" && -f "$ASSETS/mannequiny.glb" ]]; then
   check "mannequiny: no skin vertex outside" grep -Eq '^outside points +0$' "$TMP/m.txt"
   mq=$(field quality "$TMP/m.txt" | tr -d '%')
   check "mannequiny: quality '$mq' at least 95%" between "$mq" 95 100
+  "$BIN" cage --mesh "$ASSETS/mannequiny.glb" --one-surface --out "$TMP/m1.obj" > "$TMP/m1.txt"
+  check "mannequiny --one-surface: one closed cage" grep -Eq '^closed +yes \(0 boundary edges, 1 components\)' "$TMP/m1.txt"
   "$BIN" cage --mesh "$ASSETS/mannequiny.glb" --wrap never --out "$TMP/m2.obj" > "$TMP/m2.txt"
   check "mannequiny --wrap never keeps the pieces" grep -Eq '^closed +no' "$TMP/m2.txt"
 else
