@@ -61,7 +61,7 @@ void CageTools::poll(Scene& scene, const EditorHooks& hooks) {
                 report.faces, report.vertices, report.seconds, report.max_distance, report.outside_points, 100.0 * report.quality);
   hooks.log(buf, false);
   for (const auto& w : report.warnings) hooks.log("warning: " + w, false);
-  failing_.clear();  // the report does not list the failing points yet
+  failing_ = report.failures;
   report.cage = PolyMesh{};  // the document holds it
   report_ = std::move(report);
   show_report_ = true;

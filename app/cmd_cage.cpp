@@ -1,9 +1,12 @@
-// cagewrap cage --mesh CHARACTER --faces N [--joint-detail x] [--inflate d] --out cage.obj
+// cagewrap cage --mesh CHARACTER --faces N [--joint-detail x] [--inflate d] [--no-quads]
+//               [--failures points.txt] --out cage.obj
 // Builds the automatic cage (paper section 5, step 1) and prints its report.
 #include <cstdio>
+#include <string>
 
 #include "app/cli_common.h"
 #include "app/commands.h"
+#include "core/atomic_write.h"
 #include "core/auto_cage.h"
 #include "core/gltf_loader.h"
 #include "core/mesh_io.h"
@@ -20,11 +23,15 @@ void print_cage_report(const AutoCageReport& r, const AutoCageParams& p) {
   std::printf("welded            %u vertices, %u triangles dropped\n", r.welded_vertices,
               r.dropped_triangles);
   std::printf("joints            %u\n", r.joints);
-  if (r.wrapped)
+  if (r.wrapped && r.shells > 1)
+    std::printf("wrapped           yes (%u closed offset surfaces, %u triangles)\n", r.shells,
+                r.wrap_triangles);
+  else if (r.wrapped)
     std::printf("wrapped           yes (offset surface of %u triangles)\n", r.wrap_triangles);
   else
     std::printf("wrapped           no\n");
-  std::printf("faces             %u\n", r.faces);
+  std::printf("faces             %u (%u quads, %u triangles)\n", r.faces, r.quads, r.faces - r.quads);
+  std::printf("elements          %u triangles\n", r.triangles);
   std::printf("vertices          %u\n", r.vertices);
   if (p.inflate_absolute)
     std::printf("inflate           %.6g\n", r.inflate_distance);
@@ -35,6 +42,8 @@ void print_cage_report(const AutoCageReport& r, const AutoCageParams& p) {
   std::printf("non-manifold      %u edges\n", r.check.non_manifold_edges);
   std::printf("misoriented       %u edges\n", r.check.misoriented_edges);
   std::printf("self-crossings    %u edge-triangle pairs\n", r.check.self_intersections);
+  std::printf("piece crossings   %u edge-triangle pairs (closed pieces passing through each other)\n",
+              r.check.piece_crossings);
   std::printf("degenerate        %u triangles\n", r.check.degenerate_triangles);
   std::printf("needles           %u triangles (worst aspect %.3g, limit %.3g)\n", r.check.needle_triangles,
               r.check.worst_aspect, kNeedleAspect);
@@ -43,6 +52,7 @@ void print_cage_report(const AutoCageReport& r, const AutoCageParams& p) {
   std::printf("max distance      %.6g\n", r.max_distance);
   std::printf("quality           %.2f%% of skin points close to and projecting inside an element\n",
               100.0 * r.quality);
+  std::printf("failing points    %zu\n", r.failures.size());
   std::printf("seconds           %.3f (bind for the quality figure %.3f)\n", r.seconds, r.bind_seconds);
   std::printf("warnings          %zu\n", r.warnings.size());
   for (const std::string& w : r.warnings) std::printf("  %s\n", w.c_str());
@@ -51,9 +61,10 @@ void print_cage_report(const AutoCageReport& r, const AutoCageParams& p) {
 
 void add_cage_command(CLI::App& app, int& exit_code) {
   struct Args {
-    std::string mesh, out;
+    std::string mesh, out, failures;
     AutoCageParams params;
     bool no_fit = false;
+    bool one_surface = false;
     std::string wrap = "auto";
     BindOptions bind;
   };
@@ -61,7 +72,11 @@ void add_cage_command(CLI::App& app, int& exit_code) {
   auto* cmd =
       app.add_subcommand("cage", "build a cage around a character automatically (weld, decimate, inflate)");
   cmd->add_option("--mesh", args->mesh, "character (.glb .gltf) or mesh (.obj .ply .off .stl)")->required();
-  cmd->add_option("--faces", args->params.target_faces, "target number of cage triangles")
+  cmd->add_option("--faces", args->params.target_faces,
+                  "target number of cage triangles (the decimation's; quads then pair some of them)")
+      ->capture_default_str();
+  cmd->add_flag("--quads,!--no-quads", args->params.quads,
+                "pair nearly coplanar triangles into convex quads (the control elements stay the triangles)")
       ->capture_default_str();
   cmd->add_option("--joint-detail", args->params.joint_detail, "extra resolution near joints (0 = uniform)")
       ->capture_default_str();
@@ -75,11 +90,15 @@ void add_cage_command(CLI::App& app, int& exit_code) {
       ->capture_default_str();
   cmd->add_flag("--inflate-absolute", args->params.inflate_absolute, "--inflate is in scene units");
   cmd->add_option("--wrap", args->wrap,
-                  "auto: wrap separate/open pieces in one offset surface; always; never")
+                  "auto: wrap separate/open pieces in closed offset surfaces (one per piece); always; never")
       ->check(CLI::IsMember({"auto", "always", "never"}))
       ->capture_default_str();
+  cmd->add_flag("--one-surface", args->one_surface,
+                "when wrapping, one offset surface around all pieces instead of one per piece");
   cmd->add_flag("--no-fit", args->no_fit, "do not push the cage out where skin points stay outside");
   cmd->add_option("--out", args->out, "cage to write (.obj)")->required();
+  cmd->add_option("--failures", args->failures,
+                  "write the skin vertices failing the cage-quality test, one index a line (.txt)");
   add_bind_options(*cmd, args->bind);
   cmd->callback([args, &exit_code] {
     exit_code = 1;
@@ -90,6 +109,7 @@ void add_cage_command(CLI::App& app, int& exit_code) {
     if (!finish_bind_options(args->bind)) return;
     args->params.bind = args->bind.params;
     args->params.fit_skin = !args->no_fit;
+    args->params.shell_per_piece = !args->one_surface;
     args->params.wrap = args->wrap == "always"  ? WrapMode::kAlways
                         : args->wrap == "never" ? WrapMode::kNever
                                                 : WrapMode::kAuto;
@@ -122,8 +142,17 @@ void add_cage_command(CLI::App& app, int& exit_code) {
       report_error(s.error());
       return;
     }
+    if (!args->failures.empty()) {
+      std::string text = "# skin vertices (as `cagewrap skin` orders them) failing the cage-quality test\n";
+      for (uint32_t i : r->failures) text += std::to_string(i) + "\n";
+      if (auto s = write_file_atomic(args->failures, text); !s) {
+        report_error(s.error());
+        return;
+      }
+    }
     print_cage_report(*r, args->params);
     std::printf("wrote             %s\n", args->out.c_str());
+    if (!args->failures.empty()) std::printf("wrote             %s\n", args->failures.c_str());
     exit_code = 0;
   });
 }

@@ -4,6 +4,9 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <functional>
+#include <memory>
+#include <thread>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -22,7 +25,9 @@
 #include <glm/vec4.hpp>
 
 #include "core/cage.h"
+#include "core/element_bvh.h"
 #include "core/offset_wrap.h"
+#include "core/quad_pairing.h"
 #include "core/registration.h"
 #include "core/skinning.h"
 #include "core/surface_distance.h"
@@ -40,6 +45,9 @@ constexpr double kMaxNormalDeviation = 60.0;  // degrees a face normal may turn 
 // triangles). Area-weighted quadric errors are length^4 too, so the balance does not depend on units.
 constexpr double kIsotropy = 1e-3;
 constexpr double kJointBoost = 8.0;  // error factor at a joint per unit of joint_detail
+// Shells: a group of skin pieces wrapped on its own gets at least this many triangles (a piece
+// whose share of the budget would be smaller joins its nearest neighbour's group instead).
+constexpr uint32_t kMinShellFaces = 20;
 // Inflation.
 constexpr double kEdgeShare = 0.25;  // per step, a vertex moves at most this share of its shortest edge
 constexpr double kRoomShare = 0.4;   // ... and this share of the free distance in front of it
@@ -199,25 +207,6 @@ struct Stage {
   void check() const {
     if (cancelled()) throw Cancelled{};
   }
-};
-
-class DecimateObserver : public OpenMesh::Decimater::Observer {
- public:
-  DecimateObserver(const Stage& stage, size_t expected, double lo, double hi)
-      : Observer(std::max<size_t>(expected / 50, 1)),
-        stage_(stage),
-        expected_(std::max<size_t>(expected, 1)),
-        lo_(lo),
-        hi_(hi) {}
-  void notify(size_t step) override {
-    stage_.report("decimate", lo_ + (hi_ - lo_) * double(step) / expected_);
-  }
-  bool abort() const override { return stage_.cancelled(); }
-
- private:
-  const Stage& stage_;
-  size_t expected_;
-  double lo_, hi_;
 };
 
 // Triangle surface as flat arrays with the adjacency the inflation needs.
@@ -419,6 +408,73 @@ std::vector<double> push_out(Surface& s, std::vector<double> want, double eps, c
   return moved;
 }
 
+// Where a skin point is against the cage: `distance` is signed (> 0 outside) against the cage as a
+// solid, the union of its closed shells: the depth inside the shell that holds the point deepest,
+// or the distance to the nearest shell when none holds it; `triangle` and `bary` locate the closest
+// point on that shell. `nearest` is the distance to the closest cage surface of any shell.
+struct SkinDepth {
+  double distance = 0.0;
+  uint32_t triangle = 0;
+  glm::dvec3 bary{0.0};
+  double nearest = 0.0;
+};
+
+// `shells` > 1: the surface is that many closed pieces (Surface::piece), signed by each piece's own
+// pseudonormals. Otherwise one surface, possibly open or overlapping itself: a point the nearest
+// sheet calls outside is confirmed with the winding number.
+std::vector<SkinDepth> skin_depths(const Surface& s, size_t shells, std::span<const glm::vec3> skin) {
+  std::vector<SkinDepth> out(skin.size());
+  const auto fp = s.float_positions();
+  if (shells <= 1) {
+    const SurfaceDistance sd(fp, s.tris);
+    tbb::parallel_for(size_t(0), skin.size(), [&](size_t i) {
+      const glm::dvec3 p(skin[i]);
+      const SurfacePoint q = sd.query(p);
+      SkinDepth& d = out[i];
+      d.distance = q.distance > 0 && sd.winding_number(p) > 0.5 ? -q.distance : q.distance;
+      d.triangle = q.triangle;
+      d.bary = q.bary;
+      d.nearest = std::abs(q.distance);
+    });
+    return out;
+  }
+  uint32_t pieces = 0;
+  for (uint32_t x : s.piece) pieces = std::max(pieces, x + 1);
+  std::vector<std::vector<uint32_t>> ids(pieces);  // global triangle of each piece's triangle
+  std::vector<Aabb> box(pieces);
+  for (uint32_t t = 0; t < s.tris.size(); ++t) {
+    const uint32_t k = s.piece[s.tris[t][0]];
+    ids[k].push_back(t);
+    for (uint32_t v : s.tris[t]) box[k].extend(s.p[v]);
+  }
+  std::vector<std::unique_ptr<SurfaceDistance>> sd(pieces);
+  tbb::parallel_for(uint32_t(0), pieces, [&](uint32_t k) {
+    std::vector<Tri> tris;
+    for (uint32_t t : ids[k]) tris.push_back(s.tris[t]);
+    sd[k] = std::make_unique<SurfaceDistance>(fp, tris);
+  });
+  tbb::parallel_for(size_t(0), skin.size(), [&](size_t i) {
+    const glm::dvec3 p(skin[i]);
+    std::vector<std::pair<double, uint32_t>> order;  // box distance, piece
+    for (uint32_t k = 0; k < pieces; ++k)
+      order.emplace_back(std::sqrt(ElementBvh::box_dist2(p, box[k].lo, box[k].hi)), k);
+    std::sort(order.begin(), order.end());
+    SkinDepth& d = out[i];
+    d.distance = d.nearest = INFINITY;
+    for (const auto& [gap, k] : order) {
+      if (gap >= d.nearest) break;  // no closer surface, and a box not holding p holds no depth
+      const SurfacePoint q = sd[k]->query(p);
+      d.nearest = std::min(d.nearest, std::abs(q.distance));
+      if (q.distance < d.distance) {
+        d.distance = q.distance;
+        d.triangle = ids[k][q.triangle];
+        d.bary = q.bary;
+      }
+    }
+  });
+  return out;
+}
+
 // Concavity of each vertex: the largest bend (radians) of a concave (valley) edge around it; 0 when
 // every incident edge is flat or convex.
 std::vector<double> concavity(const Surface& s) {
@@ -448,6 +504,311 @@ std::vector<double> concavity(const Surface& s) {
     c[b] = std::max(c[b], bend);
   }
   return c;
+}
+
+// ------------------------------------------------------------ pieces and shells
+
+// Extra decimation error near the joints: 1 + joint_detail * kJointBoost * exp(-(d / r)^2) for the
+// nearest joint in units of its reach r.
+struct JointField {
+  std::vector<glm::dvec3> joints;
+  std::vector<double> radius;  // #J reach of each joint's detail
+  double detail = 0.0;
+  double operator()(const glm::dvec3& p) const {
+    double g = 0.0;
+    for (size_t j = 0; j < joints.size(); ++j) {
+      const double d = glm::length(p - joints[j]) / radius[j];
+      g = std::max(g, std::exp(-d * d));
+    }
+    return 1.0 + detail * kJointBoost * g;
+  }
+};
+
+// Connected pieces of a triangle soup through shared vertices: the piece of each triangle (#T).
+// Returns the number of pieces, numbered in order of their first triangle.
+uint32_t label_pieces(size_t n_vertices, std::span<const Tri> tris, std::vector<uint32_t>& tri_piece) {
+  std::vector<uint32_t> parent(n_vertices);
+  for (uint32_t i = 0; i < parent.size(); ++i) parent[i] = i;
+  auto find = [&](uint32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  for (const Tri& t : tris)
+    for (int k = 1; k < 3; ++k) {
+      const uint32_t a = find(t[0]), b = find(t[k]);
+      if (a != b) parent[std::max(a, b)] = std::min(a, b);
+    }
+  std::vector<uint32_t> number(n_vertices, UINT32_MAX);
+  uint32_t count = 0;
+  tri_piece.resize(tris.size());
+  for (size_t t = 0; t < tris.size(); ++t) {
+    uint32_t& n = number[find(tris[t][0])];
+    if (n == UINT32_MAX) n = count++;
+    tri_piece[t] = n;
+  }
+  return count;
+}
+
+// Some triangles of a soup with their own compact vertex array.
+struct Patch {
+  std::vector<glm::vec3> positions;  // #V
+  std::vector<Tri> tris;             // #T
+};
+Patch extract(std::span<const glm::vec3> positions, std::span<const Tri> tris,
+              const std::function<bool(size_t)>& keep) {
+  Patch out;
+  std::unordered_map<uint32_t, uint32_t> index;
+  for (size_t t = 0; t < tris.size(); ++t) {
+    if (!keep(t)) continue;
+    Tri n;
+    for (int k = 0; k < 3; ++k) {
+      auto [it, fresh] = index.try_emplace(tris[t][k], uint32_t(out.positions.size()));
+      if (fresh) out.positions.push_back(positions[tris[t][k]]);
+      n[k] = it->second;
+    }
+    out.tris.push_back(n);
+  }
+  return out;
+}
+
+// A shell's claim on the face budget: its area, weighted where the joint detail will keep faces
+// (the decimater's error is scaled by the factor f; with errors growing as edge^4 the density it
+// leaves grows about as sqrt(f)).
+double budget_weight(const Patch& p, const JointField& field) {
+  double w = 0.0;
+  for (const Tri& t : p.tris) {
+    const glm::dvec3 a(p.positions[t[0]]), b(p.positions[t[1]]), c(p.positions[t[2]]);
+    w += 0.5 * glm::length(glm::cross(b - a, c - a)) * std::sqrt(field((a + b + c) / 3.0));
+  }
+  return w;
+}
+
+// Splits `target` faces over shells in proportion to their weights, giving each at least `least`
+// (when the target allows it).
+std::vector<uint32_t> share_budget(std::span<const double> weight, uint32_t target, uint32_t least) {
+  const size_t n = weight.size();
+  std::vector<uint32_t> budget(n, 0);
+  std::vector<char> fixed(n, 0);
+  least = std::min<uint32_t>(least, std::max<uint32_t>(4, target / uint32_t(std::max<size_t>(n, 1))));
+  for (bool changed = true; changed;) {
+    changed = false;
+    double free_weight = 0.0;
+    uint32_t free_faces = target;
+    for (size_t i = 0; i < n; ++i) {
+      if (fixed[i])
+        free_faces -= std::min(free_faces, least);
+      else
+        free_weight += weight[i];
+    }
+    for (size_t i = 0; i < n; ++i) {
+      if (fixed[i]) {
+        budget[i] = least;
+        continue;
+      }
+      const double share = free_weight > 0 ? free_faces * weight[i] / free_weight : 0.0;
+      budget[i] = static_cast<uint32_t>(std::floor(share));
+      if (share < least) {
+        fixed[i] = 1;
+        changed = true;
+      }
+    }
+  }
+  return budget;
+}
+
+// Groups the pieces of the welded skin into shells, one closed wrap each. Every piece starts as its
+// own group; then, while some group's share of the face budget is below `least` faces, the one
+// with the smallest share joins the group of the piece nearest to it (a finger segment joins its
+// neighbour, then the hand). Separate shells keep skin that is buried inside other pieces close to
+// a cage surface of its own. Returns the group of each piece (numbered 0..#G-1).
+std::vector<uint32_t> group_pieces(std::span<const glm::vec3> positions, std::span<const Tri> tris,
+                                   std::span<const uint32_t> tri_piece, uint32_t pieces,
+                                   std::span<const double> weight, uint32_t target, uint32_t least) {
+  std::vector<uint32_t> group(pieces);
+  for (uint32_t i = 0; i < pieces; ++i) group[i] = i;
+  if (pieces <= 1) return group;
+  double total = 0.0;
+  for (double w : weight) total += w;
+  std::vector<double> group_weight(weight.begin(), weight.end());
+  std::vector<std::vector<uint32_t>> piece_tris(pieces), members(pieces);
+  for (uint32_t t = 0; t < tris.size(); ++t) piece_tris[tri_piece[t]].push_back(t);
+  std::vector<std::unique_ptr<ElementBvh>> bvh(pieces);
+  std::vector<Aabb> box(pieces);
+  for (uint32_t i = 0; i < pieces; ++i) {
+    members[i] = {i};
+    std::vector<uint32_t> ids;
+    for (uint32_t t : piece_tris[i]) {
+      const Tri& f = tris[t];
+      for (uint32_t v : f) box[i].extend(glm::dvec3(positions[v]));
+      const glm::dvec3 a(positions[f[0]]), b(positions[f[1]]), c(positions[f[2]]);
+      if (glm::length(glm::cross(b - a, c - a)) > 0.0) ids.push_back(t);
+    }
+    bvh[i] = std::make_unique<ElementBvh>(positions, tris, ids);
+  }
+  auto box_gap = [](const Aabb& a, const Aabb& b) {
+    const glm::dvec3 d = glm::max(glm::max(a.lo - b.hi, b.lo - a.hi), glm::dvec3(0.0));
+    return glm::length(d);
+  };
+  for (;;) {
+    uint32_t smallest = UINT32_MAX, groups = 0;
+    for (uint32_t g = 0; g < pieces; ++g) {
+      if (members[g].empty()) continue;
+      ++groups;
+      if (smallest == UINT32_MAX || group_weight[g] < group_weight[smallest]) smallest = g;
+    }
+    if (groups <= 1 || target * group_weight[smallest] / total >= least) break;
+    // the piece nearest to any vertex of the group
+    Aabb gbox;
+    for (uint32_t i : members[smallest]) {
+      gbox.extend(box[i].lo);
+      gbox.extend(box[i].hi);
+    }
+    double best = INFINITY;
+    uint32_t nearest = UINT32_MAX;
+    for (uint32_t q = 0; q < pieces; ++q) {
+      if (group[q] == smallest || bvh[q]->empty() || box_gap(gbox, box[q]) >= best) continue;
+      for (uint32_t i : members[smallest])
+        for (uint32_t t : piece_tris[i])
+          for (uint32_t v : tris[t]) {
+            const double d = bvh[q]->nearest_distance(glm::dvec3(positions[v]));
+            if (d < best) best = d, nearest = q;
+          }
+    }
+    if (nearest == UINT32_MAX) break;  // only zero-area pieces left
+    const uint32_t into = group[nearest];
+    for (uint32_t i : members[smallest]) group[i] = into;
+    members[into].insert(members[into].end(), members[smallest].begin(), members[smallest].end());
+    members[smallest].clear();
+    group_weight[into] += group_weight[smallest];
+    group_weight[smallest] = 0.0;
+  }
+  std::vector<uint32_t> number(pieces, UINT32_MAX);
+  uint32_t count = 0;
+  for (uint32_t i = 0; i < pieces; ++i) {
+    if (number[group[i]] == UINT32_MAX) number[group[i]] = count++;
+    group[i] = number[group[i]];
+  }
+  return group;
+}
+
+// Progress of several decimaters running at once, reported from the build's own thread only.
+class SharedProgress {
+ public:
+  SharedProgress(const Stage& stage, size_t expected, double lo, double hi)
+      : stage_(stage), expected_(std::max<size_t>(expected, 1)), lo_(lo), hi_(hi),
+        owner_(std::this_thread::get_id()) {}
+  void add(size_t steps) {
+    const size_t done = done_.fetch_add(steps) + steps;
+    if (std::this_thread::get_id() != owner_) return;
+    const double share = lo_ + (hi_ - lo_) * std::min(1.0, double(done) / double(expected_));
+    if (share > last_) {
+      last_ = share;
+      stage_.report("decimate", share);
+    }
+  }
+  const Stage& stage() const { return stage_; }
+
+ private:
+  const Stage& stage_;
+  size_t expected_;
+  double lo_, hi_;
+  std::thread::id owner_;
+  std::atomic<size_t> done_{0};
+  double last_ = 0.0;  // owner thread only
+};
+
+class DecimateObserver : public OpenMesh::Decimater::Observer {
+ public:
+  DecimateObserver(SharedProgress& progress, size_t expected)
+      : Observer(std::max<size_t>(expected / 50, 1)), progress_(progress) {}
+  void notify(size_t step) override {
+    progress_.add(step - last_);
+    last_ = step;
+  }
+  bool abort() const override { return progress_.stage().cancelled(); }
+
+ private:
+  SharedProgress& progress_;
+  size_t last_ = 0;
+};
+
+// A decimated shell: positions and triangles, vertices no face uses dropped.
+struct Decimated {
+  std::vector<glm::dvec3> p;
+  std::vector<Tri> tris;
+  uint32_t rejected = 0;  // input triangles OpenMesh refused (they would make an edge non-manifold)
+  bool too_small = false;  // fewer than 4 usable triangles
+  bool started = true;     // false when the decimater could not start
+};
+
+// Quadric decimation of one shell to `target` triangles with the joint factors, the aspect and
+// normal guards, then the sliver clean-up. A wrap (marching tetrahedra, full of slivers) is first
+// brought to 4x the target without the aspect guard, which would refuse to touch it.
+Decimated decimate_shell(std::span<const glm::vec3> positions, std::span<const Tri> tris, const JointField& field,
+                         uint32_t target, bool wrapped, SharedProgress& progress) {
+  Decimated out;
+  OmMesh mesh;
+  std::vector<OmMesh::VertexHandle> vh;
+  vh.reserve(positions.size());
+  for (const glm::vec3& p : positions) vh.push_back(mesh.add_vertex(OpenMesh::Vec3d(p.x, p.y, p.z)));
+  for (const Tri& t : tris)  // OpenMesh's complaints are silenced by the caller
+    if (!mesh.add_face(vh[t[0]], vh[t[1]], vh[t[2]]).is_valid()) ++out.rejected;
+  if (mesh.n_faces() < 4) {
+    out.too_small = true;
+    return out;
+  }
+  OpenMesh::VPropHandleT<double> factor_prop;
+  mesh.add_property(factor_prop);
+  std::vector<double> factor(positions.size(), 1.0);
+  if (field.detail > 0 && !field.joints.empty())
+    tbb::parallel_for(size_t(0), positions.size(), [&](size_t v) { factor[v] = field(glm::dvec3(positions[v])); });
+  for (auto v : mesh.vertices()) mesh.property(factor_prop, v) = factor[v.idx()];
+  mesh.request_face_normals();  // before the normal-flipping module, which would compute them noisily
+  mesh.update_face_normals();
+  auto decimate = [&](size_t faces, bool aspect_guard) {
+    using Decimater = OpenMesh::Decimater::DecimaterT<OmMesh>;
+    Decimater dec(mesh);
+    ModCageQuadricT<OmMesh>::Handle hq;
+    OpenMesh::Decimater::ModAspectRatioT<OmMesh>::Handle ha;
+    OpenMesh::Decimater::ModNormalFlippingT<OmMesh>::Handle hn;
+    dec.add(hq);
+    dec.add(hn);
+    dec.module(hq).set_factors(factor_prop);
+    dec.module(hn).set_max_normal_deviation(kMaxNormalDeviation);
+    if (aspect_guard) {
+      dec.add(ha);
+      dec.module(ha).set_aspect_ratio(kMaxAspect);
+    }
+    const size_t expected = mesh.n_faces() > faces ? (mesh.n_faces() - faces) / 2 : 1;
+    DecimateObserver observer(progress, expected);
+    dec.set_observer(&observer);
+    if (!dec.initialize()) return false;
+    dec.decimate_to_faces(0, faces);
+    mesh.garbage_collection();
+    return true;
+  };
+  if (wrapped) out.started = decimate(4 * size_t(target), false);
+  progress.stage().check();
+  if (out.started) out.started = decimate(target, true);
+  if (!out.started) return out;
+  clean_slivers(mesh);
+  progress.stage().check();
+  std::vector<uint32_t> used(mesh.n_vertices(), UINT32_MAX);
+  for (auto f : mesh.faces()) {
+    Tri t;
+    int k = 0;
+    for (auto v : mesh.fv_range(f)) {
+      uint32_t& u = used[v.idx()];
+      if (u == UINT32_MAX) {
+        u = static_cast<uint32_t>(out.p.size());
+        const auto& q = mesh.point(v);
+        out.p.emplace_back(q[0], q[1], q[2]);
+      }
+      t[k++] = u;
+    }
+    out.tris.push_back(t);
+  }
+  return out;
 }
 
 }  // namespace
@@ -518,134 +879,119 @@ Result<AutoCageReport> build_auto_cage(const PolyMesh& skin, std::span<const glm
     r.inflate_distance = params.inflate_absolute ? params.inflate : params.inflate * diag;
     const bool clean = welded.closed() && welded.manifold() && welded.oriented() && welded.components == 1;
     r.wrapped = params.wrap == WrapMode::kAlways || (params.wrap == WrapMode::kAuto && !clean);
-    std::vector<glm::vec3> base_positions = weld.positions;  // what the decimater starts from
+
+    // error factors near joints
+    JointField field;
+    field.detail = params.joint_detail;
+    r.joints = static_cast<uint32_t>(joints.size());
+    if (params.joint_detail > 0)
+      for (const glm::vec3& j : joints) {
+        double nearest = INFINITY;
+        for (const glm::vec3& p : weld.positions) nearest = std::min(nearest, glm::length(glm::dvec3(p) - glm::dvec3(j)));
+        field.joints.emplace_back(j);
+        field.radius.push_back(std::max(params.joint_radius * diag, 1.5 * nearest));
+      }
+
+    // the closed surfaces the decimater starts from: the welded skin itself, or one offset wrap
+    // per group of its pieces
+    std::vector<Patch> shells;
     if (r.wrapped) {
       stage.report("wrap", 0.02);
       const double offset = r.inflate_distance > 0 ? r.inflate_distance : 3.0 * params.wrap_cell * diag;
       r.inflate_distance = offset;
-      IsoSurface wrap = offset_wrap(weld.positions, tris, offset, params.wrap_cell * diag);
-      r.wrap_triangles = static_cast<uint32_t>(wrap.triangles.size());
+      const double cell = params.wrap_cell * diag;
+      auto wrap = [&](const std::function<bool(size_t)>& keep) {
+        const Patch part = extract(weld.positions, tris, keep);
+        IsoSurface w = offset_wrap(part.positions, part.tris, offset, cell);
+        return Patch{std::move(w.positions), std::move(w.triangles)};
+      };
+      std::vector<uint32_t> tri_piece;
+      const uint32_t pieces = label_pieces(weld.positions.size(), tris, tri_piece);
+      std::vector<uint32_t> group(pieces, 0);
+      if (params.shell_per_piece && pieces > 1) {
+        std::vector<Patch> piece_wraps(pieces);
+        tbb::parallel_for(uint32_t(0), pieces, [&](uint32_t i) {
+          piece_wraps[i] = wrap([&](size_t t) { return tri_piece[t] == i; });
+        });
+        stage.check();
+        std::vector<double> weight(pieces);
+        for (uint32_t i = 0; i < pieces; ++i) weight[i] = budget_weight(piece_wraps[i], field);
+        group = group_pieces(weld.positions, tris, tri_piece, pieces, weight, params.target_faces, kMinShellFaces);
+        const uint32_t groups = *std::max_element(group.begin(), group.end()) + 1;
+        shells.resize(groups);
+        std::vector<uint32_t> size(groups, 0), only(groups, 0);
+        for (uint32_t i = 0; i < pieces; ++i) ++size[group[i]], only[group[i]] = i;
+        tbb::parallel_for(uint32_t(0), groups, [&](uint32_t g) {
+          if (size[g] == 1)
+            shells[g] = std::move(piece_wraps[only[g]]);
+          else
+            shells[g] = wrap([&](size_t t) { return group[tri_piece[t]] == g; });
+        });
+      } else {
+        shells.push_back(wrap([](size_t) { return true; }));
+      }
+      for (const Patch& w : shells) r.wrap_triangles += static_cast<uint32_t>(w.tris.size());
       r.warnings.push_back(
           "the welded skin is " + std::to_string(welded.components) + " pieces with " +
           std::to_string(welded.boundary_edges) + " boundary, " + std::to_string(welded.non_manifold_edges) +
-          " non-manifold and " + std::to_string(welded.misoriented_edges) +
-          " misoriented edges; the cage wraps it as one surface " + std::to_string(offset) + " out");
-      base_positions = std::move(wrap.positions);
-      tris = std::move(wrap.triangles);
-    } else if (!clean) {
-      r.warnings.push_back("the welded skin has " + std::to_string(welded.boundary_edges) +
-                           " boundary edges in " + std::to_string(welded.components) +
-                           " pieces; the cage follows them and is open too");
+          " non-manifold and " + std::to_string(welded.misoriented_edges) + " misoriented edges; the cage wraps it " +
+          (shells.size() == 1 ? std::string("as one surface ")
+                              : "in " + std::to_string(shells.size()) + " closed surfaces (one per group of pieces) ") +
+          std::to_string(offset) + " out");
+    } else {
+      if (!clean)
+        r.warnings.push_back("the welded skin has " + std::to_string(welded.boundary_edges) +
+                             " boundary edges in " + std::to_string(welded.components) +
+                             " pieces; the cage follows them and is open too");
+      shells.push_back(Patch{weld.positions, tris});
     }
+    r.shells = static_cast<uint32_t>(shells.size());
     stage.check();
 
     // ------------------------------------------------------------ decimate
     stage.report("decimate", 0.05);
-    OmMesh mesh;
-    std::vector<OmMesh::VertexHandle> vh;
-    vh.reserve(base_positions.size());
-    for (const glm::vec3& p : base_positions) vh.push_back(mesh.add_vertex(OpenMesh::Vec3d(p.x, p.y, p.z)));
-    uint32_t rejected = 0;
+    std::vector<double> weight(shells.size(), 1.0);
+    if (shells.size() > 1)
+      for (size_t i = 0; i < shells.size(); ++i) weight[i] = budget_weight(shells[i], field);
+    const std::vector<uint32_t> budget = share_budget(weight, params.target_faces, kMinShellFaces);
+    size_t expected = 0;
+    for (size_t i = 0; i < shells.size(); ++i)
+      expected += shells[i].tris.size() > budget[i] ? (shells[i].tris.size() - budget[i]) / 2 : 0;
+    SharedProgress decimate_progress(stage, expected, 0.05, 0.6);
+    std::vector<Decimated> parts(shells.size());
     {
-      // faces that would make an edge or vertex non-manifold are left out (OpenMesh refuses them)
-      const bool was_enabled = ::omerr().is_enabled();
-      ::omerr().disable();
-      for (const Tri& t : tris) {
-        if (!mesh.add_face(vh[t[0]], vh[t[1]], vh[t[2]]).is_valid()) ++rejected;
-      }
-      if (was_enabled) ::omerr().enable();
+      // faces that would make an edge or vertex non-manifold are left out (OpenMesh refuses them,
+      // and would say so on its error stream; restored on the way out, cancellation included)
+      struct QuietOpenMesh {
+        bool was_enabled = ::omerr().is_enabled();
+        QuietOpenMesh() { ::omerr().disable(); }
+        ~QuietOpenMesh() {
+          if (was_enabled) ::omerr().enable();
+        }
+      } quiet;
+      tbb::parallel_for(size_t(0), shells.size(), [&](size_t i) {
+        parts[i] = decimate_shell(shells[i].positions, shells[i].tris, field, budget[i], r.wrapped, decimate_progress);
+      });
+    }
+    uint32_t rejected = 0;
+    for (const Decimated& d : parts) {
+      if (d.too_small) return make_error(ErrorCode::kEmpty, "skin: fewer than 4 usable triangles after welding");
+      if (!d.started) return make_error(ErrorCode::kInvalidArgument, "the decimater could not start");
+      rejected += d.rejected;
     }
     r.dropped_triangles = collapsed + (r.wrapped ? 0 : rejected);
     if (rejected > 0)
       r.warnings.push_back(std::to_string(rejected) + (r.wrapped ? " wrap" : " skin") +
                            " triangles would make a non-manifold edge or vertex and were left out");
-    if (mesh.n_faces() < 4)
-      return make_error(ErrorCode::kEmpty, "skin: fewer than 4 usable triangles after welding");
-
-    // error factors near joints
-    std::vector<double> factor(mesh.n_vertices(), 1.0);
-    r.joints = static_cast<uint32_t>(joints.size());
-    if (params.joint_detail > 0 && !joints.empty()) {
-      std::vector<double> radius(joints.size());
-      for (size_t j = 0; j < joints.size(); ++j) {
-        double nearest = INFINITY;
-        for (const glm::vec3& p : weld.positions)
-          nearest = std::min(nearest, glm::length(glm::dvec3(p) - glm::dvec3(joints[j])));
-        radius[j] = std::max(params.joint_radius * diag, 1.5 * nearest);
-      }
-      tbb::parallel_for(size_t(0), base_positions.size(), [&](size_t v) {
-        double g = 0.0;
-        for (size_t j = 0; j < joints.size(); ++j) {
-          const double d = glm::length(glm::dvec3(base_positions[v]) - glm::dvec3(joints[j])) / radius[j];
-          g = std::max(g, std::exp(-d * d));
-        }
-        factor[v] = 1.0 + params.joint_detail * kJointBoost * g;
-      });
-    }
-
-    OpenMesh::VPropHandleT<double> factor_prop;
-    mesh.add_property(factor_prop);
-    for (auto v : mesh.vertices()) mesh.property(factor_prop, v) = factor[v.idx()];
-    mesh.request_face_normals();  // before the normal-flipping module, which would compute them noisily
-    mesh.update_face_normals();
-    // One pass of collapses down to `faces`; the aspect guard is optional because a marching
-    // tetrahedra wrap starts full of slivers, which it would refuse to touch.
-    auto decimate = [&](size_t faces, bool aspect_guard, double lo, double hi) {
-      using Decimater = OpenMesh::Decimater::DecimaterT<OmMesh>;
-      Decimater dec(mesh);
-      ModCageQuadricT<OmMesh>::Handle hq;
-      OpenMesh::Decimater::ModAspectRatioT<OmMesh>::Handle ha;
-      OpenMesh::Decimater::ModNormalFlippingT<OmMesh>::Handle hn;
-      dec.add(hq);
-      dec.add(hn);
-      dec.module(hq).set_factors(factor_prop);
-      dec.module(hn).set_max_normal_deviation(kMaxNormalDeviation);
-      if (aspect_guard) {
-        dec.add(ha);
-        dec.module(ha).set_aspect_ratio(kMaxAspect);
-      }
-      const size_t expected = mesh.n_faces() > faces ? (mesh.n_faces() - faces) / 2 : 1;
-      DecimateObserver observer(stage, expected, lo, hi);
-      dec.set_observer(&observer);
-      if (!dec.initialize()) return false;
-      dec.decimate_to_faces(0, faces);
-      mesh.garbage_collection();
-      return true;
-    };
-    bool started = true;
-    if (r.wrapped) started = decimate(4 * size_t(params.target_faces), false, 0.05, 0.45);
-    stage.check();
-    if (started) started = decimate(params.target_faces, true, r.wrapped ? 0.45 : 0.05, 0.6);
-    if (!started) return make_error(ErrorCode::kInvalidArgument, "the decimater could not start");
-    clean_slivers(mesh);
     stage.check();
 
     // ------------------------------------------------------------ inflate
     stage.report("inflate", 0.6);
     Surface s;
-    s.p.reserve(mesh.n_vertices());
-    for (auto v : mesh.vertices()) {
-      const auto& p = mesh.point(v);
-      s.p.emplace_back(p[0], p[1], p[2]);
-    }
-    for (auto f : mesh.faces()) {
-      auto fv = mesh.fv_iter(f);
-      const uint32_t a = fv->idx(), b = (++fv)->idx(), c = (++fv)->idx();
-      s.tris.push_back({a, b, c});
-    }
-    // drop vertices no face uses (isolated after the decimation or the weld)
-    {
-      std::vector<uint32_t> used(s.p.size(), UINT32_MAX);
-      std::vector<glm::dvec3> p;
-      for (Tri& t : s.tris)
-        for (uint32_t& v : t) {
-          if (used[v] == UINT32_MAX) {
-            used[v] = static_cast<uint32_t>(p.size());
-            p.push_back(s.p[v]);
-          }
-          v = used[v];
-        }
-      s.p = std::move(p);
+    for (const Decimated& d : parts) {
+      const uint32_t base = static_cast<uint32_t>(s.p.size());
+      s.p.insert(s.p.end(), d.p.begin(), d.p.end());
+      for (const Tri& t : d.tris) s.tris.push_back({t[0] + base, t[1] + base, t[2] + base});
     }
     s.build_adjacency();
     const double eps = 1e-9 * diag;
@@ -668,25 +1014,15 @@ Result<AutoCageReport> build_auto_cage(const PolyMesh& skin, std::span<const glm
     // ------------------------------------------------------------ fit: push out where skin points remain
     // outside
     stage.report("check", 0.75);
-    // signed distance of every skin point; a point the nearest surface calls outside is confirmed with
-    // the winding number (it may lie inside another, overlapping piece)
-    auto signed_distances = [&] {
-      SurfaceDistance sd(s.float_positions(), s.tris);
-      std::vector<SurfacePoint> q(skin.positions.size());
-      tbb::parallel_for(size_t(0), q.size(), [&](size_t i) {
-        const glm::dvec3 p(skin.positions[i]);
-        q[i] = sd.query(p);
-        if (q[i].distance > 0 && sd.winding_number(p) > 0.5) q[i].distance = -q[i].distance;
-      });
-      return q;
-    };
-    std::vector<SurfacePoint> dist = signed_distances();
+    const size_t n_shells = r.wrapped ? r.shells : 1;
+    auto signed_distances = [&] { return skin_depths(s, n_shells, skin.positions); };
+    std::vector<SkinDepth> dist = signed_distances();
     const double margin = kFitMargin * r.inflate_distance;
     for (int round = 0; params.fit_skin && round < kMaxFitRounds; ++round) {
       stage.check();
       std::vector<double> want(s.p.size(), 0.0);
       bool any = false;
-      for (const SurfacePoint& q : dist) {
+      for (const SkinDepth& q : dist) {
         const double need = q.distance + margin;
         if (need <= 0) continue;
         any = true;
@@ -700,17 +1036,25 @@ Result<AutoCageReport> build_auto_cage(const PolyMesh& skin, std::span<const glm
     }
 
     // ------------------------------------------------------------ report
-    r.cage.positions = s.float_positions();
-    for (const Tri& t : s.tris) r.cage.add_face({t[0], t[1], t[2]});
-    r.faces = static_cast<uint32_t>(s.tris.size());
+    const auto final_positions = s.float_positions();
+    if (params.quads) {
+      QuadPairing paired = pair_quads(final_positions, s.tris);
+      r.cage = std::move(paired.mesh);
+      r.quads = paired.quads;
+    } else {
+      r.cage.positions = final_positions;
+      for (const Tri& t : s.tris) r.cage.add_face({t[0], t[1], t[2]});
+    }
+    r.faces = static_cast<uint32_t>(r.cage.num_faces());
+    r.triangles = static_cast<uint32_t>(s.tris.size());
     r.vertices = static_cast<uint32_t>(s.p.size());
     r.check = check_mesh(r.cage.positions, s.tris);
     if (r.check.self_intersections > 0)
       r.warnings.push_back(
           "the cage passes through itself at " + std::to_string(r.check.self_intersections) +
           " edge-triangle crossings (parts of the skin are closer than the decimation error)");
-    for (const SurfacePoint& q : dist) {
-      r.max_distance = std::max(r.max_distance, std::abs(q.distance));
+    for (const SkinDepth& q : dist) {
+      r.max_distance = std::max(r.max_distance, q.nearest);
       if (q.distance > 0) {
         ++r.outside_points;
         r.max_outside = std::max(r.max_outside, q.distance);
@@ -719,6 +1063,7 @@ Result<AutoCageReport> build_auto_cage(const PolyMesh& skin, std::span<const glm
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
 
     stage.report("bind", 0.8);
+    const auto t_bind = std::chrono::steady_clock::now();
     auto cage = make_cage(r.cage, "auto cage");
     if (!cage) return cage.error();
     BindProgress bp;
@@ -726,7 +1071,10 @@ Result<AutoCageReport> build_auto_cage(const PolyMesh& skin, std::span<const glm
     auto binding = bind_skin(skin.positions, *cage, r.cage.positions, params.bind, {}, bp);
     if (!binding) return binding.error();
     r.quality = binding->quality();
-    r.bind_seconds = binding->seconds;
+    auto failures = quality_failures(*binding, skin.positions);
+    if (!failures) return failures.error();
+    r.failures = std::move(failures).value();
+    r.bind_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_bind).count();
     stage.report("bind", 1.0);
   } catch (const Cancelled&) {
     return make_error(ErrorCode::kCancelled, "the cage build was cancelled");

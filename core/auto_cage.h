@@ -1,16 +1,20 @@
 // The automatic cage of the paper's workflow (section 5, step 1): "polygonize and weld the
 // character's pieces, decimate, with more resolution near joints", then inflate so the cage
-// wraps the skin. First version: triangles only.
+// wraps the skin, and pair the triangles into quads where they allow it.
 //
 // Pipeline: join every primitive (bind pose) -> weld coincident and seam vertices (tolerance
 // relative to the bounding-box diagonal) -> when the result is not one closed, clean piece (a
-// character modelled as separate or open segments), replace it by one closed offset surface at the
-// clearance distance (offset_wrap.h) -> quadric edge-collapse decimation to the target face
-// count (OpenMesh Decimater) with error scaled up near joints, an aspect-ratio guard against needles
-// and a normal-deviation guard against folds -> inflation along area-weighted vertex normals in
-// small steps (each bounded by a share of the incident edge lengths and by the room in front of
-// the vertex), with tangential relaxation between steps, then local pushes where skin points are
-// still outside -> checks and the cage-quality figure (the skin bound with bind_skin).
+// character modelled as separate or open segments), replace it by closed offset surfaces at the
+// clearance distance (offset_wrap.h): one per piece of the skin, small neighbouring pieces grouped
+// until each group earns a minimum share of the face budget (or one around everything) ->
+// quadric edge-collapse decimation of each surface to its share of the target face count (shared
+// by area, weighted by the joint detail; OpenMesh Decimater) with error scaled up near joints, an
+// aspect-ratio guard against needles and a normal-deviation guard against folds -> inflation along
+// area-weighted vertex normals in small steps (each bounded by a share of the incident edge
+// lengths and by the room in front of the vertex), with tangential relaxation between steps, then
+// local pushes where skin points are still outside -> greedy pairing of nearly coplanar triangles
+// into convex quads (quad_pairing.h) -> checks and the cage-quality figure (the skin bound with
+// bind_skin), with the skin points that fail it.
 //
 // This work is based on: Singh and Kokkevis, "Skinning Characters using Surface-Oriented Free-Form
 // Deformations" (GI 2000), section 5; Garland and Heckbert, "Surface Simplification Using Quadric
@@ -40,7 +44,9 @@ namespace cagewrap {
 enum class WrapMode : uint8_t { kAuto, kAlways, kNever };
 
 struct AutoCageParams {
-  uint32_t target_faces = 2000;   // triangles of the cage (the decimater stops at or just below)
+  uint32_t target_faces = 2000;   // triangles of the cage (the decimater stops at or just below),
+                                  // before they are paired into quads
+  bool quads = true;              // pair nearly coplanar triangles into convex quads (quad_pairing.h)
   double joint_detail = 1.0;      // 0 = uniform; larger keeps more faces near joints
   double joint_radius = 0.04;     // relative to the bbox diagonal: reach of a joint's extra detail
                                   // (at least 1.5x the joint's distance to the skin)
@@ -50,8 +56,9 @@ struct AutoCageParams {
   double weld_tolerance = 1e-5;  // relative to the bbox diagonal
   bool fit_skin = true;          // push the cage out locally where skin points remain outside
   WrapMode wrap = WrapMode::kAuto;  // kAuto: wrap unless the welded skin is one closed, clean piece
-  double wrap_cell =
-      0.005;        // grid cell of the wrap, relative to the bbox diagonal (at most half the clearance)
+  double wrap_cell = 0.01;  // grid cell of the wrap, relative to the bbox diagonal (at most the clearance)
+  bool shell_per_piece = true;  // wrap each piece of the skin (or group of small neighbouring pieces)
+                                // in its own closed shell; false: one offset surface around everything
   BindParams bind;  // for the cage-quality figure
 };
 
@@ -66,7 +73,8 @@ struct AutoCageProgress {
 };
 
 struct AutoCageReport {
-  PolyMesh cage;  // the cage at rest: triangles, outward
+  PolyMesh cage;  // the cage at rest: quads and triangles, outward; triangulate() gives the decimated
+                  // triangles back (each quad splits along the edge it was merged across)
 
   // input
   uint32_t input_vertices = 0, input_triangles = 0;
@@ -74,9 +82,12 @@ struct AutoCageReport {
   uint32_t dropped_triangles = 0;  // collapsed or repeated by the weld, or not manifold
   uint32_t joints = 0;             // joint positions that steered the detail
   bool wrapped = false;            // built from the offset surface of the whole skin
-  uint32_t wrap_triangles = 0;     // triangles of that surface before decimation
+  uint32_t wrap_triangles = 0;     // triangles of the wrap surfaces before decimation
+  uint32_t shells = 0;             // closed surfaces the cage is made of (1 unless wrapped per piece)
   // cage
-  uint32_t faces = 0, vertices = 0;
+  uint32_t faces = 0, vertices = 0;  // polygons (quads and triangles) and their vertices
+  uint32_t quads = 0;                // faces that are quads
+  uint32_t triangles = 0;            // control elements: the quads' two triangles and the other faces
   double inflate_distance = 0.0;  // scene units
   MeshCheck check;                // degenerate/needle triangles, non-manifold/boundary/misoriented edges
   // skin against cage
@@ -84,9 +95,10 @@ struct AutoCageReport {
   uint32_t outside_points = 0;  // skin vertices outside the cage
   double max_distance = 0.0;    // largest distance from a skin vertex to the cage surface
   double quality = 0.0;  // Binding::quality(): share of points close to and projecting inside an element
+  std::vector<uint32_t> failures;  // skin vertices failing that test (quality_failures()), sorted
   // time
   double seconds = 0.0;       // building the cage (weld to checks)
-  double bind_seconds = 0.0;  // binding the skin for the quality figure
+  double bind_seconds = 0.0;  // binding the skin for the quality figure and listing its failures
   std::vector<std::string> warnings;
 };
 

@@ -23,7 +23,8 @@ std::string MeshCheck::summary() const {
   return n(triangles) + " triangles, " + n(degenerate_triangles) + " degenerate, " + n(needle_triangles) +
          " needles, " + n(non_manifold_edges) + " non-manifold edges, " + n(boundary_edges) +
          " boundary edges, " + n(misoriented_edges) + " misoriented edges, " + n(components) +
-         " components, " + n(self_intersections) + " self-intersections";
+         " components, " + n(self_intersections) + " self-intersections, " + n(piece_crossings) +
+         " crossings between pieces";
 }
 
 MeshCheck check_mesh(std::span<const glm::vec3> positions, std::span<const Tri> triangles,
@@ -81,7 +82,15 @@ MeshCheck check_mesh(std::span<const glm::vec3> positions, std::span<const Tri> 
   }
   for (uint32_t t = 0; t < triangles.size(); ++t) m.components += find(t) == t ? 1 : 0;
   if (find_self_crossings)
-    m.self_intersections = static_cast<uint32_t>(self_crossings(positions, triangles).size());
+    for (const SelfCrossing& x : self_crossings(positions, triangles)) {
+      // the edge's piece: any triangle using vertex a, found through the edge table
+      const uint32_t u = x.a, v = x.b;
+      const uint32_t edge_tri = edges.at((uint64_t(std::min(u, v)) << 32) | std::max(u, v)).first_triangle;
+      if (find(edge_tri) == find(x.triangle))
+        ++m.self_intersections;
+      else
+        ++m.piece_crossings;
+    }
   return m;
 }
 

@@ -1,5 +1,7 @@
 // Checks a triangle surface for what makes a cage misbehave: zero-area and needle triangles, edges
-// shared by more than two faces, open boundaries, inconsistent orientation.
+// shared by more than two faces, open boundaries, inconsistent orientation, a piece folding over
+// itself. Separate closed pieces that pass through each other (a cage made of one shell per body
+// segment, which the deformer takes as it takes any polygon soup) are counted apart from folds.
 #pragma once
 
 #include <cstdint>
@@ -25,7 +27,8 @@ struct MeshCheck {
   uint32_t non_manifold_edges = 0;  // used by more than two triangles
   uint32_t misoriented_edges = 0;   // two triangles traverse it in the same direction
   uint32_t components = 0;          // connected through shared edges
-  uint32_t self_intersections = 0;  // edge-triangle pairs that cross (self_crossings()), when searched
+  uint32_t self_intersections = 0;  // edge-triangle pairs of one piece that cross (a fold), when searched
+  uint32_t piece_crossings = 0;     // edge-triangle pairs of two different pieces that cross, when searched
   double worst_aspect = 0.0;        // largest aspect among non-degenerate triangles
   double signed_volume = 0.0;       // > 0 for a closed surface oriented outward
 

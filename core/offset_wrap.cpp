@@ -19,7 +19,7 @@ constexpr double kClear = 0.02;  // samples stay this share of a cell off the is
 
 IsoSurface offset_wrap(std::span<const glm::vec3> positions, std::span<const Tri> triangles, double offset,
                        double cell) {
-  cell = std::min(cell, offset / 2.0);
+  cell = std::min(cell, offset);
   const Aabb box = bounding_box(positions);
   const double pad = offset + 3.0 * cell;
   Grid3 grid;
@@ -42,6 +42,26 @@ IsoSurface offset_wrap(std::span<const glm::vec3> positions, std::span<const Tri
           state[grid.index(q.x + (k & 1), q.y + ((k >> 1) & 1), q.z + ((k >> 2) & 1))] = kShell;
       }
   }
+  std::vector<uint32_t> ids;  // triangles with an area (the closest-point kernel needs one)
+  for (uint32_t t = 0; t < triangles.size(); ++t) {
+    const glm::dvec3 a(positions[triangles[t][0]]), b(positions[triangles[t][1]]),
+        c(positions[triangles[t][2]]);
+    if (glm::length(glm::cross(b - a, c - a)) > 0.0) ids.push_back(t);
+  }
+  const ElementBvh bvh(positions, triangles, ids);
+  std::vector<double> distance(n, -1.0);  // exact distance to the soup where computed
+  std::vector<size_t> shell;
+  for (size_t i = 0; i < n; ++i)
+    if (state[i] == kShell) shell.push_back(i);
+  tbb::parallel_for(size_t(0), shell.size(), [&](size_t k) {
+    distance[shell[k]] = bvh.nearest_distance(grid.point(shell[k]));
+  });
+  // Only shell corners within the offset block the fill. A shell corner farther out (the cell may
+  // be as large as the offset) is classified by the fill like any other: the fill cannot cross the
+  // soup through such corners, because a grid edge crossing it with both ends more than the offset
+  // away would be longer than twice the offset.
+  for (size_t i : shell)
+    if (distance[i] > offset) state[i] = kUnknown;
 
   // outside: flood fill from a corner (the padding keeps it clear of the shell), 6-connected
   auto neighbours = [&](size_t i, auto visit) {
@@ -64,41 +84,31 @@ IsoSurface offset_wrap(std::span<const glm::vec3> positions, std::span<const Tri
       }
     });
 
-  // the band: the shell and the outside samples a few steps from it get exact distances (minus the
-  // offset); deeper inside is -offset, farther outside +offset
+  // the band: the blocking shell and the outside samples a few steps from the shell get exact
+  // distances (minus the offset); deeper inside is -offset, farther outside +offset
   const int band =
       int(std::ceil(std::sqrt(3.0) * offset / cell)) + 3;  // 6-connected steps over-count diagonals
   std::vector<int> steps(n, -1);
-  queue.clear();
-  for (size_t i = 0; i < n; ++i)
-    if (state[i] == kShell) {
-      steps[i] = 0;
-      queue.push_back(i);
-    }
-  std::vector<size_t> in_band = queue;  // the shell itself: exact values keep crossings next to it right
+  queue = shell;
+  for (size_t i : shell) steps[i] = 0;
+  std::vector<size_t> in_band;
   for (size_t head = 0; head < queue.size(); ++head) {
     const size_t i = queue[head];
+    if (state[i] != kUnknown) in_band.push_back(i);  // blocking (kShell) or outside
     if (steps[i] >= band) continue;
     neighbours(i, [&](size_t j) {
       if (state[j] == kOutside && steps[j] < 0) {
         steps[j] = steps[i] + 1;
         queue.push_back(j);
-        in_band.push_back(j);
       }
     });
   }
-  std::vector<uint32_t> ids;  // triangles with an area (the closest-point kernel needs one)
-  for (uint32_t t = 0; t < triangles.size(); ++t) {
-    const glm::dvec3 a(positions[triangles[t][0]]), b(positions[triangles[t][1]]),
-        c(positions[triangles[t][2]]);
-    if (glm::length(glm::cross(b - a, c - a)) > 0.0) ids.push_back(t);
-  }
-  const ElementBvh bvh(positions, triangles, ids);
   std::vector<double> value(n);
   for (size_t i = 0; i < n; ++i) value[i] = state[i] == kOutside ? offset : -offset;
   tbb::parallel_for(size_t(0), in_band.size(), [&](size_t k) {
     const size_t i = in_band[k];
-    const double v = bvh.nearest_distance(grid.point(i)) - offset;
+    const double d = distance[i] >= 0 ? distance[i] : bvh.nearest_distance(grid.point(i));
+    const double v = d - offset;
     // nothing on or next to the surface: a sample there would pinch triangles to nothing
     value[i] = std::abs(v) < kClear * cell ? (v < 0 ? -kClear : kClear) * cell : v;
   });

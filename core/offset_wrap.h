@@ -5,7 +5,8 @@
 // the character's pieces" (section 5, step 1) for skins that are not one closed surface.
 //
 // Inside/outside comes from a flood fill of the grid from its border: the solid is everything the
-// fill cannot reach through the sampled skin, so holes smaller than a grid cell are sealed.
+// fill cannot reach through the grid samples within the offset of the sampled skin, so holes
+// smaller than a grid cell are sealed.
 #pragma once
 
 #include <span>
@@ -18,8 +19,8 @@
 namespace cagewrap {
 
 // positions #V x 3, triangles #T x 3; offset > 0 and cell > 0 in scene units. The cell is reduced
-// to offset / 2 when larger (the sampled shell must lie inside the offset). Samples exactly
-// on the offset are nudged outward, so the result is closed and manifold.
+// to the offset when larger (the fill must not cross the soup between two grid samples). Samples
+// exactly on the offset are nudged off it, so the result is closed and manifold.
 IsoSurface offset_wrap(std::span<const glm::vec3> positions, std::span<const Tri> triangles, double offset,
                        double cell);
 

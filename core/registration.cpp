@@ -82,6 +82,7 @@ struct Context {
   std::vector<uint8_t> valid;             // #E
   std::vector<uint32_t> valid_ids;
   std::unordered_map<uint32_t, const SetEdit*> edits;
+  bool collect_failures = false;  // list the points failing the cage-quality test (quality_failures)
 };
 
 struct Chunk {
@@ -93,6 +94,7 @@ struct Chunk {
   std::vector<float> rigid_bary;
   uint32_t inside = 0, max_set = 0;
   uint64_t total_set = 0;
+  std::vector<uint32_t> failed;  // points failing the quality test, when the context collects them
 };
 
 bool contains(const std::vector<uint32_t>& v, uint32_t x) { return std::find(v.begin(), v.end(), x) != v.end(); }
@@ -164,7 +166,10 @@ void finish_point(const Context& ctx, uint32_t point, const glm::dvec3& p, std::
     out.rigid_element.push_back(best);
     out.rigid_bary.push_back(static_cast<float>(best_cp.bary.y));
     out.rigid_bary.push_back(static_cast<float>(best_cp.bary.z));
-    if (std::sqrt(best_cp.dist2) <= prm.close_distance * ctx.h && projects_inside(ctx, p, best)) ++out.inside;
+    if (std::sqrt(best_cp.dist2) <= prm.close_distance * ctx.h && projects_inside(ctx, p, best))
+      ++out.inside;
+    else if (ctx.collect_failures)
+      out.failed.push_back(point);
     return;
   }
 
@@ -187,6 +192,7 @@ void finish_point(const Context& ctx, uint32_t point, const glm::dvec3& p, std::
   for (size_t i = 0; i < n && !inside; ++i)
     inside = std::sqrt(cands[i].dist2) <= prm.close_distance * ctx.h && projects_inside(ctx, p, cands[i].element);
   out.inside += inside ? 1 : 0;
+  if (!inside && ctx.collect_failures) out.failed.push_back(point);
   const auto members = static_cast<uint32_t>(std::count_if(w, w + n, [](double x) { return x > 0.0; }));
   out.max_set = std::max(out.max_set, members);
   out.total_set += members;
@@ -316,11 +322,13 @@ std::vector<uint32_t> morton_order(std::span<const glm::vec3> pts) {
 template <class MakeSource>
 Result<Binding> run_registration(std::span<const glm::vec3> skin, const Cage& cage, std::span<const glm::vec3> rest,
                                  const BindParams& params, std::span<const SetEdit> edits,
-                                 const BindProgress& progress, MakeSource make_source) {
+                                 const BindProgress& progress, MakeSource make_source,
+                                 std::vector<uint32_t>* failures = nullptr) {
   auto t0 = std::chrono::steady_clock::now();
   std::vector<ElementStatus> status;
   auto ctx_r = make_context(skin, cage, rest, params, edits, status);
   if (!ctx_r) return ctx_r.error();
+  ctx_r.value().collect_failures = failures != nullptr;
   const Context& ctx = ctx_r.value();
   auto new_source = make_source(ctx);
 
@@ -411,6 +419,7 @@ Result<Binding> run_registration(std::span<const glm::vec3> skin, const Cage& ca
       b.rigid_bary.push_back(ch.rigid_bary[2 * k + 1]);
     }
     b.quality_inside += ch.inside;
+    if (failures) failures->insert(failures->end(), ch.failed.begin(), ch.failed.end());
     b.max_set_size = std::max(b.max_set_size, ch.max_set);
     b.total_set_size += ch.total_set;
   }
@@ -428,6 +437,7 @@ Result<Binding> run_registration(std::span<const glm::vec3> skin, const Cage& ca
   b.rigid_points = std::move(sorted_rigid.rigid_points);
   b.rigid_element = std::move(sorted_rigid.rigid_element);
   b.rigid_bary = std::move(sorted_rigid.rigid_bary);
+  if (failures) std::sort(failures->begin(), failures->end());
   b.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return b;
 }
@@ -547,6 +557,32 @@ Result<Binding> bind_skin_brute_force(std::span<const glm::vec3> skin, const Cag
                                       std::span<const SetEdit> edits) {
   auto make_source = [](const Context&) { return [] { return BruteForceSource{}; }; };
   return run_registration(skin, cage, rest, params, edits, {}, make_source);
+}
+
+Result<std::vector<uint32_t>> quality_failures(const Binding& binding, std::span<const glm::vec3> skin,
+                                               std::span<const SetEdit> edits) {
+  if (skin.size() != binding.num_points)
+    return make_error(ErrorCode::kTopologyMismatch, "the binding has " + std::to_string(binding.num_points) +
+                                                        " points but the skin has " + std::to_string(skin.size()));
+  // The binding's reference cage as its control elements, with the distance scale it used: the
+  // registration below then sees exactly the elements, sets and closeness the binding saw.
+  Cage cage;
+  cage.polygons.positions = binding.rest_cage;
+  for (const Tri& t : binding.elements) cage.polygons.add_face({t[0], t[1], t[2]});
+  cage.elements = binding.elements;
+  cage.element_face.resize(binding.elements.size());
+  for (uint32_t e = 0; e < cage.element_face.size(); ++e) cage.element_face[e] = e;
+  BindParams params = binding.params;
+  params.scale = binding.h;
+  std::vector<uint32_t> failures;
+  std::unique_ptr<ElementBvh> bvh;
+  auto make_source = [&bvh](const Context& ctx) {
+    bvh = std::make_unique<ElementBvh>(ctx.rest, ctx.cage->elements, ctx.valid_ids);
+    return [tree = bvh.get()] { return ChunkedBvhSource(*tree); };
+  };
+  auto b = run_registration(skin, cage, binding.rest_cage, params, edits, {}, make_source, &failures);
+  if (!b) return b.error();
+  return failures;
 }
 
 }  // namespace cagewrap

@@ -29,6 +29,14 @@ Result<Binding> bind_skin_brute_force(std::span<const glm::vec3> skin, const Cag
                                  std::span<const glm::vec3> rest_positions, const BindParams& params,
                                  std::span<const SetEdit> edits = {});
 
+// The skin points that fail the cage-quality test (algorithm.md section 4: close to, within
+// close_distance * h, and projecting inside some element of their set): sorted indices, as many as
+// num_points - quality_inside. Registers the skin again against the binding's reference cage with
+// the binding's parameters and h (the edits must be those it was bound with), so it costs a bind;
+// the binding itself, its memory and the deformer are untouched. Errors: a skin of another size.
+Result<std::vector<uint32_t>> quality_failures(const Binding& binding, std::span<const glm::vec3> skin,
+                                               std::span<const SetEdit> edits = {});
+
 // Weight function of eq. 1 on a distance already divided by h.
 double falloff(double d, double local);
 // Largest distance (in units of h) an element may have and still pass the relative threshold,

@@ -114,6 +114,13 @@ TEST_P(EveryVariant, RegistrationEqualsBruteForce) {
     EXPECT_EQ(fast.bary, slow->bary) << "epsilon " << eps;
     EXPECT_EQ(fast.rigid_points, slow->rigid_points);
     EXPECT_EQ(fast.quality_inside, slow->quality_inside);
+    // the points failing the quality test: as many as the figure misses, the same for both
+    auto fast_failures = quality_failures(fast, s.skin.positions);
+    auto slow_failures = quality_failures(*slow, s.skin.positions);
+    ASSERT_TRUE(fast_failures.ok() && slow_failures.ok());
+    EXPECT_EQ(fast_failures->size(), fast.num_points - fast.quality_inside) << "epsilon " << eps;
+    EXPECT_EQ(*fast_failures, *slow_failures) << "epsilon " << eps;
+    EXPECT_TRUE(std::is_sorted(fast_failures->begin(), fast_failures->end()));
   }
 }
 
@@ -438,6 +445,42 @@ TEST(Registration, BadEditsAndParametersAreNamed) {
   b = bind_skin(nan_skin, s.cage, s.cage.polygons.positions, BindParams{});
   ASSERT_FALSE(b.ok());
   EXPECT_NE(b.error().message.find("skin vertex 1"), std::string::npos);
+}
+
+// The cage-quality figure (algorithm.md section 4) and the points it misses, on a cube of side 2
+// made of 6 quads: h = 2 (the mean polygon edge), so "close" is within 2.
+TEST(Registration, QualityFailuresNameThePointsTheFigureMisses) {
+  const Cage cube = fixtures::box_cage(1.0, 1);
+  PolyMesh skin;
+  skin.positions = {
+      {0, 0, 0.9f},         // 0: inside, near the top face
+      {0, 0, 0},            // 1: the centre, 1 from every face: close, projects inside each
+      {0, 0, 3.5f},         // 2: above the top face but 2.5 away: not close
+      {1.5f, 1.5f, 1.5f},   // 3: outside a corner, 0.87 away: close, but projects inside no face
+      {0.5f, 0.2f, 1.5f},   // 4: 0.5 above the top face, projecting inside it
+  };
+  for (bool brute : {false, true}) {
+    auto b = brute ? bind_skin_brute_force(skin.positions, cube, cube.polygons.positions, BindParams{})
+                   : bind_skin(skin.positions, cube, cube.polygons.positions, BindParams{});
+    ASSERT_TRUE(b.ok()) << b.error().message;
+    EXPECT_DOUBLE_EQ(b->h, 2.0);
+    EXPECT_EQ(b->quality_inside, 3u);
+    auto failures = quality_failures(*b, skin.positions);
+    ASSERT_TRUE(failures.ok()) << failures.error().message;
+    EXPECT_EQ(*failures, (std::vector<uint32_t>{2, 3}));
+  }
+  // the binding is not changed, and a skin of another size is named
+  auto b = bind_skin(skin.positions, cube, cube.polygons.positions, BindParams{});
+  ASSERT_TRUE(b.ok());
+  const Binding before = *b;
+  ASSERT_TRUE(quality_failures(*b, skin.positions).ok());
+  EXPECT_EQ(b->ids, before.ids);
+  EXPECT_EQ(b->weights, before.weights);
+  skin.positions.pop_back();
+  auto wrong = quality_failures(*b, skin.positions);
+  ASSERT_FALSE(wrong.ok());
+  EXPECT_EQ(wrong.error().code, ErrorCode::kTopologyMismatch);
+  EXPECT_NE(wrong.error().message.find("5 points"), std::string::npos) << wrong.error().message;
 }
 
 TEST(Registration, ThresholdRadiusIsExact) {

@@ -120,11 +120,30 @@ TEST(MeshCheck, FindsSelfCrossingsBetweenPieces) {
     EXPECT_LT(c.a, c.b);
     EXPECT_NE(c.a < 8, a.t[c.triangle][0] < 8) << "crossings are between the two cubes";
   }
+  // check_mesh counts them as crossings between pieces, not as a piece folding over itself
+  const MeshCheck overlapping = check_mesh(a.p, a.t);
+  EXPECT_EQ(overlapping.piece_crossings, x.size());
+  EXPECT_EQ(overlapping.self_intersections, 0u);
+  EXPECT_FALSE(overlapping.self_intersecting());
   TriMesh far = unit_cube(), d = unit_cube({1.5f, 0, 0});
   for (Tri t : d.t) far.t.push_back({t[0] + 8, t[1] + 8, t[2] + 8});
   far.p.insert(far.p.end(), d.p.begin(), d.p.end());
   EXPECT_TRUE(self_crossings(far.p, far.t).empty());
   EXPECT_EQ(check_mesh(far.p, far.t).components, 2u);
+}
+
+TEST(MeshCheck, AFoldIsASelfIntersection) {
+  // a cube with its faces split 2 x 2, the top face's centre pushed down through the bottom face:
+  // one piece passing through itself
+  const Cage box = fixtures::box_cage(1.0, 2);
+  TriMesh c{box.polygons.positions, box.elements};
+  for (glm::vec3& v : c.p)
+    if (glm::length(v - glm::vec3(0, 0, 1)) < 1e-6f) v = {0, 0, -2};
+  const MeshCheck m = check_mesh(c.p, c.t);
+  EXPECT_EQ(m.components, 1u);
+  EXPECT_GT(m.self_intersections, 0u);
+  EXPECT_EQ(m.piece_crossings, 0u);
+  EXPECT_EQ(m.self_intersections, self_crossings(c.p, c.t).size());
 }
 
 TEST(SurfaceDistance, SignsAndDistancesOnACube) {

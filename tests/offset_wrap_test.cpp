@@ -76,6 +76,19 @@ TEST(OffsetWrap, BridgesNearPiecesAndKeepsFarOnesApart) {
   // every wrap vertex lies at the offset from the soup (up to the grid's interpolation error)
   const SurfaceDistance sd(far.p, far.t);
   for (const glm::vec3& v : b.positions) EXPECT_NEAR(std::abs(sd.query(glm::dvec3(v)).distance), 0.15, 0.01);
+  // a cell as large as the offset: shell samples beyond the offset no longer block the fill, so no
+  // cavity appears inside, the gap is still bridged and the far pieces still kept apart
+  const IsoSurface coarse_near = offset_wrap(near.p, near.t, 0.15, 0.15);
+  expect_clean_closed(coarse_near, 1);
+  const IsoSurface coarse = offset_wrap(far.p, far.t, 0.15, 0.15);
+  expect_clean_closed(coarse, 2);
+  EXPECT_LT(coarse.triangles.size(), b.triangles.size() / 4);
+  // (the interpolation error grows with the cell: largest around the cubes' edges, where the
+  // distance is a cylinder's, about 0.3 of a cell)
+  for (const glm::vec3& v : coarse.positions)
+    EXPECT_NEAR(std::abs(sd.query(glm::dvec3(v)).distance), 0.15, 0.05);
+  // a larger cell is reduced to the offset
+  EXPECT_EQ(offset_wrap(far.p, far.t, 0.15, 0.4).triangles.size(), coarse.triangles.size());
 }
 
 TEST(OffsetWrap, OverlappingAndOpenPiecesBecomeOneClosedSurface) {
