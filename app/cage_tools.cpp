@@ -65,6 +65,7 @@ void CageTools::poll(Scene& scene, const EditorHooks& hooks) {
   report.cage = PolyMesh{};  // the document holds it
   report_ = std::move(report);
   show_report_ = true;
+  show_dialog_ = false;  // done: the report takes its place
   commit_cage(scene, std::make_shared<const Cage>(std::move(cage).value()), "Automatic cage");
 }
 
@@ -204,8 +205,9 @@ void CageTools::draw_windows(Scene& scene, const EditorHooks&) {
   }
   if (show_report_ && report_) {
     const AutoCageReport& r = *report_;
-    ImGui::SetNextWindowPos(ImVec2(280, 420), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowPos(ImVec2(280, 400), ImGuiCond_FirstUseEver);
     if (ImGui::Begin("Automatic cage report", &show_report_, ImGuiWindowFlags_AlwaysAutoResize)) {
+      ImGui::PushTextWrapPos(ImGui::GetFontSize() * 36.0f);
       ImGui::Text("%u faces, %u vertices, built in %.2f s (+%.2f s to bind for the figures)", r.faces, r.vertices, r.seconds, r.bind_seconds);
       ImGui::Text("input: %u vertices, %u triangles; %u after welding%s", r.input_vertices, r.input_triangles, r.welded_vertices,
                   r.wrapped ? "; wrapped by an offset surface" : "");
@@ -218,8 +220,13 @@ void CageTools::draw_windows(Scene& scene, const EditorHooks&) {
         ImGui::SameLine();
         ImGui::TextDisabled("%zu points", failing_.size());
       }
-      ImGui::TextUnformatted(r.check.summary().c_str());
-      for (const auto& w : r.warnings) ImGui::TextColored(ImVec4(1, 0.8f, 0.3f, 1), "%s", w.c_str());
+      ImGui::TextWrapped("%s", r.check.summary().c_str());
+      for (const auto& w : r.warnings) {
+        ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1, 0.8f, 0.3f, 1));
+        ImGui::TextWrapped("%s", w.c_str());
+        ImGui::PopStyleColor();
+      }
+      ImGui::PopTextWrapPos();
     }
     ImGui::End();
   }
