@@ -1,6 +1,7 @@
-// cagewrap new --character F [--cage C] [params] --out P.cagewrap
+// cagewrap new --character F [--cage C | --auto-cage FACES [auto-cage options]] [params] --out P.cagewrap
 #include <cstdio>
 
+#include "app/auto_cage_options.h"
 #include "app/cli_common.h"
 #include "app/commands.h"
 #include "core/document.h"
@@ -12,6 +13,8 @@ void add_new_command(CLI::App& app, int& exit_code) {
   struct Args {
     std::string character, cage, out;
     BindOptions bind;
+    AutoCageOptions auto_cage;
+    CLI::Option* auto_cage_option = nullptr;
   };
   auto args = std::make_shared<Args>();
   auto* cmd = app.add_subcommand("new", "make a project (.cagewrap) from a character and a cage");
@@ -19,15 +22,37 @@ void add_new_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--cage", args->cage, "cage at rest (.obj .ply .off .stl); without it the project has no cage yet");
   cmd->add_option("--out", args->out, "project file to write (.cagewrap)")->required();
   add_bind_options(*cmd, args->bind);
+  args->auto_cage_option = add_auto_cage_options(*cmd, args->auto_cage, "--auto-cage");
+  args->auto_cage_option->description("build the cage automatically with about this many triangles (see `cagewrap cage`)");
   cmd->callback([args, &exit_code] {
     exit_code = 1;
     if (!finish_bind_options(args->bind)) return;
+    const bool automatic = args->auto_cage_option->count() > 0;
+    if (automatic && !args->cage.empty()) {
+      std::fprintf(stderr, "error: give either --cage or --auto-cage, not both\n");
+      return;
+    }
+    if (automatic && !finish_auto_cage_options(args->auto_cage, args->bind.params)) return;
     auto doc = document_from_files(args->character, args->cage);
     if (!doc) {
       report_error(doc.error());
       return;
     }
     *doc = with_params(*doc, args->bind.params);
+    if (automatic) {
+      auto r = build_auto_cage(*doc->character, args->auto_cage.params, terminal_cage_progress());
+      if (!r) {
+        report_error({r.error().code, args->character + ": " + r.error().message});
+        return;
+      }
+      auto cage = make_cage(r->cage, "automatic cage");
+      if (!cage) {
+        report_error(cage.error());
+        return;
+      }
+      print_cage_report(*r, args->auto_cage.params);
+      *doc = with_cage(*doc, std::make_shared<const Cage>(std::move(cage).value()));
+    }
     if (auto s = save_project(args->out, *doc); !s) {
       report_error(s.error());
       return;
@@ -36,7 +61,7 @@ void add_new_command(CLI::App& app, int& exit_code) {
     std::printf("character  %s: %zu vertices, %zu joints, %zu clips\n", args->character.c_str(), c.num_vertices(),
                 c.num_joints(), c.clips.size());
     if (doc->cage)
-      std::printf("cage       %s: %zu vertices, %zu faces\n", args->cage.c_str(), doc->cage->num_vertices(),
+      std::printf("cage       %s: %zu vertices, %zu faces\n", automatic ? "automatic" : args->cage.c_str(), doc->cage->num_vertices(),
                   doc->cage->polygons.num_faces());
     else
       std::printf("cage       none\n");

@@ -64,6 +64,13 @@ check "the character is untouched" cmp -s "$DEMO" "$TMP/work/chars/hero.glb"
 check "new without a cage" runs new --character "$TMP/work/chars/hero.glb" --out "$TMP/work/bare.cagewrap"
 check "empty cage" grep -q '"positions": \[\],' "$TMP/work/bare.cagewrap"
 
+# an automatic cage: the project holds it, and the report names its quality
+check "new --auto-cage" runs new --character "$TMP/work/chars/hero.glb" --auto-cage 600 --out "$TMP/work/auto.cagewrap"
+check "automatic cage in the project" test "$(grep -cE '^      \[-?[0-9.e-]+, -?[0-9.e-]+, -?[0-9.e-]+\],?$' "$TMP/work/auto.cagewrap")" -gt 100
+check "both cage options refused" fails_naming "either --cage or --auto-cage" new --character "$DEMO" --cage "$TMP/work/cage.obj" \
+  --auto-cage 600 --out "$TMP/x.cagewrap"
+check "bad auto-cage parameter named" fails_naming "joint detail" new --character "$DEMO" --auto-cage 600 --joint-detail -1 --out "$TMP/x.cagewrap"
+
 # errors: non-zero exit and a message naming the file
 check "missing character" fails_naming "ghost.glb" new --character "$TMP/ghost.glb" --cage "$TMP/work/cage.obj" --out "$TMP/x.cagewrap"
 check "missing cage" fails_naming "ghost.obj" new --character "$DEMO" --cage "$TMP/ghost.obj" --out "$TMP/x.cagewrap"
