@@ -139,9 +139,12 @@ void add_pose_command(CLI::App& app, int& exit_code) {
     }
     size_t active = 0;
     for (size_t i = 0; i < doc.keyposes.size(); ++i) active += keypose_set_active(doc.keyposes, i);
-    std::string when = clip >= 0 ? "clip '" + ch.clips[clip].name + "' t=" +
-                                       std::to_string(clip_time(args->time, ch.clips[clip].duration, args->loop)) + " s"
-                                 : std::string("the rest pose");
+    std::string when = "the rest pose";
+    if (clip >= 0) {
+      char t[32];
+      std::snprintf(t, sizeof t, "%g", clip_time(args->time, ch.clips[clip].duration, args->loop));
+      when = "clip '" + ch.clips[clip].name + "' t=" + t + " s";
+    }
     std::printf("posed %zu skin vertices of %s at %s%s (%s attachment, %zu of %zu keypose sets active), wrote %s\n",
                 skin.size(), P.c_str(), when.c_str(), args->pose.empty() ? "" : " with --pose overrides",
                 attachment_mode_name(doc.attachment.mode), active, doc.keyposes.size(), args->out.c_str());

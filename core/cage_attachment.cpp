@@ -108,29 +108,40 @@ AttachmentSettings with_overrides_per_vertex(const AttachmentSettings& settings,
 Result<MirroredAssignment> mirror_assignment(const AttachmentSettings& settings, const Skeleton& skeleton,
                                              std::span<const glm::vec3> cage_rest, std::span<const uint32_t> vertices,
                                              double tolerance) {
-  std::vector<int32_t> counterpart = mirror_x_counterparts(vertices, cage_rest, tolerance);
-  MirroredAssignment out;
-  out.settings = settings;
-  for (size_t n = 0; n < vertices.size(); ++n) {
-    if (counterpart[n] < 0) {
-      out.unmatched.push_back(vertices[n]);
+  const size_t nv = cage_rest.size();
+  std::vector<uint8_t> given(nv, 0), used(nv, 0);
+  for (uint32_t v : vertices)
+    if (v < nv) given[v] = 1;
+  std::vector<uint32_t> all(nv);
+  for (size_t v = 0; v < nv; ++v) all[v] = static_cast<uint32_t>(v);
+  const std::vector<int32_t> source = mirror_x_counterparts(all, cage_rest, tolerance);
+  std::vector<int32_t> per_vertex = overrides_per_vertex(settings, nv);
+  std::vector<int32_t> result = per_vertex;
+  for (size_t t = 0; t < nv; ++t) {
+    const int32_t src = source[t];
+    if (src < 0 || !given[src]) continue;
+    used[src] = 1;
+    const int32_t node = per_vertex[src];
+    if (node < 0) {
+      result[t] = -1;
       continue;
     }
-    std::optional<uint32_t> node = assigned_node(settings, vertices[n]);
-    std::optional<uint32_t> mirrored;
-    if (node) {
-      int32_t m = mirror_node(skeleton, *node);
-      if (m < 0) {
-        const std::string& name = *node < skeleton.size() ? skeleton.node(*node).name : std::string("?");
-        return make_error(ErrorCode::kInvalidArgument,
-                          "cage vertex " + std::to_string(vertices[n]) + " follows node '" + name +
-                              "', which has no mirror: no node is named '" + mirror_name(name) + "'");
-      }
-      mirrored = static_cast<uint32_t>(m);
+    const int32_t m = mirror_node(skeleton, static_cast<uint32_t>(node));
+    if (m < 0) {
+      const std::string& name = static_cast<size_t>(node) < skeleton.size() ? skeleton.node(node).name : std::string("?");
+      return make_error(ErrorCode::kInvalidArgument, "cage vertex " + std::to_string(src) + " follows node '" + name +
+                                                         "', which has no mirror: no node is named '" +
+                                                         mirror_name(name) + "'");
     }
-    const uint32_t target = static_cast<uint32_t>(counterpart[n]);
-    out.settings = assign_vertices(out.settings, std::span<const uint32_t>(&target, 1), mirrored);
+    result[t] = m;
   }
+  MirroredAssignment out;
+  out.settings = with_overrides_per_vertex(settings, result);
+  // overrides beyond the cage (none in a valid document) are kept as they were
+  for (const AttachmentOverride& o : settings.overrides)
+    if (o.vertex >= nv) out.settings.overrides.push_back(o);
+  for (uint32_t v : vertices)
+    if (v >= nv || !used[v]) out.unmatched.push_back(v);
   return out;
 }
 

@@ -67,12 +67,14 @@ AttachmentSettings with_overrides_per_vertex(const AttachmentSettings& settings,
 
 struct MirroredAssignment {
   AttachmentSettings settings;
-  std::vector<uint32_t> unmatched;  // given vertices with no counterpart across x = 0
+  std::vector<uint32_t> unmatched;  // given vertices no vertex took its assignment from
 };
-// Gives the X-mirrored counterpart (core/selection.h mirror_x, within `tolerance` on the rest cage)
-// of each of `vertices` the mirrored assignment: the joint named for the other side
-// (core/mirror_names.h), or automatic when the vertex is automatic. Fails, changing nothing, when
-// an assigned node has no mirrored node; the error names it.
+// Mirrors the assignment of `vertices` across x = 0: every cage vertex whose mirror image's
+// nearest vertex (core/selection.h mirror_x_counterparts, on the rest cage, within `tolerance`) is
+// one of `vertices` gets that vertex's assignment mirrored: the joint named for the other side
+// (core/mirror_names.h), or automatic when that vertex is automatic. On a symmetric cage that is
+// the pairwise counterpart; on a nearly symmetric one a tolerance of about an edge length leaves no
+// holes. Fails, changing nothing, when an assigned node has no mirrored node; the error names it.
 Result<MirroredAssignment> mirror_assignment(const AttachmentSettings& settings, const Skeleton& skeleton,
                                              std::span<const glm::vec3> cage_rest, std::span<const uint32_t> vertices,
                                              double tolerance);

@@ -337,27 +337,31 @@ Result<MirroredKeyposeSet> mirror_keypose_set(const KeyposeSet& set, const Skele
       if (std::fabs(to.axis[c]) < 1e-6f) to.axis[c] = 0.0f;
     to.axis = glm::normalize(to.axis);
   }
-  // vertices: the counterparts of every keyed vertex
-  std::vector<uint32_t> keyed;
-  for (const KeyposeKey& k : set.keys) keyed.insert(keyed.end(), k.vertices.begin(), k.vertices.end());
-  std::sort(keyed.begin(), keyed.end());
-  keyed.erase(std::unique(keyed.begin(), keyed.end()), keyed.end());
-  std::vector<int32_t> counterpart = mirror_x_counterparts(keyed, cage_rest, tolerance);
-  for (size_t i = 0; i < keyed.size(); ++i)
-    if (counterpart[i] < 0) out.unmatched.push_back(keyed[i]);
+  // vertices: each vertex takes the offset of the vertex nearest its mirror image, when that one is keyed
+  const size_t nv = cage_rest.size();
+  std::vector<uint32_t> all(nv);
+  for (size_t v = 0; v < nv; ++v) all[v] = static_cast<uint32_t>(v);
+  const std::vector<int32_t> source = mirror_x_counterparts(all, cage_rest, tolerance);
+  std::vector<uint8_t> keyed(nv, 0), used(nv, 0);
   out.set.keys.clear();
   for (const KeyposeKey& k : set.keys) {
-    std::vector<glm::vec3> dense(cage_rest.size(), glm::vec3(0.0f));
-    for (size_t e = 0; e < k.vertices.size(); ++e) {
-      size_t i = static_cast<size_t>(std::lower_bound(keyed.begin(), keyed.end(), k.vertices[e]) - keyed.begin());
-      if (counterpart[i] < 0) continue;
-      glm::vec3 o = k.offsets[e];
-      dense[static_cast<size_t>(counterpart[i])] = glm::vec3(-o.x, o.y, o.z);
+    const std::vector<glm::vec3> from = dense_offsets(k, nv);
+    std::vector<uint8_t> in_key(nv, 0);
+    for (uint32_t v : k.vertices) in_key[v] = keyed[v] = 1;
+    std::vector<glm::vec3> dense(nv, glm::vec3(0.0f));
+    for (size_t t = 0; t < nv; ++t) {
+      const int32_t src = source[t];
+      if (src < 0 || !in_key[src]) continue;
+      const glm::vec3 o = from[src];
+      dense[t] = glm::vec3(-o.x, o.y, o.z);
+      used[src] = 1;
     }
     std::vector<double> values = k.values;
     for (size_t d = 0; d < values.size(); ++d) values[d] = sign[d] * values[d] + 0.0;  // + 0.0: no -0
     set_key(out.set, make_key(std::move(values), dense));
   }
+  for (size_t v = 0; v < nv; ++v)
+    if (keyed[v] && !used[v]) out.unmatched.push_back(static_cast<uint32_t>(v));
   return out;
 }
 

@@ -127,7 +127,7 @@ void clear_vertex_data(std::vector<KeyposeSet>& sets);
 
 struct MirroredKeyposeSet {
   KeyposeSet set;
-  std::vector<uint32_t> unmatched;  // keyed vertices with no counterpart across x = 0 (dropped)
+  std::vector<uint32_t> unmatched;  // keyed vertices no vertex took its offset from (none near their mirror image)
 };
 // The set for the other side of a character symmetric about x = 0 in its rest pose:
 // - each driver's node becomes its mirror by name (core/mirror_names.h; a node with no side stays);
@@ -137,8 +137,10 @@ struct MirroredKeyposeSet {
 //   stored as -a' with the values kept when -a' is closer to the original axis (the usual case:
 //   the demo character's elbows bend about +X on both sides, and a bulge keyed at 120 degrees
 //   mirrors to 120 degrees), otherwise as a' with the values negated;
-// - keyed vertices become their counterparts (core/selection.h mirror_x_counterparts, on the rest
-//   cage within `tolerance`) and offsets (bind space) get x negated;
+// - vertices: each cage vertex takes the offset of the vertex nearest its mirror image (core/
+//   selection.h mirror_x_counterparts, on the rest cage, within `tolerance`) with x negated (bind
+//   space). On a symmetric cage that is the pairwise map; on a cage that is only nearly symmetric
+//   (a decimated one), a tolerance of about an edge length transfers the keys without holes;
 // - the name is mirror_name(name). Mute and solo are copied.
 // Fails when a driver's node has no mirror by name (naming it).
 Result<MirroredKeyposeSet> mirror_keypose_set(const KeyposeSet& set, const Skeleton& skeleton,
