@@ -192,7 +192,8 @@ Result<CageAttachment> attach_cage(const Character& character, std::span<const g
     }
   }
   const bool smooth = settings.mode == AttachmentMode::kSmooth;
-  const double width = settings.smooth_width > 0 && std::isfinite(settings.smooth_width) ? settings.smooth_width : 1.0;
+  const double width =
+      settings.smooth_width > 0 && std::isfinite(settings.smooth_width) ? settings.smooth_width : AttachmentSettings{}.smooth_width;
   const size_t nv = cage_rest.size();
   att.joint.resize(nv);
   att.influence_start.assign(1, 0);

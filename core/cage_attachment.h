@@ -12,8 +12,9 @@
 //       f_j = 1 - smoothstep(0, 1, (d_j / d_min - 1) / width)
 //   (1 for the nearest, 0 once d_j >= (1 + width) d_min), and the weights are f_j / sum f. On the
 //   bisector between two limbs both weigh 1/2; the blend zone around an elbow reaches about
-//   sqrt((1 + width)^2 - 1) times the cage's distance from the bone along each bone (1.7 for
-//   width 1), so it scales with the limb's thickness. Every f_j is continuous in the position, so
+//   sqrt((1 + width)^2 - 1) times the cage's distance from the bone along each bone (1.1 for the
+//   default width 0.5, 1.7 for width 1), so it scales with the limb's thickness. Where bones are
+//   shorter than the body is thick (a torso of hips, spine and chest) nearly every vertex blends. Every f_j is continuous in the position, so
 //   the weights are too (also where three joints meet, e.g. the chest between neck and shoulders:
 //   there three joints can share a vertex). At most kMaxAttachmentInfluences are kept.
 // - **overrides**: chosen cage vertices follow a chosen joint rigidly, whatever the mode.
@@ -48,7 +49,7 @@ struct AttachmentOverride {
 // How the document's cage follows the skeleton. Part of the Document.
 struct AttachmentSettings {
   AttachmentMode mode = AttachmentMode::kRigid;
-  double smooth_width = 1.0;  // the falloff above (> 0, dimensionless); used by kSmooth
+  double smooth_width = 0.5;  // the falloff above (> 0, dimensionless); used by kSmooth
   std::vector<AttachmentOverride> overrides;  // sorted by vertex, one per vertex
   bool operator==(const AttachmentSettings&) const = default;
 };

@@ -94,7 +94,7 @@ TEST(CageAttachment, SmoothWeightsSumToOneAreHalfOnTheBisectorAndRigidFarAway) {
   EXPECT_LT(influences(c, *att, 2).weight_of("upper"), 1.0f);
   EXPECT_NEAR(influences(c, *att, 2).weight_of("upper"), influences(c, *att, 3).weight_of("lower"), 1e-6f);
   EXPECT_NEAR(influences(c, *att, 6).weight_of("upper"), 0.5f, 1e-6f);
-  // the falloff: rigid exactly where the second limb is (1 + width) times farther
+  // the falloff: rigid exactly where the second limb is (1 + width) times farther (width 1 here)
   // at (0.2, 1 - s): d_upper = 0.2, d_lower = sqrt(0.04 + s^2); 0.4 = 2 * 0.2 at s = sqrt(0.12)
   const float s = std::sqrt(0.12f);
   auto edge = attach_cage(c, std::vector<glm::vec3>{{0.2f, 1 - s - 1e-3f, 0}, {0.2f, 1 - s + 1e-3f, 0}}, smooth());

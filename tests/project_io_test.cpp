@@ -182,7 +182,7 @@ TEST_F(ProjectIoTest, FileLayoutMatchesTheFormatDocument) {
   EXPECT_EQ(j["set_edits"][0]["exclude"], Json::array({0, 7}));
   EXPECT_EQ(j["set_edits"][1]["include"], Json::array({47}));
   EXPECT_TRUE(j["extensions"].is_object());
-  EXPECT_EQ(j["attachment"], Json::parse(R"({"mode": "rigid", "smooth_width": 1.0, "overrides": []})"));
+  EXPECT_EQ(j["attachment"], Json::parse(R"({"mode": "rigid", "smooth_width": 0.5, "overrides": []})"));
   EXPECT_EQ(j["keyposes"], Json::array());
   std::vector<std::string> keys;
   for (const auto& [key, value] : j.items()) keys.push_back(key);
