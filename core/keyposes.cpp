@@ -270,6 +270,14 @@ void set_key(KeyposeSet& set, KeyposeKey key) {
   set.keys.insert(it, std::move(key));
 }
 
+KeyposeSet key_sculpt(const KeyposeSet& set, std::vector<double> values, std::span<const glm::vec3> delta) {
+  std::vector<glm::vec3> dense(delta.begin(), delta.end());
+  add_keypose_set_offsets(set, values, dense);
+  KeyposeSet out = set;
+  set_key(out, make_key(std::move(values), dense));
+  return out;
+}
+
 bool remove_key(KeyposeSet& set, std::span<const double> values) {
   for (auto it = set.keys.begin(); it != set.keys.end(); ++it)
     if (same_values(it->values, values)) {

@@ -116,6 +116,11 @@ KeyposeKey make_key(std::vector<double> values, std::span<const glm::vec3> dense
 std::vector<glm::vec3> dense_offsets(const KeyposeKey& key, size_t num_vertices);
 // Adds the key, replacing one at the same values; keeps keys sorted (lexicographically by values).
 void set_key(KeyposeSet& set, KeyposeKey key);
+// Keys a sculpt: a copy of `set` with a key at `values` (#D: driver_values at the pose being edited,
+// perhaps rounded) whose offsets are what the set gives at `values` now plus `delta` (#Vc, bind
+// space: what was sculpted at this pose, which the caller then takes out of
+// Document::cage_offsets). Keys are reproduced exactly, so the shape at this pose does not change.
+KeyposeSet key_sculpt(const KeyposeSet& set, std::vector<double> values, std::span<const glm::vec3> delta);
 // Removes the key at `values`; false when there is none.
 bool remove_key(KeyposeSet& set, std::span<const double> values);
 // Replaces the set with the same name and drivers, or appends it; returns its index.

@@ -291,6 +291,34 @@ TEST(Keyposes, EditingHelpers) {
   EXPECT_EQ(sets[0].keys.size(), 2u);
 }
 
+TEST(Keyposes, KeyingASculptKeepsTheShapeAtThatPose) {
+  OneJoint j;
+  for (KeyInterpolation interp : {KeyInterpolation::kLinear, KeyInterpolation::kSmooth}) {
+    KeyposeSet s = one_driver_set();
+    s.interpolation = interp;
+    set_key(s, key_at({120}, 2, {0, 1, 0}));
+    set_key(s, key_at({30}, 1, {0, 0, 1}));
+    const Pose at70 = j.pose(about_deg(70, {1, 0, 0}));
+    std::vector<glm::vec3> before = evaluate({s}, j.skeleton, at70);
+    std::vector<glm::vec3> sculpt(4, glm::vec3(0.0f));
+    sculpt[3] = {0.5f, 0, 0};
+    sculpt[2] = {0, 0, -0.25f};
+    KeyposeSet keyed = key_sculpt(s, driver_values(s, j.skeleton, at70), sculpt);
+    ASSERT_EQ(keyed.keys.size(), 3u);
+    std::vector<glm::vec3> after = evaluate({keyed}, j.skeleton, at70);
+    for (size_t v = 0; v < 4; ++v) expect_near(after[v], before[v] + sculpt[v], 1e-5f, key_interpolation_name(interp));
+    // the other keys are untouched
+    expect_near(evaluate({keyed}, j.skeleton, j.pose(about_deg(120, {1, 0, 0})))[2], {0, 1, 0}, 1e-5f);
+  }
+  // the same in pose space
+  KeyposeSet p = shoulder_set(RbfKernel::kGaussian);
+  KeyposeSet keyed = key_sculpt(p, {30, 45}, std::vector<glm::vec3>{{0, 0, 0}, {1, 1, 1}, {0, 0, 0}, {0, 0, 0}});
+  std::vector<glm::vec3> out(4, glm::vec3(0.0f)), was(4, glm::vec3(0.0f));
+  add_keypose_set_offsets(keyed, std::vector<double>{30, 45}, out);
+  add_keypose_set_offsets(p, std::vector<double>{30, 45}, was);
+  expect_near(out[1], was[1] + glm::vec3(1, 1, 1), 1e-4f);
+}
+
 TEST(Keyposes, ValidationNamesTheSetKeyAndField) {
   auto message = [](const KeyposeSet& s) {
     Status v = validate_keypose_set(s, 3, 10);
