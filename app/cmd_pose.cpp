@@ -60,14 +60,19 @@ void add_pose_command(CLI::App& app, int& exit_code) {
     bool loop = false;
   };
   auto args = std::make_shared<Args>();
-  auto* cmd = app.add_subcommand("pose", "write a project's skin deformed through its cage at a clip time and pose");
+  auto* cmd =
+      app.add_subcommand("pose", "write a project's skin deformed through its cage at a clip time and pose");
   cmd->add_option("--project", args->project, "project file (.cagewrap)")->required();
   cmd->add_option("--clip", args->clip, "clip name or index; 'rest' or omitted: the rest pose");
   cmd->add_option("--time", args->time, "seconds into the clip (clamped to the clip)")->capture_default_str();
   cmd->add_flag("--loop", args->loop, "wrap the time into the clip instead of clamping");
-  cmd->add_option("--pose", args->pose, "NODE=rx,ry,rz: rotate a joint by these degrees about its local X, Y, Z on top of the clip (repeatable)");
-  cmd->add_option("--out", args->out, "deformed skin: .obj (with triangles), or .bin (raw float32 N x 3)")->required();
-  cmd->add_option("--cage-out", args->cage_out, "also write the posed driver cage (.obj with its polygons, or .bin)");
+  cmd->add_option("--pose", args->pose,
+                  "NODE=rx,ry,rz: rotate a joint by these degrees about its local X, Y, Z on top of the clip "
+                  "(repeatable)");
+  cmd->add_option("--out", args->out, "deformed skin: .obj (with triangles), or .bin (raw float32 N x 3)")
+      ->required();
+  cmd->add_option("--cage-out", args->cage_out,
+                  "also write the posed driver cage (.obj with its polygons, or .bin)");
   cmd->callback([args, &exit_code] {
     exit_code = 1;
     const std::string& P = args->project;
@@ -93,9 +98,11 @@ void add_pose_command(CLI::App& app, int& exit_code) {
       if (clip < 0) {
         std::string names;
         for (size_t i = 0; i < ch.clips.size(); ++i) names += (i ? ", " : "") + ch.clips[i].name;
-        std::fprintf(stderr, "error: %s: its character %s has no clip named or numbered '%s' (it has %zu: %s; or 'rest')\n",
-                     P.c_str(), doc.character_path.c_str(), args->clip.c_str(), ch.clips.size(),
-                     names.empty() ? "none" : names.c_str());
+        std::fprintf(
+            stderr,
+            "error: %s: its character %s has no clip named or numbered '%s' (it has %zu: %s; or 'rest')\n",
+            P.c_str(), doc.character_path.c_str(), args->clip.c_str(), ch.clips.size(),
+            names.empty() ? "none" : names.c_str());
         return;
       }
     }
@@ -111,7 +118,10 @@ void add_pose_command(CLI::App& app, int& exit_code) {
       overrides[node] = glm::normalize(overrides[node] * q);
     }
     if (!doc.cage) {
-      std::fprintf(stderr, "error: %s: the project has no cage yet; give it one (cagewrap new --cage, or the editor)\n", P.c_str());
+      std::fprintf(
+          stderr,
+          "error: %s: the project has no cage yet; give it one (cagewrap new --cage, or the editor)\n",
+          P.c_str());
       return;
     }
     auto rig = Rig::create(doc, terminal_progress("bind"));
@@ -123,8 +133,9 @@ void add_pose_command(CLI::App& app, int& exit_code) {
     PosedCage posed;
     std::vector<glm::vec3> skin(rig->num_skin_points());
     if (auto s = rig->pose(doc, pose, posed, skin); !s) {
-      report_error({s.error().code, P + (clip >= 0 ? " (clip '" + ch.clips[clip].name + "')" : std::string()) + ": " +
-                                        s.error().message});
+      report_error(
+          {s.error().code, P + (clip >= 0 ? " (clip '" + ch.clips[clip].name + "')" : std::string()) + ": " +
+                               s.error().message});
       return;
     }
     if (auto s = save_positions(args->out, skin, combined_topology(ch)); !s) {
@@ -145,9 +156,10 @@ void add_pose_command(CLI::App& app, int& exit_code) {
       std::snprintf(t, sizeof t, "%g", clip_time(args->time, ch.clips[clip].duration, args->loop));
       when = "clip '" + ch.clips[clip].name + "' t=" + t + " s";
     }
-    std::printf("posed %zu skin vertices of %s at %s%s (%s attachment, %zu of %zu keypose sets active), wrote %s\n",
-                skin.size(), P.c_str(), when.c_str(), args->pose.empty() ? "" : " with --pose overrides",
-                attachment_mode_name(doc.attachment.mode), active, doc.keyposes.size(), args->out.c_str());
+    std::printf(
+        "posed %zu skin vertices of %s at %s%s (%s attachment, %zu of %zu keypose sets active), wrote %s\n",
+        skin.size(), P.c_str(), when.c_str(), args->pose.empty() ? "" : " with --pose overrides",
+        attachment_mode_name(doc.attachment.mode), active, doc.keyposes.size(), args->out.c_str());
     exit_code = 0;
   });
 }

@@ -49,7 +49,9 @@ std::vector<Limb> skin_limbs(const Character& character, uint32_t skin_index) {
   return limbs;
 }
 
-const char* attachment_mode_name(AttachmentMode m) { return m == AttachmentMode::kSmooth ? "smooth" : "rigid"; }
+const char* attachment_mode_name(AttachmentMode m) {
+  return m == AttachmentMode::kSmooth ? "smooth" : "rigid";
+}
 
 bool parse_attachment_mode(const std::string& name, AttachmentMode& out) {
   if (name == "rigid") out = AttachmentMode::kRigid;
@@ -97,17 +99,19 @@ std::vector<int32_t> overrides_per_vertex(const AttachmentSettings& settings, si
   return out;
 }
 
-AttachmentSettings with_overrides_per_vertex(const AttachmentSettings& settings, std::span<const int32_t> per_vertex) {
+AttachmentSettings with_overrides_per_vertex(const AttachmentSettings& settings,
+                                             std::span<const int32_t> per_vertex) {
   AttachmentSettings out = settings;
   out.overrides.clear();
   for (size_t v = 0; v < per_vertex.size(); ++v)
-    if (per_vertex[v] >= 0) out.overrides.push_back({static_cast<uint32_t>(v), static_cast<uint32_t>(per_vertex[v])});
+    if (per_vertex[v] >= 0)
+      out.overrides.push_back({static_cast<uint32_t>(v), static_cast<uint32_t>(per_vertex[v])});
   return out;
 }
 
 Result<MirroredAssignment> mirror_assignment(const AttachmentSettings& settings, const Skeleton& skeleton,
-                                             std::span<const glm::vec3> cage_rest, std::span<const uint32_t> vertices,
-                                             double tolerance) {
+                                             std::span<const glm::vec3> cage_rest,
+                                             std::span<const uint32_t> vertices, double tolerance) {
   const size_t nv = cage_rest.size();
   std::vector<uint8_t> given(nv, 0), used(nv, 0);
   for (uint32_t v : vertices)
@@ -128,10 +132,11 @@ Result<MirroredAssignment> mirror_assignment(const AttachmentSettings& settings,
     }
     const int32_t m = mirror_node(skeleton, static_cast<uint32_t>(node));
     if (m < 0) {
-      const std::string& name = static_cast<size_t>(node) < skeleton.size() ? skeleton.node(node).name : std::string("?");
-      return make_error(ErrorCode::kInvalidArgument, "cage vertex " + std::to_string(src) + " follows node '" + name +
-                                                         "', which has no mirror: no node is named '" +
-                                                         mirror_name(name) + "'");
+      const std::string& name =
+          static_cast<size_t>(node) < skeleton.size() ? skeleton.node(node).name : std::string("?");
+      return make_error(ErrorCode::kInvalidArgument,
+                        "cage vertex " + std::to_string(src) + " follows node '" + name +
+                            "', which has no mirror: no node is named '" + mirror_name(name) + "'");
     }
     result[t] = m;
   }
@@ -180,20 +185,21 @@ Result<CageAttachment> attach_cage(const Character& character, std::span<const g
     if (skin.joints[j] < joint_of.size()) joint_of[skin.joints[j]] = static_cast<int32_t>(j);
   for (const AttachmentOverride& o : settings.overrides) {
     if (o.vertex >= cage_rest.size())
-      return make_error(ErrorCode::kIndexOutOfRange, "the attachment assigns cage vertex " + std::to_string(o.vertex) +
-                                                         ", but the cage has " + std::to_string(cage_rest.size()) +
-                                                         " vertices");
+      return make_error(ErrorCode::kIndexOutOfRange, "the attachment assigns cage vertex " +
+                                                         std::to_string(o.vertex) + ", but the cage has " +
+                                                         std::to_string(cage_rest.size()) + " vertices");
     if (o.node >= joint_of.size() || joint_of[o.node] < 0) {
       std::string name = o.node < character.skeleton.size() ? "'" + character.skeleton.node(o.node).name + "'"
                                                             : std::to_string(o.node);
-      return make_error(ErrorCode::kInvalidArgument, "cage vertex " + std::to_string(o.vertex) +
-                                                         " is assigned to node " + name + ", which is not a joint of skin '" +
-                                                         skin.name + "'");
+      return make_error(ErrorCode::kInvalidArgument,
+                        "cage vertex " + std::to_string(o.vertex) + " is assigned to node " + name +
+                            ", which is not a joint of skin '" + skin.name + "'");
     }
   }
   const bool smooth = settings.mode == AttachmentMode::kSmooth;
-  const double width =
-      settings.smooth_width > 0 && std::isfinite(settings.smooth_width) ? settings.smooth_width : AttachmentSettings{}.smooth_width;
+  const double width = settings.smooth_width > 0 && std::isfinite(settings.smooth_width)
+                           ? settings.smooth_width
+                           : AttachmentSettings{}.smooth_width;
   const size_t nv = cage_rest.size();
   att.joint.resize(nv);
   att.influence_start.assign(1, 0);
@@ -201,7 +207,8 @@ Result<CageAttachment> attach_cage(const Character& character, std::span<const g
   std::vector<std::pair<double, uint32_t>> raw;  // (weight, joint)
   size_t next_override = 0;
   for (size_t v = 0; v < nv; ++v) {
-    while (next_override < settings.overrides.size() && settings.overrides[next_override].vertex < v) ++next_override;
+    while (next_override < settings.overrides.size() && settings.overrides[next_override].vertex < v)
+      ++next_override;
     raw.clear();
     if (next_override < settings.overrides.size() && settings.overrides[next_override].vertex == v) {
       raw.emplace_back(1.0, static_cast<uint32_t>(joint_of[settings.overrides[next_override].node]));
@@ -231,7 +238,8 @@ Result<CageAttachment> attach_cage(const Character& character, std::span<const g
           else f = d == 0 ? 1.0 : 0.0;
           if (f > 0) raw.emplace_back(f, static_cast<uint32_t>(j));
         }
-        std::stable_sort(raw.begin(), raw.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+        std::stable_sort(raw.begin(), raw.end(),
+                         [](const auto& a, const auto& b) { return a.first > b.first; });
         if (raw.size() > kMaxAttachmentInfluences) raw.resize(kMaxAttachmentInfluences);
       }
     }

@@ -14,9 +14,11 @@
 //   bisector between two limbs both weigh 1/2; the blend zone around an elbow reaches about
 //   sqrt((1 + width)^2 - 1) times the cage's distance from the bone along each bone (1.1 for the
 //   default width 0.5, 1.7 for width 1), so it scales with the limb's thickness. Where bones are
-//   shorter than the body is thick (a torso of hips, spine and chest) nearly every vertex blends. Every f_j is continuous in the position, so
-//   the weights are too (also where three joints meet, e.g. the chest between neck and shoulders:
-//   there three joints can share a vertex). At most kMaxAttachmentInfluences are kept.
+//   shorter than the body is thick (a torso of hips, spine and chest) nearly every vertex blends.
+//   Every f_j is continuous in the position, so the weights are too, also where three joints meet
+//   (the chest between neck and shoulders, where three joints can share a vertex); that is why
+//   every joint within the falloff takes part rather than exactly the nearest two (the second
+//   nearest would jump where it swaps with the third). At most kMaxAttachmentInfluences are kept.
 // - **overrides**: chosen cage vertices follow a chosen joint rigidly, whatever the mode.
 #pragma once
 
@@ -64,7 +66,8 @@ std::optional<uint32_t> assigned_node(const AttachmentSettings& settings, uint32
 // changes: #Vc node per cage vertex, -1 = automatic (overrides beyond num_vertices are dropped).
 std::vector<int32_t> overrides_per_vertex(const AttachmentSettings& settings, size_t num_vertices);
 // The inverse: the settings with their overrides replaced by `per_vertex` (-1 = automatic).
-AttachmentSettings with_overrides_per_vertex(const AttachmentSettings& settings, std::span<const int32_t> per_vertex);
+AttachmentSettings with_overrides_per_vertex(const AttachmentSettings& settings,
+                                             std::span<const int32_t> per_vertex);
 
 struct MirroredAssignment {
   AttachmentSettings settings;
@@ -77,8 +80,8 @@ struct MirroredAssignment {
 // the pairwise counterpart; on a nearly symmetric one a tolerance of about an edge length leaves no
 // holes. Fails, changing nothing, when an assigned node has no mirrored node; the error names it.
 Result<MirroredAssignment> mirror_assignment(const AttachmentSettings& settings, const Skeleton& skeleton,
-                                             std::span<const glm::vec3> cage_rest, std::span<const uint32_t> vertices,
-                                             double tolerance);
+                                             std::span<const glm::vec3> cage_rest,
+                                             std::span<const uint32_t> vertices, double tolerance);
 
 struct Limb {
   uint32_t joint;  // skin joint index (into Skin::joints) that drives the limb

@@ -132,7 +132,8 @@ bool same_cage(const Cage* a, const Cage* b) {
 
 // bit for bit, like the cage positions
 bool same_offsets(const std::vector<glm::vec3>& a, const std::vector<glm::vec3>& b) {
-  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(glm::vec3)) == 0);
+  return a.size() == b.size() &&
+         (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(glm::vec3)) == 0);
 }
 
 // Sizes, not capacities: the estimate is then the same for a snapshot and its copies.
@@ -145,8 +146,8 @@ size_t vector_bytes(const std::vector<T>& v) {
 bool same_content(const Document& a, const Document& b) {
   return a.character_hash == b.character_hash && same_cage(a.cage.get(), b.cage.get()) &&
          same_offsets(a.cage_offsets, b.cage_offsets) && same_params(a.params, b.params) &&
-         same_set_edits(a.set_edits, b.set_edits) && a.attachment == b.attachment && a.keyposes == b.keyposes &&
-         a.preserved_fields == b.preserved_fields;
+         same_set_edits(a.set_edits, b.set_edits) && a.attachment == b.attachment &&
+         a.keyposes == b.keyposes && a.preserved_fields == b.preserved_fields;
 }
 
 size_t estimated_bytes(const Character& c) {
@@ -178,7 +179,8 @@ size_t estimated_own_bytes(const Document& doc) {
   n += vector_bytes(doc.cage_offsets) + vector_bytes(doc.attachment.overrides) + vector_bytes(doc.keyposes);
   for (const KeyposeSet& s : doc.keyposes) {
     n += s.name.size() + vector_bytes(s.drivers) + vector_bytes(s.keys);
-    for (const KeyposeKey& k : s.keys) n += vector_bytes(k.values) + vector_bytes(k.vertices) + vector_bytes(k.offsets);
+    for (const KeyposeKey& k : s.keys)
+      n += vector_bytes(k.values) + vector_bytes(k.vertices) + vector_bytes(k.offsets);
   }
   return n;
 }

@@ -21,7 +21,8 @@ void linear_weights(std::span<const double> xs, double x, std::span<double> out)
     out[n - 1] = 1.0;
     return;
   }
-  size_t i = static_cast<size_t>(std::upper_bound(xs.begin(), xs.end(), x) - xs.begin()) - 1;  // xs[i] <= x < xs[i+1]
+  size_t i = static_cast<size_t>(std::upper_bound(xs.begin(), xs.end(), x) - xs.begin()) -
+             1;  // xs[i] <= x < xs[i+1]
   double t = (x - xs[i]) / (xs[i + 1] - xs[i]);
   out[i] = 1.0 - t;
   out[i + 1] = t;
@@ -55,9 +56,11 @@ void monotone_slopes(std::span<const double> xs, std::span<const double> ys, std
   }
 }
 
-double hermite_at(std::span<const double> xs, std::span<const double> ys, std::span<const double> m, double x) {
+double hermite_at(std::span<const double> xs, std::span<const double> ys, std::span<const double> m,
+                  double x) {
   const size_t n = xs.size();
-  CAGEWRAP_CHECK(n > 0 && ys.size() == n && m.size() == n, "one value and one slope per key, at least one key");
+  CAGEWRAP_CHECK(n > 0 && ys.size() == n && m.size() == n,
+                 "one value and one slope per key, at least one key");
   if (x <= xs.front() || n == 1) return ys.front();
   if (x >= xs.back()) return ys.back();
   size_t i = static_cast<size_t>(std::upper_bound(xs.begin(), xs.end(), x) - xs.begin()) - 1;
@@ -103,12 +106,14 @@ double RbfInterpolator::phi(double r) const {
   return 0.0;
 }
 
-Result<RbfInterpolator> RbfInterpolator::create(std::span<const double> centres, size_t dims, RbfKernel kernel,
-                                                double width) {
-  if (dims == 0) return make_error(ErrorCode::kInvalidArgument, "RBF interpolation needs at least one dimension");
+Result<RbfInterpolator> RbfInterpolator::create(std::span<const double> centres, size_t dims,
+                                                RbfKernel kernel, double width) {
+  if (dims == 0)
+    return make_error(ErrorCode::kInvalidArgument, "RBF interpolation needs at least one dimension");
   CAGEWRAP_CHECK(centres.size() % dims == 0, "centres are #K x D");
   for (double c : centres)
-    if (!std::isfinite(c)) return make_error(ErrorCode::kNonFinite, "an RBF centre has a non-finite coordinate");
+    if (!std::isfinite(c))
+      return make_error(ErrorCode::kNonFinite, "an RBF centre has a non-finite coordinate");
   RbfInterpolator r;
   r.centres_.assign(centres.begin(), centres.end());
   r.k_ = centres.size() / dims;

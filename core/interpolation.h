@@ -34,7 +34,8 @@ void linear_weights(std::span<const double> xs, double x, std::span<double> out)
 void monotone_slopes(std::span<const double> xs, std::span<const double> ys, std::span<double> slopes);
 
 // The Hermite cubic through (xs, ys) with `slopes` at x, clamped outside the keys.
-double hermite_at(std::span<const double> xs, std::span<const double> ys, std::span<const double> slopes, double x);
+double hermite_at(std::span<const double> xs, std::span<const double> ys, std::span<const double> slopes,
+                  double x);
 
 // Monotone cubic interpolation in one call (monotone_slopes, then hermite_at).
 double monotone_cubic(std::span<const double> xs, std::span<const double> ys, double x);

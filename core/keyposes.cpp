@@ -71,7 +71,9 @@ bool parse_driver_kind(const std::string& name, DriverKind& out) {
   return false;
 }
 
-const char* key_interpolation_name(KeyInterpolation i) { return i == KeyInterpolation::kSmooth ? "smooth" : "linear"; }
+const char* key_interpolation_name(KeyInterpolation i) {
+  return i == KeyInterpolation::kSmooth ? "smooth" : "linear";
+}
 
 bool parse_key_interpolation(const std::string& name, KeyInterpolation& out) {
   if (name == "linear") out = KeyInterpolation::kLinear;
@@ -129,7 +131,8 @@ void add_keypose_set_offsets(const KeyposeSet& set, std::span<const double> x, s
   auto value = [](const KeyposeKey* k, size_t d) { return k ? k->values[d] : 0.0; };
 
   if (dims == 1) {
-    std::stable_sort(keys.begin(), keys.end(), [&](const KeyposeKey* a, const KeyposeKey* b) { return value(a, 0) < value(b, 0); });
+    std::stable_sort(keys.begin(), keys.end(),
+                     [&](const KeyposeKey* a, const KeyposeKey* b) { return value(a, 0) < value(b, 0); });
     // distinct values only (validate_keypose_set rejects duplicates; the first one wins here)
     std::vector<const KeyposeKey*> unique;
     std::vector<double> xs;
@@ -157,7 +160,8 @@ void add_keypose_set_offsets(const KeyposeSet& set, std::span<const double> x, s
       if (!unique[i]) continue;
       const KeyposeKey& k = *unique[i];
       for (size_t e = 0; e < k.vertices.size(); ++e) {
-        size_t t = static_cast<size_t>(std::lower_bound(touched.begin(), touched.end(), k.vertices[e]) - touched.begin());
+        size_t t = static_cast<size_t>(std::lower_bound(touched.begin(), touched.end(), k.vertices[e]) -
+                                       touched.begin());
         table[t * n + i] = k.offsets[e];
       }
     }
@@ -200,14 +204,17 @@ void evaluate_keyposes(std::span<const KeyposeSet> sets, const Skeleton& skeleto
 
 Status validate_keypose_set(const KeyposeSet& set, size_t num_nodes, size_t num_vertices) {
   const std::string what = "keypose set '" + set.name + "'";
-  auto fail = [&](ErrorCode code, const std::string& message) { return make_error(code, what + ": " + message); };
+  auto fail = [&](ErrorCode code, const std::string& message) {
+    return make_error(code, what + ": " + message);
+  };
   if (set.drivers.empty()) return fail(ErrorCode::kInvalidArgument, "has no driver");
   for (size_t d = 0; d < set.drivers.size(); ++d) {
     const JointDriver& dr = set.drivers[d];
     const std::string at = "driver " + std::to_string(d);
     if (dr.node >= num_nodes)
-      return fail(ErrorCode::kIndexOutOfRange, at + " reads node " + std::to_string(dr.node) + ", but the skeleton has " +
-                                                   std::to_string(num_nodes) + " nodes");
+      return fail(ErrorCode::kIndexOutOfRange, at + " reads node " + std::to_string(dr.node) +
+                                                   ", but the skeleton has " + std::to_string(num_nodes) +
+                                                   " nodes");
     if (!finite(dr.axis) || glm::dot(dr.axis, dr.axis) == 0.0f)
       return fail(ErrorCode::kInvalidArgument, at + " has a zero or non-finite axis");
   }
@@ -216,26 +223,31 @@ Status validate_keypose_set(const KeyposeSet& set, size_t num_nodes, size_t num_
     const KeyposeKey& k = set.keys[i];
     const std::string at = "key " + std::to_string(i);
     if (k.values.size() != set.drivers.size())
-      return fail(ErrorCode::kInvalidArgument, at + " has " + std::to_string(k.values.size()) + " values for " +
-                                                   std::to_string(set.drivers.size()) + " drivers");
+      return fail(ErrorCode::kInvalidArgument, at + " has " + std::to_string(k.values.size()) +
+                                                   " values for " + std::to_string(set.drivers.size()) +
+                                                   " drivers");
     for (double v : k.values)
       if (!std::isfinite(v)) return fail(ErrorCode::kNonFinite, at + " has a non-finite driver value");
     if (k.offsets.size() != k.vertices.size())
-      return fail(ErrorCode::kInvalidArgument, at + " has " + std::to_string(k.offsets.size()) + " offsets for " +
-                                                   std::to_string(k.vertices.size()) + " vertices");
+      return fail(ErrorCode::kInvalidArgument, at + " has " + std::to_string(k.offsets.size()) +
+                                                   " offsets for " + std::to_string(k.vertices.size()) +
+                                                   " vertices");
     for (size_t e = 0; e < k.vertices.size(); ++e) {
       if (k.vertices[e] >= num_vertices)
         return fail(ErrorCode::kIndexOutOfRange, at + " moves cage vertex " + std::to_string(k.vertices[e]) +
-                                                     ", but the cage has " + std::to_string(num_vertices) + " vertices");
+                                                     ", but the cage has " + std::to_string(num_vertices) +
+                                                     " vertices");
       if (e > 0 && k.vertices[e] <= k.vertices[e - 1])
         return fail(ErrorCode::kInvalidArgument, at + ": vertices are not sorted and unique (at entry " +
                                                      std::to_string(e) + ")");
       if (!finite(k.offsets[e]))
-        return fail(ErrorCode::kNonFinite, at + " has a non-finite offset for cage vertex " + std::to_string(k.vertices[e]));
+        return fail(ErrorCode::kNonFinite,
+                    at + " has a non-finite offset for cage vertex " + std::to_string(k.vertices[e]));
     }
     for (size_t j = 0; j < i; ++j)
       if (same_values(set.keys[j].values, k.values))
-        return fail(ErrorCode::kInvalidArgument, at + " sits at the same driver values as key " + std::to_string(j));
+        return fail(ErrorCode::kInvalidArgument,
+                    at + " sits at the same driver values as key " + std::to_string(j));
   }
   return Ok{};
 }
@@ -264,9 +276,11 @@ void set_key(KeyposeSet& set, KeyposeKey key) {
       k = std::move(key);
       return;
     }
-  auto it = std::upper_bound(set.keys.begin(), set.keys.end(), key, [](const KeyposeKey& a, const KeyposeKey& b) {
-    return std::lexicographical_compare(a.values.begin(), a.values.end(), b.values.begin(), b.values.end());
-  });
+  auto it =
+      std::upper_bound(set.keys.begin(), set.keys.end(), key, [](const KeyposeKey& a, const KeyposeKey& b) {
+        return std::lexicographical_compare(a.values.begin(), a.values.end(), b.values.begin(),
+                                            b.values.end());
+      });
   set.keys.insert(it, std::move(key));
 }
 
@@ -324,7 +338,8 @@ Result<MirroredKeyposeSet> mirror_keypose_set(const KeyposeSet& set, const Skele
     if (m < 0) {
       const std::string& name = skeleton.node(from.node).name;
       return make_error(ErrorCode::kInvalidArgument, "keypose set '" + set.name + "': driver node '" + name +
-                                                         "' has no mirror: no node is named '" + mirror_name(name) + "'");
+                                                         "' has no mirror: no node is named '" +
+                                                         mirror_name(name) + "'");
     }
     JointDriver& to = out.set.drivers[d];
     to.node = static_cast<uint32_t>(m);
@@ -333,7 +348,8 @@ Result<MirroredKeyposeSet> mirror_keypose_set(const KeyposeSet& set, const Skele
     world.x = -world.x;
     glm::dvec3 a2 = glm::normalize(glm::inverse(rest_rotation(to.node)) * world);
     if (from.kind == DriverKind::kSwing) {
-      to.axis = glm::vec3(glm::dot(a2, a) < 0 ? -a2 : a2);  // the swing angle does not depend on the axis' sign
+      to.axis =
+          glm::vec3(glm::dot(a2, a) < 0 ? -a2 : a2);  // the swing angle does not depend on the axis' sign
     } else if (glm::dot(-a2, a) >= glm::dot(a2, a)) {
       to.axis = glm::vec3(-a2);  // reads +t where the original read +t
     } else {

@@ -132,7 +132,8 @@ void clear_vertex_data(std::vector<KeyposeSet>& sets);
 
 struct MirroredKeyposeSet {
   KeyposeSet set;
-  std::vector<uint32_t> unmatched;  // keyed vertices no vertex took its offset from (none near their mirror image)
+  std::vector<uint32_t>
+      unmatched;  // keyed vertices no vertex took its offset from (none near their mirror image)
 };
 // The set for the other side of a character symmetric about x = 0 in its rest pose:
 // - each driver's node becomes its mirror by name (core/mirror_names.h; a node with no side stays);

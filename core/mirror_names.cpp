@@ -15,9 +15,10 @@ bool starts_with(const std::string& s, const std::string& prefix) {
 }  // namespace
 
 std::string mirror_name(const std::string& name) {
-  static const std::array<std::pair<const char*, const char*>, 12> kSuffixes = {{
-      {".L", ".R"}, {".l", ".r"}, {"_L", "_R"}, {"_l", "_r"}, {"-L", "-R"}, {"-l", "-r"},
-      {" L", " R"}, {" l", " r"}, {".Left", ".Right"}, {"_Left", "_Right"}, {".left", ".right"}, {"_left", "_right"}}};
+  static const std::array<std::pair<const char*, const char*>, 12> kSuffixes = {
+      {{".L", ".R"}, {".l", ".r"}, {"_L", "_R"}, {"_l", "_r"}, {"-L", "-R"}, {"-l", "-r"},
+       {" L", " R"}, {" l", " r"}, {".Left", ".Right"}, {"_Left", "_Right"}, {".left", ".right"},
+       {"_left", "_right"}}};
   for (const auto& [l, r] : kSuffixes) {
     for (int side = 0; side < 2; ++side) {
       const std::string from = side ? r : l, to = side ? l : r;

@@ -113,15 +113,17 @@ std::string keyposes_text(const Document& doc) {
            Json(driver_kind_name(dr.kind)).dump() + ", \"axis\": " + vec3_text(dr.axis) + "}";
     }
     s += "],\n     \"interpolation\": " + Json(key_interpolation_name(k.interpolation)).dump() +
-         ", \"kernel\": " + Json(rbf_kernel_name(k.kernel)).dump() + ", \"rbf_width\": " + number(k.rbf_width) +
-         ", \"rest_key\": " + (k.rest_key ? "true" : "false") + ", \"mute\": " + (k.mute ? "true" : "false") +
-         ", \"solo\": " + (k.solo ? "true" : "false") + ",\n     \"keys\": [";
+         ", \"kernel\": " + Json(rbf_kernel_name(k.kernel)).dump() +
+         ", \"rbf_width\": " + number(k.rbf_width) + ", \"rest_key\": " + (k.rest_key ? "true" : "false") +
+         ", \"mute\": " + (k.mute ? "true" : "false") + ", \"solo\": " + (k.solo ? "true" : "false") +
+         ",\n     \"keys\": [";
     for (size_t j = 0; j < k.keys.size(); ++j) {
       const KeyposeKey& key = k.keys[j];
       s += std::string(j ? "," : "") + "\n      {\"values\": [";
       for (size_t d = 0; d < key.values.size(); ++d) s += std::string(d ? ", " : "") + number(key.values[d]);
       s += "], \"vertices\": " + index_list(key.vertices) + ",\n       \"offsets\": [";
-      for (size_t e = 0; e < key.offsets.size(); ++e) s += std::string(e ? ", " : "") + vec3_text(key.offsets[e]);
+      for (size_t e = 0; e < key.offsets.size(); ++e)
+        s += std::string(e ? ", " : "") + vec3_text(key.offsets[e]);
       s += "]}";
     }
     s += k.keys.empty() ? "]}" : "\n     ]}";
@@ -167,9 +169,11 @@ Result<std::string> project_text(const std::string& path, const Document& doc) {
   }
   s += "\n  },\n";
   if (!std::isfinite(doc.attachment.smooth_width) || doc.attachment.smooth_width <= 0)
-    return make_error(ErrorCode::kInvalidArgument, path + ": not saved: the attachment's smooth width must be a positive number");
+    return make_error(ErrorCode::kInvalidArgument,
+                      path + ": not saved: the attachment's smooth width must be a positive number");
+  const size_t num_nodes = doc.character ? doc.character->skeleton.size() : SIZE_MAX;
   for (const KeyposeSet& k : doc.keyposes)
-    if (auto v = validate_keypose_set(k, doc.character ? doc.character->skeleton.size() : SIZE_MAX, positions.size()); !v)
+    if (auto v = validate_keypose_set(k, num_nodes, positions.size()); !v)
       return make_error(v.error().code, path + ": not saved: " + v.error().message);
   const BindParams& p = doc.params;
   Json binding = {{"variant", variant_name(p.variant)}, {"local", p.local},
@@ -358,7 +362,9 @@ void warn_unknown(const Json& object, const std::string& path, std::initializer_
   for (const auto& [key, value] : object.items()) {
     bool found = false;
     for (const char* k : known) found = found || key == k;
-    if (!found) warnings.push_back(file + ": " + Reader::join(path, key.c_str()) + " is not known to this build and was ignored");
+    if (!found)
+      warnings.push_back(file + ": " + Reader::join(path, key.c_str()) +
+                         " is not known to this build and was ignored");
   }
 }
 
@@ -368,15 +374,19 @@ bool boolean(const Reader& r, const Json& j, const std::string& path) {
 }
 
 glm::vec3 read_vec3(const Reader& r, const Json& j, const std::string& path) {
-  if (!j.is_array() || j.size() != 3) r.fail(ErrorCode::kParse, path + " should be [x, y, z], not " + Reader::show(j));
-  return {r.finite_float(j[0], path + "[0]"), r.finite_float(j[1], path + "[1]"), r.finite_float(j[2], path + "[2]")};
+  if (!j.is_array() || j.size() != 3)
+    r.fail(ErrorCode::kParse, path + " should be [x, y, z], not " + Reader::show(j));
+  return {r.finite_float(j[0], path + "[0]"), r.finite_float(j[1], path + "[1]"),
+          r.finite_float(j[2], path + "[2]")};
 }
 
 // A node named (a string) or numbered (an index) in the character's skeleton.
 uint32_t read_node(const Reader& r, const Json& j, const std::string& path, const Skeleton& skeleton) {
   if (j.is_string()) {
     int32_t n = skeleton.find(j.get<std::string>());
-    if (n < 0) r.fail(ErrorCode::kInvalidArgument, path + " is node '" + j.get<std::string>() + "', but the character has no node of that name");
+    if (n < 0)
+      r.fail(ErrorCode::kInvalidArgument,
+             path + " is node '" + j.get<std::string>() + "', but the character has no node of that name");
     return static_cast<uint32_t>(n);
   }
   uint32_t n = r.index(j, path);
@@ -386,8 +396,9 @@ uint32_t read_node(const Reader& r, const Json& j, const std::string& path, cons
   return n;
 }
 
-AttachmentSettings read_attachment(const Reader& r, const Json& a, const Character& character, size_t num_vertices,
-                                   std::vector<std::string>& warnings, const std::string& file) {
+AttachmentSettings read_attachment(const Reader& r, const Json& a, const Character& character,
+                                   size_t num_vertices, std::vector<std::string>& warnings,
+                                   const std::string& file) {
   if (!a.is_object()) r.fail(ErrorCode::kParse, "attachment should be an object, not " + Reader::show(a));
   AttachmentSettings out;
   if (a.contains("mode")) {
@@ -402,7 +413,8 @@ AttachmentSettings read_attachment(const Reader& r, const Json& a, const Charact
   std::vector<int32_t> joint_of(character.skeleton.size(), -1);
   if (!character.skins.empty())
     for (size_t j = 0; j < character.skins[0].joints.size(); ++j)
-      if (character.skins[0].joints[j] < joint_of.size()) joint_of[character.skins[0].joints[j]] = static_cast<int32_t>(j);
+      if (character.skins[0].joints[j] < joint_of.size())
+        joint_of[character.skins[0].joints[j]] = static_cast<int32_t>(j);
   if (a.contains("overrides")) {
     const Json& list = r.array(a["overrides"], "attachment.overrides");
     std::vector<int32_t> per_vertex(num_vertices, -1);
@@ -416,9 +428,12 @@ AttachmentSettings read_attachment(const Reader& r, const Json& a, const Charact
                                                 std::to_string(num_vertices) + " vertices");
       uint32_t node = read_node(r, r.field(o, path, "node"), path + ".node", character.skeleton);
       if (!character.skins.empty() && joint_of[node] < 0)
-        r.fail(ErrorCode::kInvalidArgument, path + ".node '" + character.skeleton.node(node).name +
-                                                "' is not a joint of the character's skin; a cage vertex can follow joints only");
-      if (per_vertex[v] >= 0) r.fail(ErrorCode::kInvalidArgument, path + " assigns cage vertex " + std::to_string(v) + " a second time");
+        r.fail(ErrorCode::kInvalidArgument,
+               path + ".node '" + character.skeleton.node(node).name +
+                   "' is not a joint of the character's skin; a cage vertex can follow joints only");
+      if (per_vertex[v] >= 0)
+        r.fail(ErrorCode::kInvalidArgument,
+               path + " assigns cage vertex " + std::to_string(v) + " a second time");
       per_vertex[v] = static_cast<int32_t>(node);
       warn_unknown(o, path, {"vertex", "node"}, warnings, file);
     }
@@ -428,8 +443,9 @@ AttachmentSettings read_attachment(const Reader& r, const Json& a, const Charact
   return out;
 }
 
-std::vector<KeyposeSet> read_keyposes(const Reader& r, const Json& list, const Character& character, size_t num_vertices,
-                                      std::vector<std::string>& warnings, const std::string& file) {
+std::vector<KeyposeSet> read_keyposes(const Reader& r, const Json& list, const Character& character,
+                                      size_t num_vertices, std::vector<std::string>& warnings,
+                                      const std::string& file) {
   r.array(list, "keyposes");
   std::vector<KeyposeSet> out;
   for (size_t i = 0; i < list.size(); ++i) {
@@ -439,7 +455,8 @@ std::vector<KeyposeSet> read_keyposes(const Reader& r, const Json& list, const C
     KeyposeSet set;
     if (k.contains("name")) set.name = r.string(k["name"], path + ".name");
     const Json& drivers = r.array(r.field(k, path, "drivers"), path + ".drivers");
-    if (drivers.empty()) r.fail(ErrorCode::kEmpty, path + ".drivers is empty; a keypose set needs at least one driver");
+    if (drivers.empty())
+      r.fail(ErrorCode::kEmpty, path + ".drivers is empty; a keypose set needs at least one driver");
     for (size_t d = 0; d < drivers.size(); ++d) {
       const std::string dpath = Reader::at(path + ".drivers", d);
       const Json& dj = drivers[d];
@@ -450,7 +467,8 @@ std::vector<KeyposeSet> read_keyposes(const Reader& r, const Json& list, const C
       if (!parse_driver_kind(kind, dr.kind))
         r.fail(ErrorCode::kParse, dpath + ".kind is '" + kind + "'; expected rotation, twist or swing");
       dr.axis = read_vec3(r, r.field(dj, dpath, "axis"), dpath + ".axis");
-      if (dr.axis == glm::vec3(0.0f)) r.fail(ErrorCode::kInvalidArgument, dpath + ".axis is [0, 0, 0]; it needs a direction");
+      if (dr.axis == glm::vec3(0.0f))
+        r.fail(ErrorCode::kInvalidArgument, dpath + ".axis is [0, 0, 0]; it needs a direction");
       warn_unknown(dj, dpath, {"node", "kind", "axis"}, warnings, file);
       set.drivers.push_back(dr);
     }
@@ -477,13 +495,18 @@ std::vector<KeyposeSet> read_keyposes(const Reader& r, const Json& list, const C
       const Json& values = r.array(r.field(kj, kpath, "values"), kpath + ".values");
       if (values.size() != set.drivers.size())
         r.fail(ErrorCode::kInvalidArgument, kpath + ".values has " + std::to_string(values.size()) +
-                                                " entries; the set has " + std::to_string(set.drivers.size()) + " drivers");
-      for (size_t d = 0; d < values.size(); ++d) key.values.push_back(r.number(values[d], Reader::at(kpath + ".values", d)));
-      std::vector<uint32_t> vertices = kj.contains("vertices") ? r.indices(kj["vertices"], kpath + ".vertices") : std::vector<uint32_t>{};
-      const Json& offsets = kj.contains("offsets") ? r.array(kj["offsets"], kpath + ".offsets") : Json::array();
+                                                " entries; the set has " +
+                                                std::to_string(set.drivers.size()) + " drivers");
+      for (size_t d = 0; d < values.size(); ++d)
+        key.values.push_back(r.number(values[d], Reader::at(kpath + ".values", d)));
+      std::vector<uint32_t> vertices =
+          kj.contains("vertices") ? r.indices(kj["vertices"], kpath + ".vertices") : std::vector<uint32_t>{};
+      const Json& offsets =
+          kj.contains("offsets") ? r.array(kj["offsets"], kpath + ".offsets") : Json::array();
       if (offsets.size() != vertices.size())
-        r.fail(ErrorCode::kInvalidArgument, kpath + ".offsets has " + std::to_string(offsets.size()) + " entries for " +
-                                                std::to_string(vertices.size()) + " vertices");
+        r.fail(ErrorCode::kInvalidArgument, kpath + ".offsets has " + std::to_string(offsets.size()) +
+                                                " entries for " + std::to_string(vertices.size()) +
+                                                " vertices");
       std::vector<std::pair<uint32_t, glm::vec3>> entries;
       for (size_t e = 0; e < vertices.size(); ++e) {
         if (vertices[e] >= num_vertices)
@@ -492,10 +515,12 @@ std::vector<KeyposeSet> read_keyposes(const Reader& r, const Json& list, const C
                                                   std::to_string(num_vertices) + " vertices");
         entries.emplace_back(vertices[e], read_vec3(r, offsets[e], Reader::at(kpath + ".offsets", e)));
       }
-      std::stable_sort(entries.begin(), entries.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+      std::stable_sort(entries.begin(), entries.end(),
+                       [](const auto& a, const auto& b) { return a.first < b.first; });
       for (size_t e = 0; e < entries.size(); ++e) {
         if (e > 0 && entries[e].first == entries[e - 1].first)
-          r.fail(ErrorCode::kInvalidArgument, kpath + ".vertices lists cage vertex " + std::to_string(entries[e].first) + " twice");
+          r.fail(ErrorCode::kInvalidArgument,
+                 kpath + ".vertices lists cage vertex " + std::to_string(entries[e].first) + " twice");
         key.vertices.push_back(entries[e].first);
         key.offsets.push_back(entries[e].second);
       }
@@ -504,9 +529,10 @@ std::vector<KeyposeSet> read_keyposes(const Reader& r, const Json& list, const C
     }
     if (auto v = validate_keypose_set(set, character.skeleton.size(), num_vertices); !v)
       r.fail(v.error().code, path + ": " + v.error().message);
-    warn_unknown(k, path,
-                 {"name", "drivers", "interpolation", "kernel", "rbf_width", "rest_key", "mute", "solo", "keys"},
-                 warnings, file);
+    warn_unknown(
+        k, path,
+        {"name", "drivers", "interpolation", "kernel", "rbf_width", "rest_key", "mute", "solo", "keys"},
+        warnings, file);
     out.push_back(std::move(set));
   }
   return out;

@@ -9,7 +9,8 @@
 
 namespace cagewrap {
 
-Pose compose_pose(const Character& character, int32_t clip, double t, bool loop, std::span<const glm::quat> overrides) {
+Pose compose_pose(const Character& character, int32_t clip, double t, bool loop,
+                  std::span<const glm::quat> overrides) {
   Pose pose = sample_pose(character, clip, t, loop);
   for (size_t i = 0; i < overrides.size() && i < pose.local.size(); ++i)
     pose.local[i].rotation = glm::normalize(pose.local[i].rotation * overrides[i]);
@@ -18,12 +19,14 @@ Pose compose_pose(const Character& character, int32_t clip, double t, bool loop,
 
 glm::quat rotation_xyz_degrees(double rx, double ry, double rz) {
   constexpr double kRad = std::numbers::pi / 180.0;
-  glm::dquat q = glm::angleAxis(rz * kRad, glm::dvec3(0, 0, 1)) * glm::angleAxis(ry * kRad, glm::dvec3(0, 1, 0)) *
+  glm::dquat q = glm::angleAxis(rz * kRad, glm::dvec3(0, 0, 1)) *
+                 glm::angleAxis(ry * kRad, glm::dvec3(0, 1, 0)) *
                  glm::angleAxis(rx * kRad, glm::dvec3(1, 0, 0));
   return glm::quat(glm::normalize(q));
 }
 
-void pose_document_cage(const Document& doc, const CageAttachment* attachment, const Pose& pose, PosedCage& out) {
+void pose_document_cage(const Document& doc, const CageAttachment* attachment, const Pose& pose,
+                        PosedCage& out) {
   CAGEWRAP_CHECK(doc.cage && doc.character, "posing a cage needs a document with a character and a cage");
   const Character& ch = *doc.character;
   const size_t nv = doc.cage->num_vertices();
@@ -74,7 +77,8 @@ Rig::~Rig() = default;
 
 Result<Rig> Rig::create(const Document& doc, const BindProgress& progress) {
   if (!doc.character) return make_error(ErrorCode::kInvalidArgument, "the document has no character");
-  if (!doc.cage) return make_error(ErrorCode::kInvalidArgument, "the document has no cage to pose the skin with");
+  if (!doc.cage)
+    return make_error(ErrorCode::kInvalidArgument, "the document has no cage to pose the skin with");
   Rig rig;
   rig.state_ = std::make_unique<State>();
   State& s = *rig.state_;
@@ -85,7 +89,8 @@ Result<Rig> Rig::create(const Document& doc, const BindProgress& progress) {
     if (!att) return make_error(att.error().code, "attachment: " + att.error().message);
     s.attachment = std::move(att).value();
   }
-  for (const Primitive& p : ch.primitives) s.skin_rest.insert(s.skin_rest.end(), p.positions.begin(), p.positions.end());
+  for (const Primitive& p : ch.primitives)
+    s.skin_rest.insert(s.skin_rest.end(), p.positions.begin(), p.positions.end());
   auto bound = bind_skin(s.skin_rest, *doc.cage, doc.cage_positions(), doc.params, doc.set_edits, progress);
   if (!bound) return make_error(bound.error().code, "bind: " + bound.error().message);
   s.binding = std::move(bound).value();
@@ -101,7 +106,8 @@ bool Rig::fits(const Document& doc) const {
   if (doc.character != mine.character && doc.character_hash != mine.character_hash) return false;
   if (doc.cage != mine.cage) {
     const PolyMesh &a = doc.cage->polygons, &b = mine.cage->polygons;
-    if (a.face_start != b.face_start || a.face_vertices != b.face_vertices || a.positions.size() != b.positions.size() ||
+    if (a.face_start != b.face_start || a.face_vertices != b.face_vertices ||
+        a.positions.size() != b.positions.size() ||
         std::memcmp(a.positions.data(), b.positions.data(), a.positions.size() * sizeof(glm::vec3)) != 0)
       return false;
   }
@@ -110,7 +116,8 @@ bool Rig::fits(const Document& doc) const {
 }
 
 Status Rig::pose(const Document& doc, const Pose& pose, PosedCage& cage, std::span<glm::vec3> skin_out) {
-  CAGEWRAP_CHECK(fits(doc), "Rig::pose: the document has another cage, binding parameters or attachment than the rig");
+  CAGEWRAP_CHECK(fits(doc),
+                 "Rig::pose: the document has another cage, binding parameters or attachment than the rig");
   CAGEWRAP_CHECK(skin_out.size() == state_->skin_rest.size(), "one output position per skin point");
   pose_document_cage(doc, state_->attachment ? &*state_->attachment : nullptr, pose, cage);
   return deform_through_cage(*state_->deformer, cage, skin_out);

@@ -47,7 +47,8 @@ struct PosedCage {
 
 // Poses the document's cage (it must have one: checked). `attachment` may be null (no skin). The
 // vectors of `out` are resized, so a PosedCage reused frame to frame does not allocate.
-void pose_document_cage(const Document& doc, const CageAttachment* attachment, const Pose& pose, PosedCage& out);
+void pose_document_cage(const Document& doc, const CageAttachment* attachment, const Pose& pose,
+                        PosedCage& out);
 
 // Deforms the skin through a posed cage: the extended variant takes the vertices' linear parts when
 // the cage was posed by an attachment (otherwise it fits them from the one-rings).

@@ -27,7 +27,8 @@ struct Influences {
 Influences influences(const Character& c, const CageAttachment& att, size_t v) {
   Influences out;
   for (uint32_t i = att.influence_start[v]; i < att.influence_start[v + 1]; ++i)
-    out.list.emplace_back(c.skeleton.node(c.skins[att.skin].joints[att.influence_joint[i]]).name, att.influence_weight[i]);
+    out.list.emplace_back(c.skeleton.node(c.skins[att.skin].joints[att.influence_joint[i]]).name,
+                          att.influence_weight[i]);
   return out;
 }
 
@@ -85,7 +86,8 @@ TEST(CageAttachment, SmoothWeightsSumToOneAreHalfOnTheBisectorAndRigidFarAway) {
     }
     EXPECT_NEAR(sum, 1.0f, 1e-6f) << v;
     EXPECT_LE(in.list.size(), kMaxAttachmentInfluences);
-    for (size_t i = 1; i < in.list.size(); ++i) EXPECT_GE(in.list[i - 1].second, in.list[i].second);  // heaviest first
+    for (size_t i = 1; i < in.list.size(); ++i)
+      EXPECT_GE(in.list[i - 1].second, in.list[i].second);  // heaviest first
   }
   EXPECT_NEAR(influences(c, *att, 0).weight_of("upper"), 0.5f, 1e-6f);
   EXPECT_NEAR(influences(c, *att, 0).weight_of("lower"), 0.5f, 1e-6f);
@@ -97,7 +99,8 @@ TEST(CageAttachment, SmoothWeightsSumToOneAreHalfOnTheBisectorAndRigidFarAway) {
   // the falloff: rigid exactly where the second limb is (1 + width) times farther (width 1 here)
   // at (0.2, 1 - s): d_upper = 0.2, d_lower = sqrt(0.04 + s^2); 0.4 = 2 * 0.2 at s = sqrt(0.12)
   const float s = std::sqrt(0.12f);
-  auto edge = attach_cage(c, std::vector<glm::vec3>{{0.2f, 1 - s - 1e-3f, 0}, {0.2f, 1 - s + 1e-3f, 0}}, smooth());
+  auto edge =
+      attach_cage(c, std::vector<glm::vec3>{{0.2f, 1 - s - 1e-3f, 0}, {0.2f, 1 - s + 1e-3f, 0}}, smooth());
   EXPECT_EQ(influences(c, *edge, 0).list.size(), 1u);
   EXPECT_EQ(influences(c, *edge, 1).list.size(), 2u);
   // a narrower width gives a narrower zone
@@ -128,7 +131,8 @@ TEST(CageAttachment, SmoothIsContinuousWhereRigidTears) {
   float worst = 0;
   for (size_t i = 1; i < line.size(); ++i)
     for (const char* n : {"upper", "lower", "hand"})
-      worst = std::max(worst, std::abs(influences(c, *soft, i).weight_of(n) - influences(c, *soft, i - 1).weight_of(n)));
+      worst = std::max(
+          worst, std::abs(influences(c, *soft, i).weight_of(n) - influences(c, *soft, i - 1).weight_of(n)));
   EXPECT_LT(worst, 0.01f);
   // the linear part is the blend of the joints' 3x3s: at the bisector, half of identity and half
   // of the 90 degree turn
@@ -172,14 +176,17 @@ TEST(CageAttachment, BadOverridesNameTheVertexAndTheNode) {
   std::vector<glm::vec3> pts = {{0.1f, 0.5f, 0}};
   auto not_joint = attach_cage(c, pts, assign_vertices({}, std::vector<uint32_t>{0}, 3u));
   ASSERT_FALSE(not_joint.ok());
-  EXPECT_EQ(not_joint.error().message, "cage vertex 0 is assigned to node 'mesh', which is not a joint of skin 'rig'");
+  EXPECT_EQ(not_joint.error().message,
+            "cage vertex 0 is assigned to node 'mesh', which is not a joint of skin 'rig'");
   auto out_of_range = attach_cage(c, pts, assign_vertices({}, std::vector<uint32_t>{4}, 0u));
   ASSERT_FALSE(out_of_range.ok());
   EXPECT_EQ(out_of_range.error().code, ErrorCode::kIndexOutOfRange);
-  EXPECT_EQ(out_of_range.error().message, "the attachment assigns cage vertex 4, but the cage has 1 vertices");
+  EXPECT_EQ(out_of_range.error().message,
+            "the attachment assigns cage vertex 4, but the cage has 1 vertices");
   Character bare;
   bare.source = "bare.glb";
-  EXPECT_EQ(attach_cage(bare, pts, {}).error().message, "bare.glb: has no skin (no skeleton to attach the cage to)");
+  EXPECT_EQ(attach_cage(bare, pts, {}).error().message,
+            "bare.glb: has no skin (no skeleton to attach the cage to)");
 }
 
 TEST(CageAttachment, MirroredAssignmentUsesTheOtherSidesJoint) {
@@ -208,7 +215,8 @@ TEST(CageAttachment, MirroredAssignmentUsesTheOtherSidesJoint) {
   AttachmentSettings t = assign_vertices({}, std::vector<uint32_t>{0}, tail);
   auto bad = mirror_assignment(t, sk, cage, std::vector<uint32_t>{0}, 1e-4);
   ASSERT_FALSE(bad.ok());
-  EXPECT_EQ(bad.error().message, "cage vertex 0 follows node 'tail.L', which has no mirror: no node is named 'tail.R'");
+  EXPECT_EQ(bad.error().message,
+            "cage vertex 0 follows node 'tail.L', which has no mirror: no node is named 'tail.R'");
 }
 
 }  // namespace

@@ -81,7 +81,9 @@ TEST(MonotoneCubic, TwoKeysEaseInAndOutAndTheCurveIsC1) {
   // the derivative is continuous everywhere, including where the curve meets the clamped ends
   const std::vector<double> xs4 = {0, 10, 30, 35, 90};
   const std::vector<double> ys4 = {0, 2, 2.5, 7, -1};
-  auto slope = [&](double x, double h) { return (monotone_cubic(xs4, ys4, x + h) - monotone_cubic(xs4, ys4, x)) / h; };
+  auto slope = [&](double x, double h) {
+    return (monotone_cubic(xs4, ys4, x + h) - monotone_cubic(xs4, ys4, x)) / h;
+  };
   for (double x : {0.0, 10.0, 30.0, 35.0, 90.0}) {
     double left = slope(x - 1e-6, 1e-7), right = slope(x + 1e-7, 1e-7);
     EXPECT_NEAR(left, right, 1e-3) << "at key " << x;
@@ -104,7 +106,8 @@ TEST(Rbf, EveryKernelReproducesEveryKey) {
       for (size_t i = 0; i < n; ++i) {
         rbf->weights(std::span<const double>(&centres[i * dims], dims), w);
         for (size_t j = 0; j < n; ++j)
-          EXPECT_NEAR(w[j], i == j ? 1.0 : 0.0, 1e-8) << rbf_kernel_name(kernel) << " dims " << dims << " key " << i;
+          EXPECT_NEAR(w[j], i == j ? 1.0 : 0.0, 1e-8)
+              << rbf_kernel_name(kernel) << " dims " << dims << " key " << i;
       }
     }
   }
@@ -114,14 +117,16 @@ TEST(Rbf, DegenerateLayoutsStillInterpolate) {
   // thin plate with every centre on one line in 2-D (the affine term is then not determined), and
   // centres a unit apart (phi(1) = 0)
   for (const std::vector<double>& centres :
-       {std::vector<double>{0, 0, 30, 0, 90, 0}, std::vector<double>{0, 0, 1, 0}, std::vector<double>{0, 0, 1, 0, 0, 1}}) {
+       {std::vector<double>{0, 0, 30, 0, 90, 0}, std::vector<double>{0, 0, 1, 0},
+        std::vector<double>{0, 0, 1, 0, 0, 1}}) {
     for (RbfKernel kernel : {RbfKernel::kGaussian, RbfKernel::kThinPlate, RbfKernel::kLinear}) {
       auto rbf = RbfInterpolator::create(centres, 2, kernel);
       ASSERT_TRUE(rbf.ok());
       std::vector<double> w(rbf->num_centres());
       for (size_t i = 0; i < rbf->num_centres(); ++i) {
         rbf->weights(std::span<const double>(&centres[2 * i], 2), w);
-        for (size_t j = 0; j < w.size(); ++j) EXPECT_NEAR(w[j], i == j ? 1.0 : 0.0, 1e-8) << rbf_kernel_name(kernel);
+        for (size_t j = 0; j < w.size(); ++j)
+          EXPECT_NEAR(w[j], i == j ? 1.0 : 0.0, 1e-8) << rbf_kernel_name(kernel);
       }
     }
   }

@@ -47,7 +47,8 @@ KeyposeKey key_at(std::vector<double> values, uint32_t v, glm::vec3 offset) {
   return KeyposeKey{std::move(values), {v}, {offset}};
 }
 
-std::vector<glm::vec3> evaluate(const std::vector<KeyposeSet>& sets, const Skeleton& sk, const Pose& pose, size_t nv = 4) {
+std::vector<glm::vec3> evaluate(const std::vector<KeyposeSet>& sets, const Skeleton& sk, const Pose& pose,
+                                size_t nv = 4) {
   std::vector<glm::vec3> out(nv, glm::vec3(99.0f));  // overwritten
   evaluate_keyposes(sets, sk, pose, out);
   return out;
@@ -66,7 +67,8 @@ TEST(Drivers, ReadRotationTwistAndSwingInDegrees) {
     EXPECT_NEAR(driver_value({0, k, {1, 0, 0}}, j.skeleton, rest), 0.0, 1e-4) << driver_kind_name(k);
   Pose bent = j.pose(about_deg(70, {1, 0, 0}));
   EXPECT_NEAR(driver_value({0, DriverKind::kRotation, {1, 0, 0}}, j.skeleton, bent), 70.0, 1e-3);
-  EXPECT_NEAR(driver_value({0, DriverKind::kRotation, {2, 0, 0}}, j.skeleton, bent), 70.0, 1e-3);  // axis normalized
+  EXPECT_NEAR(driver_value({0, DriverKind::kRotation, {2, 0, 0}}, j.skeleton, bent), 70.0,
+              1e-3);  // axis normalized
   EXPECT_NEAR(driver_value({0, DriverKind::kRotation, {-1, 0, 0}}, j.skeleton, bent), -70.0, 1e-3);
   EXPECT_NEAR(driver_value({0, DriverKind::kRotation, {0, 1, 0}}, j.skeleton, bent), 0.0, 1e-3);
   EXPECT_NEAR(driver_value({0, DriverKind::kTwist, {1, 0, 0}}, j.skeleton, bent), 70.0, 1e-3);
@@ -182,7 +184,8 @@ TEST(Keyposes, SmoothKeysAreExactMonotoneAndEaseAtTheEnds) {
 KeyposeSet shoulder_set(RbfKernel kernel) {
   KeyposeSet s;
   s.name = "shoulder";
-  s.drivers = {JointDriver{0, DriverKind::kRotation, {1, 0, 0}}, JointDriver{0, DriverKind::kRotation, {0, 0, 1}}};
+  s.drivers = {JointDriver{0, DriverKind::kRotation, {1, 0, 0}},
+               JointDriver{0, DriverKind::kRotation, {0, 0, 1}}};
   s.kernel = kernel;
   set_key(s, key_at({90, 0}, 1, {1, 0, 0}));
   set_key(s, key_at({0, 90}, 1, {0, 1, 0}));
@@ -306,13 +309,15 @@ TEST(Keyposes, KeyingASculptKeepsTheShapeAtThatPose) {
     KeyposeSet keyed = key_sculpt(s, driver_values(s, j.skeleton, at70), sculpt);
     ASSERT_EQ(keyed.keys.size(), 3u);
     std::vector<glm::vec3> after = evaluate({keyed}, j.skeleton, at70);
-    for (size_t v = 0; v < 4; ++v) expect_near(after[v], before[v] + sculpt[v], 1e-5f, key_interpolation_name(interp));
+    for (size_t v = 0; v < 4; ++v)
+      expect_near(after[v], before[v] + sculpt[v], 1e-5f, key_interpolation_name(interp));
     // the other keys are untouched
     expect_near(evaluate({keyed}, j.skeleton, j.pose(about_deg(120, {1, 0, 0})))[2], {0, 1, 0}, 1e-5f);
   }
   // the same in pose space
   KeyposeSet p = shoulder_set(RbfKernel::kGaussian);
-  KeyposeSet keyed = key_sculpt(p, {30, 45}, std::vector<glm::vec3>{{0, 0, 0}, {1, 1, 1}, {0, 0, 0}, {0, 0, 0}});
+  KeyposeSet keyed =
+      key_sculpt(p, {30, 45}, std::vector<glm::vec3>{{0, 0, 0}, {1, 1, 1}, {0, 0, 0}, {0, 0, 0}});
   std::vector<glm::vec3> out(4, glm::vec3(0.0f)), was(4, glm::vec3(0.0f));
   add_keypose_set_offsets(keyed, std::vector<double>{30, 45}, out);
   add_keypose_set_offsets(p, std::vector<double>{30, 45}, was);
@@ -374,7 +379,11 @@ TEST(MirrorNames, Conventions) {
 
 // The rig's cage: pairs across x = 0 (0 <-> 1, 2 <-> 3) and one vertex on the plane (4).
 std::vector<glm::vec3> symmetric_cage() {
-  return {{0.8f, 0.1f, 0.05f}, {-0.8f, 0.1f, 0.05f}, {1.2f, -0.1f, 0.0f}, {-1.2f, -0.1f, 0.0f}, {0.0f, 0.3f, 0.0f}};
+  return {{0.8f, 0.1f, 0.05f},
+          {-0.8f, 0.1f, 0.05f},
+          {1.2f, -0.1f, 0.0f},
+          {-1.2f, -0.1f, 0.0f},
+          {0.0f, 0.3f, 0.0f}};
 }
 
 // The pose mirrored across x = 0: node n's relative rotation q becomes C q C^-1 on its mirror m,
@@ -387,7 +396,8 @@ Pose mirrored_pose(const Skeleton& sk, const Pose& pose) {
     int32_t m = mirror_node(sk, n);
     if (m < 0) continue;
     glm::dmat3 c = glm::transpose(glm::dmat3(glm::mat3(rest[m]))) * x * glm::dmat3(glm::mat3(rest[n]));
-    glm::dmat3 q = glm::dmat3(glm::mat3_cast(glm::normalize(glm::inverse(sk.node(n).rest.rotation) * pose.local[n].rotation)));
+    glm::dmat3 q = glm::dmat3(
+        glm::mat3_cast(glm::normalize(glm::inverse(sk.node(n).rest.rotation) * pose.local[n].rotation)));
     glm::dmat3 qm = c * q * glm::transpose(c);
     out.local[m].rotation = glm::normalize(sk.node(m).rest.rotation * glm::quat(glm::quat_cast(qm)));
   }
@@ -401,7 +411,8 @@ TEST(MirrorKeyposes, MirroredSetOnTheMirroredPoseGivesTheMirroredOffsets) {
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> u(-1, 1);
   for (DriverKind kind : {DriverKind::kRotation, DriverKind::kTwist, DriverKind::kSwing}) {
-    for (glm::vec3 axis : {glm::vec3(1, 0, 0), glm::vec3(0, 1, 0), glm::vec3(0, 0, 1), glm::vec3(0.6f, 0, 0.8f)}) {
+    for (glm::vec3 axis :
+         {glm::vec3(1, 0, 0), glm::vec3(0, 1, 0), glm::vec3(0, 0, 1), glm::vec3(0.6f, 0, 0.8f)}) {
       KeyposeSet s;
       s.name = "flex.L";
       s.drivers = {JointDriver{static_cast<uint32_t>(sk.find("hand.L")), kind, axis}};
@@ -417,12 +428,13 @@ TEST(MirrorKeyposes, MirroredSetOnTheMirroredPoseGivesTheMirroredOffsets) {
       for (int trial = 0; trial < 5; ++trial) {
         Pose pose = sk.rest_pose();
         glm::dvec3 r(u(rng), u(rng), u(rng));
-        test::rotate(sk, pose, "hand.L", about_deg(30 + 60 * std::abs(r.x), glm::normalize(r + glm::dvec3(0, 0, 0.01))));
+        test::rotate(sk, pose, "hand.L",
+                     about_deg(30 + 60 * std::abs(r.x), glm::normalize(r + glm::dvec3(0, 0, 0.01))));
         Pose mp = mirrored_pose(sk, pose);
         auto left = evaluate({s}, sk, pose, cage.size());
         auto right = evaluate({m->set}, sk, mp, cage.size());
-        const std::string what = std::string(driver_kind_name(kind)) + " axis " + std::to_string(axis.x) + "," +
-                                 std::to_string(axis.y) + "," + std::to_string(axis.z);
+        const std::string what = std::string(driver_kind_name(kind)) + " axis " + std::to_string(axis.x) +
+                                 "," + std::to_string(axis.y) + "," + std::to_string(axis.z);
         // 0 <-> 1, 2 <-> 3, 4 <-> 4, offsets with x negated
         const uint32_t pair[5] = {1, 0, 3, 2, 4};
         for (uint32_t v = 0; v < 5; ++v)
@@ -438,7 +450,8 @@ TEST(MirrorKeyposes, HingeAxesKeepTheirValues) {
   Character c = test::symmetric_character();
   KeyposeSet s;
   s.name = "biceps.L";
-  s.drivers = {JointDriver{static_cast<uint32_t>(c.skeleton.find("hand.L")), DriverKind::kRotation, {1, 0, 0}}};
+  s.drivers = {
+      JointDriver{static_cast<uint32_t>(c.skeleton.find("hand.L")), DriverKind::kRotation, {1, 0, 0}}};
   set_key(s, key_at({120}, 0, {0.01f, 0.02f, 0.03f}));
   auto m = mirror_keypose_set(s, c.skeleton, symmetric_cage(), 1e-4);
   ASSERT_TRUE(m.ok());
@@ -460,7 +473,8 @@ TEST(MirrorKeyposes, ReportsUnmatchedVerticesAndNodesWithoutAMirror) {
   cage[2].x = 1.25f;  // vertex 2 loses its counterpart
   KeyposeSet s;
   s.name = "tail";
-  s.drivers = {JointDriver{static_cast<uint32_t>(c.skeleton.find("arm.L")), DriverKind::kRotation, {1, 0, 0}}};
+  s.drivers = {
+      JointDriver{static_cast<uint32_t>(c.skeleton.find("arm.L")), DriverKind::kRotation, {1, 0, 0}}};
   set_key(s, KeyposeKey{{40}, {0, 2}, {{1, 0, 0}, {0, 1, 0}}});
   auto m = mirror_keypose_set(s, c.skeleton, cage, 1e-3);
   ASSERT_TRUE(m.ok());
@@ -470,7 +484,8 @@ TEST(MirrorKeyposes, ReportsUnmatchedVerticesAndNodesWithoutAMirror) {
   s.drivers[0].node = static_cast<uint32_t>(c.skeleton.find("tail.L"));
   auto bad = mirror_keypose_set(s, c.skeleton, cage, 1e-3);
   ASSERT_FALSE(bad.ok());
-  EXPECT_EQ(bad.error().message, "keypose set 'tail': driver node 'tail.L' has no mirror: no node is named 'tail.R'");
+  EXPECT_EQ(bad.error().message,
+            "keypose set 'tail': driver node 'tail.L' has no mirror: no node is named 'tail.R'");
 }
 
 }  // namespace

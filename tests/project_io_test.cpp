@@ -624,7 +624,8 @@ TEST_F(ProjectIoRigTest, AttachmentAndKeyposesRoundTrip) {
   EXPECT_EQ(j["attachment"]["mode"], "smooth");
   EXPECT_EQ(j["attachment"]["smooth_width"], 0.7);
   EXPECT_EQ(j["attachment"]["overrides"][0], Json::parse(R"({"vertex": 3, "node": "tet_node"})"));
-  EXPECT_EQ(j["keyposes"][0]["drivers"][0], Json::parse(R"({"node": "tet_node", "kind": "twist", "axis": [0, 0, 1]})"));
+  EXPECT_EQ(j["keyposes"][0]["drivers"][0],
+            Json::parse(R"({"node": "tet_node", "kind": "twist", "axis": [0, 0, 1]})"));
   EXPECT_EQ(j["keyposes"][0]["interpolation"], "smooth");
   EXPECT_EQ(j["keyposes"][0]["keys"][0]["values"], Json::array({-45.5}));  // sorted by value
   EXPECT_EQ(j["keyposes"][0]["keys"][1]["vertices"], Json::array({1, 4}));
@@ -688,7 +689,10 @@ TEST_F(ProjectIoRigTest, ErrorsNameTheJsonPath) {
     return r.ok() ? Error{ErrorCode::kCancelled, "loaded"} : r.error();
   };
   Error e = error_in([](Json& j) { j["keyposes"][0]["drivers"][0]["node"] = "elbow"; });
-  EXPECT_CONTAINS(e.message, path("p.cagewrap") + ": keyposes[0].drivers[0].node is node 'elbow', but the character has no node of that name");
+  EXPECT_CONTAINS(
+      e.message,
+      path("p.cagewrap") +
+          ": keyposes[0].drivers[0].node is node 'elbow', but the character has no node of that name");
   e = error_in([](Json& j) { j["keyposes"][0]["drivers"][0]["node"] = 7; });
   EXPECT_EQ(e.code, ErrorCode::kIndexOutOfRange);
   EXPECT_CONTAINS(e.message, "keyposes[0].drivers[0].node is node 7, but the character has 1 nodes");
@@ -698,7 +702,8 @@ TEST_F(ProjectIoRigTest, ErrorsNameTheJsonPath) {
   EXPECT_CONTAINS(e.message, "keyposes[0].drivers[0].axis is [0, 0, 0]");
   e = error_in([](Json& j) { j["keyposes"][0]["keys"][1]["vertices"][1] = 26; });
   EXPECT_EQ(e.code, ErrorCode::kIndexOutOfRange);
-  EXPECT_CONTAINS(e.message, "keyposes[0].keys[1].vertices[1] is cage vertex 26, but the cage has 26 vertices");
+  EXPECT_CONTAINS(e.message,
+                  "keyposes[0].keys[1].vertices[1] is cage vertex 26, but the cage has 26 vertices");
   e = error_in([](Json& j) { j["keyposes"][0]["keys"][1]["vertices"][1] = 1; });
   EXPECT_CONTAINS(e.message, "keyposes[0].keys[1].vertices lists cage vertex 1 twice");
   e = error_in([](Json& j) { j["keyposes"][0]["keys"][1]["offsets"][0][2] = nullptr; });
@@ -709,7 +714,8 @@ TEST_F(ProjectIoRigTest, ErrorsNameTheJsonPath) {
   e = error_in([](Json& j) { j["keyposes"][1]["keys"][0]["values"] = Json::array({1}); });
   EXPECT_CONTAINS(e.message, "keyposes[1].keys[0].values has 1 entries; the set has 2 drivers");
   e = error_in([](Json& j) { j["keyposes"][0]["keys"][1]["values"] = Json::array({-45.5}); });
-  EXPECT_CONTAINS(e.message, "keyposes[0]: keypose set 'bulge': key 1 sits at the same driver values as key 0");
+  EXPECT_CONTAINS(e.message,
+                  "keyposes[0]: keypose set 'bulge': key 1 sits at the same driver values as key 0");
   e = error_in([](Json& j) { j["keyposes"][0]["drivers"] = Json::array(); });
   EXPECT_CONTAINS(e.message, "keyposes[0].drivers is empty");
   e = error_in([](Json& j) { j["keyposes"][0]["rest_key"] = 1; });
@@ -732,7 +738,8 @@ TEST_F(ProjectIoRigTest, InvalidKeyposesAreNotSaved) {
   sets[0].keys[0].offsets[0].x = std::numeric_limits<float>::quiet_NaN();
   Status s = save_project(path("bad.cagewrap"), with_keyposes(doc, sets));
   ASSERT_FALSE(s.ok());
-  EXPECT_CONTAINS(s.error().message, "not saved: keypose set 'bulge': key 0 has a non-finite offset for cage vertex 1");
+  EXPECT_CONTAINS(s.error().message,
+                  "not saved: keypose set 'bulge': key 0 has a non-finite offset for cage vertex 1");
   EXPECT_FALSE(fs::exists(path("bad.cagewrap")));
 }
 

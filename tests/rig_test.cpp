@@ -133,7 +133,8 @@ TEST(DemoKeypose, BulgeIsFullAt120HalfAt60AndAbsentAtRest) {
   auto none = skin_bulge(keyed, arm_pose(0));
   EXPECT_GT(max_length(full), 0.01f);
   EXPECT_EQ(max_length(none), 0.0f);
-  for (size_t i = 0; i < full.size(); ++i) ASSERT_NEAR(glm::length(half[i] - 0.5f * full[i]), 0.0f, 1e-5f) << i;
+  for (size_t i = 0; i < full.size(); ++i)
+    ASSERT_NEAR(glm::length(half[i] - 0.5f * full[i]), 0.0f, 1e-5f) << i;
   // where it shows: on the left upper arm
   size_t top = 0;
   for (size_t i = 0; i < full.size(); ++i)
@@ -160,7 +161,8 @@ TEST(DemoKeypose, BulgeFollowsTheArmWhenTheShoulderAlsoMoves) {
   const uint32_t v0 = demo().biceps.front();
   const glm::mat3 r = glm::mat3(k.cage.linear[v0]);
   EXPECT_GT(glm::length(r * glm::vec3(1, 0, 0) - glm::vec3(1, 0, 0)), 0.5f);  // it did turn
-  for (size_t i = 0; i < moved.size(); ++i) ASSERT_NEAR(glm::length(moved[i] - r * still[i]), 0.0f, 1e-5f) << i;
+  for (size_t i = 0; i < moved.size(); ++i)
+    ASSERT_NEAR(glm::length(moved[i] - r * still[i]), 0.0f, 1e-5f) << i;
   EXPECT_NEAR(max_length(moved), max_length(still), 1e-5f);
   // and it sits on the raised arm: the most displaced skin point is near the posed upper arm
   const Skeleton& sk = demo().doc.character->skeleton;
@@ -171,7 +173,8 @@ TEST(DemoKeypose, BulgeFollowsTheArmWhenTheShoulderAlsoMoves) {
     if (glm::length(moved[i]) > glm::length(moved[top])) top = i;
   Posed plain = pose_doc(demo().doc, raised);
   glm::vec3 q = plain.skin[top];
-  float t = glm::clamp(glm::dot(q - shoulder, elbow - shoulder) / glm::dot(elbow - shoulder, elbow - shoulder), 0.0f, 1.0f);
+  float t = glm::clamp(
+      glm::dot(q - shoulder, elbow - shoulder) / glm::dot(elbow - shoulder, elbow - shoulder), 0.0f, 1.0f);
   EXPECT_LT(glm::length(q - (shoulder + t * (elbow - shoulder))), 0.08f);
 }
 
@@ -185,13 +188,15 @@ TEST(DemoKeypose, MirroredKeysActOnTheOtherArm) {
   EXPECT_EQ(right.drivers[0].axis, glm::vec3(1, 0, 0));
   EXPECT_EQ(right.keys[0].values, std::vector<double>{120});
   // the cage is only nearly symmetric: a keyed vertex may be nobody's nearest mirror image
-  EXPECT_LT(m->unmatched.size(), demo().biceps.size() / 3) << m->unmatched.size() << " of " << demo().biceps.size();
+  EXPECT_LT(m->unmatched.size(), demo().biceps.size() / 3)
+      << m->unmatched.size() << " of " << demo().biceps.size();
   // the mirrored set alone: the right elbow at 120 bulges the right arm, the left stays put
   Document mirrored = with_sets({right});
   auto r = skin_bulge(mirrored, arm_pose(0, 120));
   auto l = skin_bulge(with_sets({left}), arm_pose(120, 0));
   const auto rest = demo().rig->skin_rest();
-  auto summary = [&](const std::vector<glm::vec3>& d, float& total, glm::vec3& centre, float& other_side, float side) {
+  auto summary = [&](const std::vector<glm::vec3>& d, float& total, glm::vec3& centre, float& other_side,
+                     float side) {
     total = 0;
     other_side = 0;
     centre = glm::vec3(0.0f);
@@ -218,7 +223,8 @@ TEST(DemoKeypose, MirroredKeysActOnTheOtherArm) {
   EXPECT_EQ(max_length(skin_bulge(mirrored, arm_pose(120, 0))), 0.0f);
   // both sets together: each arm its own bulge
   auto both = skin_bulge(with_sets({left, right}), arm_pose(120, 120));
-  for (size_t i = 0; i < both.size(); ++i) ASSERT_NEAR(glm::length(both[i] - (l[i] + r[i])), 0.0f, 1e-5f) << i;
+  for (size_t i = 0; i < both.size(); ++i)
+    ASSERT_NEAR(glm::length(both[i] - (l[i] + r[i])), 0.0f, 1e-5f) << i;
 }
 
 TEST(DemoKeypose, RemovingAKeyRestoresTheEarlierShape) {
@@ -266,7 +272,8 @@ TEST(DemoKeypose, SmoothAttachmentBendsTheCageAtTheElbow) {
       auto face = m.face(f);
       for (size_t k = 0; k < face.size(); ++k) {
         uint32_t a = face[k], b = face[(k + 1) % face.size()];
-        worst = std::max(worst, glm::length(c.positions[a] - c.positions[b]) / glm::length(rest[a] - rest[b]));
+        worst =
+            std::max(worst, glm::length(c.positions[a] - c.positions[b]) / glm::length(rest[a] - rest[b]));
       }
     }
     return worst;
@@ -281,7 +288,8 @@ TEST(DemoKeypose, SmoothAttachmentBendsTheCageAtTheElbow) {
   ASSERT_TRUE(rig->pose(smooth, arm_pose(120), c, skin).ok());
   const CageAttachment& att = *rig->attachment();
   size_t blended = 0;
-  for (size_t v = 0; v + 1 < att.influence_start.size(); ++v) blended += att.influence_start[v + 1] - att.influence_start[v] > 1;
+  for (size_t v = 0; v + 1 < att.influence_start.size(); ++v)
+    blended += att.influence_start[v + 1] - att.influence_start[v] > 1;
   EXPECT_GT(blended, 10u);
   EXPECT_LT(blended, att.joint.size());
 }
@@ -310,10 +318,12 @@ TEST(Rig, CreateNamesWhatFailed) {
   ASSERT_FALSE(r.ok());
   EXPECT_EQ(r.error().message, "the document has no cage to pose the skin with");
   Document bad = demo().doc;
-  bad.attachment = assign_vertices({}, std::vector<uint32_t>{7}, static_cast<uint32_t>(bad.character->skeleton.find("body")));
+  bad.attachment = assign_vertices({}, std::vector<uint32_t>{7},
+                                   static_cast<uint32_t>(bad.character->skeleton.find("body")));
   r = Rig::create(bad);
   ASSERT_FALSE(r.ok());
-  EXPECT_EQ(r.error().message, "attachment: cage vertex 7 is assigned to node 'body', which is not a joint of skin 'rig'");
+  EXPECT_EQ(r.error().message,
+            "attachment: cage vertex 7 is assigned to node 'body', which is not a joint of skin 'rig'");
 }
 
 }  // namespace
