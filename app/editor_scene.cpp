@@ -39,13 +39,17 @@ void Scene::start_bind() {
 void Scene::document_changed() {
   params = doc().params;
   const auto& cage = doc().cage;
-  if (cage && (!attachment || attachment->joint.size() != cage->num_vertices() || attached_cage_ != cage)) {
+  if (cage && (!attachment || attachment->joint.size() != cage->num_vertices() || attached_cage_ != cage ||
+               attached_settings_ != doc().attachment)) {
     attachment.reset();
     if (!doc().character->skins.empty()) {
-      auto att = attach_to_closest_limb(*doc().character, cage->polygons.positions);
+      // the document's attachment settings (smooth, overrides); the automatic rigid one if they fail
+      auto att = attach_cage(*doc().character, cage->polygons.positions, doc().attachment);
+      if (!att) att = attach_to_closest_limb(*doc().character, cage->polygons.positions);
       if (att) attachment = std::move(att).value();
     }
     attached_cage_ = cage;
+    attached_settings_ = doc().attachment;
   }
   if (!cage) {
     deformer.reset();
@@ -95,10 +99,7 @@ std::optional<std::string> Scene::poll_bind() {
 }
 
 Pose Scene::current_pose() const {
-  Pose pose = sample_pose(*doc().character, clip, player.time(), player.looping());
-  for (size_t i = 0; i < pose_override.size() && i < pose.local.size(); ++i)
-    pose.local[i].rotation = glm::normalize(pose.local[i].rotation * pose_override[i]);
-  return pose;
+  return compose_pose(*doc().character, clip, player.time(), player.looping(), pose_override);
 }
 
 void Scene::update_pose() {
@@ -115,26 +116,15 @@ void Scene::update_pose() {
   skin_from_cage = false;
   const auto& cage = doc().cage;
   if (cage) {
-    // the driver at rest: the rest cage plus the artist's offsets
-    std::vector<glm::vec3> driver_rest = cage->polygons.positions;
-    for (size_t v = 0; v < doc().cage_offsets.size() && v < driver_rest.size(); ++v) driver_rest[v] += doc().cage_offsets[v];
-    cage_posed.resize(cage->num_vertices());
-    cage_linear.assign(cage->num_vertices(), glm::dmat3(1.0));
-    cage_skinning.assign(cage->num_vertices(), glm::mat4(1.0f));
-    if (attachment && !ch.skins.empty()) {
-      std::vector<glm::mat4> skinning(ch.skins[attachment->skin].joints.size());
-      joint_matrices(ch.skins[attachment->skin], globals, skinning);
-      pose_cage(*attachment, skinning, driver_rest, cage_posed, cage_linear);
-      for (size_t v = 0; v < cage_skinning.size(); ++v) cage_skinning[v] = skinning[attachment->joint[v]];
-    } else {
-      cage_posed = driver_rest;
-    }
+    // the driver: rest cage + the artist's offsets + keyposes, carried by the skeleton (core/rig.h)
+    pose_document_cage(doc(), attachment ? &*attachment : nullptr, pose, posed);
+    cage_posed = posed.positions;
+    cage_linear = posed.linear;
+    cage_skinning = posed.skinning;
     if (deformer && bound_cage == cage) {
       skin_posed.resize(skin_rest.size());
       auto t0 = std::chrono::steady_clock::now();
-      const bool frames = binding->params.variant == Variant::kExtended && attachment;
-      auto s = deformer->deform(cage_posed, skin_posed, frames ? std::span<const glm::dmat3>(cage_linear)
-                                                               : std::span<const glm::dmat3>());
+      auto s = deform_through_cage(*deformer, posed, skin_posed);
       deform_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
       skin_from_cage = s.ok();
     }

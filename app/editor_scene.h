@@ -21,6 +21,7 @@
 #include "core/document.h"
 #include "core/history.h"
 #include "core/registration.h"
+#include "core/rig.h"
 #include "core/skeleton.h"
 #include "core/soft_selection.h"
 
@@ -57,7 +58,8 @@ struct Scene {
   std::vector<glm::vec3> cage_posed, skin_posed, joint_heads;
   std::vector<glm::mat4> joint_globals;  // #nodes world transforms of the current pose
   std::vector<glm::dmat3> cage_linear;
-  std::vector<glm::mat4> cage_skinning;  // skinning matrix of each cage vertex's joint
+  std::vector<glm::mat4> cage_skinning;  // skinning matrix of each cage vertex (blended when smooth)
+  PosedCage posed;  // the whole posing result (core/rig.h): keypose offsets, driver at rest, ...
   std::vector<std::array<uint32_t, 2>> bones;
   double deform_ms = 0.0;
   bool skin_from_cage = false;  // false: the file's own linear blend skinning is shown
@@ -80,6 +82,7 @@ struct Scene {
  private:
   std::shared_ptr<const Cage> pending_cage_;   // the cage the running job binds
   std::shared_ptr<const Cage> attached_cage_;  // the cage `attachment` was made for
+  AttachmentSettings attached_settings_;       // and the settings it was made with
 };
 
 // Loads a character file (glTF) and optionally a cage; errors name the file.

@@ -1,9 +1,13 @@
 #include "core/cage_attachment.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include <glm/geometric.hpp>
 #include <glm/matrix.hpp>
 
 #include "core/geometry.h"
+#include "core/mirror_names.h"
 
 namespace cagewrap {
 
@@ -45,6 +49,107 @@ std::vector<Limb> skin_limbs(const Character& character, uint32_t skin_index) {
   return limbs;
 }
 
+const char* attachment_mode_name(AttachmentMode m) {
+  return m == AttachmentMode::kSmooth ? "smooth" : "rigid";
+}
+
+bool parse_attachment_mode(const std::string& name, AttachmentMode& out) {
+  if (name == "rigid") out = AttachmentMode::kRigid;
+  else if (name == "smooth") out = AttachmentMode::kSmooth;
+  else return false;
+  return true;
+}
+
+AttachmentSettings assign_vertices(const AttachmentSettings& settings, std::span<const uint32_t> vertices,
+                                   std::optional<uint32_t> node) {
+  std::vector<uint32_t> sorted(vertices.begin(), vertices.end());
+  std::sort(sorted.begin(), sorted.end());
+  sorted.erase(std::unique(sorted.begin(), sorted.end()), sorted.end());
+  AttachmentSettings out = settings;
+  out.overrides.clear();
+  size_t i = 0;
+  for (const AttachmentOverride& o : settings.overrides) {
+    while (i < sorted.size() && sorted[i] < o.vertex) {
+      if (node) out.overrides.push_back({sorted[i], *node});
+      ++i;
+    }
+    if (i < sorted.size() && sorted[i] == o.vertex) {
+      if (node) out.overrides.push_back({o.vertex, *node});
+      ++i;
+    } else {
+      out.overrides.push_back(o);
+    }
+  }
+  for (; i < sorted.size(); ++i)
+    if (node) out.overrides.push_back({sorted[i], *node});
+  return out;
+}
+
+std::optional<uint32_t> assigned_node(const AttachmentSettings& settings, uint32_t vertex) {
+  auto it = std::lower_bound(settings.overrides.begin(), settings.overrides.end(), vertex,
+                             [](const AttachmentOverride& o, uint32_t v) { return o.vertex < v; });
+  if (it == settings.overrides.end() || it->vertex != vertex) return std::nullopt;
+  return it->node;
+}
+
+std::vector<int32_t> overrides_per_vertex(const AttachmentSettings& settings, size_t num_vertices) {
+  std::vector<int32_t> out(num_vertices, -1);
+  for (const AttachmentOverride& o : settings.overrides)
+    if (o.vertex < num_vertices) out[o.vertex] = static_cast<int32_t>(o.node);
+  return out;
+}
+
+AttachmentSettings with_overrides_per_vertex(const AttachmentSettings& settings,
+                                             std::span<const int32_t> per_vertex) {
+  AttachmentSettings out = settings;
+  out.overrides.clear();
+  for (size_t v = 0; v < per_vertex.size(); ++v)
+    if (per_vertex[v] >= 0)
+      out.overrides.push_back({static_cast<uint32_t>(v), static_cast<uint32_t>(per_vertex[v])});
+  return out;
+}
+
+Result<MirroredAssignment> mirror_assignment(const AttachmentSettings& settings, const Skeleton& skeleton,
+                                             std::span<const glm::vec3> cage_rest,
+                                             std::span<const uint32_t> vertices, double tolerance) {
+  const size_t nv = cage_rest.size();
+  std::vector<uint8_t> given(nv, 0), used(nv, 0);
+  for (uint32_t v : vertices)
+    if (v < nv) given[v] = 1;
+  std::vector<uint32_t> all(nv);
+  for (size_t v = 0; v < nv; ++v) all[v] = static_cast<uint32_t>(v);
+  const std::vector<int32_t> source = mirror_x_counterparts(all, cage_rest, tolerance);
+  std::vector<int32_t> per_vertex = overrides_per_vertex(settings, nv);
+  std::vector<int32_t> result = per_vertex;
+  for (size_t t = 0; t < nv; ++t) {
+    const int32_t src = source[t];
+    if (src < 0 || !given[src]) continue;
+    used[src] = 1;
+    const int32_t node = per_vertex[src];
+    if (node < 0) {
+      result[t] = -1;
+      continue;
+    }
+    const int32_t m = mirror_node(skeleton, static_cast<uint32_t>(node));
+    if (m < 0) {
+      const std::string& name =
+          static_cast<size_t>(node) < skeleton.size() ? skeleton.node(node).name : std::string("?");
+      return make_error(ErrorCode::kInvalidArgument,
+                        "cage vertex " + std::to_string(src) + " follows node '" + name +
+                            "', which has no mirror: no node is named '" + mirror_name(name) + "'");
+    }
+    result[t] = m;
+  }
+  MirroredAssignment out;
+  out.settings = with_overrides_per_vertex(settings, result);
+  // overrides beyond the cage (none in a valid document) are kept as they were
+  for (const AttachmentOverride& o : settings.overrides)
+    if (o.vertex >= nv) out.settings.overrides.push_back(o);
+  for (uint32_t v : vertices)
+    if (v >= nv || !used[v]) out.unmatched.push_back(v);
+  return out;
+}
+
 namespace {
 double segment_dist2(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b) {
   glm::dvec3 ab = b - a;
@@ -53,9 +158,19 @@ double segment_dist2(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3&
   glm::dvec3 d = p - (a + t * ab);
   return glm::dot(d, d);
 }
+
+double smoothstep01(double t) {
+  t = std::clamp(t, 0.0, 1.0);
+  return t * t * (3.0 - 2.0 * t);
+}
 }  // namespace
 
 Result<CageAttachment> attach_to_closest_limb(const Character& character, std::span<const glm::vec3> cage_rest) {
+  return attach_cage(character, cage_rest, AttachmentSettings{});
+}
+
+Result<CageAttachment> attach_cage(const Character& character, std::span<const glm::vec3> cage_rest,
+                                   const AttachmentSettings& settings) {
   if (character.skins.empty())
     return make_error(ErrorCode::kInvalidArgument, character.source + ": has no skin (no skeleton to attach the cage to)");
   CageAttachment att;
@@ -63,27 +178,98 @@ Result<CageAttachment> attach_to_closest_limb(const Character& character, std::s
   att.limbs = skin_limbs(character, 0);
   if (att.limbs.empty())
     return make_error(ErrorCode::kInvalidArgument, character.source + ": its skin has no joints");
-  att.joint.resize(cage_rest.size());
-  for (size_t v = 0; v < cage_rest.size(); ++v) {
-    glm::dvec3 p(cage_rest[v]);
-    double best = 1e300;
-    for (const Limb& l : att.limbs) {
-      double d2 = segment_dist2(p, l.a, l.b);
-      if (d2 < best) {
-        best = d2;
-        att.joint[v] = l.joint;
+  const Skin& skin = character.skins[att.skin];
+  const size_t nj = skin.joints.size();
+  std::vector<int32_t> joint_of(character.skeleton.size(), -1);
+  for (size_t j = 0; j < nj; ++j)
+    if (skin.joints[j] < joint_of.size()) joint_of[skin.joints[j]] = static_cast<int32_t>(j);
+  for (const AttachmentOverride& o : settings.overrides) {
+    if (o.vertex >= cage_rest.size())
+      return make_error(ErrorCode::kIndexOutOfRange, "the attachment assigns cage vertex " +
+                                                         std::to_string(o.vertex) + ", but the cage has " +
+                                                         std::to_string(cage_rest.size()) + " vertices");
+    if (o.node >= joint_of.size() || joint_of[o.node] < 0) {
+      std::string name = o.node < character.skeleton.size() ? "'" + character.skeleton.node(o.node).name + "'"
+                                                            : std::to_string(o.node);
+      return make_error(ErrorCode::kInvalidArgument,
+                        "cage vertex " + std::to_string(o.vertex) + " is assigned to node " + name +
+                            ", which is not a joint of skin '" + skin.name + "'");
+    }
+  }
+  const bool smooth = settings.mode == AttachmentMode::kSmooth;
+  const double width = settings.smooth_width > 0 && std::isfinite(settings.smooth_width)
+                           ? settings.smooth_width
+                           : AttachmentSettings{}.smooth_width;
+  const size_t nv = cage_rest.size();
+  att.joint.resize(nv);
+  att.influence_start.assign(1, 0);
+  std::vector<double> joint_dist(nj);
+  std::vector<std::pair<double, uint32_t>> raw;  // (weight, joint)
+  size_t next_override = 0;
+  for (size_t v = 0; v < nv; ++v) {
+    while (next_override < settings.overrides.size() && settings.overrides[next_override].vertex < v)
+      ++next_override;
+    raw.clear();
+    if (next_override < settings.overrides.size() && settings.overrides[next_override].vertex == v) {
+      raw.emplace_back(1.0, static_cast<uint32_t>(joint_of[settings.overrides[next_override].node]));
+    } else {
+      glm::dvec3 p(cage_rest[v]);
+      double best = 1e300;
+      uint32_t best_joint = att.limbs.front().joint;
+      std::fill(joint_dist.begin(), joint_dist.end(), 1e300);
+      for (const Limb& l : att.limbs) {
+        double d2 = segment_dist2(p, l.a, l.b);
+        if (d2 < best) {
+          best = d2;
+          best_joint = l.joint;
+        }
+        joint_dist[l.joint] = std::min(joint_dist[l.joint], d2);
+      }
+      if (!smooth) {
+        raw.emplace_back(1.0, best_joint);
+      } else {
+        const double d_min = std::sqrt(best);
+        raw.emplace_back(1.0, best_joint);
+        for (size_t j = 0; j < nj; ++j) {
+          if (j == best_joint || joint_dist[j] >= 1e300) continue;
+          const double d = std::sqrt(joint_dist[j]);
+          double f;
+          if (d_min > 0) f = 1.0 - smoothstep01((d / d_min - 1.0) / width);
+          else f = d == 0 ? 1.0 : 0.0;
+          if (f > 0) raw.emplace_back(f, static_cast<uint32_t>(j));
+        }
+        std::stable_sort(raw.begin(), raw.end(),
+                         [](const auto& a, const auto& b) { return a.first > b.first; });
+        if (raw.size() > kMaxAttachmentInfluences) raw.resize(kMaxAttachmentInfluences);
       }
     }
+    double sum = 0;
+    for (const auto& r : raw) sum += r.first;
+    for (const auto& r : raw) {
+      att.influence_joint.push_back(r.second);
+      att.influence_weight.push_back(static_cast<float>(r.first / sum));
+    }
+    att.joint[v] = raw.front().second;
+    att.influence_start.push_back(static_cast<uint32_t>(att.influence_joint.size()));
   }
   return att;
 }
 
 void pose_cage(const CageAttachment& att, std::span<const glm::mat4> skinning, std::span<const glm::vec3> cage_rest,
-               std::span<glm::vec3> out, std::span<glm::dmat3> linear) {
+               std::span<glm::vec3> out, std::span<glm::dmat3> linear, std::span<glm::mat4> vertex_skinning) {
+  const bool csr = att.influence_start.size() == cage_rest.size() + 1;
   for (size_t v = 0; v < cage_rest.size(); ++v) {
-    const glm::mat4& m = skinning[att.joint[v]];
+    glm::mat4 m;
+    if (!csr || att.influence_start[v + 1] - att.influence_start[v] == 1) {
+      m = skinning[csr ? att.influence_joint[att.influence_start[v]] : att.joint[v]];
+    } else {
+      m = glm::mat4(0.0f);
+      for (uint32_t i = att.influence_start[v]; i < att.influence_start[v + 1]; ++i)
+        m += att.influence_weight[i] * skinning[att.influence_joint[i]];
+    }
     out[v] = glm::vec3(m * glm::vec4(cage_rest[v], 1.0f));
     if (!linear.empty()) linear[v] = glm::dmat3(glm::mat3(m));
+    if (!vertex_skinning.empty()) vertex_skinning[v] = m;
   }
 }
 

@@ -52,7 +52,13 @@ Document with_cage_positions(const Document& doc, std::span<const glm::vec3> pos
 Document with_cage(const Document& doc, std::shared_ptr<const Cage> cage) {
   Document out = doc;
   out.cage = std::move(cage);
-  if (!out.cage || out.cage_offsets.size() != out.cage->num_vertices()) out.cage_offsets.clear();
+  const size_t before = doc.cage ? doc.cage->num_vertices() : 0;
+  const size_t after = out.cage ? out.cage->num_vertices() : 0;
+  if (!out.cage || out.cage_offsets.size() != after) out.cage_offsets.clear();
+  if (before != after) {
+    out.attachment.overrides.clear();
+    clear_vertex_data(out.keyposes);
+  }
   out.revision = next_revision();
   return out;
 }
@@ -74,6 +80,20 @@ Document with_params(const Document& doc, const BindParams& params) {
 Document with_set_edits(const Document& doc, std::vector<SetEdit> edits) {
   Document out = doc;
   out.set_edits = std::move(edits);
+  out.revision = next_revision();
+  return out;
+}
+
+Document with_attachment(const Document& doc, AttachmentSettings attachment) {
+  Document out = doc;
+  out.attachment = std::move(attachment);
+  out.revision = next_revision();
+  return out;
+}
+
+Document with_keyposes(const Document& doc, std::vector<KeyposeSet> keyposes) {
+  Document out = doc;
+  out.keyposes = std::move(keyposes);
   out.revision = next_revision();
   return out;
 }
@@ -110,6 +130,12 @@ bool same_cage(const Cage* a, const Cage* b) {
          std::memcmp(pa.positions.data(), pb.positions.data(), pa.positions.size() * sizeof(glm::vec3)) == 0;
 }
 
+// bit for bit, like the cage positions
+bool same_offsets(const std::vector<glm::vec3>& a, const std::vector<glm::vec3>& b) {
+  return a.size() == b.size() &&
+         (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(glm::vec3)) == 0);
+}
+
 // Sizes, not capacities: the estimate is then the same for a snapshot and its copies.
 template <class T>
 size_t vector_bytes(const std::vector<T>& v) {
@@ -119,8 +145,9 @@ size_t vector_bytes(const std::vector<T>& v) {
 
 bool same_content(const Document& a, const Document& b) {
   return a.character_hash == b.character_hash && same_cage(a.cage.get(), b.cage.get()) &&
-         same_params(a.params, b.params) && same_set_edits(a.set_edits, b.set_edits) &&
-         a.preserved_fields == b.preserved_fields;
+         same_offsets(a.cage_offsets, b.cage_offsets) && same_params(a.params, b.params) &&
+         same_set_edits(a.set_edits, b.set_edits) && a.attachment == b.attachment &&
+         a.keyposes == b.keyposes && a.preserved_fields == b.preserved_fields;
 }
 
 size_t estimated_bytes(const Character& c) {
@@ -149,6 +176,12 @@ size_t estimated_own_bytes(const Document& doc) {
   size_t n = sizeof(Document) + doc.character_path.size() + doc.character_hash.size() +
              doc.preserved_fields.size() + doc.project_path.size() + vector_bytes(doc.set_edits);
   for (const SetEdit& e : doc.set_edits) n += vector_bytes(e.exclude) + vector_bytes(e.include);
+  n += vector_bytes(doc.cage_offsets) + vector_bytes(doc.attachment.overrides) + vector_bytes(doc.keyposes);
+  for (const KeyposeSet& s : doc.keyposes) {
+    n += s.name.size() + vector_bytes(s.drivers) + vector_bytes(s.keys);
+    for (const KeyposeKey& k : s.keys)
+      n += vector_bytes(k.values) + vector_bytes(k.vertices) + vector_bytes(k.offsets);
+  }
   return n;
 }
 

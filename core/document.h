@@ -15,7 +15,9 @@
 
 #include "core/binding.h"
 #include "core/cage.h"
+#include "core/cage_attachment.h"
 #include "core/character.h"
+#include "core/keyposes.h"
 #include "core/result.h"
 
 namespace cagewrap {
@@ -30,6 +32,12 @@ struct Document {
   // #Vc offsets of the driver cage D from the posed rest cage, each in the bind space of the joint
   // its vertex follows (so a sculpted bulge travels with the limb); empty = none.
   std::vector<glm::vec3> cage_offsets;
+  // How the cage follows the skeleton: rigid or smooth, and per-vertex joint overrides
+  // (core/cage_attachment.h).
+  AttachmentSettings attachment;
+  // Cage vertex offsets keyed against joint angles (core/keyposes.h), added to cage_offsets at
+  // each pose before the cage is posed (core/rig.h).
+  std::vector<KeyposeSet> keyposes;
   // A JSON object (text) of what the project file held that this build does not understand
   // ("extensions" and unknown top-level fields), written back unchanged on save. "" = nothing.
   std::string preserved_fields;
@@ -56,17 +64,23 @@ Result<Document> document_from_files(const std::string& character_path, const st
 // Same topology, new rest positions (#V x 3; must have exactly cage->num_vertices() entries and
 // the document must have a cage: checked, aborts otherwise).
 Document with_cage_positions(const Document& doc, std::span<const glm::vec3> positions);
-// A different cage (new topology), or none (nullptr).
+// A different cage (new topology), or none (nullptr). When the vertex count changes, the per-vertex
+// data (cage offsets, attachment overrides, keyed vertex offsets) is dropped: it named the old
+// cage's vertices. (A topology edit that knows where vertices went should carry it instead:
+// overrides_per_vertex / with_overrides_per_vertex and dense_offsets / make_key give it per vertex.)
 Document with_cage(const Document& doc, std::shared_ptr<const Cage> cage);
 Document with_cage_offsets(const Document& doc, std::vector<glm::vec3> offsets);
 Document with_params(const Document& doc, const BindParams& params);
 Document with_set_edits(const Document& doc, std::vector<SetEdit> edits);
+Document with_attachment(const Document& doc, AttachmentSettings attachment);
+Document with_keyposes(const Document& doc, std::vector<KeyposeSet> keyposes);
 // The character file moved (or was replaced): new path, hash and data.
 Document with_character(const Document& doc, std::shared_ptr<const Character> character, std::string path,
                         std::string hash);
 
 // True when the work is the same: character hash, cage (topology, and positions bit for bit),
-// parameters, set edits and preserved fields. Paths and revisions are not compared.
+// cage offsets, parameters, set edits, attachment settings, keyposes and preserved fields. Paths
+// and revisions are not compared.
 bool same_content(const Document& a, const Document& b);
 bool same_params(const BindParams& a, const BindParams& b);
 bool same_set_edits(std::span<const SetEdit> a, std::span<const SetEdit> b);
@@ -74,7 +88,8 @@ bool same_set_edits(std::span<const SetEdit> a, std::span<const SetEdit> b);
 // Estimated heap bytes, for the undo memory cap (History counts shared data once).
 size_t estimated_bytes(const Character& character);
 size_t estimated_bytes(const Cage& cage);
-// What a snapshot owns by value: set edits, paths, preserved fields (not the shared data).
+// What a snapshot owns by value: set edits, cage offsets, attachment overrides, keyposes, paths,
+// preserved fields (not the shared data).
 size_t estimated_own_bytes(const Document& doc);
 
 }  // namespace cagewrap

@@ -21,7 +21,8 @@ using Json = nlohmann::ordered_json;  // keeps the order of fields this build do
 
 namespace {
 
-const char* const kKnownFields[] = {"format", "version", "character", "cage", "binding", "set_edits", "extensions"};
+const char* const kKnownFields[] = {"format",    "version",    "character", "cage",      "binding",
+                                    "set_edits", "attachment", "keyposes",  "extensions"};
 
 bool known_field(const std::string& key) {
   for (const char* k : kKnownFields)
@@ -65,6 +66,72 @@ std::string relative_character_path(const std::string& project_path, const std::
   return (rel.empty() ? character : rel).generic_string();
 }
 
+std::string vec3_text(const glm::vec3& v) {
+  std::string s(1, '[');
+  s += number(short_float(v.x));
+  s += ", ";
+  s += number(short_float(v.y));
+  s += ", ";
+  s += number(short_float(v.z));
+  s += ']';
+  return s;
+}
+
+// A node as the file names it: its name when that is unique and not empty, else its index.
+Json node_ref(const Document& doc, uint32_t node) {
+  if (doc.character && node < doc.character->skeleton.size()) {
+    const Skeleton& sk = doc.character->skeleton;
+    const std::string& name = sk.node(node).name;
+    if (!name.empty() && sk.find(name) == static_cast<int32_t>(node)) {
+      bool unique = true;
+      for (size_t i = node + 1; i < sk.size() && unique; ++i) unique = sk.node(i).name != name;
+      if (unique) return Json(name);
+    }
+  }
+  return Json(node);
+}
+
+std::string attachment_text(const Document& doc) {
+  const AttachmentSettings& a = doc.attachment;
+  std::string s = "  \"attachment\": {\"mode\": " + Json(attachment_mode_name(a.mode)).dump() +
+                  ", \"smooth_width\": " + number(a.smooth_width) + ", \"overrides\": [";
+  for (size_t i = 0; i < a.overrides.size(); ++i)
+    s += std::string(i ? "," : "") + "\n    {\"vertex\": " + std::to_string(a.overrides[i].vertex) +
+         ", \"node\": " + node_ref(doc, a.overrides[i].node).dump() + "}";
+  s += a.overrides.empty() ? "]},\n" : "\n  ]},\n";
+  return s;
+}
+
+std::string keyposes_text(const Document& doc) {
+  std::string s = "  \"keyposes\": [";
+  for (size_t i = 0; i < doc.keyposes.size(); ++i) {
+    const KeyposeSet& k = doc.keyposes[i];
+    s += std::string(i ? "," : "") + "\n    {\"name\": " + Json(k.name).dump() + ",\n     \"drivers\": [";
+    for (size_t d = 0; d < k.drivers.size(); ++d) {
+      const JointDriver& dr = k.drivers[d];
+      s += std::string(d ? ", " : "") + "{\"node\": " + node_ref(doc, dr.node).dump() + ", \"kind\": " +
+           Json(driver_kind_name(dr.kind)).dump() + ", \"axis\": " + vec3_text(dr.axis) + "}";
+    }
+    s += "],\n     \"interpolation\": " + Json(key_interpolation_name(k.interpolation)).dump() +
+         ", \"kernel\": " + Json(rbf_kernel_name(k.kernel)).dump() +
+         ", \"rbf_width\": " + number(k.rbf_width) + ", \"rest_key\": " + (k.rest_key ? "true" : "false") +
+         ", \"mute\": " + (k.mute ? "true" : "false") + ", \"solo\": " + (k.solo ? "true" : "false") +
+         ",\n     \"keys\": [";
+    for (size_t j = 0; j < k.keys.size(); ++j) {
+      const KeyposeKey& key = k.keys[j];
+      s += std::string(j ? "," : "") + "\n      {\"values\": [";
+      for (size_t d = 0; d < key.values.size(); ++d) s += std::string(d ? ", " : "") + number(key.values[d]);
+      s += "], \"vertices\": " + index_list(key.vertices) + ",\n       \"offsets\": [";
+      for (size_t e = 0; e < key.offsets.size(); ++e)
+        s += std::string(e ? ", " : "") + vec3_text(key.offsets[e]);
+      s += "]}";
+    }
+    s += k.keys.empty() ? "]}" : "\n     ]}";
+  }
+  s += doc.keyposes.empty() ? "],\n" : "\n  ],\n";
+  return s;
+}
+
 Result<std::string> project_text(const std::string& path, const Document& doc) {
   Json preserved = Json::object();
   if (!doc.preserved_fields.empty()) {
@@ -101,6 +168,13 @@ Result<std::string> project_text(const std::string& path, const Document& doc) {
     s += "\n    ]";
   }
   s += "\n  },\n";
+  if (!std::isfinite(doc.attachment.smooth_width) || doc.attachment.smooth_width <= 0)
+    return make_error(ErrorCode::kInvalidArgument,
+                      path + ": not saved: the attachment's smooth width must be a positive number");
+  const size_t num_nodes = doc.character ? doc.character->skeleton.size() : SIZE_MAX;
+  for (const KeyposeSet& k : doc.keyposes)
+    if (auto v = validate_keypose_set(k, num_nodes, positions.size()); !v)
+      return make_error(v.error().code, path + ": not saved: " + v.error().message);
   const BindParams& p = doc.params;
   Json binding = {{"variant", variant_name(p.variant)}, {"local", p.local},
                   {"epsilon", p.epsilon},               {"max_elements", p.max_elements},
@@ -114,6 +188,8 @@ Result<std::string> project_text(const std::string& path, const Document& doc) {
          index_list(e.exclude) + ", \"include\": " + index_list(e.include) + "}";
   }
   s += doc.set_edits.empty() ? "],\n" : "\n  ],\n";
+  s += attachment_text(doc);
+  s += keyposes_text(doc);
   s += "  \"extensions\": " + (preserved.contains("extensions") ? preserved["extensions"] : Json::object()).dump();
   for (const auto& [key, value] : preserved.items())
     if (!known_field(key)) s += ",\n  " + Json(key).dump() + ": " + value.dump();
@@ -281,6 +357,187 @@ std::vector<SetEdit> read_set_edits(const Reader& r, const Json& root, size_t nu
   return out;
 }
 
+void warn_unknown(const Json& object, const std::string& path, std::initializer_list<const char*> known,
+                  std::vector<std::string>& warnings, const std::string& file) {
+  for (const auto& [key, value] : object.items()) {
+    bool found = false;
+    for (const char* k : known) found = found || key == k;
+    if (!found)
+      warnings.push_back(file + ": " + Reader::join(path, key.c_str()) +
+                         " is not known to this build and was ignored");
+  }
+}
+
+bool boolean(const Reader& r, const Json& j, const std::string& path) {
+  if (!j.is_boolean()) r.fail(ErrorCode::kParse, path + " should be true or false, not " + Reader::show(j));
+  return j.get<bool>();
+}
+
+glm::vec3 read_vec3(const Reader& r, const Json& j, const std::string& path) {
+  if (!j.is_array() || j.size() != 3)
+    r.fail(ErrorCode::kParse, path + " should be [x, y, z], not " + Reader::show(j));
+  return {r.finite_float(j[0], path + "[0]"), r.finite_float(j[1], path + "[1]"),
+          r.finite_float(j[2], path + "[2]")};
+}
+
+// A node named (a string) or numbered (an index) in the character's skeleton.
+uint32_t read_node(const Reader& r, const Json& j, const std::string& path, const Skeleton& skeleton) {
+  if (j.is_string()) {
+    int32_t n = skeleton.find(j.get<std::string>());
+    if (n < 0)
+      r.fail(ErrorCode::kInvalidArgument,
+             path + " is node '" + j.get<std::string>() + "', but the character has no node of that name");
+    return static_cast<uint32_t>(n);
+  }
+  uint32_t n = r.index(j, path);
+  if (n >= skeleton.size())
+    r.fail(ErrorCode::kIndexOutOfRange, path + " is node " + std::to_string(n) + ", but the character has " +
+                                            std::to_string(skeleton.size()) + " nodes");
+  return n;
+}
+
+AttachmentSettings read_attachment(const Reader& r, const Json& a, const Character& character,
+                                   size_t num_vertices, std::vector<std::string>& warnings,
+                                   const std::string& file) {
+  if (!a.is_object()) r.fail(ErrorCode::kParse, "attachment should be an object, not " + Reader::show(a));
+  AttachmentSettings out;
+  if (a.contains("mode")) {
+    std::string mode = r.string(a["mode"], "attachment.mode");
+    if (!parse_attachment_mode(mode, out.mode))
+      r.fail(ErrorCode::kParse, "attachment.mode is '" + mode + "'; expected rigid or smooth");
+  }
+  if (a.contains("smooth_width")) {
+    out.smooth_width = r.number(a["smooth_width"], "attachment.smooth_width");
+    if (out.smooth_width <= 0) r.fail(ErrorCode::kInvalidArgument, "attachment.smooth_width must be > 0");
+  }
+  std::vector<int32_t> joint_of(character.skeleton.size(), -1);
+  if (!character.skins.empty())
+    for (size_t j = 0; j < character.skins[0].joints.size(); ++j)
+      if (character.skins[0].joints[j] < joint_of.size())
+        joint_of[character.skins[0].joints[j]] = static_cast<int32_t>(j);
+  if (a.contains("overrides")) {
+    const Json& list = r.array(a["overrides"], "attachment.overrides");
+    std::vector<int32_t> per_vertex(num_vertices, -1);
+    for (size_t i = 0; i < list.size(); ++i) {
+      std::string path = Reader::at("attachment.overrides", i);
+      const Json& o = list[i];
+      if (!o.is_object()) r.fail(ErrorCode::kParse, path + " should be an object, not " + Reader::show(o));
+      uint32_t v = r.index(r.field(o, path, "vertex"), path + ".vertex");
+      if (v >= num_vertices)
+        r.fail(ErrorCode::kIndexOutOfRange, path + ".vertex is " + std::to_string(v) + ", but the cage has " +
+                                                std::to_string(num_vertices) + " vertices");
+      uint32_t node = read_node(r, r.field(o, path, "node"), path + ".node", character.skeleton);
+      if (!character.skins.empty() && joint_of[node] < 0)
+        r.fail(ErrorCode::kInvalidArgument,
+               path + ".node '" + character.skeleton.node(node).name +
+                   "' is not a joint of the character's skin; a cage vertex can follow joints only");
+      if (per_vertex[v] >= 0)
+        r.fail(ErrorCode::kInvalidArgument,
+               path + " assigns cage vertex " + std::to_string(v) + " a second time");
+      per_vertex[v] = static_cast<int32_t>(node);
+      warn_unknown(o, path, {"vertex", "node"}, warnings, file);
+    }
+    out = with_overrides_per_vertex(out, per_vertex);
+  }
+  warn_unknown(a, "attachment", {"mode", "smooth_width", "overrides"}, warnings, file);
+  return out;
+}
+
+std::vector<KeyposeSet> read_keyposes(const Reader& r, const Json& list, const Character& character,
+                                      size_t num_vertices, std::vector<std::string>& warnings,
+                                      const std::string& file) {
+  r.array(list, "keyposes");
+  std::vector<KeyposeSet> out;
+  for (size_t i = 0; i < list.size(); ++i) {
+    const std::string path = Reader::at("keyposes", i);
+    const Json& k = list[i];
+    if (!k.is_object()) r.fail(ErrorCode::kParse, path + " should be an object, not " + Reader::show(k));
+    KeyposeSet set;
+    if (k.contains("name")) set.name = r.string(k["name"], path + ".name");
+    const Json& drivers = r.array(r.field(k, path, "drivers"), path + ".drivers");
+    if (drivers.empty())
+      r.fail(ErrorCode::kEmpty, path + ".drivers is empty; a keypose set needs at least one driver");
+    for (size_t d = 0; d < drivers.size(); ++d) {
+      const std::string dpath = Reader::at(path + ".drivers", d);
+      const Json& dj = drivers[d];
+      if (!dj.is_object()) r.fail(ErrorCode::kParse, dpath + " should be an object, not " + Reader::show(dj));
+      JointDriver dr;
+      dr.node = read_node(r, r.field(dj, dpath, "node"), dpath + ".node", character.skeleton);
+      std::string kind = r.string(r.field(dj, dpath, "kind"), dpath + ".kind");
+      if (!parse_driver_kind(kind, dr.kind))
+        r.fail(ErrorCode::kParse, dpath + ".kind is '" + kind + "'; expected rotation, twist or swing");
+      dr.axis = read_vec3(r, r.field(dj, dpath, "axis"), dpath + ".axis");
+      if (dr.axis == glm::vec3(0.0f))
+        r.fail(ErrorCode::kInvalidArgument, dpath + ".axis is [0, 0, 0]; it needs a direction");
+      warn_unknown(dj, dpath, {"node", "kind", "axis"}, warnings, file);
+      set.drivers.push_back(dr);
+    }
+    if (k.contains("interpolation")) {
+      std::string v = r.string(k["interpolation"], path + ".interpolation");
+      if (!parse_key_interpolation(v, set.interpolation))
+        r.fail(ErrorCode::kParse, path + ".interpolation is '" + v + "'; expected linear or smooth");
+    }
+    if (k.contains("kernel")) {
+      std::string v = r.string(k["kernel"], path + ".kernel");
+      if (!parse_rbf_kernel(v, set.kernel))
+        r.fail(ErrorCode::kParse, path + ".kernel is '" + v + "'; expected gaussian, thin_plate or linear");
+    }
+    if (k.contains("rbf_width")) set.rbf_width = r.number(k["rbf_width"], path + ".rbf_width");
+    if (k.contains("rest_key")) set.rest_key = boolean(r, k["rest_key"], path + ".rest_key");
+    if (k.contains("mute")) set.mute = boolean(r, k["mute"], path + ".mute");
+    if (k.contains("solo")) set.solo = boolean(r, k["solo"], path + ".solo");
+    const Json& keys = k.contains("keys") ? r.array(k["keys"], path + ".keys") : Json::array();
+    for (size_t j = 0; j < keys.size(); ++j) {
+      const std::string kpath = Reader::at(path + ".keys", j);
+      const Json& kj = keys[j];
+      if (!kj.is_object()) r.fail(ErrorCode::kParse, kpath + " should be an object, not " + Reader::show(kj));
+      KeyposeKey key;
+      const Json& values = r.array(r.field(kj, kpath, "values"), kpath + ".values");
+      if (values.size() != set.drivers.size())
+        r.fail(ErrorCode::kInvalidArgument, kpath + ".values has " + std::to_string(values.size()) +
+                                                " entries; the set has " +
+                                                std::to_string(set.drivers.size()) + " drivers");
+      for (size_t d = 0; d < values.size(); ++d)
+        key.values.push_back(r.number(values[d], Reader::at(kpath + ".values", d)));
+      std::vector<uint32_t> vertices =
+          kj.contains("vertices") ? r.indices(kj["vertices"], kpath + ".vertices") : std::vector<uint32_t>{};
+      const Json& offsets =
+          kj.contains("offsets") ? r.array(kj["offsets"], kpath + ".offsets") : Json::array();
+      if (offsets.size() != vertices.size())
+        r.fail(ErrorCode::kInvalidArgument, kpath + ".offsets has " + std::to_string(offsets.size()) +
+                                                " entries for " + std::to_string(vertices.size()) +
+                                                " vertices");
+      std::vector<std::pair<uint32_t, glm::vec3>> entries;
+      for (size_t e = 0; e < vertices.size(); ++e) {
+        if (vertices[e] >= num_vertices)
+          r.fail(ErrorCode::kIndexOutOfRange, Reader::at(kpath + ".vertices", e) + " is cage vertex " +
+                                                  std::to_string(vertices[e]) + ", but the cage has " +
+                                                  std::to_string(num_vertices) + " vertices");
+        entries.emplace_back(vertices[e], read_vec3(r, offsets[e], Reader::at(kpath + ".offsets", e)));
+      }
+      std::stable_sort(entries.begin(), entries.end(),
+                       [](const auto& a, const auto& b) { return a.first < b.first; });
+      for (size_t e = 0; e < entries.size(); ++e) {
+        if (e > 0 && entries[e].first == entries[e - 1].first)
+          r.fail(ErrorCode::kInvalidArgument,
+                 kpath + ".vertices lists cage vertex " + std::to_string(entries[e].first) + " twice");
+        key.vertices.push_back(entries[e].first);
+        key.offsets.push_back(entries[e].second);
+      }
+      warn_unknown(kj, kpath, {"values", "vertices", "offsets"}, warnings, file);
+      set.keys.push_back(std::move(key));
+    }
+    if (auto v = validate_keypose_set(set, character.skeleton.size(), num_vertices); !v)
+      r.fail(v.error().code, path + ": " + v.error().message);
+    warn_unknown(
+        k, path,
+        {"name", "drivers", "interpolation", "kernel", "rbf_width", "rest_key", "mute", "solo", "keys"},
+        warnings, file);
+    out.push_back(std::move(set));
+  }
+  return out;
+}
+
 Result<ProjectLoad> load(const std::string& path, const std::string& character_override, std::string* missing) {
   Reader r(path);
   std::error_code ec;
@@ -381,6 +638,11 @@ Result<ProjectLoad> load(const std::string& path, const std::string& character_o
       r.fail(ErrorCode::kIndexOutOfRange, Reader::at("set_edits", i) + ".point is skin vertex " +
                                               std::to_string(doc.set_edits[i].point) + ", but the character has " +
                                               std::to_string(num_points) + " vertices");
+  const size_t num_cage_vertices = doc.cage ? doc.cage->num_vertices() : 0;
+  if (root.contains("attachment"))
+    doc.attachment = read_attachment(r, root["attachment"], *loaded, num_cage_vertices, out.warnings, path);
+  if (root.contains("keyposes"))
+    doc.keyposes = read_keyposes(r, root["keyposes"], *loaded, num_cage_vertices, out.warnings, path);
   doc.character = std::make_shared<const Character>(std::move(loaded).value());
   doc.character_path = character_path;
   doc.character_hash = std::move(hash).value();

@@ -1,6 +1,8 @@
 // The .cagewrap project file: a JSON document naming the character file (relative to the project)
-// with its content hash, and holding the cage, the binding parameters and the set edits.
-// docs/project-format.md describes every field; this build reads versions up to kProjectVersion.
+// with its content hash, and holding the cage, the binding parameters, the set edits, the cage
+// attachment settings and the keyposes. docs/project-format.md describes every field; this build
+// writes kProjectVersion and reads every version up to it (version 1 has no attachment and no
+// keyposes: the defaults).
 #pragma once
 
 #include <string>
@@ -11,7 +13,7 @@
 
 namespace cagewrap {
 
-inline constexpr int kProjectVersion = 1;
+inline constexpr int kProjectVersion = 2;
 inline constexpr const char* kProjectFormat = "cagewrap-project";
 inline constexpr const char* kProjectExtension = ".cagewrap";
 

@@ -127,7 +127,8 @@ IndexSet shrink_faces(const IndexSet& s, const PolyMesh& mesh) {
   return from_marks(out);
 }
 
-MirrorResult mirror_x(const IndexSet& s, std::span<const glm::vec3> positions, double tolerance) {
+std::vector<int32_t> mirror_x_counterparts(std::span<const uint32_t> s, std::span<const glm::vec3> positions,
+                                           double tolerance) {
   // Uniform grid with cells of the tolerance: a counterpart lies in the 27 cells around the query.
   const double cell = tolerance > 0 ? tolerance : 1e-12;
   struct Key {
@@ -147,15 +148,12 @@ MirrorResult mirror_x(const IndexSet& s, std::span<const glm::vec3> positions, d
     glm::dvec3 p(positions[i]);
     if (finite(p)) grid[key_of(p)].push_back(static_cast<uint32_t>(i));
   }
-  MirrorResult result;
-  std::vector<uint32_t> found;
-  for (uint32_t i : s) {
+  std::vector<int32_t> result(s.size(), -1);
+  for (size_t n = 0; n < s.size(); ++n) {
+    const uint32_t i = s[n];
     if (i >= positions.size()) continue;
     glm::dvec3 q(-double(positions[i].x), positions[i].y, positions[i].z);
-    if (!finite(q)) {
-      result.unmatched.push_back(i);
-      continue;
-    }
+    if (!finite(q)) continue;
     Key k = key_of(q);
     double best = tolerance;
     int64_t best_index = -1;
@@ -172,8 +170,20 @@ MirrorResult mirror_x(const IndexSet& s, std::span<const glm::vec3> positions, d
             }
           }
         }
-    if (best_index < 0) result.unmatched.push_back(i);
-    else found.push_back(static_cast<uint32_t>(best_index));
+    result[n] = static_cast<int32_t>(best_index);
+  }
+  return result;
+}
+
+MirrorResult mirror_x(const IndexSet& s, std::span<const glm::vec3> positions, double tolerance) {
+  std::vector<int32_t> counterpart = mirror_x_counterparts(s.indices(), positions, tolerance);
+  MirrorResult result;
+  std::vector<uint32_t> found;
+  for (size_t n = 0; n < s.size(); ++n) {
+    const uint32_t i = s.indices()[n];
+    if (i >= positions.size()) continue;
+    if (counterpart[n] < 0) result.unmatched.push_back(i);
+    else found.push_back(static_cast<uint32_t>(counterpart[n]));
   }
   result.mirrored = IndexSet(std::move(found));
   return result;

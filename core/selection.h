@@ -67,5 +67,9 @@ struct MirrorResult {
 // For each selected point i, the point nearest to (-x_i, y_i, z_i) within `tolerance` (> 0, same
 // units as the positions); a point on the plane x = 0 is its own counterpart.
 MirrorResult mirror_x(const IndexSet& s, std::span<const glm::vec3> positions, double tolerance);
+// The same search as a map: for each s[n], the index of its counterpart, or -1 (none within the
+// tolerance, a non-finite point, or an index out of range).
+std::vector<int32_t> mirror_x_counterparts(std::span<const uint32_t> s, std::span<const glm::vec3> positions,
+                                           double tolerance);
 
 }  // namespace cagewrap

@@ -201,5 +201,71 @@ TEST_F(DocumentTest, ByteEstimatesCoverTheArrays) {
   EXPECT_GE(estimated_own_bytes(with_set_edits(a, edits)), plain + 100 * 50 * 4);
 }
 
+TEST_F(DocumentTest, AttachmentAndKeyposesAreUndoableContent) {
+  Document a = tiny();
+  AttachmentSettings smooth;
+  smooth.mode = AttachmentMode::kSmooth;
+  Document b = with_attachment(a, smooth);
+  EXPECT_NE(b.revision, a.revision);
+  EXPECT_EQ(a.attachment, AttachmentSettings{});  // copy on write
+  EXPECT_FALSE(same_content(a, b));
+  EXPECT_TRUE(same_content(b, with_attachment(a, smooth)));
+  EXPECT_FALSE(same_content(a, with_attachment(a, assign_vertices({}, std::vector<uint32_t>{3}, 0u))));
+  KeyposeSet set;
+  set.name = "bulge";
+  set.drivers = {JointDriver{0, DriverKind::kRotation, {1, 0, 0}}};
+  set_key(set, KeyposeKey{{120}, {2}, {{0, 1, 0}}});
+  Document k = with_keyposes(a, {set});
+  EXPECT_NE(k.revision, a.revision);
+  EXPECT_TRUE(a.keyposes.empty());
+  EXPECT_FALSE(same_content(a, k));
+  KeyposeSet muted = set;
+  muted.mute = true;
+  EXPECT_FALSE(same_content(k, with_keyposes(a, {muted})));
+  EXPECT_TRUE(same_content(k, with_keyposes(a, {set})));
+  // the cage offsets are content too (they were not compared before)
+  std::vector<glm::vec3> offsets(a.cage->num_vertices(), glm::vec3(0.0f));
+  offsets[1].y = 0.5f;
+  EXPECT_FALSE(same_content(a, with_cage_offsets(a, offsets)));
+  EXPECT_TRUE(same_content(with_cage_offsets(a, offsets), with_cage_offsets(a, offsets)));
+}
+
+TEST_F(DocumentTest, ANewVertexCountDropsPerVertexData) {
+  Document a = tiny();
+  KeyposeSet set;
+  set.name = "bulge";
+  set.drivers = {JointDriver{0, DriverKind::kRotation, {1, 0, 0}}};
+  set_key(set, KeyposeKey{{120}, {2}, {{0, 1, 0}}});
+  a = with_keyposes(with_attachment(a, assign_vertices({}, std::vector<uint32_t>{3}, 0u)), {set});
+  // same topology (new positions): everything stays
+  std::vector<glm::vec3> p(a.cage_positions().begin(), a.cage_positions().end());
+  p[0].x += 0.1f;
+  Document moved = with_cage_positions(a, p);
+  EXPECT_EQ(moved.attachment, a.attachment);
+  EXPECT_EQ(moved.keyposes, a.keyposes);
+  // another vertex count: the overrides and the keyed vertices go, the drivers and keys stay
+  Document other = with_cage(a, std::make_shared<const Cage>(fixtures::box_cage(2.0, 3)));
+  EXPECT_TRUE(other.attachment.overrides.empty());
+  ASSERT_EQ(other.keyposes.size(), 1u);
+  EXPECT_EQ(other.keyposes[0].keys[0].values, std::vector<double>{120});
+  EXPECT_TRUE(other.keyposes[0].keys[0].vertices.empty());
+}
+
+TEST_F(DocumentTest, ByteEstimatesCountKeyposes) {
+  Document a = tiny();
+  size_t plain = estimated_own_bytes(a);
+  KeyposeSet set;
+  set.drivers = {JointDriver{0, DriverKind::kRotation, {1, 0, 0}}};
+  std::vector<glm::vec3> dense(1000, glm::vec3(1.0f));
+  set_key(set, make_key({10}, dense));
+  set_key(set, make_key({20}, dense));
+  EXPECT_GE(estimated_own_bytes(with_keyposes(a, {set})), plain + 2 * 1000 * (12 + 4));
+  AttachmentSettings many = assign_vertices({}, std::vector<uint32_t>(500, 0), 0u);
+  std::vector<uint32_t> all(500);
+  for (uint32_t i = 0; i < 500; ++i) all[i] = i;
+  many = assign_vertices({}, all, 0u);
+  EXPECT_GE(estimated_own_bytes(with_attachment(a, many)), plain + 500 * 8);
+}
+
 }  // namespace
 }  // namespace cagewrap

@@ -169,7 +169,7 @@ TEST_F(ProjectIoTest, FileLayoutMatchesTheFormatDocument) {
   ASSERT_TRUE(save_project(path("p.cagewrap"), make_doc()).ok());
   Json j = Json::parse(read_text(path("p.cagewrap")));
   EXPECT_EQ(j["format"], "cagewrap-project");
-  EXPECT_EQ(j["version"], 1);
+  EXPECT_EQ(j["version"], 2);
   EXPECT_EQ(j["character"]["path"], "hero.gltf");
   EXPECT_EQ(j["character"]["hash"], format_hash(fnv1a64(read_text(path("hero.gltf")))));
   EXPECT_EQ(j["cage"]["positions"].size(), 26u);
@@ -182,9 +182,12 @@ TEST_F(ProjectIoTest, FileLayoutMatchesTheFormatDocument) {
   EXPECT_EQ(j["set_edits"][0]["exclude"], Json::array({0, 7}));
   EXPECT_EQ(j["set_edits"][1]["include"], Json::array({47}));
   EXPECT_TRUE(j["extensions"].is_object());
+  EXPECT_EQ(j["attachment"], Json::parse(R"({"mode": "rigid", "smooth_width": 0.5, "overrides": []})"));
+  EXPECT_EQ(j["keyposes"], Json::array());
   std::vector<std::string> keys;
   for (const auto& [key, value] : j.items()) keys.push_back(key);
-  EXPECT_EQ(keys, (std::vector<std::string>{"format", "version", "character", "cage", "binding", "set_edits", "extensions"}));
+  EXPECT_EQ(keys, (std::vector<std::string>{"format", "version", "character", "cage", "binding", "set_edits",
+                                            "attachment", "keyposes", "extensions"}));
 }
 
 TEST_F(ProjectIoTest, ProjectWithoutCage) {
@@ -268,9 +271,9 @@ TEST_F(ProjectIoTest, WrongFormat) {
 }
 
 TEST_F(ProjectIoTest, NewerVersion) {
-  Error e = error_after([](Json& j) { j["version"] = 2; });
+  Error e = error_after([](Json& j) { j["version"] = 3; });
   EXPECT_EQ(e.code, ErrorCode::kVersion);
-  EXPECT_CONTAINS(e.message, "made by a newer cagewrap: version 2, this build reads up to 1");
+  EXPECT_CONTAINS(e.message, "made by a newer cagewrap: version 3, this build reads up to 2");
   Error bad = error_after([](Json& j) { j["version"] = "1"; });
   EXPECT_EQ(bad.code, ErrorCode::kParse);
   EXPECT_CONTAINS(bad.message, "version should be a whole number >= 1");
@@ -397,7 +400,7 @@ TEST_F(ProjectIoTest, UnknownFieldsAreKeptAndReported) {
   std::string project = path("p.cagewrap");
   ASSERT_TRUE(save_project(project, make_doc()).ok());
   Json j = Json::parse(read_text(project));
-  j["keyposes"] = Json::array({1, 2, {{"a", 3}}});
+  j["muscles"] = Json::array({1, 2, {{"a", 3}}});
   j["extensions"] = {{"vendor", {{"x", 1.5}}}};
   j["attachments"] = "later";
   j["binding"]["future_knob"] = 7;
@@ -405,19 +408,19 @@ TEST_F(ProjectIoTest, UnknownFieldsAreKeptAndReported) {
   ProjectLoad loaded = load_ok(project);
   ASSERT_EQ(loaded.warnings.size(), 3u);
   EXPECT_CONTAINS(loaded.warnings[0], "binding.future_knob is not known to this build and was ignored");
-  EXPECT_CONTAINS(loaded.warnings[1], "field 'keyposes' is not known to this build");
+  EXPECT_CONTAINS(loaded.warnings[1], "field 'muscles' is not known to this build");
   EXPECT_CONTAINS(loaded.warnings[1], "kept and written back on save");
   EXPECT_CONTAINS(loaded.warnings[2], "'attachments'");
   ASSERT_TRUE(save_project(path("resaved.cagewrap"), loaded.document).ok());
   Json back = Json::parse(read_text(path("resaved.cagewrap")));
-  EXPECT_EQ(back["keyposes"], j["keyposes"]);
+  EXPECT_EQ(back["muscles"], j["muscles"]);
   EXPECT_EQ(back["extensions"], j["extensions"]);
   EXPECT_EQ(back["attachments"], "later");
   EXPECT_FALSE(back["binding"].contains("future_knob"));
   std::vector<std::string> keys;
   for (const auto& [key, value] : back.items()) keys.push_back(key);
   EXPECT_EQ(keys.back(), "attachments");  // unknown fields follow the known ones, in file order
-  EXPECT_EQ(keys[keys.size() - 2], "keyposes");
+  EXPECT_EQ(keys[keys.size() - 2], "muscles");
 }
 
 TEST_F(ProjectIoTest, SaveIntoAMissingFolderFailsCleanly) {
@@ -566,6 +569,178 @@ TEST(ProjectIoDemo, DemoCharacterRoundTrip) {
   EXPECT_EQ(back->document.character->num_vertices(), doc->character->num_vertices());
   EXPECT_TRUE(back->warnings.empty());
   fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace cagewrap
+
+// ------------------------------------------------------------------ version 2: attachment, keyposes
+namespace cagewrap {
+namespace {
+
+class ProjectIoRigTest : public ProjectIoTest {
+ protected:
+  // make_doc() with a smooth attachment, two overrides and two keypose sets (one and two drivers).
+  Document make_rig_doc() {
+    Document doc = make_doc();
+    AttachmentSettings a;
+    a.mode = AttachmentMode::kSmooth;
+    a.smooth_width = 0.7;
+    a = assign_vertices(a, std::vector<uint32_t>{5, 3}, 0u);
+    doc = with_attachment(doc, a);
+    KeyposeSet bulge;
+    bulge.name = "bulge";
+    bulge.drivers = {JointDriver{0, DriverKind::kTwist, {0.0f, 0.0f, 1.0f}}};
+    bulge.interpolation = KeyInterpolation::kSmooth;
+    std::vector<glm::vec3> dense(doc.cage->num_vertices(), glm::vec3(0.0f));
+    dense[1] = {0.1f, -0.25f, 1e-7f};
+    dense[4] = {0.3f, 0.0f, -2.0f};
+    set_key(bulge, make_key({120.0}, dense));
+    dense[7] = {0.5f, 0.5f, 0.5f};
+    set_key(bulge, make_key({-45.5}, dense));
+    KeyposeSet shoulder;
+    shoulder.name = "shoulder space";
+    shoulder.drivers = {JointDriver{0, DriverKind::kRotation, {1.0f, 0.0f, 0.0f}},
+                        JointDriver{0, DriverKind::kSwing, {0.0f, 1.0f, 0.0f}}};
+    shoulder.kernel = RbfKernel::kThinPlate;
+    shoulder.rbf_width = 33.25;
+    shoulder.rest_key = false;
+    shoulder.mute = true;
+    set_key(shoulder, make_key({10.0, 20.0}, dense));
+    return with_keyposes(doc, {bulge, shoulder});
+  }
+};
+
+TEST_F(ProjectIoRigTest, AttachmentAndKeyposesRoundTrip) {
+  Document doc = make_rig_doc();
+  ASSERT_TRUE(save_project(path("rig.cagewrap"), doc).ok());
+  ProjectLoad loaded = load_ok(path("rig.cagewrap"));
+  EXPECT_TRUE(loaded.warnings.empty());
+  EXPECT_TRUE(same_content(doc, loaded.document));
+  EXPECT_EQ(loaded.document.attachment, doc.attachment);
+  EXPECT_EQ(loaded.document.keyposes, doc.keyposes);
+  // what the file says: nodes by name, angles in degrees, sparse offsets
+  Json j = Json::parse(read_text(path("rig.cagewrap")));
+  EXPECT_EQ(j["attachment"]["mode"], "smooth");
+  EXPECT_EQ(j["attachment"]["smooth_width"], 0.7);
+  EXPECT_EQ(j["attachment"]["overrides"][0], Json::parse(R"({"vertex": 3, "node": "tet_node"})"));
+  EXPECT_EQ(j["keyposes"][0]["drivers"][0],
+            Json::parse(R"({"node": "tet_node", "kind": "twist", "axis": [0, 0, 1]})"));
+  EXPECT_EQ(j["keyposes"][0]["interpolation"], "smooth");
+  EXPECT_EQ(j["keyposes"][0]["keys"][0]["values"], Json::array({-45.5}));  // sorted by value
+  EXPECT_EQ(j["keyposes"][0]["keys"][1]["vertices"], Json::array({1, 4}));
+  EXPECT_EQ(j["keyposes"][0]["keys"][1]["offsets"][0], Json::parse("[0.1, -0.25, 1e-07]"));
+  EXPECT_EQ(j["keyposes"][1]["kernel"], "thin_plate");
+  EXPECT_EQ(j["keyposes"][1]["rest_key"], false);
+  EXPECT_EQ(j["keyposes"][1]["mute"], true);
+  // saving the loaded document again gives the same bytes
+  ASSERT_TRUE(save_project(path("again.cagewrap"), loaded.document).ok());
+  EXPECT_EQ(read_text(path("again.cagewrap")), read_text(path("rig.cagewrap")));
+}
+
+TEST_F(ProjectIoRigTest, NodesMayBeGivenByIndex) {
+  ASSERT_TRUE(save_project(path("p.cagewrap"), make_rig_doc()).ok());
+  Json j = Json::parse(read_text(path("p.cagewrap")));
+  j["keyposes"][0]["drivers"][0]["node"] = 0;
+  j["attachment"]["overrides"][1]["node"] = 0;
+  write_text(path("p.cagewrap"), j.dump(2));
+  ProjectLoad loaded = load_ok(path("p.cagewrap"));
+  EXPECT_EQ(loaded.document.keyposes, make_rig_doc().keyposes);
+}
+
+TEST_F(ProjectIoRigTest, Version1FilesStillLoad) {
+  Document doc = make_doc();
+  ASSERT_TRUE(save_project(path("v1.cagewrap"), doc).ok());
+  Json j = Json::parse(read_text(path("v1.cagewrap")));
+  j["version"] = 1;
+  j.erase("attachment");
+  j.erase("keyposes");
+  write_text(path("v1.cagewrap"), j.dump(2));
+  ProjectLoad loaded = load_ok(path("v1.cagewrap"));
+  EXPECT_TRUE(loaded.warnings.empty());
+  EXPECT_TRUE(same_content(doc, loaded.document));
+  EXPECT_EQ(loaded.document.attachment, AttachmentSettings{});
+  EXPECT_TRUE(loaded.document.keyposes.empty());
+  // and are written back as version 2
+  ASSERT_TRUE(save_project(path("v2.cagewrap"), loaded.document).ok());
+  EXPECT_EQ(Json::parse(read_text(path("v2.cagewrap")))["version"], 2);
+}
+
+TEST_F(ProjectIoRigTest, UnknownFieldsInsideAreDroppedWithAWarning) {
+  ASSERT_TRUE(save_project(path("p.cagewrap"), make_rig_doc()).ok());
+  Json j = Json::parse(read_text(path("p.cagewrap")));
+  j["attachment"]["stiffness"] = 2;
+  j["keyposes"][1]["keys"][0]["tangent"] = 1;
+  write_text(path("p.cagewrap"), j.dump(2));
+  ProjectLoad loaded = load_ok(path("p.cagewrap"));
+  ASSERT_EQ(loaded.warnings.size(), 2u);
+  EXPECT_CONTAINS(loaded.warnings[0], "attachment.stiffness is not known to this build and was ignored");
+  EXPECT_CONTAINS(loaded.warnings[1], "keyposes[1].keys[0].tangent is not known");
+}
+
+TEST_F(ProjectIoRigTest, ErrorsNameTheJsonPath) {
+  auto error_in = [&](auto edit) {
+    EXPECT_TRUE(save_project(path("p.cagewrap"), make_rig_doc()).ok());
+    Json j = Json::parse(read_text(path("p.cagewrap")));
+    edit(j);
+    write_text(path("p.cagewrap"), j.dump(2));
+    auto r = load_project(path("p.cagewrap"));
+    EXPECT_FALSE(r.ok());
+    return r.ok() ? Error{ErrorCode::kCancelled, "loaded"} : r.error();
+  };
+  Error e = error_in([](Json& j) { j["keyposes"][0]["drivers"][0]["node"] = "elbow"; });
+  EXPECT_CONTAINS(
+      e.message,
+      path("p.cagewrap") +
+          ": keyposes[0].drivers[0].node is node 'elbow', but the character has no node of that name");
+  e = error_in([](Json& j) { j["keyposes"][0]["drivers"][0]["node"] = 7; });
+  EXPECT_EQ(e.code, ErrorCode::kIndexOutOfRange);
+  EXPECT_CONTAINS(e.message, "keyposes[0].drivers[0].node is node 7, but the character has 1 nodes");
+  e = error_in([](Json& j) { j["keyposes"][0]["drivers"][0]["kind"] = "bend"; });
+  EXPECT_CONTAINS(e.message, "keyposes[0].drivers[0].kind is 'bend'; expected rotation, twist or swing");
+  e = error_in([](Json& j) { j["keyposes"][0]["drivers"][0]["axis"] = Json::array({0, 0, 0}); });
+  EXPECT_CONTAINS(e.message, "keyposes[0].drivers[0].axis is [0, 0, 0]");
+  e = error_in([](Json& j) { j["keyposes"][0]["keys"][1]["vertices"][1] = 26; });
+  EXPECT_EQ(e.code, ErrorCode::kIndexOutOfRange);
+  EXPECT_CONTAINS(e.message,
+                  "keyposes[0].keys[1].vertices[1] is cage vertex 26, but the cage has 26 vertices");
+  e = error_in([](Json& j) { j["keyposes"][0]["keys"][1]["vertices"][1] = 1; });
+  EXPECT_CONTAINS(e.message, "keyposes[0].keys[1].vertices lists cage vertex 1 twice");
+  e = error_in([](Json& j) { j["keyposes"][0]["keys"][1]["offsets"][0][2] = nullptr; });
+  EXPECT_EQ(e.code, ErrorCode::kNonFinite);
+  EXPECT_CONTAINS(e.message, "keyposes[0].keys[1].offsets[0][2] is null");
+  e = error_in([](Json& j) { j["keyposes"][0]["keys"][1]["offsets"].erase(0); });
+  EXPECT_CONTAINS(e.message, "keyposes[0].keys[1].offsets has 1 entries for 2 vertices");
+  e = error_in([](Json& j) { j["keyposes"][1]["keys"][0]["values"] = Json::array({1}); });
+  EXPECT_CONTAINS(e.message, "keyposes[1].keys[0].values has 1 entries; the set has 2 drivers");
+  e = error_in([](Json& j) { j["keyposes"][0]["keys"][1]["values"] = Json::array({-45.5}); });
+  EXPECT_CONTAINS(e.message,
+                  "keyposes[0]: keypose set 'bulge': key 1 sits at the same driver values as key 0");
+  e = error_in([](Json& j) { j["keyposes"][0]["drivers"] = Json::array(); });
+  EXPECT_CONTAINS(e.message, "keyposes[0].drivers is empty");
+  e = error_in([](Json& j) { j["keyposes"][0]["rest_key"] = 1; });
+  EXPECT_CONTAINS(e.message, "keyposes[0].rest_key should be true or false");
+  e = error_in([](Json& j) { j["attachment"]["mode"] = "soft"; });
+  EXPECT_CONTAINS(e.message, "attachment.mode is 'soft'; expected rigid or smooth");
+  e = error_in([](Json& j) { j["attachment"]["smooth_width"] = 0; });
+  EXPECT_CONTAINS(e.message, "attachment.smooth_width must be > 0");
+  e = error_in([](Json& j) { j["attachment"]["overrides"][0]["vertex"] = 99; });
+  EXPECT_CONTAINS(e.message, "attachment.overrides[0].vertex is 99, but the cage has 26 vertices");
+  e = error_in([](Json& j) { j["attachment"]["overrides"][0]["vertex"] = 5; });
+  EXPECT_CONTAINS(e.message, "attachment.overrides[1] assigns cage vertex 5 a second time");
+  e = error_in([](Json& j) { j["attachment"]["overrides"][0].erase("node"); });
+  EXPECT_CONTAINS(e.message, "attachment.overrides[0].node is missing");
+}
+
+TEST_F(ProjectIoRigTest, InvalidKeyposesAreNotSaved) {
+  Document doc = make_rig_doc();
+  std::vector<KeyposeSet> sets = doc.keyposes;
+  sets[0].keys[0].offsets[0].x = std::numeric_limits<float>::quiet_NaN();
+  Status s = save_project(path("bad.cagewrap"), with_keyposes(doc, sets));
+  ASSERT_FALSE(s.ok());
+  EXPECT_CONTAINS(s.error().message,
+                  "not saved: keypose set 'bulge': key 0 has a non-finite offset for cage vertex 1");
+  EXPECT_FALSE(fs::exists(path("bad.cagewrap")));
 }
 
 }  // namespace

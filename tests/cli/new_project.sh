@@ -52,7 +52,7 @@ check "it names the cage" grep -Eq "^cage .*cage.obj: 8 vertices, 6 faces$" "$TM
 check "the project exists" test -s "$P"
 check "no temporary file is left" test ! -e "$P.tmp"
 check "format" grep -q '"format": "cagewrap-project"' "$P"
-check "version" grep -q '"version": 1,' "$P"
+check "version" grep -q '"version": 2,' "$P"
 check "character path is relative to the project" grep -q '"path": "chars/hero.glb"' "$P"
 check "character hash" grep -Eq '"hash": "fnv1a64:[0-9a-f]{16}"' "$P"
 check "8 cage positions" test "$(grep -cE '^      \[-?[0-9.]+, -?[0-9.]+, -?[0-9.]+\],?$' "$P")" -eq 8

@@ -1,0 +1,131 @@
+#include "core/rig.h"
+
+#include <cmath>
+#include <cstring>
+#include <numbers>
+
+#include "core/check.h"
+#include "core/skinning.h"
+
+namespace cagewrap {
+
+Pose compose_pose(const Character& character, int32_t clip, double t, bool loop,
+                  std::span<const glm::quat> overrides) {
+  Pose pose = sample_pose(character, clip, t, loop);
+  for (size_t i = 0; i < overrides.size() && i < pose.local.size(); ++i)
+    pose.local[i].rotation = glm::normalize(pose.local[i].rotation * overrides[i]);
+  return pose;
+}
+
+glm::quat rotation_xyz_degrees(double rx, double ry, double rz) {
+  constexpr double kRad = std::numbers::pi / 180.0;
+  glm::dquat q = glm::angleAxis(rz * kRad, glm::dvec3(0, 0, 1)) *
+                 glm::angleAxis(ry * kRad, glm::dvec3(0, 1, 0)) *
+                 glm::angleAxis(rx * kRad, glm::dvec3(1, 0, 0));
+  return glm::quat(glm::normalize(q));
+}
+
+void pose_document_cage(const Document& doc, const CageAttachment* attachment, const Pose& pose,
+                        PosedCage& out) {
+  CAGEWRAP_CHECK(doc.cage && doc.character, "posing a cage needs a document with a character and a cage");
+  const Character& ch = *doc.character;
+  const size_t nv = doc.cage->num_vertices();
+  out.globals.resize(ch.skeleton.size());
+  ch.skeleton.global_transforms(pose, out.globals);
+  out.keypose_offsets.resize(nv);
+  evaluate_keyposes(doc.keyposes, ch.skeleton, pose, out.keypose_offsets);
+  const auto rest = doc.cage_positions();
+  out.driver_rest.resize(nv);
+  for (size_t v = 0; v < nv; ++v) {
+    out.driver_rest[v] = rest[v] + out.keypose_offsets[v];
+    if (v < doc.cage_offsets.size()) out.driver_rest[v] += doc.cage_offsets[v];
+  }
+  out.positions.resize(nv);
+  out.linear.resize(nv);
+  out.skinning.resize(nv);
+  out.attached = attachment && attachment->joint.size() == nv && attachment->skin < ch.skins.size();
+  if (out.attached) {
+    const Skin& skin = ch.skins[attachment->skin];
+    std::vector<glm::mat4> joints(skin.joints.size());
+    joint_matrices(skin, out.globals, joints);
+    pose_cage(*attachment, joints, out.driver_rest, out.positions, out.linear, out.skinning);
+  } else {
+    out.positions = out.driver_rest;
+    std::fill(out.linear.begin(), out.linear.end(), glm::dmat3(1.0));
+    std::fill(out.skinning.begin(), out.skinning.end(), glm::mat4(1.0f));
+  }
+}
+
+Status deform_through_cage(Deformer& deformer, const PosedCage& cage, std::span<glm::vec3> skin_out) {
+  const bool frames = deformer.binding().params.variant == Variant::kExtended && cage.attached;
+  return deformer.deform(cage.positions, skin_out,
+                         frames ? std::span<const glm::dmat3>(cage.linear) : std::span<const glm::dmat3>());
+}
+
+struct Rig::State {
+  Document doc;  // the document the rig was made for (its cage, parameters, set edits, attachment)
+  std::vector<glm::vec3> skin_rest;  // #P
+  std::optional<CageAttachment> attachment;
+  Binding binding;
+  std::optional<Deformer> deformer;  // refers to binding and skin_rest: State never moves
+};
+
+Rig::Rig() = default;
+Rig::Rig(Rig&&) noexcept = default;
+Rig& Rig::operator=(Rig&&) noexcept = default;
+Rig::~Rig() = default;
+
+Result<Rig> Rig::create(const Document& doc, const BindProgress& progress) {
+  if (!doc.character) return make_error(ErrorCode::kInvalidArgument, "the document has no character");
+  if (!doc.cage)
+    return make_error(ErrorCode::kInvalidArgument, "the document has no cage to pose the skin with");
+  Rig rig;
+  rig.state_ = std::make_unique<State>();
+  State& s = *rig.state_;
+  s.doc = doc;
+  const Character& ch = *doc.character;
+  if (!ch.skins.empty()) {
+    auto att = attach_cage(ch, doc.cage_positions(), doc.attachment);
+    if (!att) return make_error(att.error().code, "attachment: " + att.error().message);
+    s.attachment = std::move(att).value();
+  }
+  for (const Primitive& p : ch.primitives)
+    s.skin_rest.insert(s.skin_rest.end(), p.positions.begin(), p.positions.end());
+  auto bound = bind_skin(s.skin_rest, *doc.cage, doc.cage_positions(), doc.params, doc.set_edits, progress);
+  if (!bound) return make_error(bound.error().code, "bind: " + bound.error().message);
+  s.binding = std::move(bound).value();
+  auto deformer = Deformer::create(s.binding, s.skin_rest);
+  if (!deformer) return make_error(deformer.error().code, "bind: " + deformer.error().message);
+  s.deformer.emplace(std::move(deformer).value());
+  return rig;
+}
+
+bool Rig::fits(const Document& doc) const {
+  const Document& mine = state_->doc;
+  if (!doc.cage || !doc.character) return false;
+  if (doc.character != mine.character && doc.character_hash != mine.character_hash) return false;
+  if (doc.cage != mine.cage) {
+    const PolyMesh &a = doc.cage->polygons, &b = mine.cage->polygons;
+    if (a.face_start != b.face_start || a.face_vertices != b.face_vertices ||
+        a.positions.size() != b.positions.size() ||
+        std::memcmp(a.positions.data(), b.positions.data(), a.positions.size() * sizeof(glm::vec3)) != 0)
+      return false;
+  }
+  return same_params(doc.params, mine.params) && same_set_edits(doc.set_edits, mine.set_edits) &&
+         doc.attachment == mine.attachment;
+}
+
+Status Rig::pose(const Document& doc, const Pose& pose, PosedCage& cage, std::span<glm::vec3> skin_out) {
+  CAGEWRAP_CHECK(fits(doc),
+                 "Rig::pose: the document has another cage, binding parameters or attachment than the rig");
+  CAGEWRAP_CHECK(skin_out.size() == state_->skin_rest.size(), "one output position per skin point");
+  pose_document_cage(doc, state_->attachment ? &*state_->attachment : nullptr, pose, cage);
+  return deform_through_cage(*state_->deformer, cage, skin_out);
+}
+
+size_t Rig::num_skin_points() const { return state_->skin_rest.size(); }
+std::span<const glm::vec3> Rig::skin_rest() const { return state_->skin_rest; }
+const Binding& Rig::binding() const { return state_->binding; }
+const CageAttachment* Rig::attachment() const { return state_->attachment ? &*state_->attachment : nullptr; }
+
+}  // namespace cagewrap
