@@ -9,6 +9,7 @@
 
 #include "core/cage_edit.h"
 #include "core/cage_import.h"
+#include "core/keyposes.h"
 #include "core/cage_subdivide.h"
 #include "core/skinning.h"
 
@@ -20,6 +21,14 @@ void CageTools::commit_cage(Scene& scene, std::shared_ptr<const Cage> cage, cons
   // a different cage: sculpted offsets and set edits named the old one's vertices and elements
   if (!d.cage_offsets.empty()) d = with_cage_offsets(d, {});
   if (!d.set_edits.empty()) d = with_set_edits(d, {});
+  if (!d.attachment.overrides.empty()) {
+    AttachmentSettings a = d.attachment;
+    a.overrides.clear();
+    d = with_attachment(d, a);
+  }
+  std::vector<KeyposeSet> sets = d.keyposes;  // drivers and key values stay, their vertices go
+  clear_vertex_data(sets);
+  if (sets != d.keyposes) d = with_keyposes(d, std::move(sets));
   scene.history.push(label, std::move(d));
   scene.document_changed();
 }

@@ -11,19 +11,19 @@
 
 namespace cagewrap::app {
 
-std::unique_ptr<BindJob> start_bind_job(std::vector<glm::vec3> skin, Cage cage, BindParams params) {
-  return std::make_unique<BindJob>("binding", [skin = std::move(skin), cage = std::move(cage), params](
+std::unique_ptr<BindJob> start_bind_job(std::vector<glm::vec3> skin, Cage cage, BindParams params, std::vector<SetEdit> edits) {
+  return std::make_unique<BindJob>("binding", [skin = std::move(skin), cage = std::move(cage), params, edits = std::move(edits)](
                                                   const BindJob::Progress& progress, const std::atomic<bool>& cancel) {
     BindProgress p;
     p.on_progress = [&progress](double f) { progress("bind", f); };
     p.cancel = &cancel;
-    return bind_skin(skin, cage, cage.polygons.positions, params, {}, p);
+    return bind_skin(skin, cage, cage.polygons.positions, params, edits, p);
   });
 }
 
 bool Scene::needs_rebind() const {
   if (!doc().cage) return false;
-  if (!binding || bound_cage != doc().cage) return true;
+  if (!binding || bound_cage != doc().cage || !same_set_edits(bound_edits_, doc().set_edits)) return true;
   const BindParams& a = params;
   const BindParams& b = binding->params;
   return a.local != b.local || a.epsilon != b.epsilon || a.max_elements != b.max_elements || a.scale != b.scale ||
@@ -32,8 +32,9 @@ bool Scene::needs_rebind() const {
 
 void Scene::start_bind() {
   if (!doc().cage || job) return;
-  job = start_bind_job(skin_rest, *doc().cage, params);
+  job = start_bind_job(skin_rest, *doc().cage, params, doc().set_edits);
   pending_cage_ = doc().cage;
+  pending_edits_ = doc().set_edits;
 }
 
 void Scene::document_changed() {
@@ -78,6 +79,7 @@ std::optional<std::string> Scene::poll_bind() {
   if (r.ok()) {
     binding = std::make_unique<Binding>(std::move(r).value());
     bound_cage = pending_cage_;
+    bound_edits_ = pending_edits_;
     auto d = Deformer::create(*binding, skin_rest);
     if (d.ok()) {
       deformer.emplace(std::move(d).value());
@@ -94,7 +96,7 @@ std::optional<std::string> Scene::poll_bind() {
   }
   job.reset();
   // the cage changed while this bind ran (an edit, undo, a new cage): bind the current one
-  if (doc().cage && pending_cage_ != doc().cage) start_bind();
+  if (doc().cage && (pending_cage_ != doc().cage || !same_set_edits(pending_edits_, doc().set_edits))) start_bind();
   return message;
 }
 

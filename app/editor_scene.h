@@ -29,7 +29,7 @@ namespace cagewrap::app {
 
 // A bind running on a worker thread, with progress and cancel; the UI polls it every frame.
 using BindJob = BackgroundTask<Binding>;
-std::unique_ptr<BindJob> start_bind_job(std::vector<glm::vec3> skin, Cage cage, BindParams params);
+std::unique_ptr<BindJob> start_bind_job(std::vector<glm::vec3> skin, Cage cage, BindParams params, std::vector<SetEdit> edits);
 
 struct Scene {
   explicit Scene(Document doc) : history(std::move(doc)) {}
@@ -81,6 +81,7 @@ struct Scene {
 
  private:
   std::shared_ptr<const Cage> pending_cage_;   // the cage the running job binds
+  std::vector<SetEdit> pending_edits_, bound_edits_;  // the set edits of the running job / the binding
   std::shared_ptr<const Cage> attached_cage_;  // the cage `attachment` was made for
   AttachmentSettings attached_settings_;       // and the settings it was made with
 };

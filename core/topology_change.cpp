@@ -1,5 +1,8 @@
 #include "core/topology_change.h"
 
+#include "core/cage_attachment.h"
+#include "core/keyposes.h"
+
 #include <algorithm>
 #include <cmath>
 #include <glm/geometric.hpp>
@@ -295,6 +298,10 @@ Result<std::vector<SetEdit>> carry_set_edits(const CageTopologyChange& change,
   return out;
 }
 
+namespace {
+constexpr uint32_t kAutomaticLabel = 0xFFFFFFFFu;  // an automatic (not overridden) attachment
+}  // namespace
+
 Result<Document> apply_topology_change(const Document& doc, const CageEdit& edit) {
   if (!doc.has_cage()) return make_error(ErrorCode::kInvalidArgument, "the document has no cage to change");
   if (auto s = check_change(edit.change, *doc.cage, edit.cage); !s) return s.error();
@@ -306,6 +313,22 @@ Result<Document> apply_topology_change(const Document& doc, const CageEdit& edit
   if (doc.cage_offsets.size() == doc.cage->num_vertices())
     out.cage_offsets = interpolate_vertex_attribute(edit.change, doc.cage_offsets);
   out.set_edits = std::move(edits).value();
+  // skeleton attachments: a new vertex follows the bone its dominant parent was assigned to
+  if (!doc.attachment.overrides.empty()) {
+    const std::vector<int32_t> old = overrides_per_vertex(doc.attachment, doc.cage->num_vertices());
+    std::vector<uint32_t> labels(old.size());
+    for (size_t v = 0; v < old.size(); ++v) labels[v] = old[v] < 0 ? kAutomaticLabel : static_cast<uint32_t>(old[v]);
+    const std::vector<uint32_t> carried = carry_vertex_labels(edit.change, labels);
+    std::vector<int32_t> per_vertex(carried.size());
+    for (size_t v = 0; v < carried.size(); ++v) per_vertex[v] = carried[v] == kAutomaticLabel ? -1 : static_cast<int32_t>(carried[v]);
+    out.attachment = with_overrides_per_vertex(doc.attachment, per_vertex);
+  }
+  // keypose offsets: interpolated from the parents like the driver offsets
+  for (KeyposeSet& set : out.keyposes)
+    for (KeyposeKey& key : set.keys) {
+      const std::vector<glm::vec3> dense = dense_offsets(key, doc.cage->num_vertices());
+      key = make_key(key.values, interpolate_vertex_attribute(edit.change, dense));
+    }
   out.revision = next_revision();
   return out;
 }

@@ -103,9 +103,10 @@ std::vector<uint32_t> carry_vertex_labels(const CageTopologyChange& change,
 Result<std::vector<SetEdit>> carry_set_edits(const CageTopologyChange& change,
                                              std::span<const SetEdit> edits);
 
-// The document with `edit.cage` as its rest cage, its driver offsets interpolated (they live in joint
-// bind space: interpolating them is exact when the parents follow the same joint, an approximation
-// otherwise) and its set edits carried. Errors: no cage in the document, or a change that does not
+// The document with `edit.cage` as its rest cage, its driver offsets and keypose offsets
+// interpolated (they live in joint bind space: interpolating them is exact when the parents follow
+// the same joint, an approximation otherwise), its set edits carried, and its attachment overrides
+// passed to each new vertex from its dominant parent. Errors: no cage in the document, or a change that does not
 // start from the document's cage or end at edit.cage (kTopologyMismatch).
 Result<Document> apply_topology_change(const Document& doc, const CageEdit& edit);
 

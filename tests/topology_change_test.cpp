@@ -11,7 +11,9 @@
 #include <memory>
 #include <set>
 
+#include "core/cage_attachment.h"
 #include "core/cage_edit.h"
+#include "core/keyposes.h"
 #include "core/cage_subdivide.h"
 #include "core/deformer.h"
 #include "core/registration.h"
@@ -159,6 +161,38 @@ TEST(ApplyTopologyChange, CarriesOffsetsAndEditsAndChecksTheCage) {
   Document bad_edit = doc;
   bad_edit.set_edits = {{0, {40}, {}}};
   EXPECT_TRUE(Fails(apply_topology_change(bad_edit, *edit), ErrorCode::kIndexOutOfRange, {"element 40"}));
+}
+
+// Attachment overrides pass to each new vertex from its dominant parent; keypose offsets are
+// interpolated like the driver offsets.
+TEST(ApplyTopologyChange, CarriesAttachmentOverridesAndKeyposeOffsets) {
+  const Cage oct = test::octahedron_cage();
+  Document doc = document_with(oct);
+  doc.attachment.overrides = {{0, 7}, {1, 3}};  // vertex 0 follows node 7, vertex 1 node 3
+  KeyposeSet set;
+  set.name = "bulge";
+  set.drivers.push_back(JointDriver{});
+  std::vector<glm::vec3> dense(oct.num_vertices(), glm::vec3(0.f));
+  for (size_t v = 0; v < dense.size(); ++v) dense[v] = field(oct.polygons.positions[v]);
+  set.keys.push_back(make_key({90.0}, dense));
+  doc.keyposes = {set};
+  auto edit = subdivide_linear(oct);
+  ASSERT_TRUE(edit.ok());
+  auto out = apply_topology_change(doc, *edit);
+  ASSERT_TRUE(out.ok()) << out.error().message;
+  const size_t n = out->cage->num_vertices();
+  const auto per_vertex = overrides_per_vertex(out->attachment, n);
+  for (size_t v = 0; v < n; ++v) {
+    const uint32_t parent = dominant_parent(edit->change, v);
+    const int32_t expected = parent == 0 ? 7 : parent == 1 ? 3 : -1;
+    EXPECT_EQ(per_vertex[v], expected) << "vertex " << v;
+  }
+  ASSERT_EQ(out->keyposes.size(), 1u);
+  ASSERT_EQ(out->keyposes[0].keys.size(), 1u);
+  EXPECT_EQ(out->keyposes[0].keys[0].values, (std::vector<double>{90.0}));
+  const auto carried = dense_offsets(out->keyposes[0].keys[0], n);
+  for (size_t v = 0; v < n; ++v)  // an affine field is carried exactly
+    EXPECT_LT(glm::length(carried[v] - field(out->cage->polygons.positions[v])), 1e-6f) << "vertex " << v;
 }
 
 // ------------------------------------------------------------------------------------------ the key test
