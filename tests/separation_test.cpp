@@ -169,8 +169,14 @@ TEST(Separation, LegsBentApartOpenTheGapWithoutDents) {
                 separate, inner.size(), r.crossing, r.pull_max, r.pull_mean, r.lap_max * 1e3, r.lap_rms * 1e3,
                 r.err_rms * 1e3, r.separated_points, b->seconds);
   }
+  // Measured (docs/algorithm-notes.md): crossing 12 -> 0, pull 0.43 -> 0.28, Laplacian deviation
+  // max 19.5 -> 12.2 mm, RMS 4.47 -> 3.50 mm.
   EXPECT_GT(m[0].crossing, 0u) << "without separation the legs share elements at the crotch";
   EXPECT_EQ(m[1].crossing, 0u);
+  EXPECT_LT(m[1].pull_max, 0.75 * m[0].pull_max) << "the other leg drags the inner thigh less";
+  EXPECT_LT(m[1].lap_max, 0.75 * m[0].lap_max) << "the worst dent is shallower";
+  EXPECT_LT(m[1].lap_rms, 0.9 * m[0].lap_rms);
+  EXPECT_LE(m[1].err_rms, m[0].err_rms);
 }
 
 }  // namespace
@@ -180,7 +186,8 @@ namespace cagewrap {
 namespace {
 
 // The default (separation on, 1 step) decided by measuring: over the demo's two clips, against the
-// file's own linear blend skinning, the whole skin stays as close and as smooth with it as without.
+// file's own linear blend skinning, the whole skin is closer and smoother with it than without
+// (measured: RMS 19.7 -> 18.2 mm, Laplacian deviation RMS 1.22 -> 1.07 mm).
 TEST(Separation, WholeBodyAgainstLinearBlendSkinning) {
   const Demo& d = demo();
   const Character& c = d.character;
