@@ -38,7 +38,8 @@ std::string JsonReader::string(const Json& j, const std::string& path) const {
 }
 
 double JsonReader::number(const Json& j, const std::string& path) const {
-  if (j.is_null()) fail(ErrorCode::kNonFinite, path + " is null (a NaN or infinity was saved?); it must be a finite number");
+  if (j.is_null())
+    fail(ErrorCode::kNonFinite, path + " is null (a NaN or infinity was saved?); it must be a finite number");
   if (!j.is_number()) fail(ErrorCode::kParse, path + " should be a number, not " + show(j));
   double x = j.get<double>();
   if (!std::isfinite(x)) fail(ErrorCode::kNonFinite, path + " is not a finite number");
@@ -49,7 +50,8 @@ float JsonReader::finite_float(const Json& j, const std::string& path) const {
   // doubles from 2^128 - 2^103 on round to infinity as floats; everything below rounds to a float
   constexpr double kFloatOverflow = 0x1.ffffffp127;
   double x = number(j, path);
-  if (std::fabs(x) >= kFloatOverflow) fail(ErrorCode::kNonFinite, path + " = " + show(j) + " is too large for a float coordinate");
+  if (std::fabs(x) >= kFloatOverflow)
+    fail(ErrorCode::kNonFinite, path + " = " + show(j) + " is too large for a float coordinate");
   return static_cast<float>(x);
 }
 
@@ -91,7 +93,8 @@ std::string text_position(const std::string& text, size_t byte) {
 
 Result<Json> read_json_file(const std::string& path) {
   std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) return make_error(ErrorCode::kFileNotFound, path + ": no such file");
+  if (!std::filesystem::exists(path, ec))
+    return make_error(ErrorCode::kFileNotFound, path + ": no such file");
   std::ifstream in(path, std::ios::binary);
   if (!in) return make_error(ErrorCode::kFileUnreadable, path + ": cannot be opened for reading");
   std::stringstream buffer;
@@ -103,10 +106,12 @@ Result<Json> read_json_file(const std::string& path) {
     std::string what = e.what();
     size_t colon = what.find(": ", what.find("column"));
     std::string reason = colon == std::string::npos ? what : what.substr(colon + 2);
-    return make_error(ErrorCode::kParse, path + ": not a JSON file (at " + text_position(text, e.byte) + ": " + reason + ")");
+    return make_error(ErrorCode::kParse,
+                      path + ": not a JSON file (at " + text_position(text, e.byte) + ": " + reason + ")");
   } catch (const Json::exception& e) {  // e.g. a number literal too large for a double
     std::string what = e.what();
-    return make_error(ErrorCode::kParse, path + ": not a JSON file (" + what.substr(what.find(']') + 2) + ")");
+    return make_error(ErrorCode::kParse,
+                      path + ": not a JSON file (" + what.substr(what.find(']') + 2) + ")");
   }
 }
 

@@ -5,11 +5,10 @@
 #pragma once
 
 #include <cstdint>
+#include <nlohmann/json.hpp>
 #include <span>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "core/result.h"
 
@@ -43,7 +42,9 @@ class JsonReader {
   bool boolean(const Json& j, const std::string& path) const;
   std::vector<uint32_t> indices(const Json& j, const std::string& path) const;
 
-  static std::string join(const std::string& path, const char* key) { return path.empty() ? key : path + "." + key; }
+  static std::string join(const std::string& path, const char* key) {
+    return path.empty() ? key : path + "." + key;
+  }
   static std::string at(const std::string& path, size_t i) { return path + "[" + std::to_string(i) + "]"; }
 
  private:

@@ -31,11 +31,13 @@ std::vector<uint32_t> dominant_joint_nodes(const Character& character) {
 
 Result<PartLabels> skeleton_part_labels(const Character& character, const CageAttachment& attachment) {
   const size_t nodes = character.skeleton.size();
-  if (nodes == 0) return make_error(ErrorCode::kInvalidArgument, character.source + ": has no skeleton to label parts with");
+  if (nodes == 0)
+    return make_error(ErrorCode::kInvalidArgument,
+                      character.source + ": has no skeleton to label parts with");
   if (attachment.skin >= character.skins.size())
-    return make_error(ErrorCode::kInvalidArgument, "the cage attachment names skin " + std::to_string(attachment.skin) +
-                                                       " but the character has " +
-                                                       std::to_string(character.skins.size()));
+    return make_error(ErrorCode::kInvalidArgument,
+                      "the cage attachment names skin " + std::to_string(attachment.skin) +
+                          " but the character has " + std::to_string(character.skins.size()));
   const Skin& skin = character.skins[attachment.skin];
   PartLabels labels;
   labels.parent.resize(nodes);
@@ -45,7 +47,8 @@ Result<PartLabels> skeleton_part_labels(const Character& character, const CageAt
   for (size_t v = 0; v < attachment.joint.size(); ++v) {
     if (attachment.joint[v] >= skin.joints.size())
       return make_error(ErrorCode::kIndexOutOfRange, "cage vertex " + std::to_string(v) + " follows joint " +
-                                                         std::to_string(attachment.joint[v]) + " but the skin has " +
+                                                         std::to_string(attachment.joint[v]) +
+                                                         " but the skin has " +
                                                          std::to_string(skin.joints.size()) + " joints");
     labels.cage_vertex[v] = skin.joints[attachment.joint[v]];
   }

@@ -8,10 +8,14 @@ namespace cagewrap {
 
 const char* set_edit_mode_name(SetEditMode mode) {
   switch (mode) {
-    case SetEditMode::kRemove: return "remove";
-    case SetEditMode::kAdd: return "add";
-    case SetEditMode::kOnly: return "only";
-    case SetEditMode::kReset: return "reset";
+    case SetEditMode::kRemove:
+      return "remove";
+    case SetEditMode::kAdd:
+      return "add";
+    case SetEditMode::kOnly:
+      return "only";
+    case SetEditMode::kReset:
+      return "reset";
   }
   return "?";
 }
@@ -67,7 +71,8 @@ std::vector<SetEdit> canonical_set_edits(std::span<const SetEdit> edits) {
   std::vector<const SetEdit*> last;  // the last edit of each point, by point
   last.reserve(edits.size());
   for (const SetEdit& e : edits) last.push_back(&e);
-  std::stable_sort(last.begin(), last.end(), [](const SetEdit* a, const SetEdit* b) { return a->point < b->point; });
+  std::stable_sort(last.begin(), last.end(),
+                   [](const SetEdit* a, const SetEdit* b) { return a->point < b->point; });
   std::vector<SetEdit> out;
   out.reserve(last.size());
   for (size_t i = 0; i < last.size(); ++i) {
@@ -102,15 +107,15 @@ Result<SetEditResult> apply_set_edit(std::span<const SetEdit> edits, SetEditMode
   const size_t num_faces = cage.polygons.num_faces();
   if (!points.empty() && points.indices().back() >= num_points)
     return make_error(ErrorCode::kIndexOutOfRange, "skin point " + std::to_string(points.indices().back()) +
-                                                       " is out of range: the skin has " + std::to_string(num_points) +
-                                                       " points");
+                                                       " is out of range: the skin has " +
+                                                       std::to_string(num_points) + " points");
   if (!faces.empty() && faces.indices().back() >= num_faces)
     return make_error(ErrorCode::kIndexOutOfRange, "face " + std::to_string(faces.indices().back()) +
-                                                       " is out of range: the cage has " + std::to_string(num_faces) +
-                                                       " faces");
+                                                       " is out of range: the cage has " +
+                                                       std::to_string(num_faces) + " faces");
   if (mode != SetEditMode::kReset && faces.empty() && !points.empty())
-    return make_error(ErrorCode::kInvalidArgument,
-                      std::string("no cage faces given to ") + set_edit_mode_name(mode) + " for the selected points");
+    return make_error(ErrorCode::kInvalidArgument, std::string("no cage faces given to ") +
+                                                       set_edit_mode_name(mode) + " for the selected points");
   SetEditResult result;
   // the elements each affected point takes: the faces', and the mirrored faces' for mirrored points
   std::map<uint32_t, std::vector<uint32_t>> targets;

@@ -48,8 +48,8 @@ struct SetEditMirror {
 };
 
 struct SetEditResult {
-  std::vector<SetEdit> edits;            // canonical
-  std::vector<uint32_t> changed_points;  // ascending: the points whose rules changed (re-register these)
+  std::vector<SetEdit> edits;              // canonical
+  std::vector<uint32_t> changed_points;    // ascending: the points whose rules changed (re-register these)
   std::vector<uint32_t> unmatched_points;  // selected points with no mirror counterpart
   std::vector<uint32_t> unmatched_faces;   // selected faces with no mirror counterpart
 };

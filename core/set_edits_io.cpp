@@ -21,9 +21,9 @@ SetEdit read_set_edit(const JsonReader& r, const Json& e, const std::string& pat
     *list = r.indices(e[key], list_path);
     for (size_t k = 0; k < list->size(); ++k)
       if ((*list)[k] >= num_elements)
-        r.fail(ErrorCode::kIndexOutOfRange, JsonReader::at(list_path, k) + " is element " + std::to_string((*list)[k]) +
-                                                ", but the cage has " + std::to_string(num_elements) +
-                                                " elements (triangles)");
+        r.fail(ErrorCode::kIndexOutOfRange, JsonReader::at(list_path, k) + " is element " +
+                                                std::to_string((*list)[k]) + ", but the cage has " +
+                                                std::to_string(num_elements) + " elements (triangles)");
   }
   if (e.contains("only")) edit.only = r.boolean(e["only"], path + ".only");
   return edit;
@@ -33,18 +33,19 @@ namespace {
 
 SetEditsFile read_file(const JsonReader& r, const Json& root) {
   if (!root.is_object() || !root.contains("format"))
-    r.fail(ErrorCode::kUnsupportedFormat, std::string("not a set edits file (it has no \"format\": \"") +
-                                              kSetEditsFormat + "\" field)");
+    r.fail(ErrorCode::kUnsupportedFormat,
+           std::string("not a set edits file (it has no \"format\": \"") + kSetEditsFormat + "\" field)");
   if (root["format"] != kSetEditsFormat)
-    r.fail(ErrorCode::kUnsupportedFormat, "not a set edits file (\"format\" is " + JsonReader::show(root["format"]) +
-                                              ", expected \"" + kSetEditsFormat + "\")");
+    r.fail(ErrorCode::kUnsupportedFormat, "not a set edits file (\"format\" is " +
+                                              JsonReader::show(root["format"]) + ", expected \"" +
+                                              kSetEditsFormat + "\")");
   const Json& version = r.field(root, "", "version");
   if (!version.is_number_integer() || version.get<int64_t>() < 1)
     r.fail(ErrorCode::kParse, "version should be a whole number >= 1, not " + JsonReader::show(version));
   if (version.get<int64_t>() > kSetEditsVersion)
-    r.fail(ErrorCode::kVersion, "made by a newer cagewrap: version " + std::to_string(version.get<int64_t>()) +
-                                    ", this build reads up to " + std::to_string(kSetEditsVersion) +
-                                    "; update cagewrap to read it");
+    r.fail(ErrorCode::kVersion, "made by a newer cagewrap: version " +
+                                    std::to_string(version.get<int64_t>()) + ", this build reads up to " +
+                                    std::to_string(kSetEditsVersion) + "; update cagewrap to read it");
   SetEditsFile out;
   if (root.contains("points")) out.num_points = r.index(root["points"], "points");
   if (root.contains("elements")) out.num_elements = r.index(root["elements"], "elements");
@@ -52,14 +53,16 @@ SetEditsFile read_file(const JsonReader& r, const Json& root) {
     r.fail(ErrorCode::kParse, "the file has neither \"edits\" nor \"rules\"");
   if (root.contains("edits")) {
     const Json& edits = r.array(root["edits"], "edits");
-    for (size_t i = 0; i < edits.size(); ++i) out.edits.push_back(read_set_edit(r, edits[i], JsonReader::at("edits", i)));
+    for (size_t i = 0; i < edits.size(); ++i)
+      out.edits.push_back(read_set_edit(r, edits[i], JsonReader::at("edits", i)));
   }
   if (root.contains("rules")) {
     const Json& rules = r.array(root["rules"], "rules");
     for (size_t i = 0; i < rules.size(); ++i) {
       const std::string path = JsonReader::at("rules", i);
       const Json& j = rules[i];
-      if (!j.is_object()) r.fail(ErrorCode::kParse, path + " should be an object, not " + JsonReader::show(j));
+      if (!j.is_object())
+        r.fail(ErrorCode::kParse, path + " should be an object, not " + JsonReader::show(j));
       SetEditRule rule;
       const std::string mode = r.string(r.field(j, path, "mode"), path + ".mode");
       if (!parse_set_edit_mode(mode, rule.mode))
@@ -100,14 +103,15 @@ Result<ResolvedSetEdits> resolve_set_edits(const SetEditsFile& file, const std::
                                                   " points, but this skin has " + std::to_string(np));
   if (file.num_elements >= 0 && size_t(file.num_elements) != ne)
     return fail(ErrorCode::kTopologyMismatch, "made for a cage of " + std::to_string(file.num_elements) +
-                                                  " elements (triangles), but this cage has " + std::to_string(ne));
+                                                  " elements (triangles), but this cage has " +
+                                                  std::to_string(ne));
   auto check_list = [&](std::span<const uint32_t> list, const std::string& list_path, size_t limit,
                         const char* what, const char* owner) -> Status {
     for (size_t k = 0; k < list.size(); ++k)
       if (list[k] >= limit)
         return fail(ErrorCode::kIndexOutOfRange, JsonReader::at(list_path, k) + " is " + what + " " +
-                                                     std::to_string(list[k]) + ", but the " + owner + " has " +
-                                                     std::to_string(limit) + " " + what + "s");
+                                                     std::to_string(list[k]) + ", but the " + owner +
+                                                     " has " + std::to_string(limit) + " " + what + "s");
     return Ok{};
   };
   for (size_t i = 0; i < file.edits.size(); ++i) {
@@ -134,12 +138,14 @@ Result<ResolvedSetEdits> resolve_set_edits(const SetEditsFile& file, const std::
       face_map = MirrorMap(centroids, rule.mirror_tolerance);
       mirror = {&point_map, &face_map};
     }
-    auto r = apply_set_edit(out.edits, rule.mode, IndexSet(rule.points), IndexSet(rule.faces), cage, np, mirror);
+    auto r =
+        apply_set_edit(out.edits, rule.mode, IndexSet(rule.points), IndexSet(rule.faces), cage, np, mirror);
     if (!r) return fail(r.error().code, p + ": " + r.error().message);
     out.edits = std::move(r->edits);
     if (!r->unmatched_points.empty() || !r->unmatched_faces.empty())
-      out.warnings.push_back(path + ": " + p + ": " + std::to_string(r->unmatched_points.size()) + " points and " +
-                             std::to_string(r->unmatched_faces.size()) + " faces have no mirror counterpart within " +
+      out.warnings.push_back(path + ": " + p + ": " + std::to_string(r->unmatched_points.size()) +
+                             " points and " + std::to_string(r->unmatched_faces.size()) +
+                             " faces have no mirror counterpart within " +
                              std::to_string(rule.mirror_tolerance));
   }
   return out;
@@ -154,7 +160,8 @@ Status save_set_edits(const std::string& path, std::span<const SetEdit> edits, s
   s += "  \"points\": " + std::to_string(num_points) + ",\n";
   s += "  \"elements\": " + std::to_string(num_elements) + ",\n";
   s += "  \"edits\": [";
-  for (size_t i = 0; i < canonical.size(); ++i) s += std::string(i ? "," : "") + "\n    " + set_edit_json(canonical[i]);
+  for (size_t i = 0; i < canonical.size(); ++i)
+    s += std::string(i ? "," : "") + "\n    " + set_edit_json(canonical[i]);
   s += canonical.empty() ? "]\n}\n" : "\n  ]\n}\n";
   return write_file_atomic(path, s);
 }

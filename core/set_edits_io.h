@@ -6,12 +6,11 @@
 #pragma once
 
 #include <cstdint>
+#include <glm/vec3.hpp>
 #include <limits>
 #include <span>
 #include <string>
 #include <vector>
-
-#include <glm/vec3.hpp>
 
 #include "core/binding.h"
 #include "core/cage.h"
@@ -27,8 +26,8 @@ inline constexpr const char* kSetEditsFormat = "cagewrap-set-edits";
 // A rule by lists: `mode` applied to the elements of `faces` for `points` (apply_set_edit).
 struct SetEditRule {
   SetEditMode mode = SetEditMode::kRemove;
-  std::vector<uint32_t> points;  // skin points
-  std::vector<uint32_t> faces;   // cage polygons
+  std::vector<uint32_t> points;   // skin points
+  std::vector<uint32_t> faces;    // cage polygons
   double mirror_tolerance = 0.0;  // > 0: also the X-mirrored points and faces, within this (scene units)
 };
 

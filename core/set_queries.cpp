@@ -1,9 +1,9 @@
 #include "core/set_queries.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <string>
-
-#include <tbb/parallel_for.h>
 
 #include "core/registration.h"
 
@@ -20,10 +20,10 @@ Status check_sets(const Binding& b) {
 
 Status check_cage(const Binding& b, const Cage& cage) {
   if (cage.num_elements() != b.elements.size() || cage.element_face.size() != b.elements.size())
-    return make_error(ErrorCode::kTopologyMismatch, "the binding was made for a cage of " +
-                                                        std::to_string(b.elements.size()) +
-                                                        " elements, not this one (" +
-                                                        std::to_string(cage.num_elements()) + "); bind again");
+    return make_error(ErrorCode::kTopologyMismatch,
+                      "the binding was made for a cage of " + std::to_string(b.elements.size()) +
+                          " elements, not this one (" + std::to_string(cage.num_elements()) +
+                          "); bind again");
   return Ok{};
 }
 
@@ -35,7 +35,8 @@ int64_t rigid_element_of(const Binding& b, uint32_t point) {
 
 }  // namespace
 
-Result<PointSet> point_set(const Binding& b, const Cage& cage, uint32_t point, std::span<const SetEdit> edits) {
+Result<PointSet> point_set(const Binding& b, const Cage& cage, uint32_t point,
+                           std::span<const SetEdit> edits) {
   if (auto s = check_sets(b); !s) return s.error();
   if (auto s = check_cage(b, cage); !s) return s.error();
   if (point >= b.num_points)
@@ -61,34 +62,39 @@ Result<std::vector<float>> face_influence(const Binding& b, const Cage& cage, co
   for (size_t e = 0; e < chosen.size(); ++e) chosen[e] = faces.contains(cage.element_face[e]);
   const Binding::SetsView sets = b.sets();
   std::vector<float> out(b.num_points, 0.f);
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, b.num_points, 8192), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t p = r.begin(); p != r.end(); ++p) {
-      float sum = 0.f;
-      for (uint32_t i = sets.offsets[p]; i < sets.offsets[p + 1]; ++i)
-        if (chosen[sets.ids[i]]) sum += sets.weights[i];
-      out[p] = std::min(sum, 1.f);
-    }
-  });
-  for (size_t k = 0; k < b.rigid_points.size(); ++k) out[b.rigid_points[k]] = chosen[b.rigid_element[k]] ? 1.f : 0.f;
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, b.num_points, 8192),
+                    [&](const tbb::blocked_range<size_t>& r) {
+                      for (size_t p = r.begin(); p != r.end(); ++p) {
+                        float sum = 0.f;
+                        for (uint32_t i = sets.offsets[p]; i < sets.offsets[p + 1]; ++i)
+                          if (chosen[sets.ids[i]]) sum += sets.weights[i];
+                        out[p] = std::min(sum, 1.f);
+                      }
+                    });
+  for (size_t k = 0; k < b.rigid_points.size(); ++k)
+    out[b.rigid_points[k]] = chosen[b.rigid_element[k]] ? 1.f : 0.f;
   return out;
 }
 
-Result<SetOverview> set_overview(const Binding& b, std::span<const glm::vec3> skin, std::span<const SetEdit> edits) {
+Result<SetOverview> set_overview(const Binding& b, std::span<const glm::vec3> skin,
+                                 std::span<const SetEdit> edits) {
   if (auto s = check_sets(b); !s) return s.error();
   if (skin.size() != b.num_points)
-    return make_error(ErrorCode::kTopologyMismatch, "the binding was made for " + std::to_string(b.num_points) +
-                                                        " skin points but the skin has " + std::to_string(skin.size()));
+    return make_error(ErrorCode::kTopologyMismatch,
+                      "the binding was made for " + std::to_string(b.num_points) +
+                          " skin points but the skin has " + std::to_string(skin.size()));
   const Binding::SetsView sets = b.sets();
   SetOverview out;
   out.size.resize(b.num_points);
   out.flags.assign(b.num_points, 0);
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, b.num_points, 4096), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t p = r.begin(); p != r.end(); ++p) {
-      const uint32_t n = sets.offsets[p + 1] - sets.offsets[p];
-      out.size[p] = static_cast<uint8_t>(std::min<uint32_t>(n, 255));
-      if (!well_bound(b, skin, static_cast<uint32_t>(p))) out.flags[p] |= kSetOutside;
-    }
-  });
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, b.num_points, 4096),
+                    [&](const tbb::blocked_range<size_t>& r) {
+                      for (size_t p = r.begin(); p != r.end(); ++p) {
+                        const uint32_t n = sets.offsets[p + 1] - sets.offsets[p];
+                        out.size[p] = static_cast<uint8_t>(std::min<uint32_t>(n, 255));
+                        if (!well_bound(b, skin, static_cast<uint32_t>(p))) out.flags[p] |= kSetOutside;
+                      }
+                    });
   for (uint32_t p : b.rigid_points) out.flags[p] |= kSetEmpty;
   for (const SetEdit& e : edits)
     if (e.point < b.num_points) out.flags[e.point] |= kSetEdited;

@@ -2,11 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <glm/geometric.hpp>
 #include <limits>
 #include <queue>
 #include <string>
-
-#include <glm/geometric.hpp>
 
 namespace cagewrap {
 
@@ -45,7 +44,8 @@ Result<BrushPoints> SkinBrush::points_within(uint32_t triangle, const glm::dvec3
                                                        " is out of range: the skin has " +
                                                        std::to_string(triangles_.size()) + " triangles");
   if (!(radius >= 0.0) || !std::isfinite(radius))
-    return make_error(ErrorCode::kInvalidArgument, "brush radius must be a finite number >= 0, not " + std::to_string(radius));
+    return make_error(ErrorCode::kInvalidArgument,
+                      "brush radius must be a finite number >= 0, not " + std::to_string(radius));
   if (!std::isfinite(hit.x) || !std::isfinite(hit.y) || !std::isfinite(hit.z))
     return make_error(ErrorCode::kNonFinite, "the brush hit point is not finite");
   using Item = std::pair<double, uint32_t>;

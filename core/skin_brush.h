@@ -5,10 +5,9 @@
 #pragma once
 
 #include <cstdint>
+#include <glm/vec3.hpp>
 #include <span>
 #include <vector>
-
-#include <glm/vec3.hpp>
 
 #include "core/mesh.h"
 #include "core/result.h"
@@ -39,11 +38,11 @@ class SkinBrush {
  private:
   std::vector<glm::vec3> positions_;
   std::vector<Tri> triangles_;
-  std::vector<uint32_t> start_;       // #V+1 adjacency offsets
-  std::vector<uint32_t> neighbour_;   // each undirected edge twice
-  std::vector<float> length_;         // edge lengths, with neighbour_
-  std::vector<double> dist_;          // #V scratch, infinity between calls
-  std::vector<uint32_t> reached_;     // scratch: vertices whose dist_ was set
+  std::vector<uint32_t> start_;      // #V+1 adjacency offsets
+  std::vector<uint32_t> neighbour_;  // each undirected edge twice
+  std::vector<float> length_;        // edge lengths, with neighbour_
+  std::vector<double> dist_;         // #V scratch, infinity between calls
+  std::vector<uint32_t> reached_;    // scratch: vertices whose dist_ was set
 };
 
 }  // namespace cagewrap

@@ -1,11 +1,11 @@
 // Registration with set edits and part labels: the hierarchy against the brute-force loop, automatic
 // separation on the two-legs fixture, and Rebinder::update against a full bind, bit for bit.
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cstring>
 #include <numeric>
 #include <random>
-
-#include <gtest/gtest.h>
 
 #include "core/deformer.h"
 #include "core/registration.h"
@@ -73,7 +73,8 @@ TEST_P(EveryVariantSets, HierarchyMatchesBruteForceWithEditsAndLabels) {
   BindParams p;
   p.variant = GetParam();
   const std::vector<SetEdit> edits = assorted_edits(t);
-  for (const PartLabels* labels : {static_cast<const PartLabels*>(nullptr), static_cast<const PartLabels*>(&t.labels)}) {
+  for (const PartLabels* labels :
+       {static_cast<const PartLabels*>(nullptr), static_cast<const PartLabels*>(&t.labels)}) {
     Binding fast = bind_or_die(t, p, edits, labels);
     auto slow = bind_skin_brute_force(t.skin.positions, t.cage, t.cage.polygons.positions, p, edits, labels);
     ASSERT_TRUE(slow.ok()) << slow.error().message;
@@ -88,7 +89,8 @@ TEST_P(EveryVariantSets, UpdateEqualsAFullBind) {
   TwoLegs t = fixtures::two_legs();
   BindParams p;
   p.variant = GetParam();
-  for (const PartLabels* labels : {static_cast<const PartLabels*>(nullptr), static_cast<const PartLabels*>(&t.labels)}) {
+  for (const PartLabels* labels :
+       {static_cast<const PartLabels*>(nullptr), static_cast<const PartLabels*>(&t.labels)}) {
     auto rebinder = Rebinder::create(t.skin.positions, t.cage, t.cage.polygons.positions, p, labels);
     ASSERT_TRUE(rebinder.ok()) << rebinder.error().message;
     Binding before = std::move(rebinder->bind({})).value();
@@ -139,11 +141,13 @@ TEST(Rebinder, StrokeAfterStrokeStaysEqualToAFullBind) {
   Binding live = std::move(rebinder->bind({})).value();
   std::vector<SetEdit> edits;
   std::mt19937 rng(7);
-  const SetEditMode modes[] = {SetEditMode::kRemove, SetEditMode::kAdd, SetEditMode::kOnly, SetEditMode::kReset};
+  const SetEditMode modes[] = {SetEditMode::kRemove, SetEditMode::kAdd, SetEditMode::kOnly,
+                               SetEditMode::kReset};
   for (int stroke = 0; stroke < 12; ++stroke) {
     std::vector<uint32_t> points;
     const uint32_t first = rng() % t.skin.num_vertices();
-    for (uint32_t k = 0; k < 40; ++k) points.push_back((first + k) % static_cast<uint32_t>(t.skin.num_vertices()));
+    for (uint32_t k = 0; k < 40; ++k)
+      points.push_back((first + k) % static_cast<uint32_t>(t.skin.num_vertices()));
     IndexSet faces{static_cast<uint32_t>(rng() % t.cage.polygons.num_faces()),
                    static_cast<uint32_t>(rng() % t.cage.polygons.num_faces())};
     auto r = apply_set_edit(edits, modes[rng() % 4], IndexSet(points), faces, t.cage, t.skin.num_vertices());
@@ -179,7 +183,8 @@ TEST(Rebinder, RefusesABindingOfAnotherSkinCageOrParameters) {
   ASSERT_FALSE(s.ok()) << "every edit is checked, not only the touched points'";
   EXPECT_NE(s.error().message.find("99999"), std::string::npos);
   // the one-off form
-  auto copy = rebind_points(b, t.skin.positions, t.cage, t.cage.polygons.positions, p, {}, std::vector<uint32_t>{1, 2});
+  auto copy = rebind_points(b, t.skin.positions, t.cage, t.cage.polygons.positions, p, {},
+                            std::vector<uint32_t>{1, 2});
   ASSERT_TRUE(copy.ok());
   expect_same_tables(*copy, b);
 }

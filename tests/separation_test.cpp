@@ -1,12 +1,12 @@
 // Automatic separation (BindParams::separate, core/part_labels.h) on the demo character with both
 // legs bent in opposite directions: the acceptance test of the "contributing-element sets" issue.
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <cstdio>
-#include <numeric>
-
 #include <glm/geometric.hpp>
 #include <glm/gtc/quaternion.hpp>
-#include <gtest/gtest.h>
+#include <numeric>
 
 #include "core/cage_attachment.h"
 #include "core/deformer.h"
@@ -43,7 +43,9 @@ const Demo& demo() {
   return d;
 }
 
-uint32_t node(const Character& c, const char* name) { return static_cast<uint32_t>(c.skeleton.find(name)); }
+uint32_t node(const Character& c, const char* name) {
+  return static_cast<uint32_t>(c.skeleton.find(name));
+}
 
 // Legs bent in opposite directions about their local X (the knee axis): left forward, right back.
 Pose legs_apart(const Character& c, double degrees) {
@@ -68,7 +70,7 @@ int leg_of(const Character& c, uint32_t n) {
 }
 
 struct LegMetrics {
-  size_t crossing = 0;       // leg points with an element of the other leg in their set
+  size_t crossing = 0;                 // leg points with an element of the other leg in their set
   double pull_max = 0, pull_mean = 0;  // share of the other leg's motion the inner-thigh points take
   double lap_max = 0, lap_rms = 0;     // deviation of the Laplacian from LBS, metres
   double err_rms = 0;                  // distance from LBS, metres
@@ -136,7 +138,8 @@ TEST(Separation, LegsBentApartOpenTheGapWithoutDents) {
       if (point_leg[i] == 0) continue;
       for (uint32_t e : sets.of(i)) {
         const Tri& t = d.cage.elements[e];
-        if (vertex_leg[t[0]] == -point_leg[i] && vertex_leg[t[1]] == -point_leg[i] && vertex_leg[t[2]] == -point_leg[i]) {
+        if (vertex_leg[t[0]] == -point_leg[i] && vertex_leg[t[1]] == -point_leg[i] &&
+            vertex_leg[t[2]] == -point_leg[i]) {
           ++r.crossing;
           break;
         }
@@ -152,7 +155,8 @@ TEST(Separation, LegsBentApartOpenTheGapWithoutDents) {
       const glm::dvec3 own(point_leg[i] > 0 ? thigh_l * rest : thigh_r * rest);
       const glm::dvec3 other(point_leg[i] > 0 ? thigh_r * rest : thigh_l * rest);
       const glm::dvec3 toward = other - own;  // where the other leg would drag the point
-      const double pull = glm::dot(glm::dvec3(out[i]) - glm::dvec3(lbs[i]), toward) / glm::dot(toward, toward);
+      const double pull =
+          glm::dot(glm::dvec3(out[i]) - glm::dvec3(lbs[i]), toward) / glm::dot(toward, toward);
       r.pull_max = std::max(r.pull_max, pull);
       pull_sum += pull;
       const double l = glm::length(lap(out, i) - lap(lbs, i));
@@ -163,11 +167,12 @@ TEST(Separation, LegsBentApartOpenTheGapWithoutDents) {
     r.pull_mean = pull_sum / inner.size();
     r.lap_rms = std::sqrt(lap_sum / inner.size());
     r.err_rms = std::sqrt(err_sum / inner.size());
-    std::printf("separate %d: %zu inner-thigh points; leg points with an element of the other leg: %zu; "
-                "pull toward the other leg max %.3f mean %.4f; Laplacian deviation max %.2f mm rms %.3f mm; "
-                "RMS from LBS %.2f mm; separated points %u; bind %.3f s\n",
-                separate, inner.size(), r.crossing, r.pull_max, r.pull_mean, r.lap_max * 1e3, r.lap_rms * 1e3,
-                r.err_rms * 1e3, r.separated_points, b->seconds);
+    std::printf(
+        "separate %d: %zu inner-thigh points; leg points with an element of the other leg: %zu; "
+        "pull toward the other leg max %.3f mean %.4f; Laplacian deviation max %.2f mm rms %.3f mm; "
+        "RMS from LBS %.2f mm; separated points %u; bind %.3f s\n",
+        separate, inner.size(), r.crossing, r.pull_max, r.pull_mean, r.lap_max * 1e3, r.lap_rms * 1e3,
+        r.err_rms * 1e3, r.separated_points, b->seconds);
   }
   // Measured (docs/algorithm-notes.md): crossing 12 -> 0, pull 0.43 -> 0.28, Laplacian deviation
   // max 19.5 -> 12.2 mm, RMS 4.47 -> 3.50 mm.
@@ -219,7 +224,8 @@ TEST(Separation, WholeBodyAgainstLinearBlendSkinning) {
         const double t = c.clips[static_cast<size_t>(ci)].duration * k / 8;
         Pose pose = sample_pose(c, ci, t);
         std::vector<glm::vec3> lbs = skin_character(c, pose);
-        std::vector<glm::mat4> globals = c.skeleton.global_transforms(pose), skinning(c.skins[0].joints.size());
+        std::vector<glm::mat4> globals = c.skeleton.global_transforms(pose),
+                               skinning(c.skins[0].joints.size());
         joint_matrices(c.skins[0], globals, skinning);
         std::vector<glm::vec3> posed(d.cage.num_vertices()), out(d.skin.size());
         std::vector<glm::dmat3> linear(d.cage.num_vertices());
@@ -238,10 +244,11 @@ TEST(Separation, WholeBodyAgainstLinearBlendSkinning) {
     }
     rms[separate] = std::sqrt(sum / samples);
     lap_rms[separate] = std::sqrt(lap_sum / samples);
-    std::printf("separate %d: against LBS over walk and arm_raise (18 poses): RMS %.2f mm, max %.1f mm; Laplacian "
-                "deviation RMS %.3f mm, max %.2f mm; %u points separated\n",
-                separate, rms[separate] * 1e3, worst[separate] * 1e3, lap_rms[separate] * 1e3,
-                lap_worst[separate] * 1e3, b->separated_points);
+    std::printf(
+        "separate %d: against LBS over walk and arm_raise (18 poses): RMS %.2f mm, max %.1f mm; Laplacian "
+        "deviation RMS %.3f mm, max %.2f mm; %u points separated\n",
+        separate, rms[separate] * 1e3, worst[separate] * 1e3, lap_rms[separate] * 1e3,
+        lap_worst[separate] * 1e3, b->separated_points);
   }
   EXPECT_LE(rms[1], 1.05 * rms[0]);
   EXPECT_LE(lap_rms[1], 1.05 * lap_rms[0]);

@@ -1,12 +1,13 @@
 // Contributing-set editing and display: canonical edit lists, the four edit modes with X-mirroring,
 // what a bind makes of each mode, the display queries and the surface brush.
-#include <algorithm>
-#include <cmath>
+#include "core/set_editing.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+
 #include "core/registration.h"
-#include "core/set_editing.h"
 #include "core/set_queries.h"
 #include "core/skin_brush.h"
 #include "tests/fixtures.h"
@@ -17,7 +18,9 @@ namespace {
 
 using fixtures::TwoLegs;
 
-std::vector<uint32_t> v(std::initializer_list<uint32_t> x) { return x; }
+std::vector<uint32_t> v(std::initializer_list<uint32_t> x) {
+  return x;
+}
 
 TEST(CanonicalSetEdits, OnePerPointSortedWithoutContradictionsOrEmptyRules) {
   std::vector<SetEdit> raw = {
@@ -61,7 +64,8 @@ class EditModes : public ::testing::Test {
   uint32_t inner_point() const {
     uint32_t best = 0;
     for (uint32_t i = 0; i < t.left_points; ++i)
-      if (std::abs(t.skin.positions[i].y - 1.5f) < 0.06f && t.skin.positions[i].x > t.skin.positions[best].x) best = i;
+      if (std::abs(t.skin.positions[i].y - 1.5f) < 0.06f && t.skin.positions[i].x > t.skin.positions[best].x)
+        best = i;
     return best;
   }
   Binding bind(std::span<const SetEdit> edits) const {
@@ -146,7 +150,8 @@ TEST_F(EditModes, AddJoinsFarFacesAndOnlyKeepsJustThem) {
   EXPECT_TRUE(less.edits[0].only);
   EXPECT_EQ(less.edits[0].include, face_elements(t.cage, IndexSet{static_cast<uint32_t>(t.left_faces / 2)}));
   // removing everything from an `only` set leaves an empty set: the point follows an element rigidly
-  SetEditResult none = apply(less.edits, SetEditMode::kRemove, IndexSet{p}, IndexSet{static_cast<uint32_t>(t.left_faces / 2)});
+  SetEditResult none =
+      apply(less.edits, SetEditMode::kRemove, IndexSet{p}, IndexSet{static_cast<uint32_t>(t.left_faces / 2)});
   ASSERT_EQ(none.edits.size(), 1u);
   Binding empty = bind(none.edits);
   EXPECT_TRUE(set_of(empty, p).empty());
@@ -154,7 +159,8 @@ TEST_F(EditModes, AddJoinsFarFacesAndOnlyKeepsJustThem) {
 }
 
 TEST_F(EditModes, ErrorsNameThePointOrFace) {
-  auto r = apply_set_edit({}, SetEditMode::kRemove, IndexSet{999999}, IndexSet{0}, t.cage, t.skin.num_vertices());
+  auto r =
+      apply_set_edit({}, SetEditMode::kRemove, IndexSet{999999}, IndexSet{0}, t.cage, t.skin.num_vertices());
   ASSERT_FALSE(r.ok());
   EXPECT_NE(r.error().message.find("999999"), std::string::npos);
   r = apply_set_edit({}, SetEditMode::kRemove, IndexSet{1}, IndexSet{777}, t.cage, t.skin.num_vertices());
@@ -176,7 +182,8 @@ TEST_F(EditModes, MirrorAppliesTheEditToTheOtherSide) {
   const std::vector<glm::vec3> centroids = face_centroids(t.cage.polygons);
   MirrorMap points(t.skin.positions, 1e-4), faces(centroids, 1e-4);
   const IndexSet right{static_cast<uint32_t>(t.left_faces + 2), static_cast<uint32_t>(t.left_faces + 3)};
-  auto r = apply_set_edit({}, SetEditMode::kRemove, IndexSet{p}, right, t.cage, t.skin.num_vertices(), {&points, &faces});
+  auto r = apply_set_edit({}, SetEditMode::kRemove, IndexSet{p}, right, t.cage, t.skin.num_vertices(),
+                          {&points, &faces});
   ASSERT_TRUE(r.ok()) << r.error().message;
   EXPECT_TRUE(r->unmatched_points.empty());
   EXPECT_TRUE(r->unmatched_faces.empty());
@@ -186,17 +193,20 @@ TEST_F(EditModes, MirrorAppliesTheEditToTheOtherSide) {
   EXPECT_NEAR(t.skin.positions[q].x, -t.skin.positions[p].x, 1e-5);
   EXPECT_NEAR(t.skin.positions[q].y, t.skin.positions[p].y, 1e-5);
   EXPECT_NEAR(t.skin.positions[q].z, t.skin.positions[p].z, 1e-5);
-  for (uint32_t e : r->edits[1].exclude) EXPECT_LT(t.cage.element_face[e], t.left_faces) << "the left leg's faces";
+  for (uint32_t e : r->edits[1].exclude)
+    EXPECT_LT(t.cage.element_face[e], t.left_faces) << "the left leg's faces";
   EXPECT_EQ(r->edits[1].exclude.size(), r->edits[0].exclude.size());
   EXPECT_EQ(r->changed_points, v({p, q}));
   // a slightly asymmetric skin: within the tolerance it still matches, beyond it the point is named
   std::vector<glm::vec3> moved = t.skin.positions;
   moved[q].x += 0.01f;
   MirrorMap loose(moved, 0.02), tight(moved, 0.001);
-  r = apply_set_edit({}, SetEditMode::kRemove, IndexSet{p}, right, t.cage, t.skin.num_vertices(), {&loose, &faces});
+  r = apply_set_edit({}, SetEditMode::kRemove, IndexSet{p}, right, t.cage, t.skin.num_vertices(),
+                     {&loose, &faces});
   ASSERT_TRUE(r.ok());
   EXPECT_TRUE(r->unmatched_points.empty());
-  r = apply_set_edit({}, SetEditMode::kRemove, IndexSet{p}, right, t.cage, t.skin.num_vertices(), {&tight, &faces});
+  r = apply_set_edit({}, SetEditMode::kRemove, IndexSet{p}, right, t.cage, t.skin.num_vertices(),
+                     {&tight, &faces});
   ASSERT_TRUE(r.ok());
   EXPECT_EQ(r->unmatched_points, v({p}));
 }
@@ -214,7 +224,8 @@ TEST(MirrorSetEdit, APointOnThePlaneTakesBothSides) {
   while (!(centroids[f].x > 0.5f)) ++f;
   ASSERT_EQ(faces.counterparts(f).size(), 1u);
   const uint32_t g = faces.counterparts(f)[0];
-  auto r = apply_set_edit({}, SetEditMode::kOnly, IndexSet{0}, IndexSet{f}, cage, skin.num_vertices(), {&points, &faces});
+  auto r = apply_set_edit({}, SetEditMode::kOnly, IndexSet{0}, IndexSet{f}, cage, skin.num_vertices(),
+                          {&points, &faces});
   ASSERT_TRUE(r.ok());
   ASSERT_EQ(r->edits.size(), 1u) << "the north pole is its own mirror";
   std::vector<uint32_t> both = face_elements(cage, IndexSet{f, g});
@@ -223,7 +234,8 @@ TEST(MirrorSetEdit, APointOnThePlaneTakesBothSides) {
 
 TEST(MirrorMap, MapsARegionOntoARegionWithoutHoles) {
   // left side sampled at 1, 2, 3, 4; right side at -1.5, -2.5, -3.5 (coarser and shifted)
-  std::vector<glm::vec3> pts = {{1, 0, 0}, {2, 0, 0}, {3, 0, 0}, {4, 0, 0}, {-1.5f, 0, 0}, {-2.5f, 0, 0}, {-3.5f, 0, 0}};
+  std::vector<glm::vec3> pts = {{1, 0, 0},     {2, 0, 0},     {3, 0, 0},    {4, 0, 0},
+                                {-1.5f, 0, 0}, {-2.5f, 0, 0}, {-3.5f, 0, 0}};
   MirrorMap m(pts, 0.6);
   MirrorResult r = m.mirror(IndexSet{4, 5, 6});
   EXPECT_EQ(r.mirrored, (IndexSet{0, 1, 2, 3})) << "every left point whose mirror lands near a selected one";
@@ -248,7 +260,9 @@ TEST_F(EditModes, PointSetsAndFaceHeatMaps) {
       for (size_t k = 0; k < s->members.size(); ++k) {
         sum += s->members[k].weight;
         EXPECT_EQ(s->members[k].face, t.cage.element_face[s->members[k].element]);
-        if (k) EXPECT_GE(s->members[k - 1].weight, s->members[k].weight) << "strongest first";
+        if (k) {
+          EXPECT_GE(s->members[k - 1].weight, s->members[k].weight) << "strongest first";
+        }
       }
       EXPECT_NEAR(sum, 1.f, 1e-5f);
       EXPECT_EQ(s->edited, i == 5);
@@ -321,7 +335,8 @@ TEST(SkinBrush, MeasuresAlongTheSurfaceAndDoesNotJumpTheGap) {
   for (uint32_t k = 0; k < tri.triangles.size(); ++k) {
     glm::dvec3 c(0.0);
     for (uint32_t v : tri.triangles[k]) c += glm::dvec3(t.skin.positions[v]) / 3.0;
-    if (tri.triangles[k][0] < t.left_points && std::abs(c.y - 1.5) < 0.1 && c.x > best) best = c.x, hit_tri = k;
+    if (tri.triangles[k][0] < t.left_points && std::abs(c.y - 1.5) < 0.1 && c.x > best)
+      best = c.x, hit_tri = k;
   }
   glm::dvec3 hit(0.0);
   for (uint32_t v : tri.triangles[hit_tri]) hit += glm::dvec3(t.skin.positions[v]) / 3.0;
@@ -331,7 +346,8 @@ TEST(SkinBrush, MeasuresAlongTheSurfaceAndDoesNotJumpTheGap) {
   ASSERT_FALSE(r->points.empty());
   EXPECT_TRUE(std::is_sorted(r->points.begin(), r->points.end()));
   size_t in_space = 0;
-  for (uint32_t i = 0; i < t.skin.num_vertices(); ++i) in_space += glm::length(glm::dvec3(t.skin.positions[i]) - hit) <= 0.5;
+  for (uint32_t i = 0; i < t.skin.num_vertices(); ++i)
+    in_space += glm::length(glm::dvec3(t.skin.positions[i]) - hit) <= 0.5;
   for (size_t k = 0; k < r->points.size(); ++k) {
     const uint32_t i = r->points[k];
     EXPECT_LT(i, t.left_points) << "the brush crossed the gap";

@@ -1,15 +1,16 @@
 // Set edits as inputs that last: the set edits file (docs/edits-format.md) with its rules and errors,
 // the project file keeping `only` edits and the separation parameters, edits surviving a rebind with
 // other parameters, and edits made with each mode carried across cage subdivision.
-#include <algorithm>
-#include <set>
+#include "core/set_edits_io.h"
 
 #include <gtest/gtest.h>
+
+#include <algorithm>
+#include <set>
 
 #include "core/cage_subdivide.h"
 #include "core/project_io.h"
 #include "core/registration.h"
-#include "core/set_edits_io.h"
 #include "core/topology_change.h"
 #include "tests/document_fixtures.h"
 #include "tests/expect_error.h"
@@ -38,7 +39,9 @@ TEST_F(SetEditsFileTest, SavedEditsLoadBackCanonical) {
   ASSERT_TRUE(save_set_edits(path("e.json"), edits, t.skin.num_vertices(), t.cage.num_elements()).ok());
   const std::string text = read_text(path("e.json"));
   EXPECT_NE(text.find("\"format\": \"cagewrap-set-edits\""), std::string::npos) << text;
-  EXPECT_NE(text.find("{\"point\": 7, \"exclude\": [], \"include\": [1, 5], \"only\": true}"), std::string::npos) << text;
+  EXPECT_NE(text.find("{\"point\": 7, \"exclude\": [], \"include\": [1, 5], \"only\": true}"),
+            std::string::npos)
+      << text;
   auto f = load_set_edits(path("e.json"));
   ASSERT_TRUE(f.ok()) << f.error().message;
   EXPECT_EQ(f->num_points, int64_t(t.skin.num_vertices()));
@@ -60,7 +63,8 @@ TEST_F(SetEditsFileTest, RulesResolveInOrder) {
   auto r = resolve(R"({"format": "cagewrap-set-edits", "version": 1,
     "edits": [{"point": 3, "exclude": [0]}],
     "rules": [
-      {"mode": "remove", "points": [10, 11, 12], "faces": [)" + std::to_string(rf) + R"(], "mirror": 0.0001},
+      {"mode": "remove", "points": [10, 11, 12], "faces": [)" +
+                   std::to_string(rf) + R"(], "mirror": 0.0001},
       {"mode": "only", "points": [20], "faces": [1, 2]},
       {"mode": "add", "points": [3], "faces": [0]},
       {"mode": "reset", "points": [12]}
@@ -71,12 +75,19 @@ TEST_F(SetEditsFileTest, RulesResolveInOrder) {
   const std::vector<glm::vec3> centroids = face_centroids(t.cage.polygons);
   MirrorMap pm(t.skin.positions, 0.0001), fm(centroids, 0.0001);
   expect = apply_set_edit(expect, SetEditMode::kRemove, IndexSet{10, 11, 12}, IndexSet{rf}, t.cage,
-                          t.skin.num_vertices(), {&pm, &fm})->edits;
-  expect = apply_set_edit(expect, SetEditMode::kOnly, IndexSet{20}, IndexSet{1, 2}, t.cage, t.skin.num_vertices())->edits;
-  expect = apply_set_edit(expect, SetEditMode::kAdd, IndexSet{3}, IndexSet{0}, t.cage, t.skin.num_vertices())->edits;
-  expect = apply_set_edit(expect, SetEditMode::kReset, IndexSet{12}, IndexSet{}, t.cage, t.skin.num_vertices())->edits;
+                          t.skin.num_vertices(), {&pm, &fm})
+               ->edits;
+  expect =
+      apply_set_edit(expect, SetEditMode::kOnly, IndexSet{20}, IndexSet{1, 2}, t.cage, t.skin.num_vertices())
+          ->edits;
+  expect = apply_set_edit(expect, SetEditMode::kAdd, IndexSet{3}, IndexSet{0}, t.cage, t.skin.num_vertices())
+               ->edits;
+  expect =
+      apply_set_edit(expect, SetEditMode::kReset, IndexSet{12}, IndexSet{}, t.cage, t.skin.num_vertices())
+          ->edits;
   EXPECT_EQ(r->edits, expect);
-  EXPECT_EQ(r->edits.size(), 7u) << "points 3, 10, 11, 20 and the mirrors of 10, 11, 12 (12 itself was reset)";
+  EXPECT_EQ(r->edits.size(), 7u)
+      << "points 3, 10, 11, 20 and the mirrors of 10, 11, 12 (12 itself was reset)";
   // a mirror with no counterpart is a warning naming the rule
   t.skin.positions[10].x += 0.01f;
   auto w = resolve(R"({"format": "cagewrap-set-edits", "version": 1,
@@ -93,26 +104,29 @@ TEST_F(SetEditsFileTest, ErrorsNameTheFileAndTheJsonPath) {
   EXPECT_TRUE(Fails(resolve("{\n  \"format\": 1,,\n}"), ErrorCode::kParse, {f, "line 2"}));
   EXPECT_TRUE(Fails(resolve(R"({"format": "cagewrap-project", "version": 1})"), ErrorCode::kUnsupportedFormat,
                     {f, "not a set edits file"}));
-  EXPECT_TRUE(Fails(resolve(R"({"format": "cagewrap-set-edits", "version": 7, "edits": []})"), ErrorCode::kVersion,
-                    {f, "version 7", "up to 1"}));
+  EXPECT_TRUE(Fails(resolve(R"({"format": "cagewrap-set-edits", "version": 7, "edits": []})"),
+                    ErrorCode::kVersion, {f, "version 7", "up to 1"}));
   EXPECT_TRUE(Fails(resolve(head + R"("other": []})"), ErrorCode::kParse, {f, "neither"}));
-  EXPECT_TRUE(Fails(resolve(head + R"("edits": [{"exclude": [1]}]})"), ErrorCode::kParse, {f, "edits[0].point is missing"}));
+  EXPECT_TRUE(Fails(resolve(head + R"("edits": [{"exclude": [1]}]})"), ErrorCode::kParse,
+                    {f, "edits[0].point is missing"}));
   EXPECT_TRUE(Fails(resolve(head + R"("edits": [{"point": 1, "include": [1, -2]}]})"), ErrorCode::kParse,
                     {f, "edits[0].include[1] should be an index"}));
   EXPECT_TRUE(Fails(resolve(head + R"("edits": [{"point": 1, "only": "yes"}]})"), ErrorCode::kParse,
                     {f, "edits[0].only should be true or false"}));
-  EXPECT_TRUE(Fails(resolve(head + R"("edits": [{"point": 1, "exclude": [0, 99999]}]})"), ErrorCode::kIndexOutOfRange,
+  EXPECT_TRUE(Fails(resolve(head + R"("edits": [{"point": 1, "exclude": [0, 99999]}]})"),
+                    ErrorCode::kIndexOutOfRange,
                     {f, "edits[0].exclude[1] is element 99999, but the cage has"}));
   EXPECT_TRUE(Fails(resolve(head + R"("edits": [{"point": 99999}]})"), ErrorCode::kIndexOutOfRange,
                     {f, "edits[0].point is skin point 99999"}));
-  EXPECT_TRUE(Fails(resolve(head + R"("rules": [{"mode": "erase", "points": [1], "faces": [1]}]})"), ErrorCode::kParse,
-                    {f, "rules[0].mode is \"erase\""}));
+  EXPECT_TRUE(Fails(resolve(head + R"("rules": [{"mode": "erase", "points": [1], "faces": [1]}]})"),
+                    ErrorCode::kParse, {f, "rules[0].mode is \"erase\""}));
   EXPECT_TRUE(Fails(resolve(head + R"("rules": [{"mode": "add", "points": [1]}]})"), ErrorCode::kParse,
                     {f, "rules[0].faces is missing"}));
   EXPECT_TRUE(Fails(resolve(head + R"("rules": [{"mode": "add", "points": [1], "faces": [5000]}]})"),
                     ErrorCode::kIndexOutOfRange, {f, "rules[0].faces[0] is face 5000, but the cage has"}));
-  EXPECT_TRUE(Fails(resolve(head + R"("rules": [{"mode": "add", "points": [1], "faces": [0], "mirror": 0}]})"),
-                    ErrorCode::kParse, {f, "rules[0].mirror"}));
+  EXPECT_TRUE(
+      Fails(resolve(head + R"("rules": [{"mode": "add", "points": [1], "faces": [0], "mirror": 0}]})"),
+            ErrorCode::kParse, {f, "rules[0].mirror"}));
   EXPECT_TRUE(Fails(resolve(head + R"("points": 5, "edits": []})"), ErrorCode::kTopologyMismatch,
                     {f, "made for a skin of 5 points"}));
   EXPECT_TRUE(Fails(resolve(head + R"("elements": 5, "edits": []})"), ErrorCode::kTopologyMismatch,
@@ -168,7 +182,8 @@ TEST(SetEditsLast, ThroughARebindWithOtherParameters) {
   const IndexSet left{2, 3};
   std::vector<uint32_t> points;
   for (uint32_t i = 0; i < t.left_points; i += 7) points.push_back(i);
-  auto removed = apply_set_edit({}, SetEditMode::kRemove, IndexSet(points), right, t.cage, t.skin.num_vertices());
+  auto removed =
+      apply_set_edit({}, SetEditMode::kRemove, IndexSet(points), right, t.cage, t.skin.num_vertices());
   auto only = apply_set_edit(removed->edits, SetEditMode::kOnly, IndexSet{t.left_points + 1}, right, t.cage,
                              t.skin.num_vertices());
   const std::vector<uint32_t> right_elements = face_elements(t.cage, right);
@@ -203,8 +218,8 @@ TEST(SetEditsLast, AcrossCageSubdivision) {
   p.separate = false;
   auto plain = bind_skin(t.skin.positions, t.cage, t.cage.polygons.positions, p);
   ASSERT_TRUE(plain.ok());
-  p.scale = plain->h;      // the finer cages' mean edge is shorter: keep the same reach
-  p.max_elements = 48;     // and their more numerous elements within it
+  p.scale = plain->h;   // the finer cages' mean edge is shorter: keep the same reach
+  p.max_elements = 48;  // and their more numerous elements within it
 
   std::set<uint32_t> right_faces_used;
   for (uint32_t i : inner)
@@ -214,7 +229,8 @@ TEST(SetEditsLast, AcrossCageSubdivision) {
   const IndexSet right(std::vector<uint32_t>(right_faces_used.begin(), right_faces_used.end()));
   const IndexSet top{static_cast<uint32_t>(t.left_faces - 1)};  // the left leg's top cap
   const uint32_t only_point = t.left_points + 40, add_point = 60;
-  std::vector<SetEdit> edits = apply_set_edit({}, SetEditMode::kRemove, IndexSet(inner), right, t.cage, n)->edits;
+  std::vector<SetEdit> edits =
+      apply_set_edit({}, SetEditMode::kRemove, IndexSet(inner), right, t.cage, n)->edits;
   edits = apply_set_edit(edits, SetEditMode::kOnly, IndexSet{only_point}, IndexSet{0, 1}, t.cage, n)->edits;
   edits = apply_set_edit(edits, SetEditMode::kAdd, IndexSet{add_point}, top, t.cage, n)->edits;
 

@@ -12,7 +12,8 @@
 namespace cagewrap::fixtures {
 
 // A closed tube along +y centred on (cx, *, 0): `around` x `along` quads split into triangles, capped.
-inline PolyMesh leg_skin(double cx, double radius = 0.5, double length = 3.0, int around = 24, int along = 30) {
+inline PolyMesh leg_skin(double cx, double radius = 0.5, double length = 3.0, int around = 24,
+                         int along = 30) {
   PolyMesh m;
   for (int j = 0; j <= along; ++j)
     for (int i = 0; i < around; ++i) {
@@ -36,12 +37,14 @@ inline PolyMesh leg_skin(double cx, double radius = 0.5, double length = 3.0, in
 }
 
 // An octagonal prism along +y around (cx, *, 0): quads along, octagon caps.
-inline PolyMesh leg_cage(double cx, double radius = 0.6, double y0 = -0.2, double y1 = 3.2, int rings = 6, int sides = 8) {
+inline PolyMesh leg_cage(double cx, double radius = 0.6, double y0 = -0.2, double y1 = 3.2, int rings = 6,
+                         int sides = 8) {
   PolyMesh m;
   for (int j = 0; j < rings; ++j)
     for (int i = 0; i < sides; ++i) {
       double a = 2 * M_PI * (i + 0.5) / sides;
-      m.positions.emplace_back(cx + radius * std::cos(a), y0 + (y1 - y0) * j / (rings - 1), radius * std::sin(a));
+      m.positions.emplace_back(cx + radius * std::cos(a), y0 + (y1 - y0) * j / (rings - 1),
+                               radius * std::sin(a));
     }
   auto at = [&](int i, int j) { return static_cast<uint32_t>(j * sides + (i % sides)); };
   for (int j = 0; j + 1 < rings; ++j)
@@ -67,8 +70,8 @@ inline PolyMesh joined(const PolyMesh& a, const PolyMesh& b) {
 }
 
 struct TwoLegs {
-  PolyMesh skin;  // left leg (x < 0) points first, then the right leg
-  Cage cage;      // left prism's faces first
+  PolyMesh skin;      // left leg (x < 0) points first, then the right leg
+  Cage cage;          // left prism's faces first
   PartLabels labels;  // 0 = hips (root), 1 = left leg, 2 = right leg
   uint32_t left_points = 0, left_vertices = 0;
   size_t left_faces = 0;
@@ -87,7 +90,8 @@ inline TwoLegs two_legs(double half_spacing = 0.65) {
   t.cage = std::move(make_cage(joined(lc, rc), "two legs")).value();
   t.labels.parent = {-1, 0, 0};
   for (uint32_t i = 0; i < t.skin.num_vertices(); ++i) t.labels.point.push_back(i < t.left_points ? 1 : 2);
-  for (uint32_t v = 0; v < t.cage.num_vertices(); ++v) t.labels.cage_vertex.push_back(v < t.left_vertices ? 1 : 2);
+  for (uint32_t v = 0; v < t.cage.num_vertices(); ++v)
+    t.labels.cage_vertex.push_back(v < t.left_vertices ? 1 : 2);
   return t;
 }
 

@@ -52,10 +52,11 @@ void BM_StrokeUpdate(benchmark::State& state) {
   std::vector<SetEdit> edits;
   bool remove = true;
   for (auto _ : state) {
-    auto r = apply_set_edit(edits, remove ? SetEditMode::kRemove : SetEditMode::kReset, IndexSet(s.stroke), s.faces,
-                            s.cage, s.skin.num_vertices());
+    auto r = apply_set_edit(edits, remove ? SetEditMode::kRemove : SetEditMode::kReset, IndexSet(s.stroke),
+                            s.faces, s.cage, s.skin.num_vertices());
     edits = std::move(r->edits);
-    if (auto st = rebinder.update(live, edits, r->changed_points); !st.ok()) state.SkipWithError(st.error().message.c_str());
+    if (auto st = rebinder.update(live, edits, r->changed_points); !st.ok())
+      state.SkipWithError(st.error().message.c_str());
     if (auto st = deformer.stencil_changed(); !st.ok()) state.SkipWithError(st.error().message.c_str());
     remove = !remove;
   }
@@ -68,7 +69,8 @@ void BM_StrokeFullBind(benchmark::State& state) {
   StrokeSetup s;
   BindParams p;
   p.variant = static_cast<Variant>(state.range(0));
-  auto r = apply_set_edit({}, SetEditMode::kRemove, IndexSet(s.stroke), s.faces, s.cage, s.skin.num_vertices());
+  auto r =
+      apply_set_edit({}, SetEditMode::kRemove, IndexSet(s.stroke), s.faces, s.cage, s.skin.num_vertices());
   for (auto _ : state) {
     auto b = bind_skin(s.skin.positions, s.cage, s.cage.polygons.positions, p, r->edits);
     benchmark::DoNotOptimize(b);
