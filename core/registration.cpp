@@ -865,8 +865,11 @@ Status Rebinder::update(Binding& b, std::span<const SetEdit> edit_list, std::spa
   if (b.elements != ctx.cage->elements || b.rest_cage.size() != ctx.rest.size() ||
       !std::equal(b.rest_cage.begin(), b.rest_cage.end(), ctx.rest.begin()))
     return make_error(ErrorCode::kTopologyMismatch, "the binding was made for another cage; bind again");
-  if (b.params != ctx.params || b.separation_applied != ctx.separate || !b.has_sets())
-    return make_error(ErrorCode::kInvalidArgument, "the binding was made with other parameters; bind again");
+  if (b.params != ctx.params || b.separation_applied != ctx.separate)
+    return make_error(ErrorCode::kInvalidArgument, "the binding was made with other parameters or labels; bind again");
+  if (!b.has_sets())
+    return make_error(ErrorCode::kInvalidArgument,
+                      "the binding has no contributing-set table (made by an older cagewrap); bind again");
   std::vector<uint32_t> touched(points.begin(), points.end());
   std::sort(touched.begin(), touched.end());
   touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
