@@ -109,6 +109,9 @@ void print_bind_summary(const Binding& b, const std::string& cage_path, size_t n
   std::printf("%s\n", b.rigid_points.empty() ? "" : " (empty set: follow their nearest valid element rigidly)");
   std::printf("cage quality      %.2f%% of points lie within %g h of an element and project inside it\n",
               100.0 * b.quality(), b.params.close_distance);
+  if (b.separation_applied)
+    std::printf("separation        %u points kept from %llu elements of unconnected parts (%u steps)\n",
+                b.separated_points, static_cast<unsigned long long>(b.total_separated), b.params.separation_steps);
   std::printf("seconds           %.3f\n", b.seconds);
   if (!b.invalid_elements.empty())
     std::fprintf(stderr, "warning: %s: %zu cage element(s) were skipped (listed above)\n", cage_path.c_str(),

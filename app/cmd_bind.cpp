@@ -1,16 +1,17 @@
-// cagewrap bind --mesh M --cage C [params] --out B
+// cagewrap bind --mesh M --cage C [params] [--edits E] --out B
 #include <cstdio>
 
 #include "app/cli_common.h"
 #include "app/commands.h"
 #include "core/binding_io.h"
 #include "core/mesh_io.h"
+#include "core/set_edits_io.h"
 
 namespace cagewrap::app {
 
 void add_bind_command(CLI::App& app, int& exit_code) {
   struct Args {
-    std::string mesh, cage, out;
+    std::string mesh, cage, out, edits;
     BindOptions bind;
   };
   auto args = std::make_shared<Args>();
@@ -18,6 +19,9 @@ void add_bind_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--mesh", args->mesh, "skin mesh (.obj .ply .off .stl)")->required();
   cmd->add_option("--cage", args->cage, "cage at rest (.obj .ply .off .stl)")->required();
   cmd->add_option("--out", args->out, "binding file to write (.cwb)")->required();
+  cmd->add_option("--edits", args->edits,
+                  "contributing-set edits to apply (.json, docs/edits-format.md): per-point rules and rules by "
+                  "point and face lists");
   add_bind_options(*cmd, args->bind);
   cmd->callback([args, &exit_code] {
     exit_code = 1;
@@ -31,7 +35,22 @@ void add_bind_command(CLI::App& app, int& exit_code) {
     if (!mesh) return;
     auto cage = load_cage_or_report(args->cage);
     if (!cage) return;
-    auto b = bind_skin(mesh->positions, *cage, cage->polygons.positions, args->bind.params, {}, terminal_progress("bind"));
+    std::vector<SetEdit> edits;
+    if (!args->edits.empty()) {
+      auto file = load_set_edits(args->edits);
+      if (!file) {
+        report_error(file.error());
+        return;
+      }
+      auto resolved = resolve_set_edits(*file, args->edits, mesh->positions, *cage);
+      if (!resolved) {
+        report_error(resolved.error());
+        return;
+      }
+      for (const std::string& w : resolved->warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+      edits = std::move(resolved->edits);
+    }
+    auto b = bind_skin(mesh->positions, *cage, cage->polygons.positions, args->bind.params, edits, terminal_progress("bind"));
     if (!b) {
       report_error({b.error().code, args->cage + ": " + b.error().message});
       return;
@@ -41,6 +60,7 @@ void add_bind_command(CLI::App& app, int& exit_code) {
       return;
     }
     print_bind_summary(*b, args->cage, cage->polygons.num_faces());
+    if (!args->edits.empty()) std::printf("set edits         %zu points (%s)\n", edits.size(), args->edits.c_str());
     std::printf("wrote             %s\n", args->out.c_str());
     exit_code = 0;
   });

@@ -38,6 +38,14 @@ struct BindParams {
   double max_distance = 0.0;    // world units; elements farther than this never drive a point; 0 = none
   double close_distance = 1.0;  // in units of h: "close" for the cage-quality figure (algorithm.md section 4)
   Variant variant = Variant::kExtended;  // most faithful in the bench (docs/benchmarks.md)
+  // Automatic separation (beyond the paper; docs/algorithm-notes.md): an element may drive a point
+  // only when their part labels (PartLabels, an input of bind_skin: for a character, the point's
+  // dominant joint and the joints its corners follow) are at most `separation_steps` apart in the
+  // label hierarchy. Without labels nothing is separated.
+  bool separate = true;
+  uint32_t separation_steps = 1;  // 1: the same bone, its parent or a child
+
+  bool operator==(const BindParams&) const = default;
 };
 
 // Checks ranges; names the offending parameter.
@@ -46,10 +54,20 @@ Status validate(const BindParams& params);
 // User edits of contributing sets, an input of registration (so editing is a parameter, not a patch).
 // Exclusions act before the threshold (an excluded element does not exist for that point), inclusions
 // after it (an included element joins the set whatever its weight, beyond K).
+// `only`: the set may hold nothing but the `include` elements (every other element is excluded; the
+// included ones then pass the threshold like any other, and join after it if they do not), a compact
+// form of "exclude the rest" for the "make these the only ones" edit. core/set_editing.h builds
+// canonical edits (one per point, sorted lists, no element in both, `exclude` empty when `only`).
 struct SetEdit {
   uint32_t point;
   std::vector<uint32_t> exclude;  // element ids
   std::vector<uint32_t> include;  // element ids
+  bool only = false;
+
+  bool operator==(const SetEdit&) const = default;
+  // Whether the edit removes element e from the point's candidates (before the threshold). The
+  // lists must be sorted (canonical edits are).
+  bool excludes(uint32_t e) const;
 };
 
 struct Binding {
@@ -68,6 +86,14 @@ struct Binding {
   std::vector<float> weights;     // #entries, sum to 1 per point
   std::vector<float> bary;        // clamped only: #entries x 2, (b1, b2) of the anchor; b0 = 1 - b1 - b2
 
+  // The contributing sets C_P themselves (element ids, normalized weights u_k, strongest first), for
+  // display and editing (core/set_queries.h). The basic and clamped stencils are these sets, so
+  // these stay empty for them; the extended stencil lists cage vertices, so its sets are kept here.
+  // Use sets(), which picks the right table.
+  std::vector<uint32_t> set_offsets;  // #P+1 (extended), else empty
+  std::vector<uint32_t> set_ids;      // #members
+  std::vector<float> set_weights;     // #members
+
   // Points whose contributing set came out empty follow their nearest valid element rigidly.
   std::vector<uint32_t> rigid_points;   // point indices
   std::vector<uint32_t> rigid_element;  // element each follows
@@ -78,7 +104,27 @@ struct Binding {
   uint32_t quality_inside = 0;             // points close to and projecting inside some set element
   uint32_t max_set_size = 0;
   uint64_t total_set_size = 0;             // sum of |C_P| (elements, before the extended collapse)
+  // Automatic separation: whether part labels were applied, and per point (#P when they were, else
+  // empty) how many elements they kept out of its reach: elements of unconnected parts nearer than
+  // the point's (K+1)-th nearest allowed element and within its threshold radius, which would
+  // otherwise have competed for its set.
+  bool separation_applied = false;
+  std::vector<uint32_t> separated;  // #P
+  uint64_t total_separated = 0;     // sum of `separated`
+  uint32_t separated_points = 0;    // points with separated > 0
   double seconds = 0.0;
+
+  struct SetsView {
+    std::span<const uint32_t> offsets;  // #P+1
+    std::span<const uint32_t> ids;      // element ids
+    std::span<const float> weights;     // u_k
+    std::span<const uint32_t> of(uint32_t point) const {
+      return ids.subspan(offsets[point], offsets[point + 1] - offsets[point]);
+    }
+  };
+  // The contributing sets, whatever the variant (the main stencil for basic and clamped).
+  SetsView sets() const;
+  bool has_sets() const { return params.variant != Variant::kExtended || set_offsets.size() == size_t(num_points) + 1; }
 
   size_t num_entries() const { return ids.size(); }
   double quality() const { return num_points ? double(quality_inside) / num_points : 0.0; }

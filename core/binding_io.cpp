@@ -9,7 +9,7 @@ namespace cagewrap {
 namespace {
 
 constexpr char kMagic[8] = {'C', 'W', 'B', 'I', 'N', 'D', '0', '1'};
-constexpr uint32_t kVersion = 1;
+constexpr uint32_t kVersion = 2;  // reads 1 (no sets, no separation) and 2
 
 class Writer {
  public:
@@ -105,6 +105,25 @@ Status validate_binding(const Binding& b) {
         return out_of_range("the binding's entry " + n(i) + " (of skin point " + n(p) + ") names " +
                             (extended ? "cage vertex " : "element ") + n(b.ids[i]) + " but the cage has " +
                             n(id_limit) + (extended ? " vertices" : " elements"));
+  // the contributing sets kept beside the extended stencil (absent in version 1 files)
+  if (!b.set_offsets.empty() || !b.set_ids.empty() || !b.set_weights.empty()) {
+    if (!extended) return parse_error("the binding holds a separate set table, which only the extended variant has");
+    if (b.set_offsets.size() != size_t(b.num_points) + 1 || b.set_offsets.front() != 0 ||
+        b.set_offsets.back() != b.set_ids.size() || b.set_weights.size() != b.set_ids.size())
+      return parse_error("the binding's set table does not match the point count (" + n(b.set_offsets.size()) +
+                         " offsets, " + n(b.set_ids.size()) + " members, " + n(b.set_weights.size()) + " weights for " +
+                         n(b.num_points) + " points)");
+    for (size_t i = 1; i < b.set_offsets.size(); ++i)
+      if (b.set_offsets[i] < b.set_offsets[i - 1])
+        return parse_error("the binding's set table is not monotone (offset " + n(i) + ")");
+    for (size_t i = 0; i < b.set_ids.size(); ++i)
+      if (b.set_ids[i] >= b.elements.size())
+        return out_of_range("the binding's set member " + n(i) + " names element " + n(b.set_ids[i]) +
+                            " but the cage has " + n(b.elements.size()) + " elements");
+  }
+  if (!b.separated.empty() && b.separated.size() != b.num_points)
+    return parse_error("the binding's separation report has " + n(b.separated.size()) + " entries for " +
+                       n(b.num_points) + " points");
   for (size_t i = 0; i < b.rigid_points.size(); ++i) {
     if (b.rigid_points[i] >= b.num_points)
       return out_of_range("the binding's fallback entry " + n(i) + " names skin point " + n(b.rigid_points[i]) +
@@ -147,6 +166,14 @@ Status save_binding(const std::string& path, const Binding& b) {
   w.pod(b.quality_inside);
   w.pod(b.max_set_size);
   w.pod(b.total_set_size);
+  // version 2
+  w.pod(static_cast<uint8_t>(b.params.separate));
+  w.pod(b.params.separation_steps);
+  w.pod(static_cast<uint8_t>(b.separation_applied));
+  w.array(b.set_offsets);
+  w.array(b.set_ids);
+  w.array(b.set_weights);
+  w.array(b.separated);
   // write beside, then rename: a failed write never leaves half a file under the real name
   std::string tmp = path + ".tmp";
   {
@@ -173,10 +200,10 @@ Result<Binding> load_binding(const std::string& path) {
   if (std::memcmp(magic, kMagic, 8) != 0) return make_error(ErrorCode::kParse, path + ": not a cagewrap binding (wrong magic)");
   uint32_t version;
   if (!r.pod(version)) return make_error(ErrorCode::kParse, path + ": truncated header");
-  if (version != kVersion)
+  if (version != 1 && version != kVersion)
     return make_error(ErrorCode::kVersion, path + ": binding format version " + std::to_string(version) +
                                                " is not supported (this build reads version " +
-                                               std::to_string(kVersion) + "); bind again");
+                                               "1 to " + std::to_string(kVersion) + "); bind again");
   Binding b;
   uint8_t variant = 0;
   bool ok = r.pod(b.params.local) && r.pod(b.params.epsilon) && r.pod(b.params.max_elements) &&
@@ -186,9 +213,21 @@ Result<Binding> load_binding(const std::string& path) {
             r.array(b.element_status) && r.array(b.offsets) && r.array(b.ids) && r.array(b.weights) &&
             r.array(b.bary) && r.array(b.rigid_points) && r.array(b.rigid_element) && r.array(b.rigid_bary) &&
             r.pod(b.quality_inside) && r.pod(b.max_set_size) && r.pod(b.total_set_size);
+  uint8_t separate = 0, applied = 0;
+  if (version == 1) b.params.separate = false;  // made before automatic separation
+  else
+    ok = ok && r.pod(separate) && r.pod(b.params.separation_steps) && r.pod(applied) && r.array(b.set_offsets) &&
+         r.array(b.set_ids) && r.array(b.set_weights) && r.array(b.separated);
   if (!ok) return make_error(ErrorCode::kParse, path + ": file is cut short or a table is larger than the file");
   if (!r.at_end()) return make_error(ErrorCode::kParse, path + ": unexpected data after the last table");
   if (variant > 2) return make_error(ErrorCode::kParse, path + ": unknown variant " + std::to_string(variant));
+  if (separate > 1 || applied > 1) return make_error(ErrorCode::kParse, path + ": the separation flags are not 0 or 1");
+  if (version > 1) b.params.separate = separate;
+  b.separation_applied = applied;
+  for (uint32_t s : b.separated) {
+    b.total_separated += s;
+    b.separated_points += s > 0;
+  }
   b.params.variant = static_cast<Variant>(variant);
   for (size_t e = 0; e < b.element_status.size(); ++e)
     if (static_cast<uint8_t>(b.element_status[e]) > 3)

@@ -93,6 +93,13 @@ Result<Deformer> Deformer::create(const Binding& b, std::span<const glm::vec3> s
   return d;
 }
 
+Status Deformer::stencil_changed() {
+  if (auto v = validate_binding(*binding_); !v) return v.error();
+  need_rigid_ = binding_->params.variant == Variant::kClamped || !binding_->rigid_points.empty();
+  if (need_rigid_) rigid_maps_.resize(binding_->elements.size());
+  return Ok{};
+}
+
 Status Deformer::check_cage(std::span<const glm::vec3> posed) const {
   if (posed.size() != binding_->num_cage_vertices)
     return make_error(ErrorCode::kTopologyMismatch,

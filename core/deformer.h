@@ -45,6 +45,11 @@ class Deformer {
 
   const Binding& binding() const { return *binding_; }
 
+  // The table of the Binding this deformer reads changed in place (Rebinder::update: same skin,
+  // cage and parameters, some points re-registered): checks it again and sizes the fallback maps.
+  // O(table); nothing per element is rebuilt.
+  Status stencil_changed();
+
   // Bytes the kernel reads and writes per call (table, rest skin, maps; output).
   size_t bytes_read_per_call() const;
   size_t bytes_written_per_call() const { return binding_->num_points * sizeof(glm::vec3); }

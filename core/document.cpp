@@ -109,14 +109,13 @@ Document with_character(const Document& doc, std::shared_ptr<const Character> ch
 }
 
 bool same_params(const BindParams& a, const BindParams& b) {
-  return a.local == b.local && a.epsilon == b.epsilon && a.max_elements == b.max_elements && a.scale == b.scale &&
-         a.max_distance == b.max_distance && a.close_distance == b.close_distance && a.variant == b.variant;
+  return a == b;
 }
 
 bool same_set_edits(std::span<const SetEdit> a, std::span<const SetEdit> b) {
   if (a.size() != b.size()) return false;
   for (size_t i = 0; i < a.size(); ++i)
-    if (a[i].point != b[i].point || a[i].exclude != b[i].exclude || a[i].include != b[i].include) return false;
+    if (a[i] != b[i]) return false;
   return true;
 }
 

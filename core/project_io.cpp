@@ -13,11 +13,12 @@
 #include "core/atomic_write.h"
 #include "core/file_hash.h"
 #include "core/gltf_loader.h"
+#include "core/json_reader.h"
+#include "core/set_edits_io.h"
 
 namespace cagewrap {
 
 namespace fs = std::filesystem;
-using Json = nlohmann::ordered_json;  // keeps the order of fields this build does not know
 
 namespace {
 
@@ -50,12 +51,6 @@ std::string one_line(const Json& object) {
   std::string s = "{";
   for (const auto& [key, value] : object.items()) s += (s.size() > 1 ? ", " : "") + Json(key).dump() + ": " + value.dump();
   return s + "}";
-}
-
-std::string index_list(std::span<const uint32_t> v) {
-  std::string s = "[";
-  for (size_t i = 0; i < v.size(); ++i) s += (i ? ", " : "") + std::to_string(v[i]);
-  return s + "]";
 }
 
 // The character path as the project records it: relative to the project's folder, '/' separated.
@@ -121,7 +116,7 @@ std::string keyposes_text(const Document& doc) {
       const KeyposeKey& key = k.keys[j];
       s += std::string(j ? "," : "") + "\n      {\"values\": [";
       for (size_t d = 0; d < key.values.size(); ++d) s += std::string(d ? ", " : "") + number(key.values[d]);
-      s += "], \"vertices\": " + index_list(key.vertices) + ",\n       \"offsets\": [";
+      s += "], \"vertices\": " + json_index_list(key.vertices) + ",\n       \"offsets\": [";
       for (size_t e = 0; e < key.offsets.size(); ++e)
         s += std::string(e ? ", " : "") + vec3_text(key.offsets[e]);
       s += "]}";
@@ -156,7 +151,7 @@ Result<std::string> project_text(const std::string& path, const Document& doc) {
   }
   s += positions.empty() ? "],\n    \"faces\": [" : "\n    ],\n    \"faces\": [";
   size_t num_faces = doc.cage ? doc.cage->polygons.num_faces() : 0;
-  for (size_t f = 0; f < num_faces; ++f) s += std::string(f ? "," : "") + "\n      " + index_list(doc.cage->polygons.face(f));
+  for (size_t f = 0; f < num_faces; ++f) s += std::string(f ? "," : "") + "\n      " + json_index_list(doc.cage->polygons.face(f));
   s += num_faces ? "\n    ]" : "]";
   if (!doc.cage_offsets.empty()) {
     s += ",\n    \"offsets\": [";
@@ -179,13 +174,12 @@ Result<std::string> project_text(const std::string& path, const Document& doc) {
   Json binding = {{"variant", variant_name(p.variant)}, {"local", p.local},
                   {"epsilon", p.epsilon},               {"max_elements", p.max_elements},
                   {"scale", p.scale},                   {"max_distance", p.max_distance},
-                  {"close_distance", p.close_distance}};
+                  {"close_distance", p.close_distance}, {"separate", p.separate},
+                  {"separation_steps", p.separation_steps}};
   s += "  \"binding\": " + one_line(binding) + ",\n";
   s += "  \"set_edits\": [";
   for (size_t i = 0; i < doc.set_edits.size(); ++i) {
-    const SetEdit& e = doc.set_edits[i];
-    s += std::string(i ? "," : "") + "\n    {\"point\": " + std::to_string(e.point) + ", \"exclude\": " +
-         index_list(e.exclude) + ", \"include\": " + index_list(e.include) + "}";
+    s += std::string(i ? "," : "") + "\n    " + set_edit_json(doc.set_edits[i]);
   }
   s += doc.set_edits.empty() ? "],\n" : "\n  ],\n";
   s += attachment_text(doc);
@@ -198,88 +192,7 @@ Result<std::string> project_text(const std::string& path, const Document& doc) {
 
 // ------------------------------------------------------------------ reading
 
-struct LoadFailure {
-  Error error;
-};
-
-// Reads fields by JSON path; a failure throws LoadFailure (caught in load_project) with a message
-// that names the file and the path.
-class Reader {
- public:
-  explicit Reader(std::string file) : file_(std::move(file)) {}
-
-  [[noreturn]] void fail(ErrorCode code, const std::string& what) const {
-    throw LoadFailure{make_error(code, file_ + ": " + what)};
-  }
-  static std::string show(const Json& j) {
-    std::string s = j.dump();
-    return s.size() > 40 ? s.substr(0, 37) + "..." : s;
-  }
-
-  const Json& field(const Json& object, const std::string& path, const char* key) const {
-    if (!object.contains(key)) fail(ErrorCode::kParse, join(path, key) + " is missing");
-    return object[key];
-  }
-  const Json& object(const Json& object, const std::string& path, const char* key) const {
-    const Json& j = field(object, path, key);
-    if (!j.is_object()) fail(ErrorCode::kParse, join(path, key) + " should be an object, not " + show(j));
-    return j;
-  }
-  const Json& array(const Json& j, const std::string& path) const {
-    if (!j.is_array()) fail(ErrorCode::kParse, path + " should be an array, not " + show(j));
-    return j;
-  }
-  std::string string(const Json& j, const std::string& path) const {
-    if (!j.is_string()) fail(ErrorCode::kParse, path + " should be a string, not " + show(j));
-    return j.get<std::string>();
-  }
-  double number(const Json& j, const std::string& path) const {
-    if (j.is_null()) fail(ErrorCode::kNonFinite, path + " is null (a NaN or infinity was saved?); it must be a finite number");
-    if (!j.is_number()) fail(ErrorCode::kParse, path + " should be a number, not " + show(j));
-    double x = j.get<double>();
-    if (!std::isfinite(x)) fail(ErrorCode::kNonFinite, path + " is not a finite number");
-    return x;
-  }
-  float finite_float(const Json& j, const std::string& path) const {
-    // doubles from 2^128 - 2^103 on round to infinity as floats; everything below rounds to a float
-    constexpr double kFloatOverflow = 0x1.ffffffp127;
-    double x = number(j, path);
-    if (std::fabs(x) >= kFloatOverflow)
-      fail(ErrorCode::kNonFinite, path + " = " + show(j) + " is too large for a float coordinate");
-    return static_cast<float>(x);
-  }
-  uint32_t index(const Json& j, const std::string& path) const {
-    if (!j.is_number_unsigned() || j.get<uint64_t>() > UINT32_MAX)
-      fail(ErrorCode::kParse, path + " should be an index (a whole number >= 0), not " + show(j));
-    return j.get<uint32_t>();
-  }
-  std::vector<uint32_t> indices(const Json& j, const std::string& path) const {
-    array(j, path);
-    std::vector<uint32_t> out;
-    for (size_t i = 0; i < j.size(); ++i) out.push_back(index(j[i], at(path, i)));
-    return out;
-  }
-
-  static std::string join(const std::string& path, const char* key) { return path.empty() ? key : path + "." + key; }
-  static std::string at(const std::string& path, size_t i) { return path + "[" + std::to_string(i) + "]"; }
-
- private:
-  std::string file_;
-};
-
-// "line 3, column 7" of a 1-based byte offset.
-std::string text_position(const std::string& text, size_t byte) {
-  size_t line = 1, column = 1;
-  for (size_t i = 0; i + 1 < byte && i < text.size(); ++i) {
-    if (text[i] == '\n') {
-      ++line;
-      column = 1;
-    } else {
-      ++column;
-    }
-  }
-  return "line " + std::to_string(line) + ", column " + std::to_string(column);
-}
+using Reader = JsonReader;
 
 std::shared_ptr<const Cage> read_cage(const Reader& r, const Json& root) {
   const Json& cage = r.object(root, "", "cage");
@@ -325,10 +238,13 @@ BindParams read_params(const Reader& r, const Json& root, std::vector<std::strin
   p.scale = r.number(r.field(b, "binding", "scale"), "binding.scale");
   p.max_distance = r.number(r.field(b, "binding", "max_distance"), "binding.max_distance");
   p.close_distance = r.number(r.field(b, "binding", "close_distance"), "binding.close_distance");
+  // added after version 1 was fixed: a project without them was made without automatic separation
+  p.separate = b.contains("separate") && r.boolean(b["separate"], "binding.separate");
+  if (b.contains("separation_steps")) p.separation_steps = r.index(b["separation_steps"], "binding.separation_steps");
   if (auto v = validate(p); !v) r.fail(ErrorCode::kInvalidArgument, "binding: " + v.error().message);
   for (const auto& [key, value] : b.items())
     if (key != "variant" && key != "local" && key != "epsilon" && key != "max_elements" && key != "scale" &&
-        key != "max_distance" && key != "close_distance")
+        key != "max_distance" && key != "close_distance" && key != "separate" && key != "separation_steps")
       warnings.push_back(file + ": binding." + key + " is not known to this build and was ignored");
   return p;
 }
@@ -336,24 +252,7 @@ BindParams read_params(const Reader& r, const Json& root, std::vector<std::strin
 std::vector<SetEdit> read_set_edits(const Reader& r, const Json& root, size_t num_elements) {
   const Json& edits = r.array(r.field(root, "", "set_edits"), "set_edits");
   std::vector<SetEdit> out;
-  for (size_t i = 0; i < edits.size(); ++i) {
-    std::string path = Reader::at("set_edits", i);
-    const Json& e = edits[i];
-    if (!e.is_object()) r.fail(ErrorCode::kParse, path + " should be an object, not " + Reader::show(e));
-    SetEdit edit;
-    edit.point = r.index(r.field(e, path, "point"), path + ".point");
-    for (auto [key, list] : {std::pair{"exclude", &edit.exclude}, std::pair{"include", &edit.include}}) {
-      if (!e.contains(key)) continue;
-      std::string list_path = Reader::join(path, key);
-      *list = r.indices(e[key], list_path);
-      for (size_t k = 0; k < list->size(); ++k)
-        if ((*list)[k] >= num_elements)
-          r.fail(ErrorCode::kIndexOutOfRange, Reader::at(list_path, k) + " is element " + std::to_string((*list)[k]) +
-                                                  ", but the cage has " + std::to_string(num_elements) +
-                                                  " elements (triangles)");
-    }
-    out.push_back(std::move(edit));
-  }
+  for (size_t i = 0; i < edits.size(); ++i) out.push_back(read_set_edit(r, edits[i], Reader::at("set_edits", i), num_elements));
   return out;
 }
 
@@ -540,26 +439,9 @@ std::vector<KeyposeSet> read_keyposes(const Reader& r, const Json& list, const C
 
 Result<ProjectLoad> load(const std::string& path, const std::string& character_override, std::string* missing) {
   Reader r(path);
-  std::error_code ec;
-  if (!fs::exists(path, ec)) return make_error(ErrorCode::kFileNotFound, path + ": no such file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return make_error(ErrorCode::kFileUnreadable, path + ": cannot be opened for reading");
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  const std::string text = buffer.str();
-
-  Json root;
-  try {
-    root = Json::parse(text);
-  } catch (const Json::parse_error& e) {
-    std::string what = e.what();
-    size_t colon = what.find(": ", what.find("column"));
-    std::string reason = colon == std::string::npos ? what : what.substr(colon + 2);
-    return make_error(ErrorCode::kParse, path + ": not a JSON file (at " + text_position(text, e.byte) + ": " + reason + ")");
-  } catch (const Json::exception& e) {  // e.g. a number literal too large for a double
-    std::string what = e.what();
-    return make_error(ErrorCode::kParse, path + ": not a JSON file (" + what.substr(what.find(']') + 2) + ")");
-  }
+  auto parsed = read_json_file(path);
+  if (!parsed) return parsed.error();
+  const Json& root = *parsed;
   if (!root.is_object() || !root.contains("format"))
     return make_error(ErrorCode::kUnsupportedFormat,
                       path + ": not a cagewrap project (it has no \"format\": \"cagewrap-project\" field)");
@@ -619,6 +501,7 @@ Result<ProjectLoad> load(const std::string& path, const std::string& character_o
   resolved = fs::absolute(resolved).lexically_normal();  // independent of later changes of the working folder
   std::string character_path = character_override.empty() ? resolved.string() : character_override;
   out.character_relocated = !character_override.empty() && fs::path(character_override).lexically_normal() != resolved;
+  std::error_code ec;
   if (!fs::exists(character_path, ec)) {
     if (missing) *missing = character_path;
     return make_error(ErrorCode::kFileNotFound, path + ": character file " + character_path +
@@ -677,7 +560,7 @@ Result<ProjectLoad> load_project(const std::string& path, const std::string& cha
   if (missing_character) missing_character->clear();
   try {
     return load(path, character_override, missing_character);
-  } catch (const LoadFailure& f) {
+  } catch (const JsonLoadFailure& f) {
     return f.error;
   }
 }

@@ -3,11 +3,25 @@
 
 #include <atomic>
 #include <functional>
+#include <memory>
 #include <span>
 
 #include "core/binding.h"
 
 namespace cagewrap {
+
+// Part labels for automatic separation (BindParams::separate). Labels are the nodes of a forest
+// (for a character: skeleton nodes, core/part_labels.h); a point and an element are connected when
+// the point's label and a label of one of the element's corners are at most
+// BindParams::separation_steps edges apart in it, or either is unlabelled. Only connected elements
+// may drive a point (they act like user exclusions: before the threshold).
+struct PartLabels {
+  static constexpr uint32_t kUnlabelled = UINT32_MAX;
+  std::vector<int32_t> parent;        // #L parent of each label, -1 for a root
+  std::vector<uint32_t> point;        // #P label of each skin point (or kUnlabelled)
+  std::vector<uint32_t> cage_vertex;  // #Vc label of each cage vertex (or kUnlabelled)
+  bool empty() const { return parent.empty(); }
+};
 
 struct BindProgress {
   // Called from worker threads (must be thread-safe) with the share done in [0, 1].
@@ -17,23 +31,68 @@ struct BindProgress {
 
 // Binds the skin points to the cage at rest (R := the given positions). Bad elements (zero area,
 // non-finite, duplicate) get no weight and are listed in the result; a point whose set is empty
-// follows its nearest valid element. Errors: no valid elements, bad parameters, edits naming
-// points or elements that do not exist, cancellation.
+// follows its nearest valid element. `labels` (may be null or empty) drive the automatic
+// separation when params.separate is set. Errors: no valid elements, bad parameters, edits naming
+// points or elements that do not exist, labels of the wrong size or out of range, cancellation.
+// Edits are read as canonical_set_edits (core/set_editing.h) reads them: one per point, the last given
+// wins, an element both excluded and included is included.
 Result<Binding> bind_skin(std::span<const glm::vec3> skin, const Cage& cage, std::span<const glm::vec3> rest_positions,
                      const BindParams& params, std::span<const SetEdit> edits = {},
-                     const BindProgress& progress = {});
+                     const BindProgress& progress = {}, const PartLabels* labels = nullptr);
 
 // Reference implementation: a plain loop over all elements per point. Same sets and weights as
 // bind(); used by the tests to check the hierarchy.
 Result<Binding> bind_skin_brute_force(std::span<const glm::vec3> skin, const Cage& cage,
                                  std::span<const glm::vec3> rest_positions, const BindParams& params,
-                                 std::span<const SetEdit> edits = {});
+                                 std::span<const SetEdit> edits = {}, const PartLabels* labels = nullptr);
+
+// Re-registration of some points only, for live set editing: what bind_skin builds once per cage
+// and parameters (element statuses, h, the hierarchy, the label relation) is kept, so a brush
+// stroke costs only its points. The result is exactly what bind_skin gives with the same inputs
+// (same floats, bit for bit), for the points re-registered and for the rest.
+// Keeps references to `skin`, `cage`, `rest_positions` and `labels`: they must outlive it.
+class Rebinder {
+ public:
+  static Result<Rebinder> create(std::span<const glm::vec3> skin, const Cage& cage,
+                                 std::span<const glm::vec3> rest_positions, const BindParams& params,
+                                 const PartLabels* labels = nullptr);
+
+  // A full bind (bind_skin) with the kept state.
+  Result<Binding> bind(std::span<const SetEdit> edits, const BindProgress& progress = {}) const;
+
+  // Re-registers `points` (any order, repeats allowed) under `edits` (the full list; only the
+  // edits of these points are read, but all are checked) and splices their stencils, sets,
+  // fallbacks and report figures into `binding`, which must come from this skin, cage and
+  // parameters (checked: kTopologyMismatch / kInvalidArgument). Other points are left alone. A
+  // Deformer reading `binding` must then be told: Deformer::stencil_changed().
+  Status update(Binding& binding, std::span<const SetEdit> edits, std::span<const uint32_t> points) const;
+
+  Rebinder(Rebinder&&) noexcept;
+  Rebinder& operator=(Rebinder&&) noexcept;
+  ~Rebinder();
+
+ private:
+  struct State;
+  Rebinder() = default;
+  std::unique_ptr<State> state_;
+};
+
+// One-off form: `binding` with `points` re-registered (a copy; see Rebinder::update).
+Result<Binding> rebind_points(const Binding& binding, std::span<const glm::vec3> skin, const Cage& cage,
+                              std::span<const glm::vec3> rest_positions, const BindParams& params,
+                              std::span<const SetEdit> edits, std::span<const uint32_t> points,
+                              const PartLabels* labels = nullptr);
+
+// The cage-quality test of one point of a binding (algorithm.md section 4): within
+// close_distance * h of, and projecting inside, a member of its set (or the element it follows when
+// its set is empty). Binding::quality_inside counts the points that pass. `skin`: the bound rest
+// skin (#P x 3).
+bool well_bound(const Binding& binding, std::span<const glm::vec3> skin, uint32_t point);
 
 // The skin points that fail the cage-quality test (algorithm.md section 4: close to, within
 // close_distance * h, and projecting inside some element of their set): sorted indices, as many as
-// num_points - quality_inside. Registers the skin again against the binding's reference cage with
-// the binding's parameters and h (the edits must be those it was bound with), so it costs a bind;
-// the binding itself, its memory and the deformer are untouched. Errors: a skin of another size.
+// num_points - quality_inside: well_bound() over every point of the binding's own sets (which hold
+// the edits it was made with; `edits` is ignored and kept for callers). Errors: a skin of another size.
 Result<std::vector<uint32_t>> quality_failures(const Binding& binding, std::span<const glm::vec3> skin,
                                                std::span<const SetEdit> edits = {});
 

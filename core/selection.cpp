@@ -127,10 +127,43 @@ IndexSet shrink_faces(const IndexSet& s, const PolyMesh& mesh) {
   return from_marks(out);
 }
 
-std::vector<int32_t> mirror_x_counterparts(std::span<const uint32_t> s, std::span<const glm::vec3> positions,
-                                           double tolerance) {
-  // Uniform grid with cells of the tolerance: a counterpart lies in the 27 cells around the query.
-  const double cell = tolerance > 0 ? tolerance : 1e-12;
+namespace {
+
+// A uniform grid with cells of the tolerance over the positions: the counterpart of a point, the
+// one nearest to its mirror image within the tolerance, lies in the 27 cells around that image.
+class MirrorGrid {
+ public:
+  MirrorGrid(std::span<const glm::vec3> positions, double tolerance)
+      : positions_(positions), tolerance_(tolerance), cell_(tolerance > 0 ? tolerance : 1e-12) {
+    for (size_t i = 0; i < positions.size(); ++i) {
+      glm::dvec3 p(positions[i]);
+      if (finite(p)) grid_[key_of(p)].push_back(static_cast<uint32_t>(i));
+    }
+  }
+  // The point nearest to (-x_i, y_i, z_i) within the tolerance (ties: the lowest index), or -1.
+  int64_t counterpart(uint32_t i) const {
+    glm::dvec3 q(-double(positions_[i].x), positions_[i].y, positions_[i].z);
+    if (!finite(q)) return -1;
+    Key k = key_of(q);
+    double best = tolerance_;
+    int64_t best_index = -1;
+    for (int64_t dx = -1; dx <= 1; ++dx)
+      for (int64_t dy = -1; dy <= 1; ++dy)
+        for (int64_t dz = -1; dz <= 1; ++dz) {
+          auto it = grid_.find({k.x + dx, k.y + dy, k.z + dz});
+          if (it == grid_.end()) continue;
+          for (uint32_t j : it->second) {
+            double d = glm::length(glm::dvec3(positions_[j]) - q);
+            if (d < best || (d == best && (best_index < 0 || j < best_index))) {  // ties: lowest index
+              best = d;
+              best_index = j;
+            }
+          }
+        }
+    return best_index;
+  }
+
+ private:
   struct Key {
     int64_t x, y, z;
     bool operator==(const Key&) const = default;
@@ -140,50 +173,71 @@ std::vector<int32_t> mirror_x_counterparts(std::span<const uint32_t> s, std::spa
       return static_cast<size_t>(k.x * 73856093LL ^ k.y * 19349663LL ^ k.z * 83492791LL);
     }
   };
-  auto coord = [cell](double x) { return static_cast<int64_t>(std::clamp(std::floor(x / cell), -4e18, 4e18)); };
-  auto key_of = [&](const glm::dvec3& p) { return Key{coord(p.x), coord(p.y), coord(p.z)}; };
-  auto finite = [](const glm::dvec3& p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z); };
-  std::unordered_map<Key, std::vector<uint32_t>, KeyHash> grid;
-  for (size_t i = 0; i < positions.size(); ++i) {
-    glm::dvec3 p(positions[i]);
-    if (finite(p)) grid[key_of(p)].push_back(static_cast<uint32_t>(i));
-  }
+  static bool finite(const glm::dvec3& p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z); }
+  int64_t coord(double x) const { return static_cast<int64_t>(std::clamp(std::floor(x / cell_), -4e18, 4e18)); }
+  Key key_of(const glm::dvec3& p) const { return Key{coord(p.x), coord(p.y), coord(p.z)}; }
+
+  std::span<const glm::vec3> positions_;
+  double tolerance_, cell_;
+  std::unordered_map<Key, std::vector<uint32_t>, KeyHash> grid_;
+};
+
+}  // namespace
+
+std::vector<int32_t> mirror_x_counterparts(std::span<const uint32_t> s, std::span<const glm::vec3> positions,
+                                           double tolerance) {
+  MirrorGrid grid(positions, tolerance);
   std::vector<int32_t> result(s.size(), -1);
-  for (size_t n = 0; n < s.size(); ++n) {
-    const uint32_t i = s[n];
-    if (i >= positions.size()) continue;
-    glm::dvec3 q(-double(positions[i].x), positions[i].y, positions[i].z);
-    if (!finite(q)) continue;
-    Key k = key_of(q);
-    double best = tolerance;
-    int64_t best_index = -1;
-    for (int64_t dx = -1; dx <= 1; ++dx)
-      for (int64_t dy = -1; dy <= 1; ++dy)
-        for (int64_t dz = -1; dz <= 1; ++dz) {
-          auto it = grid.find({k.x + dx, k.y + dy, k.z + dz});
-          if (it == grid.end()) continue;
-          for (uint32_t j : it->second) {
-            double d = glm::length(glm::dvec3(positions[j]) - q);
-            if (d < best || (d == best && (best_index < 0 || j < best_index))) {  // ties: lowest index
-              best = d;
-              best_index = j;
-            }
-          }
-        }
-    result[n] = static_cast<int32_t>(best_index);
-  }
+  for (size_t n = 0; n < s.size(); ++n)
+    if (s[n] < positions.size()) result[n] = static_cast<int32_t>(grid.counterpart(s[n]));
   return result;
 }
 
 MirrorResult mirror_x(const IndexSet& s, std::span<const glm::vec3> positions, double tolerance) {
-  std::vector<int32_t> counterpart = mirror_x_counterparts(s.indices(), positions, tolerance);
+  MirrorGrid grid(positions, tolerance);
   MirrorResult result;
   std::vector<uint32_t> found;
-  for (size_t n = 0; n < s.size(); ++n) {
-    const uint32_t i = s.indices()[n];
+  for (uint32_t i : s) {
     if (i >= positions.size()) continue;
-    if (counterpart[n] < 0) result.unmatched.push_back(i);
-    else found.push_back(static_cast<uint32_t>(counterpart[n]));
+    const int64_t j = grid.counterpart(i);
+    if (j < 0) result.unmatched.push_back(i);
+    else found.push_back(static_cast<uint32_t>(j));
+  }
+  result.mirrored = IndexSet(std::move(found));
+  return result;
+}
+
+MirrorMap::MirrorMap(std::span<const glm::vec3> positions, double tolerance) {
+  MirrorGrid grid(positions, tolerance);
+  const size_t n = positions.size();
+  std::vector<std::pair<uint32_t, uint32_t>> pairs;  // (i, counterpart), both directions
+  for (uint32_t i = 0; i < n; ++i) {
+    const int64_t j = grid.counterpart(i);
+    if (j < 0) continue;
+    pairs.emplace_back(i, static_cast<uint32_t>(j));
+    pairs.emplace_back(static_cast<uint32_t>(j), i);
+  }
+  std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  offsets_.assign(n + 1, 0);
+  for (const auto& [i, j] : pairs) ++offsets_[i + 1];
+  for (size_t i = 0; i < n; ++i) offsets_[i + 1] += offsets_[i];
+  ids_.reserve(pairs.size());
+  for (const auto& [i, j] : pairs) ids_.push_back(j);
+}
+
+std::span<const uint32_t> MirrorMap::counterparts(uint32_t i) const {
+  if (size_t(i) + 1 >= offsets_.size()) return {};
+  return {ids_.data() + offsets_[i], offsets_[i + 1] - offsets_[i]};
+}
+
+MirrorResult MirrorMap::mirror(const IndexSet& s) const {
+  MirrorResult result;
+  std::vector<uint32_t> found;
+  for (uint32_t i : s) {
+    auto c = counterparts(i);
+    if (c.empty()) result.unmatched.push_back(i);
+    found.insert(found.end(), c.begin(), c.end());
   }
   result.mirrored = IndexSet(std::move(found));
   return result;

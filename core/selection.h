@@ -72,4 +72,22 @@ MirrorResult mirror_x(const IndexSet& s, std::span<const glm::vec3> positions, d
 std::vector<int32_t> mirror_x_counterparts(std::span<const uint32_t> s, std::span<const glm::vec3> positions,
                                            double tolerance);
 
+// Counterparts across x = 0 of every point, found once (for the skin, whose mirror is asked for
+// at every brush dab). j is a counterpart of i when j is mirror_x's answer for i or i is mirror_x's
+// answer for j, so on a nearly symmetric mesh whose sides are sampled differently a region maps to
+// a region without holes (some points get two counterparts).
+class MirrorMap {
+ public:
+  MirrorMap() = default;
+  MirrorMap(std::span<const glm::vec3> positions, double tolerance);
+  size_t size() const { return offsets_.empty() ? 0 : offsets_.size() - 1; }
+  std::span<const uint32_t> counterparts(uint32_t i) const;  // ascending; empty out of range
+  // Every counterpart of the selected points; unmatched: selected points with none.
+  MirrorResult mirror(const IndexSet& s) const;
+
+ private:
+  std::vector<uint32_t> offsets_;  // #points + 1
+  std::vector<uint32_t> ids_;
+};
+
 }  // namespace cagewrap

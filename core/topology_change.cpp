@@ -292,8 +292,8 @@ Result<std::vector<SetEdit>> carry_set_edits(const CageTopologyChange& change,
   std::vector<SetEdit> out;
   out.reserve(edits.size());
   for (const SetEdit& e : edits) {
-    SetEdit n{e.point, carry(e.exclude), carry(e.include)};
-    if (!n.exclude.empty() || !n.include.empty()) out.push_back(std::move(n));
+    SetEdit n{e.point, carry(e.exclude), carry(e.include), e.only};
+    if (n.only || !n.exclude.empty() || !n.include.empty()) out.push_back(std::move(n));
   }
   return out;
 }

@@ -99,7 +99,8 @@ std::vector<uint32_t> carry_vertex_labels(const CageTopologyChange& change,
 
 // Set edits across the change: an edit naming old element k names all of k's children instead (for a
 // merge, the surviving elements; an element with no child drops out). Edits left with no element are
-// removed. Errors: an edit naming an element the old cage does not have.
+// removed, except `only` edits (an `only` edit left with no element still empties the point's set).
+// Errors: an edit naming an element the old cage does not have.
 Result<std::vector<SetEdit>> carry_set_edits(const CageTopologyChange& change,
                                              std::span<const SetEdit> edits);
 

@@ -119,6 +119,7 @@ struct Layout {
   static constexpr size_t kVersion = 8, kVariant = 56, kEpsilon = 20, kNumPoints = 89, kFirstArray = 97;
   // per table, in file order: offset of its u64 count (the data follows)
   size_t rest_cage, elements, element_status, offsets, ids, weights, bary, rigid_points, rigid_element, rigid_bary;
+  size_t separate, set_offsets, set_ids, set_weights, separated;  // version 2
   size_t end;
   explicit Layout(const Binding& b) {
     size_t at = kFirstArray;
@@ -137,7 +138,14 @@ struct Layout {
     rigid_points = table(b.rigid_points.size(), 4);
     rigid_element = table(b.rigid_element.size(), 4);
     rigid_bary = table(b.rigid_bary.size(), 4);
-    end = at + 4 + 4 + 8;
+    at += 4 + 4 + 8;  // the report
+    separate = at;
+    at += 1 + 4 + 1;  // separate, separation_steps, separation_applied
+    set_offsets = table(b.set_offsets.size(), 4);
+    set_ids = table(b.set_ids.size(), 4);
+    set_weights = table(b.set_weights.size(), 4);
+    separated = table(b.separated.size(), 4);
+    end = at;
   }
 };
 
@@ -246,7 +254,7 @@ TEST_F(BindingIoTest, FileFollowsTheDocumentedLayout) {
   Layout at(b);
   ASSERT_EQ(bytes.size(), at.end);
   EXPECT_EQ(std::string(bytes.data(), 8), "CWBIND01");
-  EXPECT_EQ(peek<uint32_t>(bytes, Layout::kVersion), 1u);
+  EXPECT_EQ(peek<uint32_t>(bytes, Layout::kVersion), 2u);
   EXPECT_EQ(peek<double>(bytes, Layout::kEpsilon), 0.125);
   EXPECT_EQ(peek<uint8_t>(bytes, Layout::kVariant), static_cast<uint8_t>(Variant::kClamped));
   EXPECT_EQ(peek<uint32_t>(bytes, Layout::kNumPoints), s.skin.num_vertices());
@@ -303,10 +311,46 @@ TEST_F(BindingIoTest, WrongMagicIsNamed) {
   EXPECT_TRUE(Fails(load_binding(p), ErrorCode::kParse, {p}));
 }
 
+// Version 1 (no set table, no separation fields) still loads: the same stencil, separation off, and
+// an extended binding without its sets says so (has_sets() is false). The separate table of an
+// extended binding and the separation report round-trip in version 2.
+TEST_F(BindingIoTest, VersionOneStillLoadsAndVersionTwoKeepsTheSets) {
+  Scene s;
+  BindParams p;
+  p.variant = Variant::kExtended;
+  Binding b = bind_or_die(s.skin, s.cage, p);
+  ASSERT_TRUE(b.has_sets());
+  auto bytes = saved(b);
+  Layout at(b);
+  ASSERT_EQ(bytes.size(), at.end);
+  EXPECT_EQ(peek<uint64_t>(bytes, at.set_offsets), s.skin.num_vertices() + 1);
+  const std::string p2 = write("v2.cwb", bytes);
+  auto back = load_binding(p2);
+  ASSERT_TRUE(back.ok()) << back.error().message;
+  EXPECT_EQ(back->set_offsets, b.set_offsets);
+  EXPECT_EQ(back->set_ids, b.set_ids);
+  EXPECT_EQ(back->set_weights, b.set_weights);
+  EXPECT_EQ(back->params, b.params);
+  std::vector<char> v1(bytes.begin(), bytes.begin() + static_cast<std::ptrdiff_t>(at.separate));
+  poke<uint32_t>(v1, Layout::kVersion, 1);
+  const std::string p1 = write("v1.cwb", v1);
+  auto old = load_binding(p1);
+  ASSERT_TRUE(old.ok()) << old.error().message;
+  EXPECT_EQ(old->ids, b.ids);
+  EXPECT_EQ(old->weights, b.weights);
+  EXPECT_FALSE(old->params.separate);
+  EXPECT_FALSE(old->has_sets());
+  // a set table that does not fit the points is named
+  Binding bad = b;
+  bad.set_offsets.pop_back();
+  const std::string pb = write("badsets.cwb", saved(bad));
+  EXPECT_TRUE(Fails(load_binding(pb), ErrorCode::kParse, {pb, "set table"}));
+}
+
 TEST_F(BindingIoTest, OtherVersionIsNamed) {
   Scene s;
   auto bytes = saved(bind_or_die(s.skin, s.cage, BindParams{}));
-  for (uint32_t version : {0u, 2u, 0x01000000u}) {
+  for (uint32_t version : {0u, 3u, 0x01000000u}) {
     auto bad = bytes;
     poke(bad, Layout::kVersion, version);
     const std::string p = write("version.cwb", bad);
