@@ -974,6 +974,14 @@ void Editor::draw_properties() {
     if (ImGui::SliderInt("K (max elements)", &k, 1, 32)) p.max_elements = static_cast<uint32_t>(k);
     if (ImGui::DragFloat("scale h (0 = auto)", &scale, 0.001f, 0.0f, 100.0f, "%.4f")) p.scale = std::max(0.f, scale);
     if (ImGui::DragFloat("max distance (0 = none)", &maxd, 0.001f, 0.0f, 100.0f, "%.4f")) p.max_distance = std::max(0.f, maxd);
+    ImGui::Checkbox("separate unrelated parts", &p.separate);
+    if (ImGui::IsItemHovered())
+      ImGui::SetTooltip("An element drives a point only when the bones they follow are the same or neighbours\n"
+                        "(within the steps below): the right thigh's cage does not pull the left thigh");
+    int steps = static_cast<int>(p.separation_steps);
+    ImGui::BeginDisabled(!p.separate);
+    if (ImGui::SliderInt("separation steps", &steps, 0, 4)) p.separation_steps = static_cast<uint32_t>(steps);
+    ImGui::EndDisabled();
     if (scene_->job) {
       ImGui::ProgressBar(static_cast<float>(scene_->job->progress()), ImVec2(-70, 0), "binding");
       ImGui::SameLine();
@@ -996,6 +1004,7 @@ void Editor::draw_properties() {
         ImGui::TextColored(ImVec4(1, 0.6f, 0.3f, 1), "%zu elements skipped (see log)", b.invalid_elements.size());
       if (!b.rigid_points.empty())
         ImGui::TextColored(ImVec4(1, 0.6f, 0.3f, 1), "%zu points follow their nearest element", b.rigid_points.size());
+      if (b.separation_applied) ImGui::Text("separation kept %zu element-point pairs apart", static_cast<size_t>(b.total_separated));
       ImGui::Text("bound in %.2f s", b.seconds);
     }
   } else if (scene_) {

@@ -7,34 +7,34 @@
 #include "core/gltf_loader.h"
 #include "core/mesh_io.h"
 #include "core/project_io.h"
+#include "core/rig.h"
 #include "core/skinning.h"
 
 namespace cagewrap::app {
 
-std::unique_ptr<BindJob> start_bind_job(std::vector<glm::vec3> skin, Cage cage, BindParams params, std::vector<SetEdit> edits) {
-  return std::make_unique<BindJob>("binding", [skin = std::move(skin), cage = std::move(cage), params, edits = std::move(edits)](
+std::unique_ptr<BindJob> start_bind_job(std::vector<glm::vec3> skin, Document doc, std::optional<CageAttachment> attachment) {
+  return std::make_unique<BindJob>("binding", [skin = std::move(skin), doc = std::move(doc), attachment = std::move(attachment)](
                                                   const BindJob::Progress& progress, const std::atomic<bool>& cancel) {
     BindProgress p;
     p.on_progress = [&progress](double f) { progress("bind", f); };
     p.cancel = &cancel;
-    return bind_skin(skin, cage, cage.polygons.positions, params, edits, p);
+    return bind_document(doc, skin, attachment ? &*attachment : nullptr, p);
   });
 }
 
 bool Scene::needs_rebind() const {
   if (!doc().cage) return false;
   if (!binding || bound_cage != doc().cage || !same_set_edits(bound_edits_, doc().set_edits)) return true;
-  const BindParams& a = params;
-  const BindParams& b = binding->params;
-  return a.local != b.local || a.epsilon != b.epsilon || a.max_elements != b.max_elements || a.scale != b.scale ||
-         a.max_distance != b.max_distance || a.variant != b.variant;
+  if (params.separate && !(bound_attachment_ == doc().attachment)) return true;  // other part labels
+  return !(params == binding->params);
 }
 
 void Scene::start_bind() {
   if (!doc().cage || job) return;
-  job = start_bind_job(skin_rest, *doc().cage, params, doc().set_edits);
+  job = start_bind_job(skin_rest, with_params(doc(), params), attachment);
   pending_cage_ = doc().cage;
   pending_edits_ = doc().set_edits;
+  pending_attachment_ = doc().attachment;
 }
 
 void Scene::document_changed() {
@@ -80,6 +80,7 @@ std::optional<std::string> Scene::poll_bind() {
     binding = std::make_unique<Binding>(std::move(r).value());
     bound_cage = pending_cage_;
     bound_edits_ = pending_edits_;
+    bound_attachment_ = pending_attachment_;
     auto d = Deformer::create(*binding, skin_rest);
     if (d.ok()) {
       deformer.emplace(std::move(d).value());
@@ -96,7 +97,9 @@ std::optional<std::string> Scene::poll_bind() {
   }
   job.reset();
   // the cage changed while this bind ran (an edit, undo, a new cage): bind the current one
-  if (doc().cage && (pending_cage_ != doc().cage || !same_set_edits(pending_edits_, doc().set_edits))) start_bind();
+  if (doc().cage && (pending_cage_ != doc().cage || !same_set_edits(pending_edits_, doc().set_edits) ||
+                     (doc().params.separate && !(pending_attachment_ == doc().attachment))))
+    start_bind();
   return message;
 }
 

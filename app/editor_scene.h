@@ -29,7 +29,9 @@ namespace cagewrap::app {
 
 // A bind running on a worker thread, with progress and cancel; the UI polls it every frame.
 using BindJob = BackgroundTask<Binding>;
-std::unique_ptr<BindJob> start_bind_job(std::vector<glm::vec3> skin, Cage cage, BindParams params, std::vector<SetEdit> edits);
+// Binds the document's skin to its cage (parameters, set edits, automatic separation by the
+// attachment's skeleton parts: core/rig.h bind_document).
+std::unique_ptr<BindJob> start_bind_job(std::vector<glm::vec3> skin, Document doc, std::optional<CageAttachment> attachment);
 
 struct Scene {
   explicit Scene(Document doc) : history(std::move(doc)) {}
@@ -82,6 +84,7 @@ struct Scene {
  private:
   std::shared_ptr<const Cage> pending_cage_;   // the cage the running job binds
   std::vector<SetEdit> pending_edits_, bound_edits_;  // the set edits of the running job / the binding
+  AttachmentSettings pending_attachment_, bound_attachment_;
   std::shared_ptr<const Cage> attached_cage_;  // the cage `attachment` was made for
   AttachmentSettings attached_settings_;       // and the settings it was made with
 };

@@ -1,5 +1,9 @@
 #include "core/rig.h"
 
+#include <optional>
+
+#include "core/part_labels.h"
+
 #include <cmath>
 #include <cstring>
 #include <numbers>
@@ -75,6 +79,17 @@ Rig::Rig(Rig&&) noexcept = default;
 Rig& Rig::operator=(Rig&&) noexcept = default;
 Rig::~Rig() = default;
 
+Result<Binding> bind_document(const Document& doc, std::span<const glm::vec3> skin_rest, const CageAttachment* attachment,
+                              const BindProgress& progress) {
+  if (!doc.cage) return make_error(ErrorCode::kInvalidArgument, "the document has no cage to bind to");
+  std::optional<PartLabels> labels;
+  if (doc.params.separate && attachment && doc.character) {
+    auto l = skeleton_part_labels(*doc.character, *attachment);
+    if (l) labels = std::move(l).value();  // without labels the bind simply does not separate
+  }
+  return bind_skin(skin_rest, *doc.cage, doc.cage_positions(), doc.params, doc.set_edits, progress, labels ? &*labels : nullptr);
+}
+
 Result<Rig> Rig::create(const Document& doc, const BindProgress& progress) {
   if (!doc.character) return make_error(ErrorCode::kInvalidArgument, "the document has no character");
   if (!doc.cage)
@@ -91,7 +106,7 @@ Result<Rig> Rig::create(const Document& doc, const BindProgress& progress) {
   }
   for (const Primitive& p : ch.primitives)
     s.skin_rest.insert(s.skin_rest.end(), p.positions.begin(), p.positions.end());
-  auto bound = bind_skin(s.skin_rest, *doc.cage, doc.cage_positions(), doc.params, doc.set_edits, progress);
+  auto bound = bind_document(doc, s.skin_rest, s.attachment ? &*s.attachment : nullptr, progress);
   if (!bound) return make_error(bound.error().code, "bind: " + bound.error().message);
   s.binding = std::move(bound).value();
   auto deformer = Deformer::create(s.binding, s.skin_rest);

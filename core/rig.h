@@ -54,6 +54,12 @@ void pose_document_cage(const Document& doc, const CageAttachment* attachment, c
 // the cage was posed by an attachment (otherwise it fits them from the one-rings).
 Status deform_through_cage(Deformer& deformer, const PosedCage& cage, std::span<glm::vec3> skin_out);
 
+// Binds a document's skin (every primitive concatenated) to its cage with its parameters and set
+// edits; with automatic separation on and an attachment, the skeleton-part labels of
+// core/part_labels.h keep unrelated parts apart. The one bind the editor, the CLI and export share.
+Result<Binding> bind_document(const Document& doc, std::span<const glm::vec3> skin_rest, const CageAttachment* attachment,
+                              const BindProgress& progress = {});
+
 // Everything a document needs to be posed again and again: the attachment of its cage, the binding
 // of its skin (every primitive concatenated, as skin_character orders them) and the deformer.
 // Bind once, pose many. Made for one cage, binding parameters and attachment settings; `pose`
