@@ -23,6 +23,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "app/cage_tools.h"
+#include "app/rig_panel.h"
 #include "app/editor_files.h"
 #include "app/editor_scene.h"
 #include "core/camera.h"
@@ -75,6 +76,7 @@ class Editor {
   std::vector<glm::vec3> face_centroids(std::span<const glm::vec3> positions) const;
   double scene_size() const;
   double mirror_tolerance() const;
+  double rig_mirror_tolerance() const;
   IndexSet move_set() const;
   Result<MoveWeights> move_weights_now() const;
   std::optional<glm::dvec3> selection_centre() const;
@@ -177,6 +179,7 @@ class Editor {
   std::string title_;
   std::unique_ptr<Scene> scene_;
   CageTools cage_tools_;
+  RigPanel rig_panel_;
   EditorHooks hooks_;
   std::deque<LogLine> log_;
   std::string error_modal_;
@@ -437,6 +440,11 @@ std::vector<glm::vec3> Editor::face_centroids(std::span<const glm::vec3> positio
 
 double Editor::scene_size() const { return scene_ ? std::max(bounding_box(scene_->skin_rest).diagonal(), 1e-9) : 1.0; }
 double Editor::mirror_tolerance() const { return mirror_tolerance_share_ * scene_size(); }
+// Keys and assignments go to the vertex nearest each mirror image: a cage that is only nearly
+// symmetric (a decimated one) needs about an edge length (core/keyposes.h mirror_keypose_set).
+double Editor::rig_mirror_tolerance() const {
+  return scene_ && scene_->doc().cage ? std::max(mirror_tolerance(), mean_edge_length(scene_->doc().cage->polygons)) : mirror_tolerance();
+}
 
 // The cage vertices a move acts on: the selected vertices, or the corners of the selected faces.
 IndexSet Editor::move_set() const {
@@ -658,6 +666,7 @@ void Editor::handle_input() {
     if (ImGui::IsKeyPressed(GLFW_KEY_KP_7) || ImGui::IsKeyPressed(GLFW_KEY_7)) camera_.set_preset(ctrl ? ViewPreset::kBottom : ViewPreset::kTop);
     if (ImGui::IsKeyPressed(GLFW_KEY_L) && !ctrl) scene_->show_file_skinning = !scene_->show_file_skinning;
     if (ImGui::IsKeyPressed(GLFW_KEY_C) && !ctrl) color_by_bone_ = !color_by_bone_;
+    if (ImGui::IsKeyPressed(GLFW_KEY_K) && !ctrl) rig_panel_.visible() = !rig_panel_.visible();
     if (ImGui::IsKeyPressed(GLFW_KEY_W) && !ctrl) style_.wireframe = !style_.wireframe;
     if (ImGui::IsKeyPressed(GLFW_KEY_X) && io.KeyAlt) style_.xray = !style_.xray;
     if (ImGui::IsKeyPressed(GLFW_KEY_F1)) show_help_ = !show_help_;
@@ -886,6 +895,12 @@ void Editor::draw_menu() {
   }
   if (ImGui::BeginMenu("Cage", scene_ != nullptr)) {
     cage_tools_.menu_items(*scene_, selection_, hooks_);
+    ImGui::EndMenu();
+  }
+  if (ImGui::BeginMenu("Rig", scene_ != nullptr)) {
+    ImGui::MenuItem("Attachment and keyposes...", "K", &rig_panel_.visible());
+    if (ImGui::MenuItem("Reset pose")) scene_->pose_override.clear();
+    ImGui::MenuItem("Show the file's own skinning", "L", &scene_->show_file_skinning);
     ImGui::EndMenu();
   }
   if (ImGui::BeginMenu("View")) {
@@ -1349,7 +1364,8 @@ void Editor::guard_unsaved(std::function<void()> action) {
 //   mirror on|off | view front|right|top | clip NAME|rest | gizmo_drag x|y|z|yz|xz|xy|screen DX DY
 //   auto_cage [FACES] | cage_op merge|weld D|flip|flip_all|linear [N]|loop [N]|refine|triangulate
 //   open_asking PATH | answer save|discard|cancel | import_cage PATH | pose NODE X Y Z | reset_pose | compare on|off
-//   rotate_drag x|y|z|view DEGREES, and those of run_file_script_command
+//   rotate_drag x|y|z|view DEGREES | attach rigid|smooth [W]|joint|auto | keyset x|y|z | key
+//   mirror_keyset | rig_panel, and those of run_file_script_command
 // `move` goes through the gizmo's own path: one drag, one undo step. `gizmo_drag` grabs a handle
 // where a person would (hit-tested like a click) and drags it DX, DY pixels.
 void Editor::run_script_step() {
@@ -1461,6 +1477,27 @@ void Editor::run_script_step() {
     } else if (cmd == "answer") {  // save | discard | cancel: presses the button of the open "Save changes?"
       in >> script_answer_;
       script_wait_ = 1;
+    } else if (cmd == "attach") {  // rigid | smooth [WIDTH] | joint (selected vertices -> the selected joint) | auto
+      std::string what;
+      in >> what;
+      if (what == "rigid" || what == "smooth") {
+        double width = scene_->doc().attachment.smooth_width;
+        in >> width;
+        rig_panel_.set_attachment_mode(*scene_, what == "smooth", width, hooks_);
+      } else {
+        rig_panel_.assign(*scene_, selection_, what == "auto", mirror_.enabled, rig_mirror_tolerance(), hooks_);
+      }
+    } else if (cmd == "keyset") {  // x|y|z: a keypose set driven by the selected joint's rotation
+      std::string axis;
+      in >> axis;
+      rig_panel_.add_set(*scene_, selection_, axis == "y" ? 1 : axis == "z" ? 2 : 0, hooks_);
+    } else if (cmd == "key") {
+      scene_->update_pose();
+      rig_panel_.key(*scene_, hooks_);
+    } else if (cmd == "mirror_keyset") {
+      rig_panel_.mirror_set(*scene_, rig_mirror_tolerance(), hooks_);
+    } else if (cmd == "rig_panel") {
+      rig_panel_.visible() = true;
     } else if (cmd == "pose") {  // NODE X Y Z: the joint's rotation on top of the clip, degrees
       uint32_t node;
       glm::vec3 deg(0.f);
@@ -1580,6 +1617,7 @@ void Editor::draw_panels() {
   draw_stats();
   draw_toolbar();
   if (scene_) cage_tools_.draw_windows(*scene_, hooks_);
+  if (scene_) rig_panel_.draw(*scene_, selection_, mirror_.enabled, rig_mirror_tolerance(), hooks_);
   draw_help();
 }
 

@@ -271,4 +271,38 @@ TEST(EditorTools, OpeningWithUnsavedChangesAsksFirst) {
   EXPECT_TRUE(fs::exists(prompt_png));
 }
 
+// The Rig window's keying path: a set driven by the forearm's X rotation, the elbow posed at 120
+// degrees, a cage vertex moved, Key: the saved project holds the key at 120 with that vertex, the
+// driver offsets are empty again, and undo takes the key back.
+TEST(EditorTools, KeyingASculptMakesAKeyAtThePose) {
+  std::string why;
+  if (!gui_available(why)) GTEST_SKIP() << why;
+  const fs::path dir = gui_test_dir(), script = dir / "tools_key.script", keyed = dir / "tools_keyed.cagewrap",
+                 undone = dir / "tools_key_undone.cagewrap";
+  for (const auto& p : {keyed, undone}) fs::remove(p);
+  write_script(script, "clip rest\nwait 2\nrig_panel\nmode joints\nselect_joint 7\nkeyset x\npose 7 120 0 0\nwait 1\n"
+                       "mode cage_vertices\nselect_cage_vertex 300\nmove 0 0 0.05\nkey\nsave " + keyed.string() + "\nundo\nsave " +
+                           undone.string() + "\n");
+  screenshot("--script " + script.string(), "tools_key");
+  std::ifstream in(keyed);
+  ASSERT_TRUE(in) << keyed;
+  const auto j = nlohmann::json::parse(in);
+  ASSERT_EQ(j.at("keyposes").size(), 1u);
+  const auto& set = j.at("keyposes")[0];
+  EXPECT_EQ(set.at("drivers")[0].at("node").get<std::string>(), "forearm.L");
+  ASSERT_EQ(set.at("keys").size(), 1u);
+  EXPECT_DOUBLE_EQ(set.at("keys")[0].at("values")[0].get<double>(), 120.0);
+  EXPECT_EQ(set.at("keys")[0].at("vertices"), nlohmann::json::array({300}));
+  const auto& o = set.at("keys")[0].at("offsets")[0];
+  EXPECT_NEAR(std::hypot(o[0].get<double>(), o[1].get<double>(), o[2].get<double>()), 0.05, 1e-6);
+  if (j.at("cage").contains("offsets")) {  // the sculpt moved into the key: no driver offsets remain
+    for (const auto& off : j.at("cage").at("offsets")) {
+      EXPECT_EQ(off, nlohmann::json::array({0.0, 0.0, 0.0}));
+    }
+  }
+  std::ifstream in2(undone);
+  ASSERT_TRUE(in2) << undone;
+  EXPECT_TRUE(nlohmann::json::parse(in2).at("keyposes")[0].at("keys").empty()) << "undo takes the key back";
+}
+
 }  // namespace
