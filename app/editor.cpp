@@ -24,6 +24,7 @@
 
 #include "app/cage_tools.h"
 #include "app/rig_panel.h"
+#include "app/sets_panel.h"
 #include "app/editor_files.h"
 #include "app/editor_scene.h"
 #include "core/camera.h"
@@ -91,6 +92,7 @@ class Editor {
   void draw_toolbar();
   void draw_move_tool();
   void draw_pose_panel();
+  void paint_dab(const ImVec2& mouse);
   int posed_joint() const;
   RotateGizmoLayout rotate_gizmo() const;
   void begin_rotate(RotateHandle handle, glm::dvec2 from);
@@ -180,6 +182,9 @@ class Editor {
   std::unique_ptr<Scene> scene_;
   CageTools cage_tools_;
   RigPanel rig_panel_;
+  SetsPanel sets_panel_;
+  bool painting_ = false;  // a set-edit brush stroke in progress
+  bool skin_colored_ = false;
   EditorHooks hooks_;
   std::deque<LogLine> log_;
   std::string error_modal_;
@@ -594,6 +599,21 @@ void Editor::box_select_in_mode(const ImVec2& a, const ImVec2& b, bool add, bool
 void Editor::handle_input() {
   ImGuiIO& io = ImGui::GetIO();
   const bool over_view = in_view(io.MousePos) && !io.WantCaptureMouse;
+  if (scene_ && painting_) {  // a set-edit brush stroke in progress
+    if (!io.MouseDown[0]) {
+      sets_panel_.end_stroke(*scene_);
+      painting_ = false;
+    } else if (io.MouseDelta.x != 0 || io.MouseDelta.y != 0) {
+      paint_dab(io.MousePos);
+    }
+    return;
+  }
+  if (scene_ && over_view && !io.KeyAlt && ImGui::IsMouseClicked(0) && sets_panel_.painting() && mode_ == SelectMode::kSkinVertices) {
+    sets_panel_.begin_stroke(*scene_);
+    painting_ = true;
+    paint_dab(io.MousePos);
+    return;
+  }
   if (scene_ && rot_handle_ != RotateHandle::kNone) {  // a joint rotation in progress
     if (!io.MouseDown[0]) {
       rot_handle_ = RotateHandle::kNone;
@@ -667,10 +687,18 @@ void Editor::handle_input() {
     if (ImGui::IsKeyPressed(GLFW_KEY_L) && !ctrl) scene_->show_file_skinning = !scene_->show_file_skinning;
     if (ImGui::IsKeyPressed(GLFW_KEY_C) && !ctrl) color_by_bone_ = !color_by_bone_;
     if (ImGui::IsKeyPressed(GLFW_KEY_K) && !ctrl) rig_panel_.visible() = !rig_panel_.visible();
+    if (ImGui::IsKeyPressed(GLFW_KEY_J) && !ctrl) sets_panel_.visible() = !sets_panel_.visible();
     if (ImGui::IsKeyPressed(GLFW_KEY_W) && !ctrl) style_.wireframe = !style_.wireframe;
     if (ImGui::IsKeyPressed(GLFW_KEY_X) && io.KeyAlt) style_.xray = !style_.xray;
     if (ImGui::IsKeyPressed(GLFW_KEY_F1)) show_help_ = !show_help_;
   }
+}
+
+// One brush dab where the mouse ray meets the skin.
+void Editor::paint_dab(const ImVec2& mouse) {
+  const glm::dvec2 px = to_view(mouse);
+  const Ray ray = camera_.ray(px.x, px.y, view_w_, view_h_);
+  if (auto hit = pick_triangle(ray, skin_occluder())) sets_panel_.dab(*scene_, selection_, hit->triangle, ray.at(hit->t), hooks_);
 }
 
 // The joint the rotation gizmo acts on: the one selected joint in joint mode.
@@ -899,6 +927,7 @@ void Editor::draw_menu() {
   }
   if (ImGui::BeginMenu("Rig", scene_ != nullptr)) {
     ImGui::MenuItem("Attachment and keyposes...", "K", &rig_panel_.visible());
+    ImGui::MenuItem("Contributing sets...", "J", &sets_panel_.visible());
     if (ImGui::MenuItem("Reset pose")) scene_->pose_override.clear();
     ImGui::MenuItem("Show the file's own skinning", "L", &scene_->show_file_skinning);
     ImGui::EndMenu();
@@ -1365,7 +1394,8 @@ void Editor::guard_unsaved(std::function<void()> action) {
 //   auto_cage [FACES] | cage_op merge|weld D|flip|flip_all|linear [N]|loop [N]|refine|triangulate
 //   open_asking PATH | answer save|discard|cancel | import_cage PATH | pose NODE X Y Z | reset_pose | compare on|off
 //   rotate_drag x|y|z|view DEGREES | attach rigid|smooth [W]|joint|auto | keyset x|y|z | key
-//   mirror_keyset | rig_panel, and those of run_file_script_command
+//   mirror_keyset | rig_panel | sets_panel [MAP] | set_edit remove|add|only|reset [mirror]
+//   paint_at_skin_vertex I [RADIUS], and those of run_file_script_command
 // `move` goes through the gizmo's own path: one drag, one undo step. `gizmo_drag` grabs a handle
 // where a person would (hit-tested like a click) and drags it DX, DY pixels.
 void Editor::run_script_step() {
@@ -1498,6 +1528,41 @@ void Editor::run_script_step() {
       rig_panel_.mirror_set(*scene_, rig_mirror_tolerance(), hooks_);
     } else if (cmd == "rig_panel") {
       rig_panel_.visible() = true;
+    } else if (cmd == "sets_panel") {  // [none|influence|size|flags|separated]: opens it with that map
+      std::string m;
+      in >> m;
+      sets_panel_.visible() = true;
+      const char* maps[] = {"none", "influence", "size", "flags", "separated"};
+      for (int k = 0; k < 5; ++k)
+        if (m == maps[k]) sets_panel_.map() = static_cast<SetMap>(k);
+    } else if (cmd == "set_edit") {  // remove|add|only|reset [mirror]: on the selected skin vertices, with the selected faces
+      std::string m, mirror;
+      in >> m >> mirror;
+      SetEditMode mode;
+      if (parse_set_edit_mode(m, mode)) {
+        sets_panel_.mode() = mode;
+        sets_panel_.mirror() = mirror == "mirror";
+        sets_panel_.apply(*scene_, selection_, selection_.skin_vertices, hooks_);
+      } else {
+        log("error: script line " + std::to_string(script_pos_) + ": unknown set edit mode '" + m + "'", true);
+      }
+    } else if (cmd == "paint_at_skin_vertex") {  // I [RADIUS]: one brush stroke of one dab at skin vertex I
+      uint32_t i;
+      double r = 0.0;
+      in >> i >> r;
+      if (r > 0) sets_panel_.set_brush_radius(r);
+      if (i < scene_->skin_posed.size()) {
+        const auto& fv = scene_->skin_topology.face_vertices;
+        uint32_t tri = 0;
+        for (size_t k = 0; k < fv.size(); ++k)
+          if (fv[k] == i) {
+            tri = static_cast<uint32_t>(k / 3);
+            break;
+          }
+        sets_panel_.begin_stroke(*scene_);
+        sets_panel_.dab(*scene_, selection_, tri, glm::dvec3(scene_->skin_posed[i]), hooks_);
+        sets_panel_.end_stroke(*scene_);
+      }
     } else if (cmd == "pose") {  // NODE X Y Z: the joint's rotation on top of the clip, degrees
       uint32_t node;
       glm::vec3 deg(0.f);
@@ -1618,6 +1683,7 @@ void Editor::draw_panels() {
   draw_toolbar();
   if (scene_) cage_tools_.draw_windows(*scene_, hooks_);
   if (scene_) rig_panel_.draw(*scene_, selection_, mirror_.enabled, rig_mirror_tolerance(), hooks_);
+  if (scene_) sets_panel_.draw(*scene_, selection_, hooks_);
   draw_help();
 }
 
@@ -1727,6 +1793,16 @@ int Editor::run() {
       if (topology_dirty_) upload_topology();
       renderer_->update_skin(scene_->skin_posed);
       update_selection_display();
+      {
+        const auto& colors = sets_panel_.colors(*scene_, selection_);
+        if (!colors.empty() || skin_colored_) renderer_->set_skin_colors(colors);
+        skin_colored_ = !colors.empty();
+        if (auto faces = sets_panel_.highlighted_faces(*scene_, selection_); !faces.empty()) {
+          face_mask_.assign(scene_->doc().cage->polygons.num_faces(), 0);
+          for (uint32_t f : faces) face_mask_[f] = 1;
+          display_key_.clear();  // the selection's own mask comes back when the panel lets go
+        }
+      }
       if (scene_->doc().cage) renderer_->update_cage(scene_->cage_posed, cage_weights_, face_mask_, bone_colors_);
       renderer_->update_skin_points(scene_->skin_posed, selection_.skin_vertices.indices(),
                                     cage_tools_.show_failing() ? std::span<const uint32_t>(cage_tools_.failing_points()) : std::span<const uint32_t>());

@@ -7,6 +7,7 @@
 #include "core/gltf_loader.h"
 #include "core/mesh_io.h"
 #include "core/project_io.h"
+#include "core/part_labels.h"
 #include "core/rig.h"
 #include "core/skinning.h"
 
@@ -70,6 +71,26 @@ Document Scene::moved(const Document& from, const MoveWeights& weights, const gl
     offsets[v] += glm::vec3(glm::inverse(lin) * weights.displacement(i, world_delta));
   }
   return with_cage_offsets(from, std::move(offsets));
+}
+
+bool Scene::update_set_edits_live(const std::vector<SetEdit>& edits, std::span<const uint32_t> points) {
+  if (!binding || !deformer || bound_cage != doc().cage || job || !(params == binding->params)) return false;
+  if (!rebinder_ || rebinder_for_ != binding.get()) {
+    std::optional<PartLabels> labels;
+    if (params.separate && attachment) {
+      auto l = skeleton_part_labels(*doc().character, *attachment);
+      if (l) labels = std::move(l).value();
+    }
+    auto r = Rebinder::create(skin_rest, *doc().cage, doc().cage_positions(), params, labels ? &*labels : nullptr);
+    if (!r) return false;
+    rebinder_ = std::make_unique<Rebinder>(std::move(r).value());
+    rebinder_for_ = binding.get();
+  }
+  if (!rebinder_->update(*binding, edits, points).ok()) return false;
+  if (!deformer->stencil_changed().ok()) return false;
+  bound_edits_ = edits;
+  pending_edits_ = edits;
+  return true;
 }
 
 std::optional<std::string> Scene::poll_bind() {

@@ -74,6 +74,11 @@ struct Scene {
   // Poses skeleton and cage at the player's time and deforms the skin.
   void update_pose();
   void start_bind();
+  // Set edits changed for `points` only (a brush dab, an applied edit): re-registers just those points
+  // in the current binding (core/registration.h Rebinder) so the skin updates at once; the caller
+  // has put `edits` into the document (live or committed). False (nothing done) when there is no
+  // current binding for this cage; a full rebind then follows as usual.
+  bool update_set_edits_live(const std::vector<SetEdit>& edits, std::span<const uint32_t> points);
   // Polls the running job; returns a message when it finished (bound, failed or cancelled).
   std::optional<std::string> poll_bind();
   // Moves cage vertices of the driver by a world-space displacement at the current pose, each by its
@@ -84,6 +89,8 @@ struct Scene {
  private:
   std::shared_ptr<const Cage> pending_cage_;   // the cage the running job binds
   std::vector<SetEdit> pending_edits_, bound_edits_;  // the set edits of the running job / the binding
+  std::unique_ptr<Rebinder> rebinder_;  // for live set edits, made for the current binding
+  const Binding* rebinder_for_ = nullptr;
   AttachmentSettings pending_attachment_, bound_attachment_;
   std::shared_ptr<const Cage> attached_cage_;  // the cage `attachment` was made for
   AttachmentSettings attached_settings_;       // and the settings it was made with

@@ -305,4 +305,38 @@ TEST(EditorTools, KeyingASculptMakesAKeyAtThePose) {
   EXPECT_TRUE(nlohmann::json::parse(in2).at("keyposes")[0].at("keys").empty()) << "undo takes the key back";
 }
 
+// Contributing sets: a brush stroke on the skin removes the selected cage faces from the sets of
+// the points it covers (one undo step), the heat map of those faces' influence is drawn.
+TEST(EditorTools, PaintingSetsRemovesFacesFromThePointsUnderTheBrush) {
+  std::string why;
+  if (!gui_available(why)) GTEST_SKIP() << why;
+  const fs::path dir = gui_test_dir(), script = dir / "tools_sets.script", painted = dir / "tools_painted.cagewrap",
+                 undone = dir / "tools_paint_undone.cagewrap";
+  for (const auto& p : {painted, undone}) fs::remove(p);
+  write_script(script, "clip rest\nwait 2\nmode cage_faces\nselect_cage_face 600\nselect grow\nsets_panel influence\nwait 1\n"
+                       "mode skin_vertices\npaint_at_skin_vertex 20000 0.15\nsave " + painted.string() + "\nundo\nsave " +
+                           undone.string() + "\n");
+  Image shot = screenshot("--script " + script.string(), "tools_sets");
+  std::ifstream in(painted);
+  ASSERT_TRUE(in) << painted;
+  const auto edits = nlohmann::json::parse(in).at("set_edits");
+  EXPECT_GT(edits.size(), 50u) << "the brush covers many points";
+  for (const auto& e : edits) {
+    EXPECT_FALSE(e.at("exclude").empty());
+    EXPECT_TRUE(!e.contains("include") || e.at("include").empty());
+  }
+  std::ifstream in2(undone);
+  ASSERT_TRUE(in2) << undone;
+  const auto j2 = nlohmann::json::parse(in2);
+  EXPECT_TRUE(!j2.contains("set_edits") || j2.at("set_edits").empty()) << "one undo takes the stroke back";
+  // the heat map: hot (red) pixels where the faces drive the skin
+  size_t hot = 0;
+  for (int y = kTop; y < shot.h - kBottom; ++y)
+    for (int x = kLeft; x < shot.w - kRight; ++x) {
+      const unsigned char* p = shot.at(x, y);
+      if (p[0] > 180 && p[1] < 90 && p[2] < 90) ++hot;
+    }
+  EXPECT_GT(hot, 30u);
+}
+
 }  // namespace
