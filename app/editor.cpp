@@ -698,7 +698,15 @@ void Editor::handle_input() {
 void Editor::paint_dab(const ImVec2& mouse) {
   const glm::dvec2 px = to_view(mouse);
   const Ray ray = camera_.ray(px.x, px.y, view_w_, view_h_);
-  if (auto hit = pick_triangle(ray, skin_occluder())) sets_panel_.dab(*scene_, selection_, hit->triangle, ray.at(hit->t), hooks_);
+  if (auto hit = pick_triangle(ray, skin_occluder())) {
+    const glm::dvec3 at = ray.at(hit->t);
+    if (sets_panel_.screen_radius()) {  // pixels -> scene units at the hit's depth
+      const ScreenPoint sp = camera_.project(at, view_w_, view_h_);
+      const double depth = camera_.mode() == ProjectionMode::kPerspective ? sp.view_depth / camera_.distance() : 1.0;
+      sets_panel_.set_brush_radius(sets_panel_.radius_pixels() * camera_.world_per_pixel(view_h_) * depth);
+    }
+    sets_panel_.dab(*scene_, selection_, hit->triangle, at, hooks_);
+  }
 }
 
 // The joint the rotation gizmo acts on: the one selected joint in joint mode.
@@ -1395,7 +1403,7 @@ void Editor::guard_unsaved(std::function<void()> action) {
 //   open_asking PATH | answer save|discard|cancel | import_cage PATH | pose NODE X Y Z | reset_pose | compare on|off
 //   rotate_drag x|y|z|view DEGREES | attach rigid|smooth [W]|joint|auto | keyset x|y|z | key
 //   mirror_keyset | rig_panel | sets_panel [MAP] | set_edit remove|add|only|reset [mirror]
-//   paint_at_skin_vertex I [RADIUS], and those of run_file_script_command
+//   paint_at_skin_vertex I [RADIUS] | select_limb_faces, and those of run_file_script_command
 // `move` goes through the gizmo's own path: one drag, one undo step. `gizmo_drag` grabs a handle
 // where a person would (hit-tested like a click) and drags it DX, DY pixels.
 void Editor::run_script_step() {
@@ -1546,6 +1554,8 @@ void Editor::run_script_step() {
       } else {
         log("error: script line " + std::to_string(script_pos_) + ": unknown set edit mode '" + m + "'", true);
       }
+    } else if (cmd == "select_limb_faces") {  // the cage faces following the selected joints
+      selection_.cage_faces = SetsPanel::limb_faces(*scene_, selection_.joints);
     } else if (cmd == "paint_at_skin_vertex") {  // I [RADIUS]: one brush stroke of one dab at skin vertex I
       uint32_t i;
       double r = 0.0;
@@ -1777,6 +1787,10 @@ int Editor::run() {
           log("warning: " + std::to_string(scene_->binding->invalid_elements.size()) + " cage elements skipped (zero area, non-finite or duplicate)");
       }
       cage_tools_.poll(*scene_, hooks_);
+      if (sets_panel_.take_select_limb_request()) {
+        selection_.cage_faces = SetsPanel::limb_faces(*scene_, selection_.joints);
+        log("selected " + std::to_string(selection_.cage_faces.size()) + " cage faces of the selected joints' limbs");
+      }
       if (scene_->doc().cage != shown_cage_) {  // a new cage (edit, undo, import): new topology?
         const Cage* c = scene_->doc().cage.get();
         if (!c || !shown_cage_ || c->num_vertices() != shown_cage_->num_vertices() || c->polygons.face_vertices != shown_cage_->polygons.face_vertices) {

@@ -129,6 +129,22 @@ const std::vector<glm::vec4>& SetsPanel::colors(const Scene& scene, const Select
   return colors_;
 }
 
+IndexSet SetsPanel::limb_faces(const Scene& scene, const IndexSet& joints) {
+  std::vector<uint32_t> faces;
+  const Cage* cage = scene.doc().cage.get();
+  if (!cage || !scene.attachment || scene.attachment->joint.size() != cage->num_vertices()) return {};
+  const auto& skin_joints = scene.doc().character->skins[scene.attachment->skin].joints;
+  auto follows = [&](uint32_t v) {
+    const uint32_t j = scene.attachment->joint[v];
+    return j < skin_joints.size() && joints.contains(skin_joints[j]);
+  };
+  for (size_t f = 0; f < cage->polygons.num_faces(); ++f) {
+    const auto c = cage->polygons.face(f);
+    if (std::all_of(c.begin(), c.end(), follows)) faces.push_back(static_cast<uint32_t>(f));
+  }
+  return IndexSet(std::move(faces));
+}
+
 std::vector<uint32_t> SetsPanel::highlighted_faces(const Scene& scene, const Selection& sel) const {
   std::vector<uint32_t> faces;
   if (!visible_ || !scene.binding || !scene.doc().cage || sel.skin_vertices.size() != 1) return faces;
@@ -194,6 +210,10 @@ void SetsPanel::draw(Scene& scene, const Selection& sel, const EditorHooks& hook
   mode_ = static_cast<SetEditMode>(mode);
   ImGui::Checkbox("mirror (X)", &mirror_);
   ImGui::TextDisabled("%zu cage faces selected (F6), %zu skin vertices (F7)", sel.cage_faces.size(), sel.skin_vertices.size());
+  ImGui::BeginDisabled(sel.joints.empty());
+  if (ImGui::Button("Select the faces of the selected joints' limbs")) select_limb_ = true;
+  ImGui::EndDisabled();
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("Cage faces whose corners all follow the selected joints (select joints in the outliner)");
   ImGui::BeginDisabled(sel.skin_vertices.empty());
   if (ImGui::Button("Apply to the selected skin vertices", ImVec2(-1, 0))) apply(scene, sel, sel.skin_vertices, hooks);
   ImGui::EndDisabled();
@@ -201,7 +221,13 @@ void SetsPanel::draw(Scene& scene, const Selection& sel, const EditorHooks& hook
   if (brush_radius_ <= 0.0) brush_radius_ = 0.03 * bounding_box(scene.skin_rest).diagonal();
   float r = static_cast<float>(brush_radius_);
   const float size = static_cast<float>(bounding_box(scene.skin_rest).diagonal());
-  if (ImGui::SliderFloat("brush radius", &r, 1e-3f * size, 0.3f * size, "%.4f", ImGuiSliderFlags_Logarithmic)) brush_radius_ = r;
+  ImGui::Checkbox("radius in screen pixels", &screen_radius_);
+  if (screen_radius_) {
+    float px = static_cast<float>(radius_pixels_);
+    if (ImGui::SliderFloat("brush radius (px)", &px, 2.0f, 300.0f, "%.0f")) radius_pixels_ = px;
+  } else if (ImGui::SliderFloat("brush radius", &r, 1e-3f * size, 0.3f * size, "%.4f", ImGuiSliderFlags_Logarithmic)) {
+    brush_radius_ = r;
+  }
   ImGui::TextDisabled("%zu points have edited sets", scene.doc().set_edits.size());
   ImGui::End();
 }

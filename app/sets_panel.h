@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <glm/vec4.hpp>
@@ -43,6 +44,12 @@ class SetsPanel {
 
   // Brush strokes (the editor feeds the mouse): painting is on while the window's Paint box is.
   bool painting() const { return visible_ && paint_; }
+  // Brush radius in screen pixels instead of scene units (the editor converts at each dab's depth).
+  bool screen_radius() const { return screen_radius_; }
+  double radius_pixels() const { return radius_pixels_; }
+  // "Select limb": the cage faces whose corners all follow the selected joints (by the attachment).
+  static IndexSet limb_faces(const Scene& scene, const IndexSet& joints);
+  bool take_select_limb_request() { return std::exchange(select_limb_, false); }
   double brush_radius() const { return brush_radius_; }
   void set_brush_radius(double r) { brush_radius_ = r; }
   void begin_stroke(Scene& scene);
@@ -51,7 +58,8 @@ class SetsPanel {
   void end_stroke(Scene& scene);
 
  private:
-  bool visible_ = false, paint_ = false, mirror_ = false;
+  bool visible_ = false, paint_ = false, mirror_ = false, screen_radius_ = false, select_limb_ = false;
+  double radius_pixels_ = 30.0;
   SetEditMode mode_ = SetEditMode::kRemove;
   SetMap map_ = SetMap::kInfluence;
   double brush_radius_ = 0.0;  // scene units; 0 = set from the size on first use

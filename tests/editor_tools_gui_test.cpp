@@ -339,4 +339,26 @@ TEST(EditorTools, PaintingSetsRemovesFacesFromThePointsUnderTheBrush) {
   EXPECT_GT(hot, 30u);
 }
 
+// "Select limb": the faces following the chosen joints; "only these faces" then restricts a point.
+TEST(EditorTools, SelectLimbFacesAndOnlyTheseFaces) {
+  std::string why;
+  if (!gui_available(why)) GTEST_SKIP() << why;
+  const fs::path dir = gui_test_dir(), script = dir / "tools_limb.script", p = dir / "tools_limb.cagewrap";
+  fs::remove(p);
+  // node 7 is forearm.L (see the outliner); skin vertex 20000 is any point
+  write_script(script, "clip rest\nwait 2\nmode joints\nselect_joint 7\nselect_limb_faces\nmode skin_vertices\nselect_skin_vertex 20000\n"
+                       "set_edit only\nsave " + p.string() + "\n");
+  screenshot("--script " + script.string(), "tools_limb");
+  std::ifstream in(p);
+  ASSERT_TRUE(in) << p;
+  const auto edits = nlohmann::json::parse(in).at("set_edits");
+  ASSERT_EQ(edits.size(), 1u);
+  EXPECT_EQ(edits[0].at("point").get<int>(), 20000);
+  EXPECT_TRUE(edits[0].value("only", false));
+  EXPECT_GT(edits[0].at("include").size(), 10u) << "the forearm's faces hold many elements";
+  std::ifstream log(dir / "tools_limb.log");
+  std::string text((std::istreambuf_iterator<char>(log)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(text.find("error"), std::string::npos) << text;
+}
+
 }  // namespace
