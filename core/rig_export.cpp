@@ -166,15 +166,18 @@ Eigen::VectorXd fit_simplex(const Eigen::MatrixXd& G, const Eigen::VectorXd& h, 
   return prev;
 }
 
-// Weights rounded to float with sum exactly 1 in float32 (summed in order; the largest absorbs
-// the rounding).
+// Weights (sorted, largest first) with sum exactly 1 in float32, summed in order as a reader would:
+// the last (smallest) becomes 1 - (the sum of the others). That partial sum is at least 3/4 (the
+// smallest of at most 4 weights is at most 1/4), so by Sterbenz's lemma 1 - partial is exact and
+// partial + (1 - partial) = 1 exactly; the smallest weight moves by a rounding error (~1e-7).
 void float_weights_summing_to_one(std::vector<float>& w) {
-  for (int pass = 0; pass < 8; ++pass) {
-    float s = 0.0f;
-    for (float x : w) s += x;
-    if (s == 1.0f) return;
-    w[0] += 1.0f - s;
+  if (w.size() == 1) {
+    w[0] = 1.0f;
+    return;
   }
+  float partial = 0.0f;
+  for (size_t i = 0; i + 1 < w.size(); ++i) partial += w[i];
+  w.back() = std::max(0.0f, 1.0f - partial);
 }
 
 }  // namespace
