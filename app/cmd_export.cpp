@@ -39,7 +39,8 @@ void add_export_command(CLI::App& app, int& exit_code) {
     const auto start = std::chrono::steady_clock::now();
     ExportOptions options;
     if (!parse_export_mode(args->mode, options.mode)) {
-      std::fprintf(stderr, "error: --mode '%s' should be baked-animation, baked-skin or cage\n", args->mode.c_str());
+      std::fprintf(stderr, "error: --mode '%s' should be baked-animation, baked-skin or cage\n",
+                   args->mode.c_str());
       return;
     }
     if (!has_extension(args->out, ".glb")) {
@@ -64,7 +65,8 @@ void add_export_command(CLI::App& app, int& exit_code) {
       if (c < 0) {
         std::string names;
         for (size_t i = 0; i < ch.clips.size(); ++i) names += (i ? ", " : "") + ch.clips[i].name;
-        std::fprintf(stderr, "error: %s: its character %s has no clip named or numbered '%s' (it has %zu: %s)\n",
+        std::fprintf(stderr,
+                     "error: %s: its character %s has no clip named or numbered '%s' (it has %zu: %s)\n",
                      P.c_str(), doc.character_path.c_str(), name.c_str(), ch.clips.size(),
                      names.empty() ? "none" : names.c_str());
         return;
@@ -72,9 +74,10 @@ void add_export_command(CLI::App& app, int& exit_code) {
       options.clips.push_back(c);
     }
     if (!doc.cage) {
-      std::fprintf(stderr,
-                   "error: %s: the project has no cage yet; give it one (cagewrap new --cage, or the editor)\n",
-                   P.c_str());
+      std::fprintf(
+          stderr,
+          "error: %s: the project has no cage yet; give it one (cagewrap new --cage, or the editor)\n",
+          P.c_str());
       return;
     }
     auto rig = Rig::create(doc, terminal_progress("bind"));
@@ -96,8 +99,8 @@ void add_export_command(CLI::App& app, int& exit_code) {
     std::error_code ec;
     const auto bytes = std::filesystem::file_size(args->out, ec);
     std::printf("exported %s of %s: %zu frames, %zu morph targets, wrote %s (%.1f MB) in %.1f s\n",
-                export_mode_name(options.mode), P.c_str(), result->frames, result->morph_targets, args->out.c_str(),
-                ec ? 0.0 : double(bytes) / 1e6, seconds);
+                export_mode_name(options.mode), P.c_str(), result->frames, result->morph_targets,
+                args->out.c_str(), ec ? 0.0 : double(bytes) / 1e6, seconds);
     auto line = [](const char* what, const ExportError& e) {
       std::printf("  %-34s mean %.3g m, max %.3g m\n", what, e.mean, e.max);
     };

@@ -1,15 +1,15 @@
 #include "core/rig_export.h"
 
+#include <tbb/parallel_for.h>
+
+#include <Eigen/Dense>
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <numeric>
-
-#include <Eigen/Dense>
 #include <glm/geometric.hpp>
 #include <glm/mat3x3.hpp>
 #include <glm/matrix.hpp>
-#include <tbb/parallel_for.h>
+#include <numeric>
 
 #include "core/skinning.h"
 
@@ -17,9 +17,12 @@ namespace cagewrap {
 
 const char* export_mode_name(ExportMode m) {
   switch (m) {
-    case ExportMode::kBakedAnimation: return "baked-animation";
-    case ExportMode::kBakedSkin: return "baked-skin";
-    case ExportMode::kCage: return "cage";
+    case ExportMode::kBakedAnimation:
+      return "baked-animation";
+    case ExportMode::kBakedSkin:
+      return "baked-skin";
+    case ExportMode::kCage:
+      return "cage";
   }
   return "?";
 }
@@ -184,21 +187,25 @@ void float_weights_summing_to_one(std::vector<float>& w) {
 
 Result<ExportResult> export_rig(const Document& doc, Rig& rig, const ExportOptions& options) {
   if (!doc.character || !doc.cage)
-    return make_error(ErrorCode::kInvalidArgument, "the document needs a character and a cage to export its rig");
+    return make_error(ErrorCode::kInvalidArgument,
+                      "the document needs a character and a cage to export its rig");
   if (!(options.fps > 0.0) || !std::isfinite(options.fps))
-    return make_error(ErrorCode::kInvalidArgument, "the frame rate must be a positive number of frames per second");
+    return make_error(ErrorCode::kInvalidArgument,
+                      "the frame rate must be a positive number of frames per second");
   const Character& ch = *doc.character;
   const CageAttachment* att = rig.attachment();
   if (options.mode != ExportMode::kBakedAnimation && !att)
-    return make_error(ErrorCode::kInvalidArgument,
-                      std::string(export_mode_name(options.mode)) +
-                          " needs a skeleton the cage follows; the character has no skin (use baked-animation)");
+    return make_error(
+        ErrorCode::kInvalidArgument,
+        std::string(export_mode_name(options.mode)) +
+            " needs a skeleton the cage follows; the character has no skin (use baked-animation)");
   std::vector<int32_t> clips = options.clips;
   if (clips.empty())
     for (size_t i = 0; i < ch.clips.size(); ++i) clips.push_back(static_cast<int32_t>(i));
   for (int32_t c : clips)
     if (c < 0 || c >= static_cast<int32_t>(ch.clips.size()))
-      return make_error(ErrorCode::kInvalidArgument, "clip " + std::to_string(c) + " is out of range (the character has " +
+      return make_error(ErrorCode::kInvalidArgument, "clip " + std::to_string(c) +
+                                                         " is out of range (the character has " +
                                                          std::to_string(ch.clips.size()) + ")");
 
   ExportResult r;
@@ -233,7 +240,8 @@ Result<ExportResult> export_rig(const Document& doc, Rig& rig, const ExportOptio
 
   const bool baked = options.mode != ExportMode::kCage;
   const std::string node_name = options.mode == ExportMode::kCage ? "cage" : "skin";
-  auto sk = skeleton_with_mesh_node(options.mode == ExportMode::kBakedAnimation ? nullptr : &ch.skeleton, node_name);
+  auto sk = skeleton_with_mesh_node(options.mode == ExportMode::kBakedAnimation ? nullptr : &ch.skeleton,
+                                    node_name);
   if (!sk) return sk.error();
   Character& out = r.character;
   out.source = "cagewrap export (" + std::string(export_mode_name(options.mode)) + ") of " + ch.source;
@@ -255,7 +263,8 @@ Result<ExportResult> export_rig(const Document& doc, Rig& rig, const ExportOptio
     p.influence_joint.assign(att->influence_joint.begin(), att->influence_joint.end());
     p.influence_weight = att->influence_weight;
     out.primitives.push_back(std::move(p));
-    for (const ClipFrames& cf : frames) out.clips.push_back(export_clip(ch.clips[cf.clip], true, mesh_node, nullptr));
+    for (const ClipFrames& cf : frames)
+      out.clips.push_back(export_clip(ch.clips[cf.clip], true, mesh_node, nullptr));
     for (size_t c = 0; c < frames.size(); ++c)
       for (size_t k = 0; k < frames[c].times.size(); ++k) {
         Pose pose = sample_pose(out, static_cast<int32_t>(c), frames[c].times[k]);
@@ -319,11 +328,13 @@ Result<ExportResult> export_rig(const Document& doc, Rig& rig, const ExportOptio
         const size_t kn = std::min(kNearestCageVertices, near.size());
         std::partial_sort(near.begin(), near.begin() + kn, near.end());
         for (size_t i = 0; i < kn; ++i)
-          for (uint32_t e = att->influence_start[near[i].second]; e < att->influence_start[near[i].second + 1]; ++e)
+          for (uint32_t e = att->influence_start[near[i].second];
+               e < att->influence_start[near[i].second + 1]; ++e)
             cand.push_back(att->influence_joint[e]);
         std::vector<uint32_t> uniq;
         for (uint32_t j : cand)
-          if (std::find(uniq.begin(), uniq.end(), j) == uniq.end() && uniq.size() < kMaxCandidates) uniq.push_back(j);
+          if (std::find(uniq.begin(), uniq.end(), j) == uniq.end() && uniq.size() < kMaxCandidates)
+            uniq.push_back(j);
         auto solve = [&](const std::vector<uint32_t>& js) {
           const Eigen::Index k = static_cast<Eigen::Index>(js.size());
           Eigen::MatrixXd G = Eigen::MatrixXd::Zero(k, k);
@@ -406,7 +417,8 @@ Result<ExportResult> export_rig(const Document& doc, Rig& rig, const ExportOptio
           }
           glm::dmat4 m(0.0);
           for (size_t k = 0; k < kMaxInfluences; ++k)
-            if (inf_weight[i][k] > 0.0f) m += double(inf_weight[i][k]) * glm::dmat4(joints[f][inf_joint[i][k]]);
+            if (inf_weight[i][k] > 0.0f)
+              m += double(inf_weight[i][k]) * glm::dmat4(joints[f][inf_joint[i][k]]);
           const glm::dvec3 lbs(m * glm::dvec4(glm::dvec3(rest_skin[i]), 1.0));
           const glm::dvec3 residual = glm::dvec3(skins[f][i]) - lbs;
           const glm::dmat3 l(m);
@@ -419,7 +431,8 @@ Result<ExportResult> export_rig(const Document& doc, Rig& rig, const ExportOptio
   });
   for (const ClipFrames& cf : frames) {
     AnimationSampler w = one_hot_weights(cf.times, cf.first_target, r.frames);
-    out.clips.push_back(export_clip(ch.clips[cf.clip], options.mode == ExportMode::kBakedSkin, mesh_node, &w));
+    out.clips.push_back(
+        export_clip(ch.clips[cf.clip], options.mode == ExportMode::kBakedSkin, mesh_node, &w));
     out.clips.back().duration = std::max(out.clips.back().duration, cf.times.back());
   }
 
@@ -438,7 +451,8 @@ Result<ExportResult> export_rig(const Document& doc, Rig& rig, const ExportOptio
       if (k + 1 < cf.times.size()) {
         const double mid = 0.5 * (cf.times[k] + cf.times[k + 1]);
         if (auto s = rig.pose(doc, compose_pose(ch, cf.clip, mid, false), posed, live); !s) return s.error();
-        accumulate(r.between_frames, skin_character(out, sample_pose(out, static_cast<int32_t>(c), mid)), live);
+        accumulate(r.between_frames, skin_character(out, sample_pose(out, static_cast<int32_t>(c), mid)),
+                   live);
       }
     }
   }

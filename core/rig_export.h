@@ -54,8 +54,8 @@ struct ExportError {
 };
 
 struct ExportResult {
-  Character character;       // what write_glb writes
-  size_t frames = 0;         // sampled frames over the chosen clips
+  Character character;  // what write_glb writes
+  size_t frames = 0;    // sampled frames over the chosen clips
   size_t morph_targets = 0;
   // Against the live rig. kBakedSkin: `fitted` is the skeleton alone (no correctives) at the
   // frames; `at_frames` with the correctives at the frames; `between_frames` at the midpoints

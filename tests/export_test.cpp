@@ -4,13 +4,13 @@
 // reproducing the rig at the sampled frames, posed by core/skinning.h with the file's morph
 // weights; the fitted weights of baked-skin are at most four per vertex, non-negative and sum to 1
 // in float32. Errors and timings are recorded as properties, never asserted as timings.
+#include <gtest/gtest.h>
+
 #include <chrono>
 #include <cstdlib>
 #include <fstream>
-#include <sstream>
-
 #include <glm/geometric.hpp>
-#include <gtest/gtest.h>
+#include <sstream>
 
 #include "core/cage_import.h"
 #include "core/demo_character.h"
@@ -48,13 +48,15 @@ Demo& demo() {
   return d;
 }
 
-bool node_available() { return std::system("node --version > /dev/null 2>&1") == 0; }
+bool node_available() {
+  return std::system("node --version > /dev/null 2>&1") == 0;
+}
 
 // The validator's report line for `file`, e.g. "x.glb: 0 errors, 0 warnings, ..."; rc in `rc`.
 std::string validate(const std::string& file, int& rc) {
   const std::string report = file + ".report.txt";
-  std::string cmd = "node '" + std::string(CAGEWRAP_SOURCE_DIR) + "/tests/gltf_validate/validate.js' '" + file +
-                    "' > '" + report + "' 2>&1";
+  std::string cmd = "node '" + std::string(CAGEWRAP_SOURCE_DIR) + "/tests/gltf_validate/validate.js' '" +
+                    file + "' > '" + report + "' 2>&1";
   int status = std::system(cmd.c_str());
   rc = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   std::ifstream in(report);
