@@ -23,6 +23,7 @@
 #include "core/registration.h"
 #include "tests/document_fixtures.h"
 #include "tests/expect_error.h"
+#include "tests/fuzz/seed_fixtures.h"
 
 namespace cagewrap {
 namespace {
@@ -33,17 +34,7 @@ using test::GltfBuilder;
 using test::read_text;
 using test::write_text;
 
-// The tiny tetrahedron character as a GLB (the same content as test::write_tiny_character).
-GltfBuilder tet_builder() {
-  GltfBuilder b;
-  std::vector<float> positions = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1};
-  std::vector<uint16_t> indices = {0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3};
-  int pos = b.add_floats(positions, "VEC3", true);
-  json prim = {{"attributes", {{"POSITION", pos}}}, {"indices", b.add_accessor(indices, "SCALAR", test::kUnsignedShort)}};
-  b.doc["meshes"].push_back({{"name", "tet"}, {"primitives", {prim}}});
-  b.set_scene({b.add_node({{"name", "tet_node"}, {"mesh", 0}})});
-  return b;
-}
+using fuzz::tet_builder;  // the tetrahedron of test::write_tiny_character, as a builder
 
 // The load fails, and the message starts with (or at least names) the file.
 ::testing::AssertionResult FailsNamingFile(const Result<Character>& r, const std::string& path) {
