@@ -1,11 +1,15 @@
 # Entry points. Each target first installs missing Debian packages (scripts/setup.sh).
 BUILD        ?= build
 BUILD_SAN    ?= build-sanitize
+BUILD_FUZZ   ?= build-fuzz
+FUZZ_SECONDS ?= 60
+# make test runs each fuzzer this long after ctest (0 = not at all); skipped without clang
+TEST_FUZZ_SECONDS ?= 10
 JOBS         ?= $(shell nproc)
 CMAKE_FLAGS  ?=
 SHARED_ASSETS ?= $(abspath ../shared/assets)
 
-.PHONY: all setup build run test test-sanitize bench clean
+.PHONY: all setup build run test test-sanitize fuzz bench clean
 
 all: build
 
@@ -23,6 +27,9 @@ run: build
 
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+ifneq ($(TEST_FUZZ_SECONDS),0)
+	bash scripts/fuzz.sh $(BUILD_FUZZ) $(TEST_FUZZ_SECONDS) $(JOBS) || [ $$? -eq 77 ]
+endif
 
 $(BUILD_SAN)/build.ninja:
 	# the editor is left out: Mesa and X11 keep allocations to exit, which LeakSanitizer reports
@@ -32,8 +39,12 @@ test-sanitize: setup $(BUILD_SAN)/build.ninja
 	cmake --build $(BUILD_SAN) -j $(JOBS)
 	cd $(BUILD_SAN) && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 ctest --output-on-failure -j $(JOBS)
 
+# libFuzzer harnesses (tests/fuzz/) under ASan and UBSan, FUZZ_SECONDS each (clang; see docs/robustness.md)
+fuzz: setup
+	bash scripts/fuzz.sh $(BUILD_FUZZ) $(FUZZ_SECONDS) $(JOBS)
+
 bench: build
 	bash scripts/bench.sh ./$(BUILD)/cagewrap $(SHARED_ASSETS)
 
 clean:
-	rm -rf $(BUILD) $(BUILD_SAN)
+	rm -rf $(BUILD) $(BUILD_SAN) $(BUILD_FUZZ)

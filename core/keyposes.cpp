@@ -324,7 +324,7 @@ Result<MirroredKeyposeSet> mirror_keypose_set(const KeyposeSet& set, const Skele
   if (auto v = validate_keypose_set(set, skeleton.size(), cage_rest.size()); !v) return v.error();
   const std::vector<glm::mat4> rest = skeleton.global_transforms(skeleton.rest_pose());
   auto rest_rotation = [&](uint32_t node) {
-    glm::dmat3 m(glm::mat3(rest[node]));
+    glm::dmat3 m{glm::mat3(rest[node])};  // braces: clang reads the parentheses as a function declaration
     for (int c = 0; c < 3; ++c) m[c] = glm::normalize(m[c]);
     return m;
   };

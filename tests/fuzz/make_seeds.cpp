@@ -1,0 +1,115 @@
+// Writes the fuzz harnesses' seed corpora, made by the project's own writers so they follow the
+// formats as they change: `cagewrap_fuzz_seeds OUT` fills OUT/gltf, OUT/mesh, OUT/project and
+// OUT/set_edits. Run by scripts/fuzz.sh before each fuzzing run.
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "core/document.h"
+#include "core/mesh_io.h"
+#include "core/project_io.h"
+#include "core/set_edits_io.h"
+#include "tests/fixtures.h"
+#include "tests/fuzz/seed_fixtures.h"
+
+namespace fs = std::filesystem;
+using namespace cagewrap;
+
+static std::string read_all(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+static void write_all(const std::string& path, const std::string& bytes) {
+  std::ofstream(path, std::ios::binary) << bytes;
+}
+static void fail(const std::string& what) {
+  std::fprintf(stderr, "error: %s\n", what.c_str());
+  std::exit(1);
+}
+
+int main(int argc, char** argv) {
+  if (argc != 2) fail("usage: cagewrap_fuzz_seeds OUT");
+  const fs::path out = argv[1];
+  for (const char* d : {"gltf", "mesh", "project", "set_edits", "scratch"}) fs::create_directories(out / d);
+  const std::string scratch = (out / "scratch").string();
+
+  // glTF: embedded .gltf, .glb, and a skinned one with two joints
+  fuzz::tet_builder().write_embedded((out / "gltf" / "tet.gltf").string());
+  fuzz::tet_builder().write_glb((out / "gltf" / "tet.glb").string());
+  {
+    test::GltfBuilder b = fuzz::tet_builder();
+    std::vector<uint8_t> joints = {0, 1, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 1, 0, 0, 0};
+    std::vector<float> weights = {0.5f, 0.5f, 0, 0, 1, 0, 0, 0, 0.25f, 0.75f, 0, 0, 1, 0, 0, 0};
+    b.doc["meshes"][0]["primitives"][0]["attributes"]["JOINTS_0"] = b.add_accessor(joints, "VEC4", test::kUnsignedByte);
+    b.doc["meshes"][0]["primitives"][0]["attributes"]["WEIGHTS_0"] = b.add_floats(weights, "VEC4");
+    int child = b.add_node({{"name", "tip"}, {"translation", {0, 1, 0}}});
+    int root = b.add_node({{"name", "root"}, {"children", {child}}});
+    b.doc["nodes"][0]["skin"] = 0;
+    b.doc["skins"] = nlohmann::json::array({{{"name", "rig"}, {"joints", {root, child}}}});
+    b.set_scene({0, root});
+    b.write_glb((out / "gltf" / "skinned.glb").string());
+  }
+
+  // meshes: the first byte picks the format (fuzz_mesh.cpp)
+  Cage cage = fixtures::box_cage(1.0, 2);
+  const std::string obj = scratch + "/cage.obj";
+  if (!save_obj(obj, cage.polygons.positions, cage.polygons).ok()) fail("cannot write " + obj);
+  write_all((out / "mesh" / "cage.obj").string(), std::string(1, '\0') + read_all(obj));
+  write_all((out / "mesh" / "tet.off").string(),
+            std::string(1, '\1') + "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n");
+  write_all((out / "mesh" / "tet.ply").string(),
+            std::string(1, '\2') +
+                "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+                "element face 2\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n"
+                "3 0 2 1\n4 0 1 3 2\n");
+  {
+    std::string ply = std::string(1, '\2') +
+                      "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                      "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
+    const float v[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    ply.append(reinterpret_cast<const char*>(v), sizeof v);
+    const uint8_t n = 3;
+    const int32_t f[3] = {0, 1, 2};
+    ply.append(reinterpret_cast<const char*>(&n), 1);
+    ply.append(reinterpret_cast<const char*>(f), sizeof f);
+    write_all((out / "mesh" / "tri_binary.ply").string(), ply);
+  }
+  write_all((out / "mesh" / "tri.stl").string(),
+            std::string(1, '\3') +
+                "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\n"
+                "endfacet\nendsolid t\n");
+  {
+    std::string stl(80, ' ');
+    const uint32_t count = 1;
+    stl.append(reinterpret_cast<const char*>(&count), 4);
+    const float t[12] = {0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0};
+    stl.append(reinterpret_cast<const char*>(t), sizeof t);
+    stl.append(2, '\0');
+    write_all((out / "mesh" / "tri_binary.stl").string(), std::string(1, '\3') + stl);
+  }
+
+  // project: names hero.gltf beside it (fuzz_project.cpp writes one there)
+  fuzz::write_tet_gltf(scratch + "/hero.gltf");
+  auto doc = document_from_files(scratch + "/hero.gltf", obj);
+  if (!doc.ok()) fail(doc.error().message);
+  const std::string project = scratch + "/p.cagewrap";
+  if (auto s = save_project(project, with_set_edits(*doc, {SetEdit{1, {0, 3}, {}}, SetEdit{2, {}, {5}}})); !s.ok())
+    fail(s.error().message);
+  fs::copy_file(project, out / "project" / "edits.cagewrap", fs::copy_options::overwrite_existing);
+  auto bare = document_from_files(scratch + "/hero.gltf", "");
+  if (!bare.ok()) fail(bare.error().message);
+  if (auto s = save_project(project, *bare); !s.ok()) fail(s.error().message);
+  fs::copy_file(project, out / "project" / "no_cage.cagewrap", fs::copy_options::overwrite_existing);
+
+  // set edits: a saved file and one with rules
+  const std::string edits = (out / "set_edits" / "saved.json").string();
+  std::vector<SetEdit> list = {SetEdit{0, {1, 2}, {}}, SetEdit{3, {}, {4}}};
+  if (auto s = save_set_edits(edits, list, 4, cage.num_elements()); !s.ok()) fail(s.error().message);
+  write_all((out / "set_edits" / "rules.json").string(),
+            R"({"format": "cagewrap-set-edits", "version": 1, "points": 4, "rules": [)"
+            R"({"mode": "remove", "points": [0, 1], "faces": [0, 1], "mirror": 0.5}, {"mode": "only", "points": [2], "faces": [3]},)"
+            R"({"mode": "add", "points": [3], "faces": [5]}, {"mode": "reset", "points": [1]}]})");
+  fs::remove_all(scratch);
+  return 0;
+}
