@@ -3,8 +3,9 @@ BUILD        ?= build
 BUILD_SAN    ?= build-sanitize
 BUILD_FUZZ   ?= build-fuzz
 FUZZ_SECONDS ?= 60
-# make test runs each fuzzer this long after ctest (0 = not at all); skipped without clang
-TEST_FUZZ_SECONDS ?= 10
+# make test can run each fuzzer this long after ctest (skipped without clang). 0 by default: the
+# harnesses' clang build takes over 10 minutes on 2 cores and has not been run in CI yet.
+TEST_FUZZ_SECONDS ?= 0
 JOBS         ?= $(shell nproc)
 CMAKE_FLAGS  ?=
 SHARED_ASSETS ?= $(abspath ../shared/assets)
