@@ -24,6 +24,10 @@ uint64_t next_revision() {
 Result<Document> document_from_files(const std::string& character_path, const std::string& cage_path) {
   auto character = load_character(character_path);
   if (!character) return character.error();
+  // a file with no vertex at all (animation only, or every primitive empty) has nothing to skin
+  if (character->num_vertices() == 0)
+    return make_error(ErrorCode::kEmpty,
+                      character_path + ": has no vertices (no mesh primitive of the default scene holds any): nothing to skin");
   auto hash = hash_file(character_path);
   if (!hash) return hash.error();
   Document doc;

@@ -758,9 +758,6 @@ Result<Character> load_character(const std::string& path) {
     return make_error(ErrorCode::kParse, path + ": not a usable glTF 2.0 file: " + first_lines(err));
   }
   auto c = Importer(model, path).run();
-  // a character with no vertex at all (every primitive empty) has nothing to skin or deform
-  if (c && c->num_vertices() == 0)
-    return make_error(ErrorCode::kEmpty, path + ": has no vertices (no mesh primitive of the default scene holds any)");
   if (c && !warn.empty()) {
     std::string w = first_lines(warn);
     c->warnings.insert(c->warnings.begin(), path + ": " + w);
