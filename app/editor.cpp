@@ -764,6 +764,21 @@ void Editor::draw_gizmo() {
     dl->AddRect(box_start_, m, IM_COL32(255, 160, 40, 200));
   }
   if (!scene_) return;
+  if (scene_->doc().cage) {  // a selected skin point's member faces, labelled with their weights
+    const PolyMesh& m = scene_->doc().cage->polygons;
+    for (auto [f, w] : sets_panel_.member_face_weights(*scene_, selection_)) {
+      if (f >= m.num_faces()) continue;
+      glm::dvec3 c(0.0);
+      for (uint32_t v : m.face(f)) c += glm::dvec3(scene_->cage_posed[v]);
+      const ScreenPoint sp = camera_.project(c / double(m.face(f).size()), view_w_, view_h_);
+      if (!sp.in_clip_range) continue;
+      char buf[16];
+      std::snprintf(buf, sizeof buf, "%.2f", w);
+      const ImVec2 at(view_x_ + static_cast<float>(sp.pixel.x) - 12, view_y_ + static_cast<float>(sp.pixel.y) - 7);
+      dl->AddRectFilled(ImVec2(at.x - 2, at.y - 1), ImVec2(at.x + 30, at.y + 14), IM_COL32(20, 20, 20, 170), 3.0f);
+      dl->AddText(at, IM_COL32(255, 220, 120, 255), buf);
+    }
+  }
   if (const RotateGizmoLayout r = rotate_gizmo(); r.visible) {
     const ImVec2 o(view_x_, view_y_);
     auto at = [&](glm::dvec2 p) { return ImVec2(o.x + static_cast<float>(p.x), o.y + static_cast<float>(p.y)); };

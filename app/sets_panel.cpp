@@ -145,6 +145,19 @@ IndexSet SetsPanel::limb_faces(const Scene& scene, const IndexSet& joints) {
   return IndexSet(std::move(faces));
 }
 
+std::vector<std::pair<uint32_t, float>> SetsPanel::member_face_weights(const Scene& scene, const Selection& sel) const {
+  std::vector<std::pair<uint32_t, float>> out;
+  if (!visible_ || !scene.binding || !scene.doc().cage || sel.skin_vertices.size() != 1) return out;
+  auto ps = point_set(*scene.binding, *scene.doc().cage, sel.skin_vertices.indices()[0], scene.doc().set_edits);
+  if (!ps) return out;
+  for (const auto& m : ps->members) {
+    auto it = std::find_if(out.begin(), out.end(), [&](const auto& p) { return p.first == m.face; });
+    if (it == out.end()) out.emplace_back(m.face, m.weight);
+    else it->second += m.weight;
+  }
+  return out;
+}
+
 std::vector<uint32_t> SetsPanel::highlighted_faces(const Scene& scene, const Selection& sel) const {
   std::vector<uint32_t> faces;
   if (!visible_ || !scene.binding || !scene.doc().cage || sel.skin_vertices.size() != 1) return faces;

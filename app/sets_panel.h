@@ -34,6 +34,8 @@ class SetsPanel {
   const std::vector<glm::vec4>& colors(const Scene& scene, const Selection& selection);
   // Cage polygons to highlight: the members of the selected skin point's set.
   std::vector<uint32_t> highlighted_faces(const Scene& scene, const Selection& selection) const;
+  // The same with each face's share of the point's weights (its elements' normalized weights summed).
+  std::vector<std::pair<uint32_t, float>> member_face_weights(const Scene& scene, const Selection& selection) const;
 
   // Applies the current mode with the selected cage faces to `points` (and their mirror images when
   // mirroring), live: the document in scene.live when a stroke is under way, else one undo step.
