@@ -133,4 +133,18 @@ BindProgress terminal_progress(const char* label) {
   return p;
 }
 
+std::optional<Rig> rig_of_project(const Document& doc, const std::string& project) {
+  if (!doc.cage) {
+    std::fprintf(stderr, "error: %s: the project has no cage yet; give it one (cagewrap new --cage, or the editor)\n",
+                 project.c_str());
+    return std::nullopt;
+  }
+  auto rig = Rig::create(doc, terminal_progress("bind"));
+  if (!rig) {
+    report_error({rig.error().code, project + ": " + rig.error().message});
+    return std::nullopt;
+  }
+  return std::move(rig).value();
+}
+
 }  // namespace cagewrap::app

@@ -10,6 +10,7 @@
 #include "core/cage.h"
 #include "core/mesh.h"
 #include "core/registration.h"
+#include "core/rig.h"
 
 namespace cagewrap::app {
 
@@ -45,5 +46,9 @@ void print_bind_summary(const Binding& b, const std::string& cage_path, size_t n
 
 // A progress bar on stderr when it is a terminal.
 BindProgress terminal_progress(const char* label);
+
+// The rig of a loaded project (`project`: its path, for messages), bound with a progress bar;
+// prints the error (no cage yet, a failed bind) and returns nullopt.
+std::optional<Rig> rig_of_project(const Document& doc, const std::string& project);
 
 }  // namespace cagewrap::app

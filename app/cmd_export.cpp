@@ -73,18 +73,8 @@ void add_export_command(CLI::App& app, int& exit_code) {
       }
       options.clips.push_back(c);
     }
-    if (!doc.cage) {
-      std::fprintf(
-          stderr,
-          "error: %s: the project has no cage yet; give it one (cagewrap new --cage, or the editor)\n",
-          P.c_str());
-      return;
-    }
-    auto rig = Rig::create(doc, terminal_progress("bind"));
-    if (!rig) {
-      report_error({rig.error().code, P + ": " + rig.error().message});
-      return;
-    }
+    auto rig = rig_of_project(doc, P);
+    if (!rig) return;
     auto result = export_rig(doc, *rig, options);
     if (!result) {
       report_error({result.error().code, P + ": " + result.error().message});

@@ -117,18 +117,8 @@ void add_pose_command(CLI::App& app, int& exit_code) {
       }
       overrides[node] = glm::normalize(overrides[node] * q);
     }
-    if (!doc.cage) {
-      std::fprintf(
-          stderr,
-          "error: %s: the project has no cage yet; give it one (cagewrap new --cage, or the editor)\n",
-          P.c_str());
-      return;
-    }
-    auto rig = Rig::create(doc, terminal_progress("bind"));
-    if (!rig) {
-      report_error({rig.error().code, P + ": " + rig.error().message});
-      return;
-    }
+    auto rig = rig_of_project(doc, P);
+    if (!rig) return;
     Pose pose = compose_pose(ch, clip, args->time, args->loop, overrides);
     PosedCage posed;
     std::vector<glm::vec3> skin(rig->num_skin_points());
