@@ -1413,10 +1413,10 @@ void Editor::guard_unsaved(std::function<void()> action) {
 //   mode cage_vertices|cage_faces|skin_vertices|joints | select_cage_face I [add]
 //   select_skin_vertex I [add] | select_joint I [add] | click_cage_vertex I
 //   select all|none|invert|grow|shrink|mirror | soft on|off [R] [FALLOFF] [volume|surface]
-//   mirror on|off | view front|right|top | clip NAME|rest | gizmo_drag x|y|z|yz|xz|xy|screen DX DY
+//   mirror on|off | view front|right|top | camera YAW PITCH DIST [TX TY TZ] | clip NAME|rest | gizmo_drag x|y|z|yz|xz|xy|screen DX DY
 //   auto_cage [FACES] | cage_op merge|weld D|flip|flip_all|linear [N]|loop [N]|refine|triangulate
 //   open_asking PATH | answer save|discard|cancel | import_cage PATH | pose NODE X Y Z | reset_pose | compare on|off
-//   rotate_drag x|y|z|view DEGREES | attach rigid|smooth [W]|joint|auto | keyset x|y|z | key
+//   rotate_drag x|y|z|view DEGREES | attach rigid|smooth [W]|skin_weights|joint|auto | keyset x|y|z | key
 //   mirror_keyset | rig_panel | sets_panel [MAP] | set_edit remove|add|only|reset [mirror]
 //   paint_at_skin_vertex I [RADIUS] | select_limb_faces, and those of run_file_script_command
 // `move` goes through the gizmo's own path: one drag, one undo step. `gizmo_drag` grabs a handle
@@ -1530,13 +1530,14 @@ void Editor::run_script_step() {
     } else if (cmd == "answer") {  // save | discard | cancel: presses the button of the open "Save changes?"
       in >> script_answer_;
       script_wait_ = 1;
-    } else if (cmd == "attach") {  // rigid | smooth [WIDTH] | joint (selected vertices -> the selected joint) | auto
+    } else if (cmd == "attach") {  // rigid | smooth [WIDTH] | skin_weights | joint (selected vertices -> the selected joint) | auto
       std::string what;
       in >> what;
-      if (what == "rigid" || what == "smooth") {
+      AttachmentMode mode;
+      if (parse_attachment_mode(what, mode)) {
         double width = scene_->doc().attachment.smooth_width;
         in >> width;
-        rig_panel_.set_attachment_mode(*scene_, what == "smooth", width, hooks_);
+        rig_panel_.set_attachment_mode(*scene_, mode, width, hooks_);
       } else {
         rig_panel_.assign(*scene_, selection_, what == "auto", mirror_.enabled, rig_mirror_tolerance(), hooks_);
       }
@@ -1606,6 +1607,13 @@ void Editor::run_script_step() {
       std::string v;
       in >> v;
       camera_.set_preset(v == "right" ? ViewPreset::kRight : v == "top" ? ViewPreset::kTop : ViewPreset::kFront);
+    } else if (cmd == "camera") {  // YAW PITCH DISTANCE [TX TY TZ]: degrees, scene units (a close-up)
+      double yaw = 0, pitch = 0, dist = 0;
+      in >> yaw >> pitch >> dist;
+      camera_.set_angles(glm::radians(yaw), glm::radians(pitch));
+      camera_.set_distance(dist);
+      glm::dvec3 t;
+      if (in >> t.x >> t.y >> t.z) camera_.set_target(t);
     } else if (cmd == "undo") undo();
     else if (cmd == "redo") redo();
     else if (cmd == "save") {

@@ -22,12 +22,12 @@ void RigPanel::commit(Scene& scene, Document doc, const std::string& label) {
   scene.document_changed();
 }
 
-bool RigPanel::set_attachment_mode(Scene& scene, bool smooth, double width, const EditorHooks&) {
+bool RigPanel::set_attachment_mode(Scene& scene, AttachmentMode mode, double width, const EditorHooks&) {
   AttachmentSettings a = scene.doc().attachment;
-  a.mode = smooth ? AttachmentMode::kSmooth : AttachmentMode::kRigid;
+  a.mode = mode;
   a.smooth_width = width;
   if (a == scene.doc().attachment) return true;
-  commit(scene, with_attachment(scene.doc(), a), smooth ? "Smooth attachment" : "Rigid attachment");
+  commit(scene, with_attachment(scene.doc(), a), std::string("Attachment: ") + attachment_mode_name(mode));
   return true;
 }
 
@@ -149,13 +149,18 @@ void RigPanel::draw(Scene& scene, const Selection& sel, bool mirror, double tole
     return;
   }
   if (ImGui::CollapsingHeader("Attachment", ImGuiTreeNodeFlags_DefaultOpen)) {
-    bool smooth = doc.attachment.mode == AttachmentMode::kSmooth;
+    // the order of AttachmentMode
+    const char* modes[] = {"rigid: closest limb", "smooth near joints", "character's skin weights"};
+    int mode = static_cast<int>(doc.attachment.mode);
     float width = static_cast<float>(doc.attachment.smooth_width);
-    bool changed = ImGui::Checkbox("smooth near joints", &smooth);
-    ImGui::SameLine();
-    ImGui::SetNextItemWidth(120);
-    changed |= ImGui::InputFloat("width", &width, 0.0f, 0.0f, "%.2f", ImGuiInputTextFlags_EnterReturnsTrue);
-    if (changed && width > 0.f) set_attachment_mode(scene, smooth, width, hooks);
+    ImGui::SetNextItemWidth(220);
+    bool changed = ImGui::Combo("cage follows", &mode, modes, 3);
+    if (doc.attachment.mode == AttachmentMode::kSmooth) {
+      ImGui::SameLine();
+      ImGui::SetNextItemWidth(120);
+      changed |= ImGui::InputFloat("width", &width, 0.0f, 0.0f, "%.2f", ImGuiInputTextFlags_EnterReturnsTrue);
+    }
+    if (changed && width > 0.f) set_attachment_mode(scene, static_cast<AttachmentMode>(mode), width, hooks);
     ImGui::TextDisabled("%zu vertices assigned by hand", doc.attachment.overrides.size());
     const bool can = !sel.cage_vertices.empty();
     ImGui::BeginDisabled(!can || sel.joints.size() != 1);

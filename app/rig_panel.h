@@ -23,7 +23,7 @@ class RigPanel {
   void draw(Scene& scene, const Selection& selection, bool mirror, double tolerance, const EditorHooks& hooks);
 
   // Operations (also for scripts). Each commits one undo step and returns false (logged) on failure.
-  bool set_attachment_mode(Scene& scene, bool smooth, double width, const EditorHooks& hooks);
+  bool set_attachment_mode(Scene& scene, AttachmentMode mode, double width, const EditorHooks& hooks);
   bool assign(Scene& scene, const Selection& selection, bool automatic, bool mirror, double tolerance, const EditorHooks& hooks);
   // A new set driven by the selected joint's rotation about its local axis (0 X, 1 Y, 2 Z).
   bool add_set(Scene& scene, const Selection& selection, int axis, const EditorHooks& hooks);

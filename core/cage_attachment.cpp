@@ -8,6 +8,8 @@
 
 #include "core/geometry.h"
 #include "core/mirror_names.h"
+#include "core/point_grid.h"
+#include "core/skinning.h"
 
 namespace cagewrap {
 
@@ -50,12 +52,18 @@ std::vector<Limb> skin_limbs(const Character& character, uint32_t skin_index) {
 }
 
 const char* attachment_mode_name(AttachmentMode m) {
-  return m == AttachmentMode::kSmooth ? "smooth" : "rigid";
+  switch (m) {
+    case AttachmentMode::kSmooth: return "smooth";
+    case AttachmentMode::kSkinWeights: return "skin_weights";
+    case AttachmentMode::kRigid: break;
+  }
+  return "rigid";
 }
 
 bool parse_attachment_mode(const std::string& name, AttachmentMode& out) {
   if (name == "rigid") out = AttachmentMode::kRigid;
   else if (name == "smooth") out = AttachmentMode::kSmooth;
+  else if (name == "skin_weights") out = AttachmentMode::kSkinWeights;
   else return false;
   return true;
 }
@@ -166,8 +174,66 @@ double smoothstep01(double t) {
 }  // namespace
 
 Result<CageAttachment> attach_to_closest_limb(const Character& character, std::span<const glm::vec3> cage_rest) {
-  return attach_cage(character, cage_rest, AttachmentSettings{});
+  AttachmentSettings rigid;
+  rigid.mode = AttachmentMode::kRigid;
+  return attach_cage(character, cage_rest, rigid);
 }
+
+namespace {
+
+// Sorts (weight, joint) pairs heaviest first and keeps at most kMaxAttachmentInfluences.
+void keep_heaviest(std::vector<std::pair<double, uint32_t>>& raw) {
+  std::stable_sort(raw.begin(), raw.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  if (raw.size() > kMaxAttachmentInfluences) raw.resize(kMaxAttachmentInfluences);
+}
+
+// The skin-weights attachment's source: the rest skin in a grid, and every point's influences as
+// joints of the attachment's skin.
+struct SkinWeightsSource {
+  std::vector<glm::vec3> rest;
+  PointGrid grid;
+  std::vector<uint32_t> start, joint;
+  std::vector<float> weight;
+  double delta = 0.0;
+};
+
+SkinWeightsSource skin_weights_source(const Character& character, std::span<const int32_t> joint_of) {
+  SkinWeightsSource s;
+  s.rest = skin_character(character, character.skeleton.rest_pose());
+  const PointJoints pj = point_joint_nodes(character);
+  s.start.assign(1, 0);
+  for (size_t p = 0; p + 1 < pj.start.size(); ++p) {
+    for (uint32_t i = pj.start[p]; i < pj.start[p + 1]; ++i)
+      if (pj.node[i] < joint_of.size() && joint_of[pj.node[i]] >= 0) {
+        s.joint.push_back(static_cast<uint32_t>(joint_of[pj.node[i]]));
+        s.weight.push_back(pj.weight[i]);
+      }
+    s.start.push_back(static_cast<uint32_t>(s.joint.size()));
+  }
+  s.grid = PointGrid(s.rest);
+  const Aabb box = bounding_box(s.rest);
+  s.delta = 1e-3 * glm::length(box.hi - box.lo);
+  return s;
+}
+
+// (weight, joint) of the influences around p, heaviest first, at most kMaxAttachmentInfluences;
+// empty when no skinned point is near.
+void transferred_weights(const SkinWeightsSource& s, const glm::dvec3& p, size_t nj,
+                         std::vector<std::pair<double, uint32_t>>& raw) {
+  thread_local std::vector<std::pair<double, uint32_t>> near;
+  thread_local std::vector<double> acc;
+  acc.assign(nj, 0.0);
+  s.grid.nearest(p, kTransferNeighbours, near);
+  for (const auto& [d2, i] : near) {
+    const double w = 1.0 / (std::sqrt(d2) + s.delta);
+    for (uint32_t k = s.start[i]; k < s.start[i + 1]; ++k) acc[s.joint[k]] += w * s.weight[k];
+  }
+  for (size_t j = 0; j < nj; ++j)
+    if (acc[j] > 0) raw.emplace_back(acc[j], static_cast<uint32_t>(j));
+  keep_heaviest(raw);
+}
+
+}  // namespace
 
 Result<CageAttachment> attach_cage(const Character& character, std::span<const glm::vec3> cage_rest,
                                    const AttachmentSettings& settings) {
@@ -197,6 +263,8 @@ Result<CageAttachment> attach_cage(const Character& character, std::span<const g
     }
   }
   const bool smooth = settings.mode == AttachmentMode::kSmooth;
+  std::optional<SkinWeightsSource> transfer;
+  if (settings.mode == AttachmentMode::kSkinWeights) transfer = skin_weights_source(character, joint_of);
   const double width = settings.smooth_width > 0 && std::isfinite(settings.smooth_width)
                            ? settings.smooth_width
                            : AttachmentSettings{}.smooth_width;
@@ -212,7 +280,10 @@ Result<CageAttachment> attach_cage(const Character& character, std::span<const g
     raw.clear();
     if (next_override < settings.overrides.size() && settings.overrides[next_override].vertex == v) {
       raw.emplace_back(1.0, static_cast<uint32_t>(joint_of[settings.overrides[next_override].node]));
-    } else {
+    } else if (transfer) {
+      transferred_weights(*transfer, glm::dvec3(cage_rest[v]), nj, raw);
+    }
+    if (raw.empty()) {
       glm::dvec3 p(cage_rest[v]);
       double best = 1e300;
       uint32_t best_joint = att.limbs.front().joint;
@@ -238,9 +309,7 @@ Result<CageAttachment> attach_cage(const Character& character, std::span<const g
           else f = d == 0 ? 1.0 : 0.0;
           if (f > 0) raw.emplace_back(f, static_cast<uint32_t>(j));
         }
-        std::stable_sort(raw.begin(), raw.end(),
-                         [](const auto& a, const auto& b) { return a.first > b.first; });
-        if (raw.size() > kMaxAttachmentInfluences) raw.resize(kMaxAttachmentInfluences);
+        keep_heaviest(raw);
       }
     }
     double sum = 0;

@@ -2,29 +2,20 @@
 
 #include <string>
 
+#include "core/skinning.h"
+
 namespace cagewrap {
 
 std::vector<uint32_t> dominant_joint_nodes(const Character& character) {
-  std::vector<uint32_t> out;
-  out.reserve(character.num_vertices());
-  for (const Primitive& prim : character.primitives) {
-    const bool skinned = prim.skin >= 0 && size_t(prim.skin) < character.skins.size() &&
-                         prim.influence_start.size() == prim.num_vertices() + 1;
-    for (size_t v = 0; v < prim.num_vertices(); ++v) {
-      if (!skinned) {
-        out.push_back(prim.node < character.skeleton.size() ? prim.node : PartLabels::kUnlabelled);
-        continue;
+  const PointJoints pj = point_joint_nodes(character);
+  std::vector<uint32_t> out(pj.start.size() - 1, PartLabels::kUnlabelled);
+  for (size_t p = 0; p < out.size(); ++p) {
+    float best = -1.f;
+    for (uint32_t i = pj.start[p]; i < pj.start[p + 1]; ++i)
+      if (pj.weight[i] > best) {
+        best = pj.weight[i];
+        out[p] = pj.node[i];
       }
-      const Skin& skin = character.skins[static_cast<size_t>(prim.skin)];
-      uint32_t best = PartLabels::kUnlabelled;
-      float best_w = -1.f;
-      for (uint32_t i = prim.influence_start[v]; i < prim.influence_start[v + 1]; ++i)
-        if (prim.influence_weight[i] > best_w && prim.influence_joint[i] < skin.joints.size()) {
-          best_w = prim.influence_weight[i];
-          best = skin.joints[prim.influence_joint[i]];
-        }
-      out.push_back(best);
-    }
   }
   return out;
 }

@@ -300,10 +300,11 @@ AttachmentSettings read_attachment(const Reader& r, const Json& a, const Charact
                                    const std::string& file) {
   if (!a.is_object()) r.fail(ErrorCode::kParse, "attachment should be an object, not " + Reader::show(a));
   AttachmentSettings out;
+  out.mode = AttachmentMode::kRigid;  // the only mode of the first files: leaving it out means rigid
   if (a.contains("mode")) {
     std::string mode = r.string(a["mode"], "attachment.mode");
     if (!parse_attachment_mode(mode, out.mode))
-      r.fail(ErrorCode::kParse, "attachment.mode is '" + mode + "'; expected rigid or smooth");
+      r.fail(ErrorCode::kParse, "attachment.mode is '" + mode + "'; expected rigid, smooth or skin_weights");
   }
   if (a.contains("smooth_width")) {
     out.smooth_width = r.number(a["smooth_width"], "attachment.smooth_width");
@@ -522,6 +523,7 @@ Result<ProjectLoad> load(const std::string& path, const std::string& character_o
                                               std::to_string(doc.set_edits[i].point) + ", but the character has " +
                                               std::to_string(num_points) + " vertices");
   const size_t num_cage_vertices = doc.cage ? doc.cage->num_vertices() : 0;
+  doc.attachment.mode = AttachmentMode::kRigid;  // a version 1 file: the cage followed the closest limb
   if (root.contains("attachment"))
     doc.attachment = read_attachment(r, root["attachment"], *loaded, num_cage_vertices, out.warnings, path);
   if (root.contains("keyposes"))

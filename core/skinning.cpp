@@ -71,4 +71,28 @@ PolyMesh combined_topology(const Character& c) {
   return m;
 }
 
+PointJoints point_joint_nodes(const Character& character) {
+  PointJoints out;
+  out.start.reserve(character.num_vertices() + 1);
+  for (const Primitive& prim : character.primitives) {
+    const bool skinned = prim.skin >= 0 && size_t(prim.skin) < character.skins.size() &&
+                         prim.influence_start.size() == prim.num_vertices() + 1;
+    for (size_t v = 0; v < prim.num_vertices(); ++v) {
+      if (skinned) {
+        const Skin& skin = character.skins[static_cast<size_t>(prim.skin)];
+        for (uint32_t i = prim.influence_start[v]; i < prim.influence_start[v + 1]; ++i)
+          if (prim.influence_weight[i] > 0.f && prim.influence_joint[i] < skin.joints.size()) {
+            out.node.push_back(skin.joints[prim.influence_joint[i]]);
+            out.weight.push_back(prim.influence_weight[i]);
+          }
+      } else if (prim.node < character.skeleton.size()) {
+        out.node.push_back(prim.node);
+        out.weight.push_back(1.f);
+      }
+      out.start.push_back(static_cast<uint32_t>(out.node.size()));
+    }
+  }
+  return out;
+}
+
 }  // namespace cagewrap

@@ -31,4 +31,13 @@ Pose sample_pose(const Character& character, int32_t clip, double t, bool loop =
 // All primitives' triangles as one mesh, indices offset like skin_character's output.
 PolyMesh combined_topology(const Character& character);
 
+// Every skin point's joints as skeleton nodes with their skin weights (> 0), skin_character order,
+// in CSR form: point p owns [start[p], start[p+1]). A point of an unskinned primitive has the node
+// that instances it with weight 1 (or nothing when no node does).
+struct PointJoints {
+  std::vector<uint32_t> start{0}, node;
+  std::vector<float> weight;
+};
+PointJoints point_joint_nodes(const Character& character);
+
 }  // namespace cagewrap

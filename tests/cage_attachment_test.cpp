@@ -7,6 +7,7 @@
 #include <glm/geometric.hpp>
 
 #include "core/cage_attachment.h"
+#include "core/gltf_loader.h"
 #include "core/skinning.h"
 #include "tests/rig_fixtures.h"
 
@@ -62,7 +63,10 @@ TEST(CageAttachment, RigidFollowsTheClosestLimb) {
   EXPECT_EQ(influences(c, *att, 1).list, (std::vector<std::pair<std::string, float>>{{"lower", 1.0f}}));
   EXPECT_EQ(influences(c, *att, 2).list, (std::vector<std::pair<std::string, float>>{{"hand", 1.0f}}));
   EXPECT_EQ(influences(c, *att, 3).list, (std::vector<std::pair<std::string, float>>{{"upper", 1.0f}}));
+  // the default (skin weights) falls back to the closest limb where no skin point is near: this
+  // character has no mesh at all
   auto same = attach_cage(c, pts, AttachmentSettings{});
+  EXPECT_EQ(AttachmentSettings{}.mode, AttachmentMode::kSkinWeights);
   EXPECT_EQ(same->joint, att->joint);
   EXPECT_EQ(same->influence_joint, att->influence_joint);
 }
@@ -217,6 +221,69 @@ TEST(CageAttachment, MirroredAssignmentUsesTheOtherSidesJoint) {
   ASSERT_FALSE(bad.ok());
   EXPECT_EQ(bad.error().message,
             "cage vertex 0 follows node 'tail.L', which has no mirror: no node is named 'tail.R'");
+}
+
+
+// The skin-weights attachment on the demo character: a cage vertex on the skin takes the weights of
+// the skin around it: only the forearm where the skin follows only the forearm, both thighs and
+// the hips where the crotch's skin blends them; weights sum to 1, at most 4, heaviest first.
+TEST(CageAttachment, SkinWeightsAreTheCharactersOwnAroundTheVertex) {
+  auto loaded = load_character(std::string(CAGEWRAP_SOURCE_DIR) + "/assets/demo_character.glb");
+  ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+  const Character& c = *loaded;
+  const std::vector<glm::vec3> skin = skin_character(c, c.skeleton.rest_pose());
+  const PointJoints pj = point_joint_nodes(c);
+  ASSERT_EQ(pj.start.size(), skin.size() + 1);
+  auto weight_on = [&](size_t p, const std::string& name) {
+    float w = 0;
+    for (uint32_t i = pj.start[p]; i < pj.start[p + 1]; ++i)
+      if (c.skeleton.node(pj.node[i]).name == name) w += pj.weight[i];
+    return w;
+  };
+  // a point whose whole weight is the forearm's and whose neighbourhood is too, and the crotch
+  // point that blends the most of both thighs
+  size_t forearm = SIZE_MAX, crotch = SIZE_MAX;
+  float best_blend = 0;
+  for (size_t p = 0; p < skin.size(); ++p) {
+    if (forearm == SIZE_MAX && weight_on(p, "forearm.L") == 1.f && skin[p].y > 1.0f) {
+      bool all = true;  // every point within 3 cm is forearm only
+      for (size_t q = 0; q < skin.size() && all; ++q)
+        if (glm::length(skin[q] - skin[p]) < 0.03f) all = weight_on(q, "forearm.L") == 1.f;
+      if (all) forearm = p;
+    }
+    const float blend = std::min(weight_on(p, "thigh.L"), weight_on(p, "thigh.R"));
+    if (blend > best_blend) {
+      best_blend = blend;
+      crotch = p;
+    }
+  }
+  ASSERT_NE(forearm, SIZE_MAX);
+  ASSERT_NE(crotch, SIZE_MAX);
+  ASSERT_GT(best_blend, 0.1f);
+  const std::vector<glm::vec3> pts = {skin[forearm], skin[crotch], {0.f, 10.f, 0.f}};
+  auto att = attach_cage(c, pts, AttachmentSettings{});
+  ASSERT_TRUE(att.ok()) << att.error().message;
+  for (size_t v = 0; v < pts.size(); ++v) {
+    const Influences in = influences(c, *att, v);
+    ASSERT_LE(in.list.size(), kMaxAttachmentInfluences);
+    float sum = 0;
+    for (size_t i = 0; i < in.list.size(); ++i) {
+      EXPECT_GT(in.list[i].second, 0.f);
+      if (i > 0) {
+        EXPECT_GE(in.list[i - 1].second, in.list[i].second) << "heaviest first";
+      }
+      sum += in.list[i].second;
+    }
+    EXPECT_NEAR(sum, 1.f, 1e-6f);
+  }
+  EXPECT_EQ(influences(c, *att, 0).list, (std::vector<std::pair<std::string, float>>{{"forearm.L", 1.0f}}));
+  const Influences at_crotch = influences(c, *att, 1);
+  EXPECT_GT(at_crotch.weight_of("thigh.L"), 0.05f);
+  EXPECT_GT(at_crotch.weight_of("thigh.R"), 0.05f);
+  EXPECT_NEAR(at_crotch.weight_of("thigh.L") + at_crotch.weight_of("thigh.R") + at_crotch.weight_of("hips"), 1.f,
+              0.05f);
+  // far above the head the nearest skin points are the head's: that is where it goes
+  EXPECT_EQ(influences(c, *att, 2).list.front().first, "head");
 }
 
 }  // namespace

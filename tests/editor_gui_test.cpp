@@ -100,8 +100,9 @@ TEST(EditorGui, MoveCageVerticesUndoRedoSave) {
   ASSERT_EQ(offsets.size(), j.at("cage").at("positions").size());
   for (size_t v = 0; v < offsets.size(); ++v) {
     double len = std::hypot(offsets[v][0].get<double>(), offsets[v][1].get<double>(), offsets[v][2].get<double>());
-    // stored in the joint's bind space (rotation only for the demo's joints: the length is kept)
-    if (v == 500 || v == 501) EXPECT_NEAR(len, 0.3, 1e-4) << "vertex " << v;
+    // stored in bind space: through the inverse of the vertex's blend of joint matrices (skin
+    // weights attachment), nearly a rotation for the demo's joints, so the length is nearly kept
+    if (v == 500 || v == 501) EXPECT_NEAR(len, 0.3, 3e-3) << "vertex " << v;
     else EXPECT_EQ(len, 0.0) << "vertex " << v;
   }
 }

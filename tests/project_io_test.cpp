@@ -182,7 +182,7 @@ TEST_F(ProjectIoTest, FileLayoutMatchesTheFormatDocument) {
   EXPECT_EQ(j["set_edits"][0]["exclude"], Json::array({0, 7}));
   EXPECT_EQ(j["set_edits"][1]["include"], Json::array({47}));
   EXPECT_TRUE(j["extensions"].is_object());
-  EXPECT_EQ(j["attachment"], Json::parse(R"({"mode": "rigid", "smooth_width": 0.5, "overrides": []})"));
+  EXPECT_EQ(j["attachment"], Json::parse(R"({"mode": "skin_weights", "smooth_width": 0.5, "overrides": []})"));
   EXPECT_EQ(j["keyposes"], Json::array());
   std::vector<std::string> keys;
   for (const auto& [key, value] : j.items()) keys.push_back(key);
@@ -650,6 +650,7 @@ TEST_F(ProjectIoRigTest, NodesMayBeGivenByIndex) {
 
 TEST_F(ProjectIoRigTest, Version1FilesStillLoad) {
   Document doc = make_doc();
+  doc.attachment.mode = AttachmentMode::kRigid;  // the only mode version 1 had
   ASSERT_TRUE(save_project(path("v1.cagewrap"), doc).ok());
   Json j = Json::parse(read_text(path("v1.cagewrap")));
   j["version"] = 1;
@@ -659,7 +660,7 @@ TEST_F(ProjectIoRigTest, Version1FilesStillLoad) {
   ProjectLoad loaded = load_ok(path("v1.cagewrap"));
   EXPECT_TRUE(loaded.warnings.empty());
   EXPECT_TRUE(same_content(doc, loaded.document));
-  EXPECT_EQ(loaded.document.attachment, AttachmentSettings{});
+  EXPECT_EQ(loaded.document.attachment, doc.attachment);
   EXPECT_TRUE(loaded.document.keyposes.empty());
   // and are written back as version 2
   ASSERT_TRUE(save_project(path("v2.cagewrap"), loaded.document).ok());
@@ -721,7 +722,7 @@ TEST_F(ProjectIoRigTest, ErrorsNameTheJsonPath) {
   e = error_in([](Json& j) { j["keyposes"][0]["rest_key"] = 1; });
   EXPECT_CONTAINS(e.message, "keyposes[0].rest_key should be true or false");
   e = error_in([](Json& j) { j["attachment"]["mode"] = "soft"; });
-  EXPECT_CONTAINS(e.message, "attachment.mode is 'soft'; expected rigid or smooth");
+  EXPECT_CONTAINS(e.message, "attachment.mode is 'soft'; expected rigid, smooth or skin_weights");
   e = error_in([](Json& j) { j["attachment"]["smooth_width"] = 0; });
   EXPECT_CONTAINS(e.message, "attachment.smooth_width must be > 0");
   e = error_in([](Json& j) { j["attachment"]["overrides"][0]["vertex"] = 99; });

@@ -39,6 +39,10 @@ Demo make_demo() {
   // of this only nearly symmetric cage, which alone makes the mirrored bulge's total 0.77 of the
   // original's; the left/right comparisons below are about mirroring keys, so it is off here.
   d.doc.params.separate = false;
+  // The cage follows the closest limb rigidly (not the default skin weights): the bulge tests below
+  // check that keyed offsets turn exactly with the one joint their vertices follow, and the smooth
+  // test compares against this rigid cage.
+  d.doc.attachment.mode = AttachmentMode::kRigid;
   d.doc.revision = next_revision();
   auto rig = Rig::create(d.doc);
   EXPECT_TRUE(rig.ok()) << rig.error().message;

@@ -36,12 +36,14 @@ const Demo& demo() {
     d.cage = std::move(make_cage(std::move(load_mesh(dir + "demo_cage.obj")).value(), "demo cage")).value();
     d.skin = skin_character(d.character, d.character.skeleton.rest_pose());
     d.topology = combined_topology(d.character);
-    d.attachment = std::move(attach_to_closest_limb(d.character, d.cage.polygons.positions)).value();
+    // the attachment a new document gets (the character's skin weights)
+    d.attachment = std::move(attach_cage(d.character, d.cage.polygons.positions, AttachmentSettings{})).value();
     d.labels = std::move(skeleton_part_labels(d.character, d.attachment)).value();
     return d;
   }();
   return d;
 }
+
 
 uint32_t node(const Character& c, const char* name) {
   return static_cast<uint32_t>(c.skeleton.find(name));
@@ -174,13 +176,13 @@ TEST(Separation, LegsBentApartOpenTheGapWithoutDents) {
         separate, inner.size(), r.crossing, r.pull_max, r.pull_mean, r.lap_max * 1e3, r.lap_rms * 1e3,
         r.err_rms * 1e3, r.separated_points, b->seconds);
   }
-  // Measured (docs/algorithm-notes.md): crossing 12 -> 0, pull 0.43 -> 0.28, Laplacian deviation
-  // max 19.5 -> 12.2 mm, RMS 4.47 -> 3.50 mm.
+  // Measured (docs/algorithm-notes.md), with the default attachment (skin weights): crossing 3 -> 0,
+  // pull 0.225 -> 0.185, Laplacian deviation max 11.6 -> 8.4 mm, RMS 3.26 -> 3.00 mm.
   EXPECT_GT(m[0].crossing, 0u) << "without separation the legs share elements at the crotch";
   EXPECT_EQ(m[1].crossing, 0u);
-  EXPECT_LT(m[1].pull_max, 0.75 * m[0].pull_max) << "the other leg drags the inner thigh less";
-  EXPECT_LT(m[1].lap_max, 0.75 * m[0].lap_max) << "the worst dent is shallower";
-  EXPECT_LT(m[1].lap_rms, 0.9 * m[0].lap_rms);
+  EXPECT_LT(m[1].pull_max, 0.9 * m[0].pull_max) << "the other leg drags the inner thigh less";
+  EXPECT_LT(m[1].lap_max, 0.8 * m[0].lap_max) << "the worst dent is shallower";
+  EXPECT_LT(m[1].lap_rms, 0.97 * m[0].lap_rms);
   EXPECT_LE(m[1].err_rms, m[0].err_rms);
 }
 
@@ -190,11 +192,14 @@ TEST(Separation, LegsBentApartOpenTheGapWithoutDents) {
 namespace cagewrap {
 namespace {
 
-// The default (separation on, 1 step) decided by measuring: over the demo's two clips, against the
-// file's own linear blend skinning, the whole skin is closer and smoother with it than without
-// (measured: RMS 19.7 -> 18.2 mm, Laplacian deviation RMS 1.22 -> 1.07 mm).
-TEST(Separation, WholeBodyAgainstLinearBlendSkinning) {
-  const Demo& d = demo();
+struct ClipFit {
+  double rms = 0, worst = 0, lap_rms = 0, lap_worst = 0;
+  uint32_t separated_points = 0;
+};
+
+// The cage rig (demo cage, extended variant) against the file's own linear blend skinning over
+// the demo's two clips, 9 poses each: distance and Laplacian deviation over the whole skin.
+ClipFit fit_to_lbs(const Demo& d, const CageAttachment& attachment, bool separate) {
   const Character& c = d.character;
   std::vector<std::vector<uint32_t>> nb(d.skin.size());
   for (size_t f = 0; f < d.topology.num_faces(); ++f) {
@@ -206,52 +211,81 @@ TEST(Separation, WholeBodyAgainstLinearBlendSkinning) {
     for (uint32_t j : nb[i]) m += glm::dvec3(x[j]);
     return glm::dvec3(x[i]) - m / double(nb[i].size());
   };
-  double rms[2] = {0, 0}, worst[2] = {0, 0}, lap_rms[2] = {0, 0}, lap_worst[2] = {0, 0};
+  ClipFit r;
+  auto labels = skeleton_part_labels(c, attachment);
+  EXPECT_TRUE(labels.ok());
+  BindParams p;
+  p.separate = separate;
+  auto b = bind_skin(d.skin, d.cage, d.cage.polygons.positions, p, {}, {}, &*labels);
+  EXPECT_TRUE(b.ok()) << b.error().message;
+  if (!b.ok()) return r;
+  r.separated_points = b->separated_points;
+  auto def = Deformer::create(*b, d.skin);
+  EXPECT_TRUE(def.ok());
   size_t samples = 0;
-  for (bool separate : {false, true}) {
-    BindParams p;
-    p.separate = separate;
-    auto b = bind_skin(d.skin, d.cage, d.cage.polygons.positions, p, {}, {}, &d.labels);
-    ASSERT_TRUE(b.ok()) << b.error().message;
-    auto def = Deformer::create(*b, d.skin);
-    ASSERT_TRUE(def.ok());
-    samples = 0;
-    double sum = 0, lap_sum = 0;
-    for (const char* clip : {"walk", "arm_raise"}) {
-      const int32_t ci = c.find_clip(clip);
-      ASSERT_GE(ci, 0) << clip;
-      for (int k = 0; k <= 8; ++k) {
-        const double t = c.clips[static_cast<size_t>(ci)].duration * k / 8;
-        Pose pose = sample_pose(c, ci, t);
-        std::vector<glm::vec3> lbs = skin_character(c, pose);
-        std::vector<glm::mat4> globals = c.skeleton.global_transforms(pose),
-                               skinning(c.skins[0].joints.size());
-        joint_matrices(c.skins[0], globals, skinning);
-        std::vector<glm::vec3> posed(d.cage.num_vertices()), out(d.skin.size());
-        std::vector<glm::dmat3> linear(d.cage.num_vertices());
-        pose_cage(d.attachment, skinning, d.cage.polygons.positions, posed, linear);
-        ASSERT_TRUE(def->deform(posed, out, linear).ok());
-        for (uint32_t i = 0; i < d.skin.size(); ++i) {
-          const double e = glm::length(glm::dvec3(out[i]) - glm::dvec3(lbs[i]));
-          sum += e * e;
-          worst[separate] = std::max(worst[separate], e);
-          const double l = glm::length(lap(out, i) - lap(lbs, i));
-          lap_sum += l * l;
-          lap_worst[separate] = std::max(lap_worst[separate], l);
-          ++samples;
-        }
+  double sum = 0, lap_sum = 0;
+  for (const char* clip : {"walk", "arm_raise"}) {
+    const int32_t ci = c.find_clip(clip);
+    EXPECT_GE(ci, 0) << clip;
+    if (ci < 0) return r;
+    for (int k = 0; k <= 8; ++k) {
+      const double t = c.clips[static_cast<size_t>(ci)].duration * k / 8;
+      Pose pose = sample_pose(c, ci, t);
+      std::vector<glm::vec3> lbs = skin_character(c, pose);
+      std::vector<glm::mat4> globals = c.skeleton.global_transforms(pose), skinning(c.skins[0].joints.size());
+      joint_matrices(c.skins[0], globals, skinning);
+      std::vector<glm::vec3> posed(d.cage.num_vertices()), out(d.skin.size());
+      std::vector<glm::dmat3> linear(d.cage.num_vertices());
+      pose_cage(attachment, skinning, d.cage.polygons.positions, posed, linear);
+          EXPECT_TRUE(def->deform(posed, out, linear).ok());
+      for (uint32_t i = 0; i < d.skin.size(); ++i) {
+        const double e = glm::length(glm::dvec3(out[i]) - glm::dvec3(lbs[i]));
+        sum += e * e;
+        r.worst = std::max(r.worst, e);
+        const double l = glm::length(lap(out, i) - lap(lbs, i));
+        lap_sum += l * l;
+        r.lap_worst = std::max(r.lap_worst, l);
+        ++samples;
       }
     }
-    rms[separate] = std::sqrt(sum / samples);
-    lap_rms[separate] = std::sqrt(lap_sum / samples);
-    std::printf(
-        "separate %d: against LBS over walk and arm_raise (18 poses): RMS %.2f mm, max %.1f mm; Laplacian "
-        "deviation RMS %.3f mm, max %.2f mm; %u points separated\n",
-        separate, rms[separate] * 1e3, worst[separate] * 1e3, lap_rms[separate] * 1e3,
-        lap_worst[separate] * 1e3, b->separated_points);
   }
-  EXPECT_LE(rms[1], 1.05 * rms[0]);
-  EXPECT_LE(lap_rms[1], 1.05 * lap_rms[0]);
+  r.rms = std::sqrt(sum / samples);
+  r.lap_rms = std::sqrt(lap_sum / samples);
+  return r;
+}
+
+void print_fit(const char* what, const ClipFit& f) {
+  std::printf(
+      "%s: against LBS over walk and arm_raise (18 poses): RMS %.2f mm, max %.1f mm; Laplacian deviation RMS "
+      "%.3f mm, max %.2f mm; %u points separated\n",
+      what, f.rms * 1e3, f.worst * 1e3, f.lap_rms * 1e3, f.lap_worst * 1e3, f.separated_points);
+}
+
+// The default (separation on, 1 step) decided by measuring: over the demo's two clips, against the
+// file's own linear blend skinning, the whole skin is closer and no rougher with it than without
+// (docs/algorithm-notes.md has the numbers).
+TEST(Separation, WholeBodyAgainstLinearBlendSkinning) {
+  const Demo& d = demo();
+  const ClipFit off = fit_to_lbs(d, d.attachment, false), on = fit_to_lbs(d, d.attachment, true);
+  print_fit("separate 0", off);
+  print_fit("separate 1", on);
+  EXPECT_LE(on.rms, 1.05 * off.rms);
+  EXPECT_LE(on.lap_rms, 1.05 * off.lap_rms);
+}
+
+// The default attachment (the character's skin weights, core/cage_attachment.h) against the rigid
+// closest limb: the cage bends with the character's own skinning, so the skin it drives stays far
+// closer to that skinning (measured: RMS 18.2 -> 1.6 mm) and smoother.
+TEST(Separation, SkinWeightsAttachmentFollowsTheCharactersSkinning) {
+  const Demo& d = demo();
+  auto rigid = attach_to_closest_limb(d.character, d.cage.polygons.positions);
+  ASSERT_TRUE(rigid.ok());
+  const ClipFit r = fit_to_lbs(d, *rigid, true), w = fit_to_lbs(d, d.attachment, true);
+  print_fit("rigid attachment", r);
+  print_fit("skin-weights attachment", w);
+  EXPECT_LT(w.rms, 0.25 * r.rms);
+  EXPECT_LT(w.worst, 0.5 * r.worst);
+  EXPECT_LT(w.lap_rms, 0.75 * r.lap_rms);
 }
 
 }  // namespace
