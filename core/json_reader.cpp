@@ -1,6 +1,10 @@
 #include "core/json_reader.h"
 
+#include <algorithm>
+#include <bit>
+#include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -119,6 +123,60 @@ std::string json_index_list(std::span<const uint32_t> v) {
   std::string s = "[";
   for (size_t i = 0; i < v.size(); ++i) s += (i ? ", " : "") + std::to_string(v[i]);
   return s + "]";
+}
+
+double json_short_float(float f) {
+  char text[32];
+  auto written = std::to_chars(text, text + sizeof text, f);
+  double d = 0;
+  std::from_chars(text, written.ptr, d);
+  return std::bit_cast<uint32_t>(static_cast<float>(d)) == std::bit_cast<uint32_t>(f) ? d : double(f);
+}
+
+namespace {
+
+void layout(const Json& j, size_t width, size_t depth, std::string& out) {
+  const bool plain_array =
+      j.is_array() && std::none_of(j.begin(), j.end(), [](const Json& e) { return e.is_structured(); });
+  if (!j.is_structured() || j.empty() || plain_array) {
+    out += plain_array ? "[" : j.dump();
+    if (plain_array) {
+      for (size_t i = 0; i < j.size(); ++i) out += (i ? ", " : "") + j[i].dump();
+      out += "]";
+    }
+    return;
+  }
+  // on one line: members separated by ", ", keys by ": " (given up once it is too long)
+  std::string line = j.is_array() ? "[" : "{";
+  size_t n = 0;
+  for (const auto& [key, value] : j.items()) {
+    if (n++) line += ", ";
+    if (j.is_object()) line += Json(key).dump() + ": ";
+    layout(value, SIZE_MAX, 0, line);
+    if (line.size() > width) break;
+  }
+  line += j.is_array() ? "]" : "}";
+  if (line.size() + 2 * depth <= width) {
+    out += line;
+    return;
+  }
+  const std::string indent(2 * (depth + 1), ' ');
+  out += j.is_array() ? "[\n" : "{\n";
+  size_t i = 0;
+  for (const auto& [key, value] : j.items()) {
+    out += (i++ ? ",\n" : "") + indent;
+    if (j.is_object()) out += Json(key).dump() + ": ";
+    layout(value, width, depth + 1, out);
+  }
+  out += "\n" + std::string(2 * depth, ' ') + (j.is_array() ? "]" : "}");
+}
+
+}  // namespace
+
+std::string json_layout(const Json& j, size_t width) {
+  std::string out;
+  layout(j, width, 0, out);
+  return out;
 }
 
 }  // namespace cagewrap
