@@ -138,7 +138,7 @@ void add_export_command(CLI::App& app, int& exit_code) {
     }
     for (const std::string& w : report->warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    std::printf("exported %s of %s: %s in %.1f s\n", export_kind_name(request), P.c_str(), report->summary.c_str(),
+    std::printf("exported %s of %s: %s in %.1f s\n", report->what.c_str(), P.c_str(), report->summary.c_str(),
                 seconds);
     for (const std::string& line : report->error_lines) std::printf("  %s\n", line.c_str());
     exit_code = 0;

@@ -184,6 +184,7 @@ class Editor {
   std::unique_ptr<Scene> scene_;
   CageTools cage_tools_;
   ExportPanel export_panel_;
+  bool script_waits_for_export_ = true;  // false after `export_nowait`: the script goes on meanwhile
   RigPanel rig_panel_;
   SetsPanel sets_panel_;
   bool painting_ = false;  // a set-edit brush stroke in progress
@@ -1426,9 +1427,9 @@ void Editor::guard_unsaved(std::function<void()> action) {
 //   open_asking PATH | answer save|discard|cancel | import_cage PATH | pose NODE X Y Z | reset_pose | compare on|off
 //   rotate_drag x|y|z|view DEGREES | attach rigid|smooth [W]|joint|auto | keyset x|y|z | key
 //   mirror_keyset | rig_panel | sets_panel [MAP] | set_edit remove|add|only|reset [mirror]
-//   paint_at_skin_vertex I [RADIUS] | select_limb_faces | export_window
+//   paint_at_skin_vertex I [RADIUS] | select_limb_faces | export_window | export_cancel
 //   export glb|obj|json MODE|- FPS all|CLIP[,CLIP] PATH (File > Export: runs in the background; the
-//   script waits for it), and those of run_file_script_command
+//   script waits for it; export_nowait: the script goes on), and those of run_file_script_command
 // `move` goes through the gizmo's own path: one drag, one undo step. `gizmo_drag` grabs a handle
 // where a person would (hit-tested like a click) and drags it DX, DY pixels.
 void Editor::run_script_step() {
@@ -1529,8 +1530,11 @@ void Editor::run_script_step() {
       script_wait_ = 1;  // the next steps run once it is done
     } else if (cmd == "export_window") {
       export_panel_.open(*scene_);
-    } else if (cmd == "export") {
+    } else if (cmd == "export" || cmd == "export_nowait") {
+      script_waits_for_export_ = cmd == "export";
       script_export(in);
+    } else if (cmd == "export_cancel") {
+      export_panel_.cancel();
     } else if (cmd == "cage_op") {  // merge | weld D | flip | flip_all | linear [N] | loop [N] | refine | triangulate
       std::string op;
       double arg = 0.0;
@@ -1713,6 +1717,12 @@ void Editor::script_rotate_drag(std::istringstream& in) {
 // export FORMAT MODE|- FPS all|CLIP[,CLIP...] PATH: File > Export's Export button with these
 // settings (clips by name); the script waits until it is done.
 void Editor::script_export(std::istringstream& in) {
+  if (!export_panel_.visible()) {  // open the window first and press Export on the next frame, as a
+    export_panel_.open(*scene_);   // person would (a window first shown under the error modal that
+    --script_pos_;                 // a refused export opens trips an ImGui assertion)
+    script_wait_ = 1;
+    return;
+  }
   std::string format, mode, clips, path;
   double fps = 0.0;
   in >> format >> mode >> fps >> clips;
@@ -1732,7 +1742,6 @@ void Editor::script_export(std::istringstream& in) {
     request.options.clips.push_back(c);
     start = comma + 1;
   }
-  export_panel_.open(*scene_);
   export_panel_.start(*scene_, request, hooks_);
 }
 
@@ -1834,7 +1843,8 @@ int Editor::run() {
     ImGui::NewFrame();
     handle_input();
     // a scripted run waits for the first bind so that the steps act on the deformed skin
-    if (!script_.empty() && !(scene_ && (scene_->job || cage_tools_.busy() || export_panel_.busy()))) run_script_step();
+    const bool export_blocks = export_panel_.busy() && script_waits_for_export_;
+    if (!script_.empty() && !(scene_ && (scene_->job || cage_tools_.busy() || export_blocks))) run_script_step();
 
     if (scene_) {
       if (auto msg = scene_->poll_bind()) {

@@ -22,6 +22,9 @@ const char* format_extension(ExportFormat f) {
   return f == ExportFormat::kGlb ? ".glb" : f == ExportFormat::kObj ? ".obj" : ".json";
 }
 
+// The window's content width and its fields' (it sizes itself to them).
+constexpr float kWindowWidth = 560.0f, kFieldWidth = kWindowWidth - 110.0f - 88.0f;
+
 FilePurpose format_purpose(ExportFormat f) {
   return f == ExportFormat::kGlb ? FilePurpose::kExportGlb
          : f == ExportFormat::kObj ? FilePurpose::kExportObj
@@ -146,9 +149,8 @@ void ExportPanel::poll(const EditorHooks& hooks) {
 void ExportPanel::draw(Scene& scene, const EditorHooks& hooks) {
   if (!visible_) return;
   if (defaults_for_ != scene.doc().character.get()) open(scene);  // another document: new defaults
-  ImGui::SetNextWindowPos(ImVec2(300, 80), ImGuiCond_FirstUseEver);
-  ImGui::SetNextWindowSize(ImVec2(560, 0), ImGuiCond_FirstUseEver);
-  if (!ImGui::Begin("Export", &visible_)) {
+  ImGui::SetNextWindowPos(ImVec2(280, 60), ImGuiCond_FirstUseEver);
+  if (!ImGui::Begin("Export", &visible_, ImGuiWindowFlags_AlwaysAutoResize)) {
     ImGui::End();
     return;
   }
@@ -213,10 +215,11 @@ void ExportPanel::draw(Scene& scene, const EditorHooks& hooks) {
   }
   ImGui::TextUnformatted("output");
   ImGui::SameLine(110);
-  ImGui::SetNextItemWidth(-90);
+  ImGui::SetNextItemWidth(kFieldWidth);
   if (ImGui::InputText("##out", out_field_, sizeof out_field_)) request_.out = out_field_;
+  if (ImGui::IsItemHovered() && !request_.out.empty()) ImGui::SetTooltip("%s", request_.out.c_str());
   ImGui::SameLine();
-  if (ImGui::Button("Browse...", ImVec2(-1, 0))) browse_requested_ = true;
+  if (ImGui::Button("Browse...", ImVec2(80, 0))) browse_requested_ = true;
   ImGui::EndDisabled();
 
   std::vector<int32_t> clips;
@@ -229,22 +232,23 @@ void ExportPanel::draw(Scene& scene, const EditorHooks& hooks) {
   ImGui::Separator();
   if (job_) {
     const std::string stage = job_->stage();
-    ImGui::ProgressBar(static_cast<float>(job_->progress()), ImVec2(-90, 0), stage.empty() ? "starting" : stage.c_str());
+    ImGui::ProgressBar(static_cast<float>(job_->progress()), ImVec2(kWindowWidth - 88, 0),
+                       stage.empty() ? "starting" : stage.c_str());
     ImGui::SameLine();
     ImGui::BeginDisabled(job_->cancelling());
-    if (ImGui::Button("Cancel", ImVec2(-1, 0))) job_->cancel();
+    if (ImGui::Button("Cancel", ImVec2(80, 0))) job_->cancel();
     ImGui::EndDisabled();
   } else {
     const bool ready = path_problem.empty() && (!need_clips || !clips.empty()) && scene.doc().cage;
     ImGui::BeginDisabled(!ready);
-    if (ImGui::Button("Export", ImVec2(-1, 0))) start(scene, request, hooks);
+    if (ImGui::Button("Export", ImVec2(kWindowWidth, 0))) start(scene, request, hooks);
     ImGui::EndDisabled();
     const ImVec4 warn(1.0f, 0.6f, 0.3f, 1.0f);
     if (!scene.doc().cage) ImGui::TextColored(warn, "the document has no cage yet (Cage menu)");
     else if (need_clips && clips.empty()) ImGui::TextColored(warn, "choose at least one clip");
     else if (!path_problem.empty()) ImGui::TextColored(warn, "%s", path_problem.c_str());
   }
-  ImGui::PushTextWrapPos(0.0f);
+  ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + kWindowWidth);
   if (report_) {
     ImGui::TextColored(ImVec4(0.5f, 0.9f, 0.5f, 1.0f), "exported %s in %.1f s", report_->what.c_str(), seconds_);
     ImGui::TextWrapped("%s", report_->summary.c_str());

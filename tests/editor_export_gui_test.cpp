@@ -2,8 +2,8 @@
 // presses the window's Export button with those settings; the script waits for the background
 // task): a baked-skin .glb of the demo's walk that loads again (core/gltf_loader.h), is skinned with
 // one morph target per frame and passes the Khronos validator; the report in the log; a bad path
-// shown as an error while the editor carries on with its document; the JSON rig. The screenshots
-// show the window with its report and the error.
+// shown as an error while the editor carries on with its document; the JSON rig; Cancel during a
+// long bake. The screenshots show the window with its report, its progress bar and the error.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -95,6 +95,19 @@ TEST_F(EditorExportGui, ABadPathIsAnErrorAndTheEditorCarriesOn) {
   EXPECT_EQ((*j)["format"], "cagewrap-rig");
   EXPECT_GT((*j)["cage"]["positions"].size(), 100u);
   EXPECT_EQ((*j)["attachment"]["mode"], "rigid");
+}
+
+// A long bake (both clips at 60 fps) shows its progress; Cancel stops it and leaves no file.
+TEST_F(EditorExportGui, CancelStopsALongBakeAndLeavesNoFile) {
+  const fs::path glb = dir_ / "long.glb";
+  const std::string log = run("cancel", "wait 2\nexport_nowait glb baked-skin 60 all " + glb.string() +
+                                            "\nwait 6\nscreenshot " + (dir_ / "progress.png").string() +
+                                            "\nwait 3\nexport_cancel\nwait 2\n");
+  EXPECT_NE(log.find("export cancelled; nothing was written"), std::string::npos) << log;
+  EXPECT_EQ(log.find("exported baked-skin"), std::string::npos) << log;
+  EXPECT_FALSE(fs::exists(glb));
+  EXPECT_FALSE(fs::exists(glb.string() + ".tmp"));
+  EXPECT_FALSE(test::load_png((dir_ / "progress.png").string()).rgb.empty()) << log;
 }
 
 }  // namespace
