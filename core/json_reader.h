@@ -63,9 +63,10 @@ std::string json_index_list(std::span<const uint32_t> v);
 // way the float reads back bit for bit.
 double json_short_float(float f);
 
-// JSON text laid out for people and diffs: an array of plain values (numbers, strings, ...) on one
-// line, any other array or object on one line when that line is at most `width` characters, else
-// one member per line, indented by two spaces a level. Ends without a newline.
+// JSON text laid out for people and diffs: an array or object on one line when that line is at most
+// `width` characters; else an array of plain values (numbers, strings, ...) fills lines of `width`,
+// and any other array or object has one member a line, indented by two spaces a level. Ends without
+// a newline.
 std::string json_layout(const Json& j, size_t width = 100);
 
 }  // namespace cagewrap

@@ -138,14 +138,16 @@ TEST(RigJson, NoCageIsRefusedAndNoSkinGivesNullAttachment) {
   EXPECT_TRUE(j["skin"].is_null());
 }
 
-TEST(JsonLayout, ReadsBackAndKeepsNumberListsOnOneLine) {
+TEST(JsonLayout, ReadsBackAndKeepsLinesShort) {
   Json j = Json::parse(R"({"a": [1, 2.5, -3], "b": {"c": "x", "d": [[0.1, 0.2], [0.3, 0.4]]},
                            "e": [], "f": {}, "g": [{"h": true}]})");
   for (size_t i = 0; i < 60; ++i) j["b"]["d"].push_back(Json::array({i, i + 1}));
+  for (size_t i = 0; i < 500; ++i) j["many"].push_back(i);  // fills lines
   const std::string text = json_layout(j);
   EXPECT_EQ(Json::parse(text), j);
   EXPECT_NE(text.find("\"a\": [1, 2.5, -3]"), std::string::npos) << text;
   EXPECT_NE(text.find("\n      [0.1, 0.2],\n"), std::string::npos) << "one pair a line when too long:\n" << text;
+  EXPECT_NE(text.find("\"many\": [\n    0, 1, 2, "), std::string::npos) << "long number lists fill lines:\n" << text;
   for (std::istringstream in(text); !in.eof();) {
     std::string line;
     std::getline(in, line);
