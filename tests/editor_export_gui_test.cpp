@@ -20,11 +20,9 @@ namespace cagewrap {
 namespace {
 
 namespace fs = std::filesystem;
+using test::read_file;
 
-std::string read(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
+
 
 class EditorExportGui : public ::testing::Test {
  protected:
@@ -44,8 +42,8 @@ class EditorExportGui : public ::testing::Test {
     const std::string cmd = test::editor_command(
         "--width 1280 --height 720 --script " + s.string() + " --screenshot " + (dir_ / (name + ".png")).string(),
         (dir_ / "config").string(), log.string());
-    EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd << "\n" << read(log);
-    return read(log);
+    EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd << "\n" << read_file(log);
+    return read_file(log);
   }
   fs::path dir_;
 };
