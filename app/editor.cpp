@@ -1428,6 +1428,7 @@ void Editor::guard_unsaved(std::function<void()> action) {
 //   rotate_drag x|y|z|view DEGREES | attach rigid|smooth [W]|joint|auto | keyset x|y|z | key
 //   mirror_keyset | rig_panel | sets_panel [MAP] | set_edit remove|add|only|reset [mirror]
 //   paint_at_skin_vertex I [RADIUS] | select_limb_faces | export_window | export_cancel
+//   export_browse | export_press (the window's Browse... and Export buttons)
 //   export glb|obj|json MODE|- FPS all|CLIP[,CLIP] PATH (File > Export: runs in the background; the
 //   script waits for it; export_nowait: the script goes on), and those of run_file_script_command
 // `move` goes through the gizmo's own path: one drag, one undo step. `gizmo_drag` grabs a handle
@@ -1535,6 +1536,11 @@ void Editor::run_script_step() {
       script_export(in);
     } else if (cmd == "export_cancel") {
       export_panel_.cancel();
+    } else if (cmd == "export_browse") {
+      export_panel_.press_browse();
+    } else if (cmd == "export_press") {
+      script_waits_for_export_ = true;
+      export_panel_.press_export(*scene_, hooks_);
     } else if (cmd == "cage_op") {  // merge | weld D | flip | flip_all | linear [N] | loop [N] | refine | triangulate
       std::string op;
       double arg = 0.0;
@@ -1734,6 +1740,8 @@ void Editor::script_export(std::istringstream& in) {
   if (!parse_export_format(format, request.format)) return log(where + "format '" + format + "' is not glb, obj or json", true);
   if (mode != "-" && !parse_export_mode(mode, request.options.mode)) return log(where + "unknown mode '" + mode + "'", true);
   const Character& ch = *scene_->doc().character;
+  if (clips == "all")
+    for (size_t c = 0; c < ch.clips.size(); ++c) request.options.clips.push_back(static_cast<int32_t>(c));
   for (size_t start = 0; clips != "all" && start < clips.size();) {
     const size_t comma = std::min(clips.find(',', start), clips.size());
     const std::string name = clips.substr(start, comma - start);

@@ -55,6 +55,14 @@ void ExportPanel::set_format(ExportFormat format) {
     set_output(p.replace_extension(format_extension(format)).string());
 }
 
+ExportRequest ExportPanel::shown_request() const {
+  ExportRequest request = request_;
+  request.options.clips.clear();
+  for (size_t c = 0; c < clip_on_.size(); ++c)
+    if (clip_on_[c]) request.options.clips.push_back(static_cast<int32_t>(c));
+  return request;
+}
+
 void ExportPanel::open(const Scene& scene) {
   visible_ = true;
   const void* character = scene.doc().character.get();
@@ -76,7 +84,7 @@ bool ExportPanel::start(const Scene& scene, const ExportRequest& request, const 
   if (job_) return false;
   request_ = request;
   set_output(request.out);
-  clip_on_.assign(scene.doc().character->clips.size(), request.options.clips.empty() ? 1 : 0);
+  clip_on_.assign(scene.doc().character->clips.size(), 0);
   for (int32_t c : request.options.clips)
     if (c >= 0 && static_cast<size_t>(c) < clip_on_.size()) clip_on_[c] = 1;
   report_.reset();
@@ -90,6 +98,8 @@ bool ExportPanel::start(const Scene& scene, const ExportRequest& request, const 
   if (!doc.cage) return refuse("the document has no cage yet: build or import one first (Cage menu)");
   if (request.format != ExportFormat::kJson && doc.character->clips.empty())
     return refuse("the character has no animation clip to bake");
+  if (request.format != ExportFormat::kJson && request.options.clips.empty())
+    return refuse("choose at least one clip to bake");
   if (auto bad = check_export_path(request); !bad.empty()) return refuse(bad);
   started_ = now_seconds();
   hooks.log("exporting " + export_kind_name(request) + " to " + request.out + " ...", false);
@@ -222,11 +232,8 @@ void ExportPanel::draw(Scene& scene, const EditorHooks& hooks) {
   if (ImGui::Button("Browse...", ImVec2(80, 0))) browse_requested_ = true;
   ImGui::EndDisabled();
 
-  std::vector<int32_t> clips;
-  for (size_t c = 0; c < clip_on_.size(); ++c)
-    if (clip_on_[c]) clips.push_back(static_cast<int32_t>(c));
-  ExportRequest request = request_;
-  request.options.clips = clips;
+  const ExportRequest request = shown_request();
+  const std::vector<int32_t>& clips = request.options.clips;
   const bool need_clips = request.format != ExportFormat::kJson;
   const std::string path_problem = check_export_path(request);
   ImGui::Separator();

@@ -37,6 +37,11 @@ class ExportPanel {
   // button too). False (shown as an error) when it cannot start: a bad path, no cage, no clip.
   bool start(const Scene& scene, const ExportRequest& request, const EditorHooks& hooks);
   const ExportRequest& request() const { return request_; }
+  // What the window's Export button starts: the settings shown, the clips checked.
+  ExportRequest shown_request() const;
+  // The window's buttons, for scripts: Export (false when it cannot start), Browse...
+  bool press_export(const Scene& scene, const EditorHooks& hooks) { return start(scene, shown_request(), hooks); }
+  void press_browse() { browse_requested_ = true; }
 
   // The Browse button asked for a file: the purpose for the current format, the folder and name to
   // start with. The editor opens its file browser and hands the choice to set_output.

@@ -3,7 +3,7 @@
 // task): a baked-skin .glb of the demo's walk that loads again (core/gltf_loader.h), is skinned with
 // one morph target per frame and passes the Khronos validator; the report in the log; a bad path
 // shown as an error while the editor carries on with its document; the JSON rig; Cancel during a
-// long bake. The screenshots show the window with its report, its progress bar and the error.
+// long bake; Browse... choosing the output. The screenshots show the window with its report, its progress bar and the error.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -106,6 +106,19 @@ TEST_F(EditorExportGui, CancelStopsALongBakeAndLeavesNoFile) {
   EXPECT_FALSE(fs::exists(glb));
   EXPECT_FALSE(fs::exists(glb.string() + ".tmp"));
   EXPECT_FALSE(test::load_png((dir_ / "progress.png").string()).rgb.empty()) << log;
+}
+
+// Browse... opens the file browser for the format (.json here, added to a typed name); the choice
+// becomes the output that the Export button writes.
+TEST_F(EditorExportGui, BrowseChoosesTheOutputTheButtonWrites) {
+  const fs::path first = dir_ / "first.json", chosen = dir_ / "chosen.json";
+  const std::string log =
+      run("browse", "wait 2\nexport json - 30 all " + first.string() +
+                        "\nexport_browse\nwait 2\nbrowser_name chosen\nbrowser_confirm\nwait 2\nexport_press\nwait 2\n");
+  ASSERT_TRUE(fs::exists(first)) << log;
+  ASSERT_TRUE(fs::exists(chosen)) << log;
+  EXPECT_NE(log.find("exported rig as JSON: 1002 cage vertices"), std::string::npos) << log;
+  EXPECT_EQ(read_file(first), read_file(chosen)) << "the same document, the same settings";
 }
 
 }  // namespace
