@@ -16,8 +16,8 @@
 
 #include "app/cli_common.h"
 #include "app/commands.h"
-#include "core/rig_exporter.h"
 #include "core/project_io.h"
+#include "core/rig_exporter.h"
 
 namespace cagewrap::app {
 
@@ -48,20 +48,24 @@ void add_export_command(CLI::App& app, int& exit_code) {
     int keypose_steps = ExportOptions{}.keypose_steps;
   };
   auto args = std::make_shared<Args>();
-  auto* cmd = app.add_subcommand("export", "write a project's rig for engines and other tools (.glb, OBJ per frame, JSON)");
+  auto* cmd = app.add_subcommand(
+      "export", "write a project's rig for engines and other tools (.glb, OBJ per frame, JSON)");
   cmd->add_option("--project", args->project, "project file (.cagewrap)")->required();
-  cmd->add_option("--format", args->format,
-                  "glb (binary glTF), obj (the skin per frame, or the cage with --mode cage) or json (the cage, its "
-                  "attachment to the skeleton and its keyposes: docs/export-json.md)")
+  cmd->add_option(
+         "--format", args->format,
+         "glb (binary glTF), obj (the skin per frame, or the cage with --mode cage) or json (the cage, its "
+         "attachment to the skeleton and its keyposes: docs/export-json.md)")
       ->capture_default_str();
-  cmd->add_option("--mode", args->mode,
-                  "glb: baked-animation (skin + one morph target per frame), baked-skin (fitted LBS weights + "
-                  "corrective morph targets) or cage (the cage skinned to the skeleton); obj: cage writes the cage");
+  cmd->add_option(
+      "--mode", args->mode,
+      "glb: baked-animation (skin + one morph target per frame), baked-skin (fitted LBS weights + "
+      "corrective morph targets) or cage (the cage skinned to the skeleton); obj: cage writes the cage");
   cmd->add_option("--clips", args->clips, "clips to export, by name or index (default: all)")->delimiter(',');
   cmd->add_option("--fps", args->fps, "frames sampled per second of each clip")->capture_default_str();
-  cmd->add_option("--keypose-steps", args->keypose_steps,
-                  "poses per keypose key, swept from rest to the key, that baked-skin fits and every glb mode "
-                  "measures (0: none)")
+  cmd->add_option(
+         "--keypose-steps", args->keypose_steps,
+         "poses per keypose key, swept from rest to the key, that baked-skin fits and every glb mode "
+         "measures (0: none)")
       ->capture_default_str();
   cmd->add_option("--out", args->out,
                   "glb: F.glb; obj: F.obj (writes F_<clip>_<frame>.obj beside it) or a folder; json: F.json")
@@ -76,7 +80,8 @@ void add_export_command(CLI::App& app, int& exit_code) {
       return;
     }
     if (!args->mode.empty() && !parse_export_mode(args->mode, request.options.mode)) {
-      std::fprintf(stderr, "error: --mode '%s' should be baked-animation, baked-skin or cage\n", args->mode.c_str());
+      std::fprintf(stderr, "error: --mode '%s' should be baked-animation, baked-skin or cage\n",
+                   args->mode.c_str());
       return;
     }
     if (request.format == ExportFormat::kGlb && args->mode.empty()) {
@@ -84,10 +89,12 @@ void add_export_command(CLI::App& app, int& exit_code) {
       return;
     }
     if (request.format == ExportFormat::kJson && !args->mode.empty()) {
-      std::fprintf(stderr, "error: --mode has no meaning for --format json (it describes the cage rig itself)\n");
+      std::fprintf(stderr,
+                   "error: --mode has no meaning for --format json (it describes the cage rig itself)\n");
       return;
     }
-    if (request.format == ExportFormat::kObj && args->mode.empty()) request.options.mode = ExportMode::kBakedAnimation;
+    if (request.format == ExportFormat::kObj && args->mode.empty())
+      request.options.mode = ExportMode::kBakedAnimation;
     if (!(args->fps > 0.0) || !std::isfinite(args->fps) || args->fps > 1000.0) {
       std::fprintf(stderr, "error: --fps must be a number of frames per second in (0, 1000]\n");
       return;

@@ -26,7 +26,7 @@ const char* format_extension(ExportFormat f) {
 constexpr float kWindowWidth = 560.0f, kFieldWidth = kWindowWidth - 110.0f - 88.0f;
 
 FilePurpose format_purpose(ExportFormat f) {
-  return f == ExportFormat::kGlb ? FilePurpose::kExportGlb
+  return f == ExportFormat::kGlb   ? FilePurpose::kExportGlb
          : f == ExportFormat::kObj ? FilePurpose::kExportObj
                                    : FilePurpose::kExportJson;
 }
@@ -43,8 +43,10 @@ void ExportPanel::set_output(const std::string& path) {
 void ExportPanel::default_output(const Scene& scene) {
   const Document& doc = scene.doc();
   const fs::path base = !doc.project_path.empty() ? fs::path(doc.project_path) : fs::path(doc.character_path);
-  const std::string suffix = request_.format == ExportFormat::kJson ? "rig" : export_mode_name(request_.options.mode);
-  set_output((base.parent_path() / (base.stem().string() + "_" + suffix + format_extension(request_.format))).string());
+  const std::string suffix =
+      request_.format == ExportFormat::kJson ? "rig" : export_mode_name(request_.options.mode);
+  set_output((base.parent_path() / (base.stem().string() + "_" + suffix + format_extension(request_.format)))
+                 .string());
 }
 
 void ExportPanel::set_format(ExportFormat format) {
@@ -104,7 +106,9 @@ bool ExportPanel::start(const Scene& scene, const ExportRequest& request, const 
   started_ = now_seconds();
   hooks.log("exporting " + export_kind_name(request) + " to " + request.out + " ...", false);
   job_ = std::make_unique<BackgroundTask<ExportReport>>(
-      "export", [doc, request](const BackgroundTask<ExportReport>::Progress& progress, const std::atomic<bool>& cancel) -> Result<ExportReport> {
+      "export",
+      [doc, request](const BackgroundTask<ExportReport>::Progress& progress,
+                     const std::atomic<bool>& cancel) -> Result<ExportReport> {
         // A bind of its own: the export must not share the editor's deformer across threads. It
         // takes about a quarter of the time.
         const bool needs_rig = request.format != ExportFormat::kJson;
@@ -173,9 +177,11 @@ void ExportPanel::draw(Scene& scene, const EditorHooks& hooks) {
     if (f != ExportFormat::kGlb) ImGui::SameLine();
     if (ImGui::RadioButton(export_format_name(f), &format, static_cast<int>(f))) set_format(f);
   }
-  ImGui::TextDisabled("%s", request_.format == ExportFormat::kGlb   ? "binary glTF for engines: the skin and the clips"
-                            : request_.format == ExportFormat::kObj ? "one OBJ per frame: F.obj gives F_<clip>_<frame>.obj"
-                                                                    : "the cage, its attachment to the skeleton and the keyposes");
+  ImGui::TextDisabled("%s", request_.format == ExportFormat::kGlb
+                                ? "binary glTF for engines: the skin and the clips"
+                            : request_.format == ExportFormat::kObj
+                                ? "one OBJ per frame: F.obj gives F_<clip>_<frame>.obj"
+                                : "the cage, its attachment to the skeleton and the keyposes");
   if (request_.format != ExportFormat::kJson) {
     int mode = static_cast<int>(request_.options.mode);
     const char* modes[] = {"baked-animation", "baked-skin", "cage"};
@@ -192,9 +198,10 @@ void ExportPanel::draw(Scene& scene, const EditorHooks& hooks) {
     }
     if (request_.format == ExportFormat::kGlb) {
       ImGui::SameLine();
-      ImGui::TextDisabled("%s", request_.options.mode == ExportMode::kBakedSkin        ? "fitted weights + correctives"
-                                : request_.options.mode == ExportMode::kBakedAnimation ? "a morph target per frame"
-                                                                                       : "the cage, skinned");
+      ImGui::TextDisabled("%s",
+                          request_.options.mode == ExportMode::kBakedSkin ? "fitted weights + correctives"
+                          : request_.options.mode == ExportMode::kBakedAnimation ? "a morph target per frame"
+                                                                                 : "the cage, skinned");
     }
     ImGui::TextUnformatted("clips");
     ImGui::SameLine(110);
@@ -203,7 +210,8 @@ void ExportPanel::draw(Scene& scene, const EditorHooks& hooks) {
       if (c) ImGui::SameLine();
       bool on = clip_on_[c] != 0;
       char label[160];
-      std::snprintf(label, sizeof label, "%s (%.1f s)##clip%zu", ch.clips[c].name.c_str(), ch.clips[c].duration, c);
+      std::snprintf(label, sizeof label, "%s (%.1f s)##clip%zu", ch.clips[c].name.c_str(),
+                    ch.clips[c].duration, c);
       if (ImGui::Checkbox(label, &on)) clip_on_[c] = on;
     }
     if (ch.clips.empty()) ImGui::TextDisabled("the character has no clips");
@@ -219,8 +227,9 @@ void ExportPanel::draw(Scene& scene, const EditorHooks& hooks) {
       ImGui::SetNextItemWidth(180);
       ImGui::SliderInt("poses per key##kp", &request_.options.keypose_steps, 0, 10);
       if (ImGui::IsItemHovered())
-        ImGui::SetTooltip("each keypose set swept from rest to each key: baked-skin fits its weights to these poses "
-                          "too, and the error there is reported");
+        ImGui::SetTooltip(
+            "each keypose set swept from rest to each key: baked-skin fits its weights to these poses "
+            "too, and the error there is reported");
     }
   }
   ImGui::TextUnformatted("output");
@@ -251,17 +260,22 @@ void ExportPanel::draw(Scene& scene, const EditorHooks& hooks) {
     if (ImGui::Button("Export", ImVec2(kWindowWidth, 0))) start(scene, request, hooks);
     ImGui::EndDisabled();
     const ImVec4 warn(1.0f, 0.6f, 0.3f, 1.0f);
-    if (!scene.doc().cage) ImGui::TextColored(warn, "the document has no cage yet (Cage menu)");
-    else if (need_clips && clips.empty()) ImGui::TextColored(warn, "choose at least one clip");
-    else if (!path_problem.empty()) ImGui::TextColored(warn, "%s", path_problem.c_str());
+    if (!scene.doc().cage)
+      ImGui::TextColored(warn, "the document has no cage yet (Cage menu)");
+    else if (need_clips && clips.empty())
+      ImGui::TextColored(warn, "choose at least one clip");
+    else if (!path_problem.empty())
+      ImGui::TextColored(warn, "%s", path_problem.c_str());
   }
   ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + kWindowWidth);
   if (report_) {
-    ImGui::TextColored(ImVec4(0.5f, 0.9f, 0.5f, 1.0f), "exported %s in %.1f s", report_->what.c_str(), seconds_);
+    ImGui::TextColored(ImVec4(0.5f, 0.9f, 0.5f, 1.0f), "exported %s in %.1f s", report_->what.c_str(),
+                       seconds_);
     ImGui::TextWrapped("%s", report_->summary.c_str());
     if (report_->keypose_poses) ImGui::Text("%zu keypose poses measured", report_->keypose_poses);
     for (const std::string& line : report_->error_lines) ImGui::TextUnformatted(line.c_str());
-    for (const std::string& w : report_->warnings) ImGui::TextColored(ImVec4(1, 0.8f, 0.3f, 1), "%s", w.c_str());
+    for (const std::string& w : report_->warnings)
+      ImGui::TextColored(ImVec4(1, 0.8f, 0.3f, 1), "%s", w.c_str());
   } else if (!last_outcome_.empty() && !job_) {
     ImGui::TextColored(ImVec4(1, 0.5f, 0.4f, 1), "%s", last_outcome_.c_str());
   }

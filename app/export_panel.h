@@ -40,7 +40,9 @@ class ExportPanel {
   // What the window's Export button starts: the settings shown, the clips checked.
   ExportRequest shown_request() const;
   // The window's buttons, for scripts: Export (false when it cannot start), Browse...
-  bool press_export(const Scene& scene, const EditorHooks& hooks) { return start(scene, shown_request(), hooks); }
+  bool press_export(const Scene& scene, const EditorHooks& hooks) {
+    return start(scene, shown_request(), hooks);
+  }
   void press_browse() { browse_requested_ = true; }
 
   // The Browse button asked for a file: the purpose for the current format, the folder and name to

@@ -66,7 +66,8 @@ class StageProgress {
   // False when the export was cancelled.
   bool step(size_t done, size_t total) const {
     if (p_.on_progress)
-      p_.on_progress(stage_, done, total, from_ + (to_ - from_) * (total ? double(done) / double(total) : 1.0));
+      p_.on_progress(stage_, done, total,
+                     from_ + (to_ - from_) * (total ? double(done) / double(total) : 1.0));
     return !p_.cancelled();
   }
 
@@ -76,7 +77,9 @@ class StageProgress {
   double from_ = 0.0, to_ = 1.0;
 };
 
-Error cancelled() { return make_error(ErrorCode::kCancelled, "export cancelled"); }
+Error cancelled() {
+  return make_error(ErrorCode::kCancelled, "export cancelled");
+}
 
 void accumulate(ExportError& e, std::span<const glm::vec3> a, std::span<const glm::vec3> b) {
   double sum = e.mean * double(e.samples);
@@ -205,7 +208,6 @@ void float_weights_summing_to_one(std::vector<float>& w) {
   w.back() = std::max(0.0f, 1.0f - partial);
 }
 
-
 // LBS influences of every exported vertex (#P), at most kMaxInfluences, largest first, 0 = unused.
 struct FittedWeights {
   std::vector<std::array<uint16_t, kMaxInfluences>> joint;
@@ -219,7 +221,8 @@ struct FittedWeights {
 bool fit_weights(std::span<const glm::vec3> rest_skin, const std::vector<std::vector<uint32_t>>& original,
                  std::span<const glm::vec3> cage_rest, const CageAttachment& att,
                  const std::vector<const std::vector<glm::mat4>*>& joints,
-                 const std::vector<const std::vector<glm::vec3>*>& x, StageProgress& progress, FittedWeights& out) {
+                 const std::vector<const std::vector<glm::vec3>*>& x, StageProgress& progress,
+                 FittedWeights& out) {
   const size_t np = rest_skin.size(), S = x.size();
   out.joint.assign(np, {});
   out.weight.assign(np, {});
@@ -238,7 +241,8 @@ bool fit_weights(std::span<const glm::vec3> rest_skin, const std::vector<std::ve
         cand.push_back(att.influence_joint[e]);
     std::vector<uint32_t> uniq;
     for (uint32_t j : cand)
-      if (std::find(uniq.begin(), uniq.end(), j) == uniq.end() && uniq.size() < kMaxCandidates) uniq.push_back(j);
+      if (std::find(uniq.begin(), uniq.end(), j) == uniq.end() && uniq.size() < kMaxCandidates)
+        uniq.push_back(j);
     auto solve = [&](const std::vector<uint32_t>& js) {
       const Eigen::Index k = static_cast<Eigen::Index>(js.size());
       Eigen::MatrixXd G = Eigen::MatrixXd::Zero(k, k);
@@ -286,10 +290,11 @@ bool fit_weights(std::span<const glm::vec3> rest_skin, const std::vector<std::ve
   constexpr size_t kChunk = 2048;
   for (size_t begin = 0; begin < np; begin += kChunk) {
     const size_t end = std::min(np, begin + kChunk);
-    tbb::parallel_for(tbb::blocked_range<size_t>(begin, end, 64), [&](const tbb::blocked_range<size_t>& range) {
-      std::vector<std::pair<float, uint32_t>> near;
-      for (size_t v = range.begin(); v != range.end(); ++v) fit_point(v, near);
-    });
+    tbb::parallel_for(tbb::blocked_range<size_t>(begin, end, 64),
+                      [&](const tbb::blocked_range<size_t>& range) {
+                        std::vector<std::pair<float, uint32_t>> near;
+                        for (size_t v = range.begin(); v != range.end(); ++v) fit_point(v, near);
+                      });
     if (!progress.step(end, np)) return false;
   }
   return true;
@@ -307,7 +312,8 @@ Pose export_pose_at(const Character& exported, const Pose& source) {
 
 Result<std::vector<ExportClipFrames>> export_clip_frames(const Character& ch, const ExportOptions& options) {
   if (!(options.fps > 0.0) || !std::isfinite(options.fps))
-    return make_error(ErrorCode::kInvalidArgument, "the frame rate must be a positive number of frames per second");
+    return make_error(ErrorCode::kInvalidArgument,
+                      "the frame rate must be a positive number of frames per second");
   std::vector<int32_t> clips = options.clips;
   if (clips.empty())
     for (size_t i = 0; i < ch.clips.size(); ++i) clips.push_back(static_cast<int32_t>(i));
@@ -332,10 +338,12 @@ std::vector<std::string> obj_sequence_paths(const Character& ch, std::span<const
   const std::string prefix = stem ? fs::path(out).stem().string() + "_" : std::string();
   std::vector<std::string> names, paths;
   for (const ExportClipFrames& cf : frames) {
-    std::string name = cf.clip >= 0 && cf.clip < static_cast<int32_t>(ch.clips.size()) ? ch.clips[cf.clip].name : "";
+    std::string name =
+        cf.clip >= 0 && cf.clip < static_cast<int32_t>(ch.clips.size()) ? ch.clips[cf.clip].name : "";
     for (char& c : name)
       if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-' && c != '_' && c != '.') c = '_';
-    if (name.empty() || name == "." || name == ".." || std::find(names.begin(), names.end(), name) != names.end())
+    if (name.empty() || name == "." || name == ".." ||
+        std::find(names.begin(), names.end(), name) != names.end())
       name = "clip" + std::to_string(cf.clip);
     names.push_back(name);
     const int digits = std::max<int>(4, static_cast<int>(std::to_string(cf.times.size() - 1).size()));
@@ -352,7 +360,8 @@ Result<ObjSequence> export_obj_sequence(const Document& doc, Rig& rig, const Exp
                                         const std::string& out, const ExportProgress& progress) {
   namespace fs = std::filesystem;
   if (!doc.character || !doc.cage)
-    return make_error(ErrorCode::kInvalidArgument, "the document needs a character and a cage to export its rig");
+    return make_error(ErrorCode::kInvalidArgument,
+                      "the document needs a character and a cage to export its rig");
   const Character& ch = *doc.character;
   auto clip_frames = export_clip_frames(ch, options);
   if (!clip_frames) return clip_frames.error();
@@ -365,7 +374,8 @@ Result<ObjSequence> export_obj_sequence(const Document& doc, Rig& rig, const Exp
     fs::create_directories(out, ec);
     if (ec || !fs::is_directory(out))
       return make_error(ErrorCode::kWrite, out + ": the folder for the OBJ files cannot be made (" +
-                                               (ec ? ec.message() : std::string("a file is in the way")) + ")");
+                                               (ec ? ec.message() : std::string("a file is in the way")) +
+                                               ")");
   }
   const bool cage = options.mode == ExportMode::kCage;
   const PolyMesh topology = cage ? doc.cage->polygons : combined_topology(ch);
@@ -387,8 +397,9 @@ Result<ObjSequence> export_obj_sequence(const Document& doc, Rig& rig, const Exp
       if (auto s = rig.pose(doc, compose_pose(ch, cf.clip, cf.times[k], false), posed, skin); !s)
         return fail(f, s.error());
       const std::string& path = r.files[f];
-      if (auto s = save_obj(path, cage ? std::span<const glm::vec3>(posed.positions) : std::span<const glm::vec3>(skin),
-                            topology);
+      if (auto s = save_obj(
+              path, cage ? std::span<const glm::vec3>(posed.positions) : std::span<const glm::vec3>(skin),
+              topology);
           !s)
         return fail(f, s.error());  // not ours to remove: the file may have been there before
       std::error_code ec;
@@ -466,10 +477,12 @@ Result<ExportResult> export_rig(const Document& doc, Rig& rig, const ExportOptio
     stage.begin("posing", 0.0, posed_until * double(r.frames) / double(std::max<size_t>(1, posed_count)));
     for (const ExportClipFrames& cf : frames)
       for (size_t k = 0; k < cf.times.size(); ++k) {
-        if (auto s = pose_rig(compose_pose(ch, cf.clip, cf.times[k], false), cf.first + k); !s) return s.error();
+        if (auto s = pose_rig(compose_pose(ch, cf.clip, cf.times[k], false), cf.first + k); !s)
+          return s.error();
         if (!stage.step(cf.first + k + 1, r.frames)) return cancelled();
       }
-    stage.begin("keyposes", posed_until * double(r.frames) / double(std::max<size_t>(1, posed_count)), posed_until);
+    stage.begin("keyposes", posed_until * double(r.frames) / double(std::max<size_t>(1, posed_count)),
+                posed_until);
     for (size_t k = 0; k < keypose_poses.size(); ++k) {
       if (auto s = pose_rig(keypose_poses[k], r.frames + k); !s) return s.error();
       if (!stage.step(k + 1, keypose_poses.size())) return cancelled();
@@ -510,7 +523,8 @@ Result<ExportResult> export_rig(const Document& doc, Rig& rig, const ExportOptio
         if (!stage.step(frames[c].first + k + 1, posed_count)) return cancelled();
       }
     for (size_t k = 0; k < keypose_poses.size(); ++k) {
-      accumulate(r.at_keyposes, skin_character(out, export_pose_at(out, keypose_poses[k])), cages[r.frames + k]);
+      accumulate(r.at_keyposes, skin_character(out, export_pose_at(out, keypose_poses[k])),
+                 cages[r.frames + k]);
       if (!stage.step(r.frames + k + 1, posed_count)) return cancelled();
     }
     r.fitted = r.at_frames;
@@ -583,24 +597,26 @@ Result<ExportResult> export_rig(const Document& doc, Rig& rig, const ExportOptio
   for (size_t f = 0; f < r.frames; ++f) {
     size_t off = 0;
     for (Primitive& p : out.primitives) {
-      tbb::parallel_for(tbb::blocked_range<size_t>(0, p.num_vertices(), 1024), [&](const tbb::blocked_range<size_t>& range) {
-        for (size_t v = range.begin(); v != range.end(); ++v) {
-          const size_t i = off + v;
-          if (fitted.joint.empty()) {
-            p.morph_targets[f][v] = skins[f][i] - rest_skin[i];
-            continue;
-          }
-          glm::dmat4 m(0.0);
-          for (size_t k = 0; k < kMaxInfluences; ++k)
-            if (fitted.weight[i][k] > 0.0f)
-              m += double(fitted.weight[i][k]) * glm::dmat4(joints[f][fitted.joint[i][k]]);
-          const glm::dvec3 lbs(m * glm::dvec4(glm::dvec3(rest_skin[i]), 1.0));
-          const glm::dvec3 residual = glm::dvec3(skins[f][i]) - lbs;
-          const glm::dmat3 l(m);
-          const double det = glm::determinant(l);
-          p.morph_targets[f][v] = glm::vec3(std::abs(det) > 1e-12 ? glm::inverse(l) * residual : residual);
-        }
-      });
+      tbb::parallel_for(tbb::blocked_range<size_t>(0, p.num_vertices(), 1024),
+                        [&](const tbb::blocked_range<size_t>& range) {
+                          for (size_t v = range.begin(); v != range.end(); ++v) {
+                            const size_t i = off + v;
+                            if (fitted.joint.empty()) {
+                              p.morph_targets[f][v] = skins[f][i] - rest_skin[i];
+                              continue;
+                            }
+                            glm::dmat4 m(0.0);
+                            for (size_t k = 0; k < kMaxInfluences; ++k)
+                              if (fitted.weight[i][k] > 0.0f)
+                                m += double(fitted.weight[i][k]) * glm::dmat4(joints[f][fitted.joint[i][k]]);
+                            const glm::dvec3 lbs(m * glm::dvec4(glm::dvec3(rest_skin[i]), 1.0));
+                            const glm::dvec3 residual = glm::dvec3(skins[f][i]) - lbs;
+                            const glm::dmat3 l(m);
+                            const double det = glm::determinant(l);
+                            p.morph_targets[f][v] =
+                                glm::vec3(std::abs(det) > 1e-12 ? glm::inverse(l) * residual : residual);
+                          }
+                        });
       off += p.num_vertices();
     }
     if (!stage.step(f + 1, r.frames)) return cancelled();
@@ -634,7 +650,8 @@ Result<ExportResult> export_rig(const Document& doc, Rig& rig, const ExportOptio
     }
   }
   for (size_t k = 0; k < keypose_poses.size(); ++k) {
-    accumulate(r.at_keyposes, skin_character(out, export_pose_at(out, keypose_poses[k])), skins[r.frames + k]);
+    accumulate(r.at_keyposes, skin_character(out, export_pose_at(out, keypose_poses[k])),
+               skins[r.frames + k]);
     if (!stage.step(r.frames + k + 1, posed_count)) return cancelled();
   }
   if (options.mode == ExportMode::kBakedAnimation) r.fitted = r.at_frames;

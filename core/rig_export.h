@@ -101,7 +101,8 @@ struct ExportClipFrames {
 };
 // The chosen clips' frames (options.clips, empty = all), in order. Fails on a clip index out of
 // range or a frame rate that is not a positive number.
-Result<std::vector<ExportClipFrames>> export_clip_frames(const Character& character, const ExportOptions& options);
+Result<std::vector<ExportClipFrames>> export_clip_frames(const Character& character,
+                                                         const ExportOptions& options);
 
 // The rig's skin (or, for kCage, its posed driver cage, as polygons) at every sampled frame of the
 // chosen clips as OBJ files, one per frame, at obj_sequence_paths. Exact: the live rig itself.
@@ -117,13 +118,14 @@ Result<ObjSequence> export_obj_sequence(const Document& doc, Rig& rig, const Exp
 // the clip's name with every character but letters, digits, '-', '_' and '.' replaced by '_'
 // (`clip<index>` when that leaves nothing or repeats an earlier clip's); <frame> is the frame's
 // index in its clip, zero-padded to 4 digits (more when a clip has more frames).
-std::vector<std::string> obj_sequence_paths(const Character& character, std::span<const ExportClipFrames> frames,
-                                            const std::string& out);
+std::vector<std::string> obj_sequence_paths(const Character& character,
+                                            std::span<const ExportClipFrames> frames, const std::string& out);
 
 // The poses of the keypose sweep: for every active set (mute/solo) and every key not at the rest
 // point, `steps` poses from the rest pose at the key's driver values times s / steps, s = 1 ..
 // steps (the key itself last), set by pose_at_driver_values. Sets that fail validation are skipped.
-std::vector<Pose> keypose_sweep_poses(const Character& character, std::span<const KeyposeSet> sets, int steps);
+std::vector<Pose> keypose_sweep_poses(const Character& character, std::span<const KeyposeSet> sets,
+                                      int steps);
 
 // The times sampled in a clip of `duration` seconds at `fps`: 0, ..., duration, evenly spaced
 // no further apart than 1/fps (one time, 0, for a clip of no duration).

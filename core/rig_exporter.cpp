@@ -105,14 +105,16 @@ Result<ExportReport> run_glb(const Document& doc, Rig& rig, const ExportRequest&
   r.files = {request.out};
   r.bytes = file_size_or_zero(request.out);
   r.warnings = result->warnings;
-  r.summary = std::to_string(r.frames) + " frames, " + std::to_string(r.morph_targets) + " morph targets, wrote " +
-              request.out + " (" + megabytes(r.bytes) + ")";
+  r.summary = std::to_string(r.frames) + " frames, " + std::to_string(r.morph_targets) +
+              " morph targets, wrote " + request.out + " (" + megabytes(r.bytes) + ")";
   const ExportMode mode = request.options.mode;
   const std::string poses = std::to_string(r.keypose_poses) + " keypose poses";
-  if (mode == ExportMode::kBakedSkin) r.error_lines.push_back(error_line("error at frames, skeleton only", result->fitted));
+  if (mode == ExportMode::kBakedSkin)
+    r.error_lines.push_back(error_line("error at frames, skeleton only", result->fitted));
   if (mode == ExportMode::kCage) {
     r.error_lines.push_back(error_line("cage error at frames", result->at_frames));
-    if (r.keypose_poses) r.error_lines.push_back(error_line("cage error at " + poses + " (left out)", result->at_keyposes));
+    if (r.keypose_poses)
+      r.error_lines.push_back(error_line("cage error at " + poses + " (left out)", result->at_keyposes));
   } else {
     r.error_lines.push_back(error_line("error at frames", result->at_frames));
     r.error_lines.push_back(error_line("error between frames", result->between_frames));
@@ -134,7 +136,8 @@ Result<ExportReport> run_obj(const Document& doc, Rig& rig, const ExportRequest&
   r.bytes = seq->bytes;
   r.summary = std::to_string(r.frames) + " frames, wrote " + std::to_string(r.files.size()) + " OBJ files";
   if (!r.files.empty())
-    r.summary += " " + r.files.front() + (r.files.size() > 1 ? " .. " + fs::path(r.files.back()).filename().string() : "");
+    r.summary += " " + r.files.front() +
+                 (r.files.size() > 1 ? " .. " + fs::path(r.files.back()).filename().string() : "");
   r.summary += " (" + megabytes(r.bytes) + ")";
   r.error_lines.push_back("exact: the live rig's " +
                           std::string(request.options.mode == ExportMode::kCage ? "posed cage" : "skin") +
@@ -152,7 +155,8 @@ Result<ExportReport> run_json(const Document& doc, const ExportRequest& request)
   r.summary = std::to_string(json->vertices) + " cage vertices, " + std::to_string(json->faces) + " faces, " +
               std::to_string(json->keypose_sets) + " keypose set(s), wrote " + request.out + " (" +
               megabytes(r.bytes) + ")";
-  if (!json->attached) r.warnings.push_back("the character has no skin: the cage follows no skeleton (attachment null)");
+  if (!json->attached)
+    r.warnings.push_back("the character has no skin: the cage follows no skeleton (attachment null)");
   return r;
 }
 
@@ -160,13 +164,15 @@ Result<ExportReport> run_json(const Document& doc, const ExportRequest& request)
 
 Result<ExportReport> run_export(const Document& doc, Rig* rig, const ExportRequest& request,
                                 const ExportProgress& progress) {
-  if (auto bad = check_export_path(request); !bad.empty()) return make_error(ErrorCode::kInvalidArgument, bad);
+  if (auto bad = check_export_path(request); !bad.empty())
+    return make_error(ErrorCode::kInvalidArgument, bad);
   for (const std::string& mine : {doc.character_path, doc.project_path}) {
     std::error_code ec;
     if (!mine.empty() && fs::exists(request.out, ec) && fs::equivalent(request.out, mine, ec))
       return make_error(ErrorCode::kInvalidArgument,
                         request.out + ": is the document's own " +
-                            (mine == doc.character_path ? "character" : "project") + " file; export elsewhere");
+                            (mine == doc.character_path ? "character" : "project") +
+                            " file; export elsewhere");
   }
   if (request.format != ExportFormat::kJson && !rig)
     return make_error(ErrorCode::kInvalidArgument, "the document's rig is not bound yet");

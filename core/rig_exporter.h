@@ -34,7 +34,7 @@ std::string export_kind_name(const ExportRequest& request);
 std::string check_export_path(const ExportRequest& request);
 
 struct ExportReport {
-  std::string what;                // export_kind_name
+  std::string what;  // export_kind_name
   size_t frames = 0, morph_targets = 0, keypose_poses = 0;
   std::vector<std::string> files;  // written
   uint64_t bytes = 0;              // their total size

@@ -54,7 +54,8 @@ Json keypose_json(const KeyposeSet& set, const Skeleton& skeleton, bool active) 
 
 Result<RigJson> rig_json(const Document& doc) {
   if (!doc.character || !doc.cage)
-    return make_error(ErrorCode::kInvalidArgument, "the document has no cage yet: there is no rig to describe");
+    return make_error(ErrorCode::kInvalidArgument,
+                      "the document has no cage yet: there is no rig to describe");
   const Character& ch = *doc.character;
   const Skeleton& sk = ch.skeleton;
   const Cage& cage = *doc.cage;
@@ -128,7 +129,9 @@ Result<RigJson> rig_json(const Document& doc) {
         joints.push_back(att->influence_joint[i]);
         weights.push_back(json_short_float(att->influence_weight[i]));
       }
-      Json vj = {{"nodes", std::move(names)}, {"node_indices", std::move(nodes)}, {"joints", std::move(joints)},
+      Json vj = {{"nodes", std::move(names)},
+                 {"node_indices", std::move(nodes)},
+                 {"joints", std::move(joints)},
                  {"weights", std::move(weights)}};
       if (assigned_node(doc.attachment, static_cast<uint32_t>(v))) vj["override"] = true;
       a["vertices"].push_back(std::move(vj));

@@ -3,7 +3,8 @@
 // task): a baked-skin .glb of the demo's walk that loads again (core/gltf_loader.h), is skinned with
 // one morph target per frame and passes the Khronos validator; the report in the log; a bad path
 // shown as an error while the editor carries on with its document; the JSON rig; Cancel during a
-// long bake; Browse... choosing the output. The screenshots show the window with its report, its progress bar and the error.
+// long bake; Browse... choosing the output. The screenshots show the window with its report, its progress bar
+// and the error.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -22,8 +23,6 @@ namespace {
 namespace fs = std::filesystem;
 using test::read_file;
 
-
-
 class EditorExportGui : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -39,9 +38,9 @@ class EditorExportGui : public ::testing::Test {
   std::string run(const std::string& name, const std::string& script) {
     const fs::path s = dir_ / (name + ".script"), log = dir_ / (name + ".log");
     std::ofstream(s) << script;
-    const std::string cmd = test::editor_command(
-        "--width 1280 --height 720 --script " + s.string() + " --screenshot " + (dir_ / (name + ".png")).string(),
-        (dir_ / "config").string(), log.string());
+    const std::string cmd = test::editor_command("--width 1280 --height 720 --script " + s.string() +
+                                                     " --screenshot " + (dir_ / (name + ".png")).string(),
+                                                 (dir_ / "config").string(), log.string());
     EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd << "\n" << read_file(log);
     return read_file(log);
   }
@@ -50,9 +49,12 @@ class EditorExportGui : public ::testing::Test {
 
 TEST_F(EditorExportGui, BakedSkinFromTheEditorLoadsAndValidates) {
   const fs::path glb = dir_ / "demo walk.glb";  // a space in the name, as people write them
-  const std::string log = run("baked_skin", "wait 2\nexport glb baked-skin 4 walk " + glb.string() + "\nwait 3\n");
+  const std::string log =
+      run("baked_skin", "wait 2\nexport glb baked-skin 4 walk " + glb.string() + "\nwait 3\n");
   ASSERT_TRUE(fs::exists(glb)) << log;
-  EXPECT_NE(log.find("exported baked-skin: 5 frames, 5 morph targets, wrote " + glb.string()), std::string::npos) << log;
+  EXPECT_NE(log.find("exported baked-skin: 5 frames, 5 morph targets, wrote " + glb.string()),
+            std::string::npos)
+      << log;
   EXPECT_NE(log.find("error at frames, skeleton only:"), std::string::npos) << log;
   EXPECT_EQ(log.find("error: "), std::string::npos) << log;
 
@@ -79,9 +81,11 @@ TEST_F(EditorExportGui, BakedSkinFromTheEditorLoadsAndValidates) {
 
 TEST_F(EditorExportGui, ABadPathIsAnErrorAndTheEditorCarriesOn) {
   const fs::path bad = dir_ / "missing" / "x.glb", json = dir_ / "rig.json";
-  const std::string log = run("bad_path", "wait 2\nexport glb cage 4 all " + bad.string() +
-                                              "\nwait 1\nexport json - 30 all " + json.string() + "\nwait 3\n");
-  EXPECT_NE(log.find("error: export: " + bad.string() + ": the folder " + bad.parent_path().string() + " does not exist"),
+  const std::string log =
+      run("bad_path", "wait 2\nexport glb cage 4 all " + bad.string() + "\nwait 1\nexport json - 30 all " +
+                          json.string() + "\nwait 3\n");
+  EXPECT_NE(log.find("error: export: " + bad.string() + ": the folder " + bad.parent_path().string() +
+                     " does not exist"),
             std::string::npos)
       << log;
   EXPECT_FALSE(fs::exists(bad.parent_path()));
@@ -98,9 +102,9 @@ TEST_F(EditorExportGui, ABadPathIsAnErrorAndTheEditorCarriesOn) {
 // A long bake (both clips at 60 fps) shows its progress; Cancel stops it and leaves no file.
 TEST_F(EditorExportGui, CancelStopsALongBakeAndLeavesNoFile) {
   const fs::path glb = dir_ / "long.glb";
-  const std::string log = run("cancel", "wait 2\nexport_nowait glb baked-skin 60 all " + glb.string() +
-                                            "\nwait 6\nscreenshot " + (dir_ / "progress.png").string() +
-                                            "\nwait 3\nexport_cancel\nwait 2\n");
+  const std::string log =
+      run("cancel", "wait 2\nexport_nowait glb baked-skin 60 all " + glb.string() + "\nwait 6\nscreenshot " +
+                        (dir_ / "progress.png").string() + "\nwait 3\nexport_cancel\nwait 2\n");
   EXPECT_NE(log.find("export cancelled; nothing was written"), std::string::npos) << log;
   EXPECT_EQ(log.find("exported baked-skin"), std::string::npos) << log;
   EXPECT_FALSE(fs::exists(glb));
@@ -112,9 +116,10 @@ TEST_F(EditorExportGui, CancelStopsALongBakeAndLeavesNoFile) {
 // becomes the output that the Export button writes.
 TEST_F(EditorExportGui, BrowseChoosesTheOutputTheButtonWrites) {
   const fs::path first = dir_ / "first.json", chosen = dir_ / "chosen.json";
-  const std::string log =
-      run("browse", "wait 2\nexport json - 30 all " + first.string() +
-                        "\nexport_browse\nwait 2\nbrowser_name chosen\nbrowser_confirm\nwait 2\nexport_press\nwait 2\n");
+  const std::string log = run(
+      "browse",
+      "wait 2\nexport json - 30 all " + first.string() +
+          "\nexport_browse\nwait 2\nbrowser_name chosen\nbrowser_confirm\nwait 2\nexport_press\nwait 2\n");
   ASSERT_TRUE(fs::exists(first)) << log;
   ASSERT_TRUE(fs::exists(chosen)) << log;
   EXPECT_NE(log.find("exported rig as JSON: 1002 cage vertices"), std::string::npos) << log;

@@ -8,8 +8,8 @@
 
 #include <atomic>
 #include <chrono>
-#include <filesystem>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <glm/geometric.hpp>
 #include <sstream>
@@ -212,8 +212,8 @@ TEST(Export, BakedSkinFitsWeightsAndCorrectsTheRest) {
 // attachment, so the demo's rig poses it.
 const Document& keyed_demo() {
   static const Document doc = [] {
-    test::BicepsKeypose b =
-        test::demo_biceps_keypose(*demo().doc.character, demo().doc.cage_positions(), *demo().rig->attachment());
+    test::BicepsKeypose b = test::demo_biceps_keypose(*demo().doc.character, demo().doc.cage_positions(),
+                                                      *demo().rig->attachment());
     return with_keyposes(demo().doc, {b.set});
   }();
   return doc;
@@ -265,10 +265,11 @@ TEST(Export, BakedSkinFitsTheKeyposeSweep) {
   ::testing::Test::RecordProperty("keypose_error_unfitted_max", std::to_string(without->at_keyposes.max));
   ::testing::Test::RecordProperty("frames_fitted_mean_with", std::to_string(with->fitted.mean));
   ::testing::Test::RecordProperty("frames_fitted_mean_without", std::to_string(without->fitted.mean));
-  std::printf("keypose sweep, skeleton only: fitted to it mean %.3g max %.3g m; not fitted mean %.3g max %.3g m\n"
-              "clip frames, skeleton only: mean %.3g / %.3g m (with / without the sweep in the fit)\n",
-              with->at_keyposes.mean, with->at_keyposes.max, without->at_keyposes.mean, without->at_keyposes.max,
-              with->fitted.mean, without->fitted.mean);
+  std::printf(
+      "keypose sweep, skeleton only: fitted to it mean %.3g max %.3g m; not fitted mean %.3g max %.3g m\n"
+      "clip frames, skeleton only: mean %.3g / %.3g m (with / without the sweep in the fit)\n",
+      with->at_keyposes.mean, with->at_keyposes.max, without->at_keyposes.mean, without->at_keyposes.max,
+      with->fitted.mean, without->fitted.mean);
   EXPECT_GT(without->at_keyposes.mean, 0.0);
   EXPECT_LT(with->at_keyposes.mean, without->at_keyposes.mean);
   EXPECT_LT(with->at_keyposes.max, without->at_keyposes.max);
@@ -338,11 +339,11 @@ TEST(ObjSequence, PathsNameTheClipAndTheFrame) {
   ch.clips[2].name = "walk";  // clashes with clip 0
   std::vector<ExportClipFrames> f = {{0, {0.0, 0.5}, 0}, {1, {0.0}, 2}, {2, {0.0}, 3}};
   EXPECT_EQ(obj_sequence_paths(ch, f, "/x/hero.obj"),
-            (std::vector<std::string>{"/x/hero_walk_0000.obj", "/x/hero_walk_0001.obj", "/x/hero_arm_raise_2_0000.obj",
-                                      "/x/hero_clip2_0000.obj"}));
+            (std::vector<std::string>{"/x/hero_walk_0000.obj", "/x/hero_walk_0001.obj",
+                                      "/x/hero_arm_raise_2_0000.obj", "/x/hero_clip2_0000.obj"}));
   EXPECT_EQ(obj_sequence_paths(ch, f, "/x/frames"),
-            (std::vector<std::string>{"/x/frames/walk_0000.obj", "/x/frames/walk_0001.obj", "/x/frames/arm_raise_2_0000.obj",
-                                      "/x/frames/clip2_0000.obj"}));
+            (std::vector<std::string>{"/x/frames/walk_0000.obj", "/x/frames/walk_0001.obj",
+                                      "/x/frames/arm_raise_2_0000.obj", "/x/frames/clip2_0000.obj"}));
   std::vector<ExportClipFrames> many = {{0, std::vector<double>(10001, 0.0), 0}};
   EXPECT_EQ(obj_sequence_paths(ch, many, "a.obj").back(), "a_walk_10000.obj");
   EXPECT_EQ(obj_sequence_paths(ch, many, "a.obj").front(), "a_walk_00000.obj");
@@ -398,7 +399,8 @@ TEST(ObjSequence, CancelLeavesNoFilesAndAFolderInTheWayIsNamed) {
   std::ofstream(dir + "/file") << "x";
   auto f = export_obj_sequence(demo().doc, *demo().rig, o, dir + "/file");
   ASSERT_FALSE(f.ok());
-  EXPECT_NE(f.error().message.find(dir + "/file: the folder for the OBJ files cannot be made"), std::string::npos)
+  EXPECT_NE(f.error().message.find(dir + "/file: the folder for the OBJ files cannot be made"),
+            std::string::npos)
       << f.error().message;
 }
 }  // namespace

@@ -3,6 +3,8 @@
 // offsets), carries the keyposes bit for bit and names nodes; the layout reads back as the same
 // JSON; run_export writes each format, refuses bad paths before any work and never the document's
 // own files.
+#include "core/rig_exporter.h"
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -11,7 +13,6 @@
 #include <sstream>
 
 #include "core/json_reader.h"
-#include "core/rig_exporter.h"
 #include "core/rig_json.h"
 #include "core/skinning.h"
 #include "tests/gltf_builder.h"
@@ -42,9 +43,13 @@ const Document& rich_demo() {
   return doc;
 }
 
-Json parsed(const RigJson& r) { return Json::parse(r.text); }
+Json parsed(const RigJson& r) {
+  return Json::parse(r.text);
+}
 
-glm::vec3 vec3_of(const Json& j) { return {j[0].get<float>(), j[1].get<float>(), j[2].get<float>()}; }
+glm::vec3 vec3_of(const Json& j) {
+  return {j[0].get<float>(), j[1].get<float>(), j[2].get<float>()};
+}
 
 TEST(RigJson, PosesTheDriverCageAsTheRigDoes) {
   const Document& doc = rich_demo();
@@ -86,14 +91,16 @@ TEST(RigJson, PosesTheDriverCageAsTheRigDoes) {
         EXPECT_EQ(j["skin"]["joints"][joint]["node_index"], node);
         glm::mat4 ib;
         for (int c = 0; c < 4; ++c)
-          for (int row = 0; row < 4; ++row) ib[c][row] = j["skin"]["joints"][joint]["inverse_bind"][4 * c + row];
+          for (int row = 0; row < 4; ++row)
+            ib[c][row] = j["skin"]["joints"][joint]["inverse_bind"][4 * c + row];
         const float w = vj["weights"][i];
         m += w * (globals[node] * ib);
         sum += w;
       }
       blended += vj["weights"].size() > 1;
       EXPECT_NEAR(sum, 1.0f, 1e-6f) << v;
-      const glm::vec3 p = vec3_of(j["cage"]["positions"][v]) + vec3_of(j["cage"]["offsets"][v]) + want.keypose_offsets[v];
+      const glm::vec3 p =
+          vec3_of(j["cage"]["positions"][v]) + vec3_of(j["cage"]["offsets"][v]) + want.keypose_offsets[v];
       const glm::vec3 d(m * glm::vec4(p, 1.0f));
       ASSERT_LT(glm::length(d - want.positions[v]), 1e-5f) << "cage vertex " << v << " at t " << t;
     }
@@ -146,8 +153,10 @@ TEST(JsonLayout, ReadsBackAndKeepsLinesShort) {
   const std::string text = json_layout(j);
   EXPECT_EQ(Json::parse(text), j);
   EXPECT_NE(text.find("\"a\": [1, 2.5, -3]"), std::string::npos) << text;
-  EXPECT_NE(text.find("\n      [0.1, 0.2],\n"), std::string::npos) << "one pair a line when too long:\n" << text;
-  EXPECT_NE(text.find("\"many\": [\n    0, 1, 2, "), std::string::npos) << "long number lists fill lines:\n" << text;
+  EXPECT_NE(text.find("\n      [0.1, 0.2],\n"), std::string::npos) << "one pair a line when too long:\n"
+                                                                   << text;
+  EXPECT_NE(text.find("\"many\": [\n    0, 1, 2, "), std::string::npos) << "long number lists fill lines:\n"
+                                                                        << text;
   for (std::istringstream in(text); !in.eof();) {
     std::string line;
     std::getline(in, line);
@@ -170,7 +179,8 @@ TEST(RunExport, ChecksThePathFirst) {
   r.out = dir + "/frames";  // a folder to make
   EXPECT_EQ(check_export_path(r), "");
   r.out = dir + "/x.glb";
-  EXPECT_EQ(check_export_path(r), dir + "/x.glb: an obj export is written to F.obj (as F_<clip>_<frame>.obj) or into a folder");
+  EXPECT_EQ(check_export_path(r),
+            dir + "/x.glb: an obj export is written to F.obj (as F_<clip>_<frame>.obj) or into a folder");
   r.format = ExportFormat::kGlb;
   r.out = dir + "/missing/x.glb";
   EXPECT_EQ(check_export_path(r), dir + "/missing/x.glb: the folder " + dir + "/missing does not exist");
