@@ -1,57 +1,115 @@
-// cagewrap export --project P --mode baked-animation|baked-skin|cage [--clips a,b] [--fps 30]
-//                 --out out.glb
-// Writes a saved project's rig as binary glTF for engines and other tools (core/rig_export.h says
-// what each mode holds) and reports its error against the live rig.
+// cagewrap export --project P [--format glb|obj|json] [--mode baked-animation|baked-skin|cage]
+//                 [--clips a,b] [--fps 30] [--keypose-steps 3] --out OUT
+// Writes a saved project's rig for engines and other tools: binary glTF (core/rig_export.h says
+// what each mode holds), the skin (or cage) per frame as OBJ files, or the cage, its attachment
+// and its keyposes as JSON (docs/export-json.md). Reports sizes, times and errors against the live
+// rig; long bakes show their progress on stderr when it is a terminal.
+#include <unistd.h>
+
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <utility>
 
 #include "app/cli_common.h"
 #include "app/commands.h"
-#include "core/gltf_writer.h"
-#include "core/mesh_io.h"
 #include "core/project_io.h"
-#include "core/rig.h"
-#include "core/rig_export.h"
+#include "core/rig_exporter.h"
 
 namespace cagewrap::app {
 
+namespace {
+
+// "posing 12/92  13%" rewritten in place on stderr, when stderr is a terminal.
+ExportProgress terminal_export_progress() {
+  ExportProgress p;
+  if (!isatty(STDERR_FILENO)) return p;
+  auto last = std::make_shared<std::pair<std::string, int>>("", -1);
+  p.on_progress = [last](const char* stage, size_t done, size_t total, double share) {
+    const int pct = static_cast<int>(share * 100.0);
+    if (last->first == stage && last->second == pct && done < total) return;
+    *last = {stage, pct};
+    std::fprintf(stderr, "\rexport: %-11s %zu/%zu %3d%%   ", stage, done, total, pct);
+    std::fflush(stderr);
+  };
+  return p;
+}
+
+}  // namespace
+
 void add_export_command(CLI::App& app, int& exit_code) {
   struct Args {
-    std::string project, mode, out;
+    std::string project, format = "glb", mode, out;
     std::vector<std::string> clips;
     double fps = 30.0;
+    int keypose_steps = ExportOptions{}.keypose_steps;
   };
   auto args = std::make_shared<Args>();
-  auto* cmd = app.add_subcommand("export", "write a project's rig as a .glb for engines and other tools");
+  auto* cmd = app.add_subcommand(
+      "export", "write a project's rig for engines and other tools (.glb, OBJ per frame, JSON)");
   cmd->add_option("--project", args->project, "project file (.cagewrap)")->required();
-  cmd->add_option("--mode", args->mode,
-                  "baked-animation (skin + one morph target per frame), baked-skin (fitted LBS weights + "
-                  "corrective morph targets) or cage (the cage skinned to the skeleton)")
-      ->required();
+  cmd->add_option(
+         "--format", args->format,
+         "glb (binary glTF), obj (the skin per frame, or the cage with --mode cage) or json (the cage, its "
+         "attachment to the skeleton and its keyposes: docs/export-json.md)")
+      ->capture_default_str();
+  cmd->add_option(
+      "--mode", args->mode,
+      "glb: baked-animation (skin + one morph target per frame), baked-skin (fitted LBS weights + "
+      "corrective morph targets) or cage (the cage skinned to the skeleton); obj: cage writes the cage");
   cmd->add_option("--clips", args->clips, "clips to export, by name or index (default: all)")->delimiter(',');
   cmd->add_option("--fps", args->fps, "frames sampled per second of each clip")->capture_default_str();
-  cmd->add_option("--out", args->out, "output .glb")->required();
+  cmd->add_option(
+         "--keypose-steps", args->keypose_steps,
+         "poses per keypose key, swept from rest to the key, that baked-skin fits and every glb mode "
+         "measures (0: none)")
+      ->capture_default_str();
+  cmd->add_option("--out", args->out,
+                  "glb: F.glb; obj: F.obj (writes F_<clip>_<frame>.obj beside it) or a folder; json: F.json")
+      ->required();
   cmd->callback([args, &exit_code] {
     exit_code = 1;
     const std::string& P = args->project;
     const auto start = std::chrono::steady_clock::now();
-    ExportOptions options;
-    if (!parse_export_mode(args->mode, options.mode)) {
+    ExportRequest request;
+    if (!parse_export_format(args->format, request.format)) {
+      std::fprintf(stderr, "error: --format '%s' should be glb, obj or json\n", args->format.c_str());
+      return;
+    }
+    if (!args->mode.empty() && !parse_export_mode(args->mode, request.options.mode)) {
       std::fprintf(stderr, "error: --mode '%s' should be baked-animation, baked-skin or cage\n",
                    args->mode.c_str());
       return;
     }
-    if (!has_extension(args->out, ".glb")) {
-      std::fprintf(stderr, "error: %s: output must end in .glb\n", args->out.c_str());
+    if (request.format == ExportFormat::kGlb && args->mode.empty()) {
+      std::fprintf(stderr, "error: --format glb needs --mode baked-animation, baked-skin or cage\n");
       return;
     }
+    if (request.format == ExportFormat::kJson && !args->mode.empty()) {
+      std::fprintf(stderr,
+                   "error: --mode has no meaning for --format json (it describes the cage rig itself)\n");
+      return;
+    }
+    if (request.format == ExportFormat::kObj && args->mode.empty())
+      request.options.mode = ExportMode::kBakedAnimation;
     if (!(args->fps > 0.0) || !std::isfinite(args->fps) || args->fps > 1000.0) {
       std::fprintf(stderr, "error: --fps must be a number of frames per second in (0, 1000]\n");
       return;
     }
-    options.fps = args->fps;
+    if (args->keypose_steps < 0 || args->keypose_steps > 100) {
+      std::fprintf(stderr, "error: --keypose-steps must be a whole number from 0 to 100\n");
+      return;
+    }
+    request.options.fps = args->fps;
+    request.options.keypose_steps = args->keypose_steps;
+    request.out = args->out;
+    if (auto bad = check_export_path(request); !bad.empty()) {
+      std::fprintf(stderr, "error: %s\n", bad.c_str());
+      return;
+    }
     auto loaded = load_project(P);
     if (!loaded) {
       report_error(loaded.error());
@@ -71,32 +129,25 @@ void add_export_command(CLI::App& app, int& exit_code) {
                      names.empty() ? "none" : names.c_str());
         return;
       }
-      options.clips.push_back(c);
+      request.options.clips.push_back(c);
     }
-    auto rig = rig_of_project(doc, P);
-    if (!rig) return;
-    auto result = export_rig(doc, *rig, options);
-    if (!result) {
-      report_error({result.error().code, P + ": " + result.error().message});
+    std::optional<Rig> rig;
+    if (request.format != ExportFormat::kJson) {
+      rig = rig_of_project(doc, P);
+      if (!rig) return;
+    }
+    const ExportProgress progress = terminal_export_progress();
+    auto report = run_export(doc, rig ? &*rig : nullptr, request, progress);
+    if (progress.on_progress) std::fprintf(stderr, "\n");
+    if (!report) {
+      report_error({report.error().code, P + ": " + report.error().message});
       return;
     }
-    for (const std::string& w : result->warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
-    if (auto s = write_glb(args->out, result->character, "cagewrap export"); !s) {
-      report_error(s.error());
-      return;
-    }
+    for (const std::string& w : report->warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    std::error_code ec;
-    const auto bytes = std::filesystem::file_size(args->out, ec);
-    std::printf("exported %s of %s: %zu frames, %zu morph targets, wrote %s (%.1f MB) in %.1f s\n",
-                export_mode_name(options.mode), P.c_str(), result->frames, result->morph_targets,
-                args->out.c_str(), ec ? 0.0 : double(bytes) / 1e6, seconds);
-    auto line = [](const char* what, const ExportError& e) {
-      std::printf("  %-34s mean %.3g m, max %.3g m\n", what, e.mean, e.max);
-    };
-    if (options.mode == ExportMode::kBakedSkin) line("error at frames, skeleton only:", result->fitted);
-    line(options.mode == ExportMode::kCage ? "cage error at frames:" : "error at frames:", result->at_frames);
-    if (options.mode != ExportMode::kCage) line("error between frames:", result->between_frames);
+    std::printf("exported %s of %s: %s in %.1f s\n", report->what.c_str(), P.c_str(), report->summary.c_str(),
+                seconds);
+    for (const std::string& line : report->error_lines) std::printf("  %s\n", line.c_str());
     exit_code = 0;
   });
 }

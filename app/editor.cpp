@@ -23,6 +23,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "app/cage_tools.h"
+#include "app/export_panel.h"
 #include "app/rig_panel.h"
 #include "app/sets_panel.h"
 #include "app/editor_files.h"
@@ -113,6 +114,7 @@ class Editor {
   void run_script_step();
   void script_gizmo_drag(std::istringstream& in);
   void script_rotate_drag(std::istringstream& in);
+  void script_export(std::istringstream& in);
   void draw_file_popups();
   void draw_panels();
   void draw_menu();
@@ -181,6 +183,8 @@ class Editor {
   std::string title_;
   std::unique_ptr<Scene> scene_;
   CageTools cage_tools_;
+  ExportPanel export_panel_;
+  bool script_waits_for_export_ = true;  // false after `export_nowait`: the script goes on meanwhile
   RigPanel rig_panel_;
   SetsPanel sets_panel_;
   bool painting_ = false;  // a set-edit brush stroke in progress
@@ -909,6 +913,7 @@ void Editor::draw_menu() {
     if (ImGui::MenuItem("Save as...", nullptr, false, scene_ != nullptr)) open_save_popup_ = true;
     ImGui::Separator();
     if (ImGui::MenuItem("Import cage...", nullptr, false, scene_ != nullptr)) browse(FilePurpose::kImportCage);
+    if (ImGui::MenuItem("Export...", nullptr, false, scene_ != nullptr)) export_panel_.open(*scene_);
     ImGui::Separator();
     if (ImGui::MenuItem("Screenshot...", "F12")) browse(FilePurpose::kScreenshot);
     if (ImGui::MenuItem("Screenshot of the 3-D view...")) {
@@ -1346,6 +1351,9 @@ void Editor::act_on(const EditorFiles::Choice& choice) {
       pending_screenshot_ = choice.path;
       pending_screenshot_frames_ = 2;  // the dialog leaves the picture first
       break;
+    case FilePurpose::kExportGlb:
+    case FilePurpose::kExportObj:
+    case FilePurpose::kExportJson: export_panel_.set_output(choice.path); break;
   }
 }
 
@@ -1358,6 +1366,7 @@ void Editor::draw_file_popups() {
   if (open_save_popup_ && scene_) browse(FilePurpose::kSaveProject);
   if (open_open_popup_) browse(FilePurpose::kOpen);
   if (cage_tools_.take_import_request()) browse(FilePurpose::kImportCage);
+  if (auto b = export_panel_.take_browse_request()) files_.browse(b->purpose, b->near_path, b->file_name);
   open_save_popup_ = open_open_popup_ = false;
   if (auto choice = files_.draw_browser()) act_on(*choice);
   else if (!files_.browsing()) after_save_ = nullptr;  // the Save as was cancelled
@@ -1418,7 +1427,10 @@ void Editor::guard_unsaved(std::function<void()> action) {
 //   open_asking PATH | answer save|discard|cancel | import_cage PATH | pose NODE X Y Z | reset_pose | compare on|off
 //   rotate_drag x|y|z|view DEGREES | attach rigid|smooth [W]|skin_weights|joint|auto | keyset x|y|z | key
 //   mirror_keyset | rig_panel | sets_panel [MAP] | set_edit remove|add|only|reset [mirror]
-//   paint_at_skin_vertex I [RADIUS] | select_limb_faces, and those of run_file_script_command
+//   paint_at_skin_vertex I [RADIUS] | select_limb_faces | export_window | export_cancel
+//   export_browse | export_press (the window's Browse... and Export buttons)
+//   export glb|obj|json MODE|- FPS all|CLIP[,CLIP] PATH (File > Export: runs in the background; the
+//   script waits for it; export_nowait: the script goes on), and those of run_file_script_command
 // `move` goes through the gizmo's own path: one drag, one undo step. `gizmo_drag` grabs a handle
 // where a person would (hit-tested like a click) and drags it DX, DY pixels.
 void Editor::run_script_step() {
@@ -1517,6 +1529,18 @@ void Editor::run_script_step() {
       cage_tools_.open_auto_cage_dialog();
       cage_tools_.start_auto_cage(*scene_);
       script_wait_ = 1;  // the next steps run once it is done
+    } else if (cmd == "export_window") {
+      export_panel_.open(*scene_);
+    } else if (cmd == "export" || cmd == "export_nowait") {
+      script_waits_for_export_ = cmd == "export";
+      script_export(in);
+    } else if (cmd == "export_cancel") {
+      export_panel_.cancel();
+    } else if (cmd == "export_browse") {
+      export_panel_.press_browse();
+    } else if (cmd == "export_press") {
+      script_waits_for_export_ = true;
+      export_panel_.press_export(*scene_, hooks_);
     } else if (cmd == "cage_op") {  // merge | weld D | flip | flip_all | linear [N] | loop [N] | refine | triangulate
       std::string op;
       double arg = 0.0;
@@ -1704,6 +1728,39 @@ void Editor::script_rotate_drag(std::istringstream& in) {
   rot_handle_ = RotateHandle::kNone;
 }
 
+// export FORMAT MODE|- FPS all|CLIP[,CLIP...] PATH: File > Export's Export button with these
+// settings (clips by name); the script waits until it is done.
+void Editor::script_export(std::istringstream& in) {
+  if (!export_panel_.visible()) {  // open the window first and press Export on the next frame, as a
+    export_panel_.open(*scene_);   // person would (a window first shown under the error modal that
+    --script_pos_;                 // a refused export opens trips an ImGui assertion)
+    script_wait_ = 1;
+    return;
+  }
+  std::string format, mode, clips, path;
+  double fps = 0.0;
+  in >> format >> mode >> fps >> clips;
+  std::getline(in >> std::ws, path);
+  ExportRequest request;
+  request.out = path;
+  request.options.fps = fps;
+  const std::string where = "error: script line " + std::to_string(script_pos_) + ": export: ";
+  if (!parse_export_format(format, request.format)) return log(where + "format '" + format + "' is not glb, obj or json", true);
+  if (mode != "-" && !parse_export_mode(mode, request.options.mode)) return log(where + "unknown mode '" + mode + "'", true);
+  const Character& ch = *scene_->doc().character;
+  if (clips == "all")
+    for (size_t c = 0; c < ch.clips.size(); ++c) request.options.clips.push_back(static_cast<int32_t>(c));
+  for (size_t start = 0; clips != "all" && start < clips.size();) {
+    const size_t comma = std::min(clips.find(',', start), clips.size());
+    const std::string name = clips.substr(start, comma - start);
+    const int32_t c = ch.find_clip(name);
+    if (c < 0) return log(where + "no clip '" + name + "'", true);
+    request.options.clips.push_back(c);
+    start = comma + 1;
+  }
+  export_panel_.start(*scene_, request, hooks_);
+}
+
 void Editor::draw_panels() {
   draw_menu();
   draw_file_popups();
@@ -1715,6 +1772,7 @@ void Editor::draw_panels() {
   draw_stats();
   draw_toolbar();
   if (scene_) cage_tools_.draw_windows(*scene_, hooks_);
+  if (scene_) export_panel_.draw(*scene_, hooks_);
   if (scene_) rig_panel_.draw(*scene_, selection_, mirror_.enabled, rig_mirror_tolerance(), hooks_);
   if (scene_) sets_panel_.draw(*scene_, selection_, hooks_);
   draw_help();
@@ -1801,7 +1859,8 @@ int Editor::run() {
     ImGui::NewFrame();
     handle_input();
     // a scripted run waits for the first bind so that the steps act on the deformed skin
-    if (!script_.empty() && !(scene_ && (scene_->job || cage_tools_.busy()))) run_script_step();
+    const bool export_blocks = export_panel_.busy() && script_waits_for_export_;
+    if (!script_.empty() && !(scene_ && (scene_->job || cage_tools_.busy() || export_blocks))) run_script_step();
 
     if (scene_) {
       if (auto msg = scene_->poll_bind()) {
@@ -1810,6 +1869,7 @@ int Editor::run() {
           log("warning: " + std::to_string(scene_->binding->invalid_elements.size()) + " cage elements skipped (zero area, non-finite or duplicate)");
       }
       cage_tools_.poll(*scene_, hooks_);
+      export_panel_.poll(hooks_);
       if (sets_panel_.take_select_limb_request()) {
         selection_.cage_faces = SetsPanel::limb_faces(*scene_, selection_.joints);
         log("selected " + std::to_string(selection_.cage_faces.size()) + " cage faces of the selected joints' limbs");
@@ -1873,7 +1933,8 @@ int Editor::run() {
       screenshot_view_only_ = false;
     }
     const bool script_done = script_pos_ >= script_.size() && script_wait_ == 0;
-    if (!options_.screenshot.empty() && frame >= options_.frames && script_done && !(scene_ && (scene_->job || cage_tools_.busy()))) {
+    if (!options_.screenshot.empty() && frame >= options_.frames && script_done &&
+        !(scene_ && (scene_->job || cage_tools_.busy() || export_panel_.busy()))) {
       exit_code = save_screenshot(options_.screenshot) ? 0 : 1;
       break;
     }

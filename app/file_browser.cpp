@@ -34,6 +34,9 @@ const FilePurposeInfo& purpose_info(FilePurpose purpose) {
   static const FilePurposeInfo kCage{"Import cage", "Import", {".obj", ".ply", ".off", ".stl", ".glb", ".gltf"}, "", false};
   static const FilePurposeInfo kShot{"Save screenshot", "Save", {".png"}, ".png", true};
   static const FilePurposeInfo kNew{"New project from a character", "Create", {".glb", ".gltf"}, "", false};
+  static const FilePurposeInfo kGlb{"Export to glTF binary", "Choose", {".glb"}, ".glb", true};
+  static const FilePurposeInfo kObj{"Export OBJ frames (F.obj gives F_<clip>_<frame>.obj)", "Choose", {".obj"}, ".obj", true};
+  static const FilePurposeInfo kJson{"Export the rig as JSON", "Choose", {".json"}, ".json", true};
   switch (purpose) {
     case FilePurpose::kOpen:
       return kOpen;
@@ -45,6 +48,12 @@ const FilePurposeInfo& purpose_info(FilePurpose purpose) {
       return kShot;
     case FilePurpose::kNewFromCharacter:
       return kNew;
+    case FilePurpose::kExportGlb:
+      return kGlb;
+    case FilePurpose::kExportObj:
+      return kObj;
+    case FilePurpose::kExportJson:
+      return kJson;
   }
   return kOpen;
 }

@@ -12,7 +12,7 @@
 
 namespace cagewrap::app {
 
-enum class FilePurpose { kOpen, kSaveProject, kImportCage, kScreenshot, kNewFromCharacter };
+enum class FilePurpose { kOpen, kSaveProject, kImportCage, kScreenshot, kNewFromCharacter, kExportGlb, kExportObj, kExportJson };
 
 struct FilePurposeInfo {
   const char* title;                    // window title ("Open")

@@ -1,9 +1,10 @@
 #include "core/gltf_writer.h"
 
+#include "core/atomic_write.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <fstream>
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/type_ptr.hpp>
@@ -248,11 +249,7 @@ std::vector<uint8_t> encode_glb(const Character& c, const std::string& generator
 
 Status write_glb(const std::string& path, const Character& c, const std::string& generator) {
   std::vector<uint8_t> bytes = encode_glb(c, generator);
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out) return make_error(ErrorCode::kWrite, path + ": cannot be opened for writing");
-  out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-  if (!out) return make_error(ErrorCode::kWrite, path + ": write failed");
-  return Ok{};
+  return write_file_atomic(path, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
 }
 
 }  // namespace cagewrap

@@ -16,6 +16,7 @@ namespace cagewrap {
 // The .glb bytes of a character; `generator` goes into asset.generator.
 std::vector<uint8_t> encode_glb(const Character& character, const std::string& generator = "cagewrap");
 
+// Atomic (core/atomic_write.h): a failed write leaves an existing file as it was.
 Status write_glb(const std::string& path, const Character& character, const std::string& generator = "cagewrap");
 
 }  // namespace cagewrap

@@ -1,6 +1,10 @@
 #include "core/json_reader.h"
 
+#include <algorithm>
+#include <bit>
+#include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -119,6 +123,92 @@ std::string json_index_list(std::span<const uint32_t> v) {
   std::string s = "[";
   for (size_t i = 0; i < v.size(); ++i) s += (i ? ", " : "") + std::to_string(v[i]);
   return s + "]";
+}
+
+double json_short_float(float f) {
+  char text[32];
+  auto written = std::to_chars(text, text + sizeof text, f);
+  double d = 0;
+  std::from_chars(text, written.ptr, d);
+  return std::bit_cast<uint32_t>(static_cast<float>(d)) == std::bit_cast<uint32_t>(f) ? d : double(f);
+}
+
+namespace {
+
+// A line break and the indentation of `depth`.
+void new_line(std::string& out, size_t depth) {
+  out += '\n';
+  out.append(2 * depth, ' ');
+}
+
+// `depth`: the indentation level of the line `j` starts on; `lead`: characters already on it after
+// the indentation (a key).
+void layout(const Json& j, size_t width, size_t depth, size_t lead, std::string& out) {
+  if (!j.is_structured() || j.empty()) {
+    out += j.dump();
+    return;
+  }
+  const bool open_array = j.is_array();
+  if (open_array && std::none_of(j.begin(), j.end(), [](const Json& e) { return e.is_structured(); })) {
+    // plain values: on one line, or filling lines of `width` below the bracket when too long
+    std::vector<std::string> items;
+    size_t total = 2 * depth + lead + 2;
+    for (const Json& e : j) total += items.emplace_back(e.dump()).size() + 2;
+    const bool wrap = total > width;
+    out += '[';
+    if (wrap) new_line(out, depth + 1);
+    size_t column = 2 * (depth + 1);
+    for (size_t i = 0; i < items.size(); ++i) {
+      if (i) {
+        out += ',';
+        if (wrap && column + items[i].size() + 2 > width) {
+          new_line(out, depth + 1);
+          column = 2 * (depth + 1);
+        } else {
+          out += ' ';
+          ++column;
+        }
+      }
+      out += items[i];
+      column += items[i].size() + 1;
+    }
+    if (wrap) new_line(out, depth);
+    out += ']';
+    return;
+  }
+  // on one line: members separated by ", ", keys by ": " (given up once it is too long)
+  std::string line(1, open_array ? '[' : '{');
+  size_t n = 0;
+  for (const auto& [key, value] : j.items()) {
+    if (n++) line += ", ";
+    if (!open_array) line += Json(key).dump() + ": ";
+    layout(value, SIZE_MAX, 0, 0, line);
+    if (line.size() > width) break;
+  }
+  line += open_array ? ']' : '}';
+  if (line.size() + 2 * depth + lead <= width) {
+    out += line;
+    return;
+  }
+  out += open_array ? '[' : '{';
+  size_t i = 0;
+  for (const auto& [key, value] : j.items()) {
+    if (i++) out += ',';
+    new_line(out, depth + 1);
+    const std::string name = open_array ? std::string() : Json(key).dump() + ": ";
+    out += name;
+    layout(value, width, depth + 1, name.size(), out);
+  }
+  new_line(out, depth);
+  out += open_array ? ']' : '}';
+}
+
+}  // namespace
+
+std::string json_layout(const Json& j, size_t width) {
+  std::string out;
+  layout(j, width, 0, 0, out);
+  return out;
 }
 
 }  // namespace cagewrap

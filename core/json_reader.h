@@ -58,4 +58,15 @@ Result<Json> read_json_file(const std::string& path);
 // "[1, 2, 3]"
 std::string json_index_list(std::span<const uint32_t> v);
 
+// The double nearest to the shortest decimal that reads back as `f` (so a file says 0.1, not
+// 0.100000001490116); f itself in the rare case that decimal would round to another float. Either
+// way the float reads back bit for bit.
+double json_short_float(float f);
+
+// JSON text laid out for people and diffs: an array or object on one line when that line is at most
+// `width` characters; else an array of plain values (numbers, strings, ...) fills lines of `width`,
+// and any other array or object has one member a line, indented by two spaces a level. Ends without
+// a newline.
+std::string json_layout(const Json& j, size_t width = 100);
+
 }  // namespace cagewrap

@@ -109,6 +109,34 @@ std::vector<double> driver_values(const KeyposeSet& set, const Skeleton& skeleto
   return x;
 }
 
+Pose pose_at_driver_values(const KeyposeSet& set, std::span<const double> values, const Skeleton& skeleton,
+                           Pose base) {
+  // the rotation vector of each driven node, in its rest frame (radians)
+  std::vector<std::pair<uint32_t, glm::dvec3>> turns;
+  for (size_t d = 0; d < set.drivers.size() && d < values.size(); ++d) {
+    const JointDriver& dr = set.drivers[d];
+    const glm::dvec3 a(dr.axis);
+    const double len = glm::length(a);
+    if (dr.node >= skeleton.size() || dr.node >= base.local.size() || !(len > 0.0) || !std::isfinite(len) ||
+        !std::isfinite(values[d]))
+      continue;
+    glm::dvec3 dir = a / len;
+    if (dr.kind == DriverKind::kSwing) {  // turn the axis itself: about a perpendicular
+      const glm::dvec3 away = std::abs(dir.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
+      dir = glm::normalize(glm::cross(dir, away));
+    }
+    auto it = std::find_if(turns.begin(), turns.end(), [&](const auto& t) { return t.first == dr.node; });
+    if (it == turns.end()) it = turns.insert(turns.end(), {dr.node, glm::dvec3(0.0)});
+    it->second += values[d] / kDeg * dir;
+  }
+  for (const auto& [node, r] : turns) {
+    const double angle = glm::length(r);
+    const glm::dquat q = angle > 0.0 ? glm::angleAxis(angle, r / angle) : glm::dquat(1, 0, 0, 0);
+    base.local[node].rotation = glm::normalize(skeleton.node(node).rest.rotation * glm::quat(q));
+  }
+  return base;
+}
+
 bool keypose_set_active(std::span<const KeyposeSet> sets, size_t i) {
   if (i >= sets.size() || sets[i].mute) return false;
   bool any_solo = std::any_of(sets.begin(), sets.end(), [](const KeyposeSet& s) { return s.solo; });

@@ -88,6 +88,14 @@ double driver_value(const JointDriver& driver, const Skeleton& skeleton, const P
 // Every driver of a set (#D).
 std::vector<double> driver_values(const KeyposeSet& set, const Skeleton& skeleton, const Pose& pose);
 
+// A pose at which the set's drivers read `values` (#D, degrees): `base` with each driver node's
+// local rotation set to rest * exp(r), r the sum over its drivers of value * axis (kRotation,
+// kTwist) or value * a unit vector perpendicular to the axis (kSwing). Exact (driver_values gives
+// `values` back, up to +-180 degrees) when each node has one driver, or only kRotation drivers
+// about orthogonal axes; otherwise a pose near it. Drivers that fail validation are skipped.
+Pose pose_at_driver_values(const KeyposeSet& set, std::span<const double> values, const Skeleton& skeleton,
+                           Pose base);
+
 // Whether set i acts (mute/solo).
 bool keypose_set_active(std::span<const KeyposeSet> sets, size_t i);
 

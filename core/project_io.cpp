@@ -33,16 +33,8 @@ bool known_field(const std::string& key) {
 
 // ------------------------------------------------------------------ writing
 
-// The double nearest to the shortest decimal that reads back as `f` (so the file says 0.1, not
-// 0.100000001490116); falls back to f itself in the rare case reading that double as a float
-// would round differently. Either way the float reads back bit for bit.
-double short_float(float f) {
-  char text[32];
-  auto written = std::to_chars(text, text + sizeof text, f);
-  double d = 0;
-  std::from_chars(text, written.ptr, d);
-  return std::bit_cast<uint32_t>(static_cast<float>(d)) == std::bit_cast<uint32_t>(f) ? d : double(f);
-}
+// The double nearest to the shortest decimal that reads back as `f` (core/json_reader.h).
+double short_float(float f) { return json_short_float(f); }
 
 std::string number(double x) { return Json(x).dump(); }
 

@@ -5,12 +5,16 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <cmath>
+#include <filesystem>
 #include <glm/geometric.hpp>
 #include <glm/mat3x3.hpp>
 #include <glm/matrix.hpp>
 #include <numeric>
 
+#include "core/keyposes.h"
+#include "core/mesh_io.h"
 #include "core/skinning.h"
 
 namespace cagewrap {
@@ -50,11 +54,32 @@ constexpr size_t kMaxInfluences = 4;
 constexpr size_t kNearestCageVertices = 8;
 constexpr size_t kMaxCandidates = 16;
 
-struct ClipFrames {
-  int32_t clip;               // index in the source character
-  std::vector<double> times;  // export_frame_times
-  size_t first_target;        // its frames' morph targets start here
+// Reports a stage's items as a share of the whole export: the stage covers [from, to).
+class StageProgress {
+ public:
+  explicit StageProgress(const ExportProgress& p) : p_(p) {}
+  void begin(const char* stage, double from, double to) {
+    stage_ = stage;
+    from_ = from;
+    to_ = to;
+  }
+  // False when the export was cancelled.
+  bool step(size_t done, size_t total) const {
+    if (p_.on_progress)
+      p_.on_progress(stage_, done, total,
+                     from_ + (to_ - from_) * (total ? double(done) / double(total) : 1.0));
+    return !p_.cancelled();
+  }
+
+ private:
+  const ExportProgress& p_;
+  const char* stage_ = "";
+  double from_ = 0.0, to_ = 1.0;
 };
+
+Error cancelled() {
+  return make_error(ErrorCode::kCancelled, "export cancelled");
+}
 
 void accumulate(ExportError& e, std::span<const glm::vec3> a, std::span<const glm::vec3> b) {
   double sum = e.mean * double(e.samples);
@@ -183,15 +208,230 @@ void float_weights_summing_to_one(std::vector<float>& w) {
   w.back() = std::max(0.0f, 1.0f - partial);
 }
 
+// LBS influences of every exported vertex (#P), at most kMaxInfluences, largest first, 0 = unused.
+struct FittedWeights {
+  std::vector<std::array<uint16_t, kMaxInfluences>> joint;
+  std::vector<std::array<float, kMaxInfluences>> weight;
+};
+
+// The fit (see rig_export.h) of every skin point to the sampled poses: sample s has the skin's
+// joint matrices joints[s] (#J) and the rig's positions x[s] (#P). Candidates: the point's own LBS
+// joints (`original`), then the attachment joints of its nearest rest cage vertices. Runs in
+// chunks of points so that progress is reported and cancel is seen; false when cancelled.
+bool fit_weights(std::span<const glm::vec3> rest_skin, const std::vector<std::vector<uint32_t>>& original,
+                 std::span<const glm::vec3> cage_rest, const CageAttachment& att,
+                 const std::vector<const std::vector<glm::mat4>*>& joints,
+                 const std::vector<const std::vector<glm::vec3>*>& x, StageProgress& progress,
+                 FittedWeights& out) {
+  const size_t np = rest_skin.size(), S = x.size();
+  out.joint.assign(np, {});
+  out.weight.assign(np, {});
+  auto fit_point = [&](size_t v, std::vector<std::pair<float, uint32_t>>& near) {
+    // Candidates: the vertex's own LBS joints, then the joints of its nearest cage vertices.
+    std::vector<uint32_t> cand = original[v];
+    near.clear();
+    for (uint32_t c = 0; c < cage_rest.size(); ++c) {
+      glm::vec3 d = cage_rest[c] - rest_skin[v];
+      near.push_back({glm::dot(d, d), c});
+    }
+    const size_t kn = std::min(kNearestCageVertices, near.size());
+    std::partial_sort(near.begin(), near.begin() + kn, near.end());
+    for (size_t i = 0; i < kn; ++i)
+      for (uint32_t e = att.influence_start[near[i].second]; e < att.influence_start[near[i].second + 1]; ++e)
+        cand.push_back(att.influence_joint[e]);
+    std::vector<uint32_t> uniq;
+    for (uint32_t j : cand)
+      if (std::find(uniq.begin(), uniq.end(), j) == uniq.end() && uniq.size() < kMaxCandidates)
+        uniq.push_back(j);
+    auto solve = [&](const std::vector<uint32_t>& js) {
+      const Eigen::Index k = static_cast<Eigen::Index>(js.size());
+      Eigen::MatrixXd G = Eigen::MatrixXd::Zero(k, k);
+      Eigen::VectorXd h = Eigen::VectorXd::Zero(k);
+      std::vector<glm::dvec3> a(js.size());
+      const glm::vec4 p(rest_skin[v], 1.0f);
+      for (size_t s = 0; s < S; ++s) {
+        for (size_t i = 0; i < js.size(); ++i) a[i] = glm::dvec3((*joints[s])[js[i]] * p);
+        const glm::dvec3 xs((*x[s])[v]);
+        for (Eigen::Index i = 0; i < k; ++i) {
+          h[i] += glm::dot(a[i], xs);
+          for (Eigen::Index j = i; j < k; ++j) G(i, j) += glm::dot(a[i], a[j]);
+        }
+      }
+      G.triangularView<Eigen::StrictlyLower>() = G.transpose();
+      return fit_simplex(G, h, 300);
+    };
+    Eigen::VectorXd w = solve(uniq);
+    std::vector<size_t> order(uniq.size());
+    std::iota(order.begin(), order.end(), 0);
+    std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return w[a] > w[b]; });
+    std::vector<uint32_t> best;
+    for (size_t i = 0; i < order.size() && best.size() < kMaxInfluences; ++i)
+      if (best.empty() || w[order[i]] > 1e-6) best.push_back(uniq[order[i]]);
+    Eigen::VectorXd wb = best.size() < uniq.size() ? solve(best) : Eigen::VectorXd();
+    if (wb.size() == 0) {
+      wb.resize(best.size());
+      for (size_t i = 0; i < best.size(); ++i) wb[i] = w[order[i]];
+    }
+    std::vector<std::pair<float, uint32_t>> kept;
+    for (size_t i = 0; i < best.size(); ++i)
+      if (wb[i] > 1e-6) kept.push_back({static_cast<float>(wb[i]), best[i]});
+    if (kept.empty()) kept.push_back({1.0f, best[0]});
+    std::sort(kept.begin(), kept.end(), [](auto& a, auto& b) { return a.first > b.first; });
+    float sum = 0.0f;
+    for (auto& [wt, j] : kept) sum += wt;
+    std::vector<float> fw;
+    for (auto& [wt, j] : kept) fw.push_back(wt / sum);
+    float_weights_summing_to_one(fw);
+    for (size_t i = 0; i < kept.size(); ++i) {
+      out.joint[v][i] = static_cast<uint16_t>(kept[i].second);
+      out.weight[v][i] = fw[i];
+    }
+  };
+  constexpr size_t kChunk = 2048;
+  for (size_t begin = 0; begin < np; begin += kChunk) {
+    const size_t end = std::min(np, begin + kChunk);
+    tbb::parallel_for(tbb::blocked_range<size_t>(begin, end, 64),
+                      [&](const tbb::blocked_range<size_t>& range) {
+                        std::vector<std::pair<float, uint32_t>> near;
+                        for (size_t v = range.begin(); v != range.end(); ++v) fit_point(v, near);
+                      });
+    if (!progress.step(end, np)) return false;
+  }
+  return true;
+}
+
+// The export's pose at a pose of the source character: its nodes' local transforms (the export
+// adds a mesh node after them), the mesh's morph weights left at their defaults (no clip plays).
+Pose export_pose_at(const Character& exported, const Pose& source) {
+  Pose p = sample_pose(exported, -1, 0.0);
+  for (size_t i = 0; i < source.local.size() && i < p.local.size(); ++i) p.local[i] = source.local[i];
+  return p;
+}
+
 }  // namespace
 
-Result<ExportResult> export_rig(const Document& doc, Rig& rig, const ExportOptions& options) {
-  if (!doc.character || !doc.cage)
-    return make_error(ErrorCode::kInvalidArgument,
-                      "the document needs a character and a cage to export its rig");
+Result<std::vector<ExportClipFrames>> export_clip_frames(const Character& ch, const ExportOptions& options) {
   if (!(options.fps > 0.0) || !std::isfinite(options.fps))
     return make_error(ErrorCode::kInvalidArgument,
                       "the frame rate must be a positive number of frames per second");
+  std::vector<int32_t> clips = options.clips;
+  if (clips.empty())
+    for (size_t i = 0; i < ch.clips.size(); ++i) clips.push_back(static_cast<int32_t>(i));
+  std::vector<ExportClipFrames> frames;
+  size_t total = 0;
+  for (int32_t c : clips) {
+    if (c < 0 || c >= static_cast<int32_t>(ch.clips.size()))
+      return make_error(ErrorCode::kInvalidArgument, "clip " + std::to_string(c) +
+                                                         " is out of range (the character has " +
+                                                         std::to_string(ch.clips.size()) + ")");
+    frames.push_back({c, export_frame_times(ch.clips[c].duration, options.fps), total});
+    total += frames.back().times.size();
+  }
+  return frames;
+}
+
+std::vector<std::string> obj_sequence_paths(const Character& ch, std::span<const ExportClipFrames> frames,
+                                            const std::string& out) {
+  namespace fs = std::filesystem;
+  const bool stem = has_extension(out, ".obj");
+  const fs::path folder = stem ? fs::path(out).parent_path() : fs::path(out);
+  const std::string prefix = stem ? fs::path(out).stem().string() + "_" : std::string();
+  std::vector<std::string> names, paths;
+  for (const ExportClipFrames& cf : frames) {
+    std::string name =
+        cf.clip >= 0 && cf.clip < static_cast<int32_t>(ch.clips.size()) ? ch.clips[cf.clip].name : "";
+    for (char& c : name)
+      if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-' && c != '_' && c != '.') c = '_';
+    if (name.empty() || name == "." || name == ".." ||
+        std::find(names.begin(), names.end(), name) != names.end())
+      name = "clip" + std::to_string(cf.clip);
+    names.push_back(name);
+    const int digits = std::max<int>(4, static_cast<int>(std::to_string(cf.times.size() - 1).size()));
+    for (size_t k = 0; k < cf.times.size(); ++k) {
+      std::string index = std::to_string(k);
+      index.insert(0, static_cast<size_t>(std::max<int>(0, digits - static_cast<int>(index.size()))), '0');
+      paths.push_back((folder / (prefix + name + "_" + index + ".obj")).string());
+    }
+  }
+  return paths;
+}
+
+Result<ObjSequence> export_obj_sequence(const Document& doc, Rig& rig, const ExportOptions& options,
+                                        const std::string& out, const ExportProgress& progress) {
+  namespace fs = std::filesystem;
+  if (!doc.character || !doc.cage)
+    return make_error(ErrorCode::kInvalidArgument,
+                      "the document needs a character and a cage to export its rig");
+  const Character& ch = *doc.character;
+  auto clip_frames = export_clip_frames(ch, options);
+  if (!clip_frames) return clip_frames.error();
+  const std::vector<ExportClipFrames>& frames = *clip_frames;
+  ObjSequence r;
+  r.files = obj_sequence_paths(ch, frames, out);
+  r.frames = r.files.size();
+  if (!has_extension(out, ".obj")) {
+    std::error_code ec;
+    fs::create_directories(out, ec);
+    if (ec || !fs::is_directory(out))
+      return make_error(ErrorCode::kWrite, out + ": the folder for the OBJ files cannot be made (" +
+                                               (ec ? ec.message() : std::string("a file is in the way")) +
+                                               ")");
+  }
+  const bool cage = options.mode == ExportMode::kCage;
+  const PolyMesh topology = cage ? doc.cage->polygons : combined_topology(ch);
+  std::vector<glm::vec3> skin(rig.num_skin_points());
+  PosedCage posed;
+  StageProgress stage(progress);
+  stage.begin("writing", 0.0, 1.0);
+  // On failure or cancel the files written so far go: no partial sequence is left behind.
+  auto fail = [&](size_t written, Error e) {
+    for (size_t i = 0; i < written; ++i) {
+      std::error_code ec;
+      fs::remove(r.files[i], ec);
+    }
+    return e;
+  };
+  for (const ExportClipFrames& cf : frames)
+    for (size_t k = 0; k < cf.times.size(); ++k) {
+      const size_t f = cf.first + k;
+      if (auto s = rig.pose(doc, compose_pose(ch, cf.clip, cf.times[k], false), posed, skin); !s)
+        return fail(f, s.error());
+      const std::string& path = r.files[f];
+      if (auto s = save_obj(
+              path, cage ? std::span<const glm::vec3>(posed.positions) : std::span<const glm::vec3>(skin),
+              topology);
+          !s)
+        return fail(f, s.error());  // not ours to remove: the file may have been there before
+      std::error_code ec;
+      r.bytes += fs::file_size(path, ec);
+      if (!stage.step(f + 1, r.frames)) return fail(f + 1, cancelled());
+    }
+  return r;
+}
+
+std::vector<Pose> keypose_sweep_poses(const Character& ch, std::span<const KeyposeSet> sets, int steps) {
+  std::vector<Pose> poses;
+  const Pose rest = ch.skeleton.rest_pose();
+  for (size_t i = 0; i < sets.size(); ++i) {
+    const KeyposeSet& set = sets[i];
+    if (!keypose_set_active(sets, i) || !validate_keypose_set(set, ch.skeleton.size(), SIZE_MAX)) continue;
+    for (const KeyposeKey& key : set.keys) {
+      if (std::all_of(key.values.begin(), key.values.end(), [](double v) { return v == 0.0; })) continue;
+      for (int s = 1; s <= steps; ++s) {
+        std::vector<double> values = key.values;
+        for (double& v : values) v *= double(s) / double(steps);
+        poses.push_back(pose_at_driver_values(set, values, ch.skeleton, rest));
+      }
+    }
+  }
+  return poses;
+}
+
+Result<ExportResult> export_rig(const Document& doc, Rig& rig, const ExportOptions& options,
+                                const ExportProgress& progress) {
+  if (!doc.character || !doc.cage)
+    return make_error(ErrorCode::kInvalidArgument,
+                      "the document needs a character and a cage to export its rig");
   const Character& ch = *doc.character;
   const CageAttachment* att = rig.attachment();
   if (options.mode != ExportMode::kBakedAnimation && !att)
@@ -199,46 +439,56 @@ Result<ExportResult> export_rig(const Document& doc, Rig& rig, const ExportOptio
         ErrorCode::kInvalidArgument,
         std::string(export_mode_name(options.mode)) +
             " needs a skeleton the cage follows; the character has no skin (use baked-animation)");
-  std::vector<int32_t> clips = options.clips;
-  if (clips.empty())
-    for (size_t i = 0; i < ch.clips.size(); ++i) clips.push_back(static_cast<int32_t>(i));
-  for (int32_t c : clips)
-    if (c < 0 || c >= static_cast<int32_t>(ch.clips.size()))
-      return make_error(ErrorCode::kInvalidArgument, "clip " + std::to_string(c) +
-                                                         " is out of range (the character has " +
-                                                         std::to_string(ch.clips.size()) + ")");
+  auto clip_frames = export_clip_frames(ch, options);
+  if (!clip_frames) return clip_frames.error();
+  const std::vector<ExportClipFrames>& frames = *clip_frames;
 
   ExportResult r;
-  std::vector<ClipFrames> frames;
-  for (int32_t c : clips) {
-    frames.push_back({c, export_frame_times(ch.clips[c].duration, options.fps), r.frames});
-    r.frames += frames.back().times.size();
-  }
+  for (const ExportClipFrames& cf : frames) r.frames += cf.times.size();
   if (!doc.keyposes.empty() && options.mode == ExportMode::kCage)
     r.warnings.push_back("the cage export leaves out the " + std::to_string(doc.keyposes.size()) +
                          " keypose set(s): a skinned cage cannot carry them");
+  // Shares of the whole export by stage (posing the rig dominates; the fit is next).
+  const bool skin_fit = options.mode == ExportMode::kBakedSkin;
+  const double posed_until = skin_fit ? 0.35 : options.mode == ExportMode::kCage ? 0.8 : 0.6;
+  StageProgress stage(progress);
 
-  // The rig at every frame (#F x #P) and its posed cages (#F x #Vc).
-  const size_t np = rig.num_skin_points();
-  std::vector<std::vector<glm::vec3>> skins(r.frames, std::vector<glm::vec3>(np));
-  std::vector<std::vector<glm::vec3>> cages(r.frames);
-  std::vector<std::vector<glm::mat4>> joints(r.frames);
+  // The rig at every frame and every keypose pose (#F + #K x #P), its posed cages (#Vc) and the
+  // skin's joint matrices (#J).
+  const std::vector<Pose> keypose_poses = options.mode == ExportMode::kBakedAnimation || !att
+                                              ? std::vector<Pose>{}
+                                              : keypose_sweep_poses(ch, doc.keyposes, options.keypose_steps);
+  r.keypose_poses = keypose_poses.size();
+  const size_t np = rig.num_skin_points(), posed_count = r.frames + r.keypose_poses;
+  std::vector<std::vector<glm::vec3>> skins(posed_count, std::vector<glm::vec3>(np));
+  std::vector<std::vector<glm::vec3>> cages(posed_count);
+  std::vector<std::vector<glm::mat4>> joints(posed_count);
   {
     PosedCage posed;
-    for (const ClipFrames& cf : frames)
-      for (size_t k = 0; k < cf.times.size(); ++k) {
-        const size_t f = cf.first_target + k;
-        Pose pose = compose_pose(ch, cf.clip, cf.times[k], false);
-        if (auto s = rig.pose(doc, pose, posed, skins[f]); !s) return s.error();
-        cages[f] = posed.positions;
-        if (att) {
-          joints[f].resize(ch.skins[att->skin].joints.size());
-          joint_matrices(ch.skins[att->skin], posed.globals, joints[f]);
-        }
+    auto pose_rig = [&](const Pose& pose, size_t f) -> Status {
+      if (auto s = rig.pose(doc, pose, posed, skins[f]); !s) return s.error();
+      cages[f] = posed.positions;
+      if (att) {
+        joints[f].resize(ch.skins[att->skin].joints.size());
+        joint_matrices(ch.skins[att->skin], posed.globals, joints[f]);
       }
+      return Ok{};
+    };
+    stage.begin("posing", 0.0, posed_until * double(r.frames) / double(std::max<size_t>(1, posed_count)));
+    for (const ExportClipFrames& cf : frames)
+      for (size_t k = 0; k < cf.times.size(); ++k) {
+        if (auto s = pose_rig(compose_pose(ch, cf.clip, cf.times[k], false), cf.first + k); !s)
+          return s.error();
+        if (!stage.step(cf.first + k + 1, r.frames)) return cancelled();
+      }
+    stage.begin("keyposes", posed_until * double(r.frames) / double(std::max<size_t>(1, posed_count)),
+                posed_until);
+    for (size_t k = 0; k < keypose_poses.size(); ++k) {
+      if (auto s = pose_rig(keypose_poses[k], r.frames + k); !s) return s.error();
+      if (!stage.step(k + 1, keypose_poses.size())) return cancelled();
+    }
   }
 
-  const bool baked = options.mode != ExportMode::kCage;
   const std::string node_name = options.mode == ExportMode::kCage ? "cage" : "skin";
   auto sk = skeleton_with_mesh_node(options.mode == ExportMode::kBakedAnimation ? nullptr : &ch.skeleton,
                                     node_name);
@@ -263,43 +513,47 @@ Result<ExportResult> export_rig(const Document& doc, Rig& rig, const ExportOptio
     p.influence_joint.assign(att->influence_joint.begin(), att->influence_joint.end());
     p.influence_weight = att->influence_weight;
     out.primitives.push_back(std::move(p));
-    for (const ClipFrames& cf : frames)
+    for (const ExportClipFrames& cf : frames)
       out.clips.push_back(export_clip(ch.clips[cf.clip], true, mesh_node, nullptr));
+    stage.begin("measuring", posed_until, 1.0);
     for (size_t c = 0; c < frames.size(); ++c)
       for (size_t k = 0; k < frames[c].times.size(); ++k) {
         Pose pose = sample_pose(out, static_cast<int32_t>(c), frames[c].times[k]);
-        std::vector<glm::vec3> mine = skin_character(out, pose);
-        accumulate(r.at_frames, mine, cages[frames[c].first_target + k]);
+        accumulate(r.at_frames, skin_character(out, pose), cages[frames[c].first + k]);
+        if (!stage.step(frames[c].first + k + 1, posed_count)) return cancelled();
       }
+    for (size_t k = 0; k < keypose_poses.size(); ++k) {
+      accumulate(r.at_keyposes, skin_character(out, export_pose_at(out, keypose_poses[k])),
+                 cages[r.frames + k]);
+      if (!stage.step(r.frames + k + 1, posed_count)) return cancelled();
+    }
     r.fitted = r.at_frames;
     return r;
   }
 
   out.primitives = export_primitives(ch, mesh_node);
   const std::vector<glm::vec3> rest_skin(rig.skin_rest().begin(), rig.skin_rest().end());
-  // Skinning of every exported vertex (#P; empty for baked-animation: identity).
-  std::vector<std::array<uint16_t, kMaxInfluences>> inf_joint;
-  std::vector<std::array<float, kMaxInfluences>> inf_weight;
+  // Skinning of every exported vertex (empty for baked-animation: identity).
+  FittedWeights fitted;
 
-  if (options.mode == ExportMode::kBakedSkin) {
+  if (skin_fit) {
     const Skin& skin = ch.skins[att->skin];
     const size_t nj = skin.joints.size();
-    // Fitting samples: the rest pose and every frame.
-    std::vector<std::vector<glm::mat4>> sample_joints = joints;
-    std::vector<const std::vector<glm::vec3>*> sample_x;
-    for (auto& s : skins) sample_x.push_back(&s);
-    {
-      std::vector<glm::mat4> rj(nj);
-      joint_matrices(skin, ch.skeleton.global_transforms(ch.skeleton.rest_pose()), rj);
-      sample_joints.push_back(rj);
-    }
+    // Fitting samples: the rest pose, every frame and (unless told not to) the keypose sweep.
+    std::vector<glm::mat4> rest_joints(nj);
+    joint_matrices(skin, ch.skeleton.global_transforms(ch.skeleton.rest_pose()), rest_joints);
     std::vector<glm::vec3> rest_rig(np);
     {
       PosedCage posed;
       if (auto s = rig.pose(doc, ch.skeleton.rest_pose(), posed, rest_rig); !s) return s.error();
     }
-    sample_x.push_back(&rest_rig);
-    const size_t S = sample_x.size();
+    std::vector<const std::vector<glm::mat4>*> sample_joints{&rest_joints};
+    std::vector<const std::vector<glm::vec3>*> sample_x{&rest_rig};
+    const size_t fitted_poses = options.fit_keyposes ? posed_count : r.frames;
+    for (size_t f = 0; f < fitted_poses; ++f) {
+      sample_joints.push_back(&joints[f]);
+      sample_x.push_back(&skins[f]);
+    }
     // Original LBS joints per point (when the primitive uses the cage's skin).
     std::vector<std::vector<uint32_t>> original(np);
     {
@@ -312,85 +566,18 @@ Result<ExportResult> export_rig(const Document& doc, Rig& rig, const ExportOptio
         off += p.num_vertices();
       }
     }
-    const auto cage_rest = doc.cage_positions();
-    inf_joint.resize(np);
-    inf_weight.resize(np);
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, np, 256), [&](const tbb::blocked_range<size_t>& range) {
-      std::vector<std::pair<float, uint32_t>> near;
-      for (size_t v = range.begin(); v != range.end(); ++v) {
-        // Candidates: the vertex's own LBS joints, then the joints of its nearest cage vertices.
-        std::vector<uint32_t> cand = original[v];
-        near.clear();
-        for (uint32_t c = 0; c < cage_rest.size(); ++c) {
-          glm::vec3 d = cage_rest[c] - rest_skin[v];
-          near.push_back({glm::dot(d, d), c});
-        }
-        const size_t kn = std::min(kNearestCageVertices, near.size());
-        std::partial_sort(near.begin(), near.begin() + kn, near.end());
-        for (size_t i = 0; i < kn; ++i)
-          for (uint32_t e = att->influence_start[near[i].second];
-               e < att->influence_start[near[i].second + 1]; ++e)
-            cand.push_back(att->influence_joint[e]);
-        std::vector<uint32_t> uniq;
-        for (uint32_t j : cand)
-          if (std::find(uniq.begin(), uniq.end(), j) == uniq.end() && uniq.size() < kMaxCandidates)
-            uniq.push_back(j);
-        auto solve = [&](const std::vector<uint32_t>& js) {
-          const Eigen::Index k = static_cast<Eigen::Index>(js.size());
-          Eigen::MatrixXd G = Eigen::MatrixXd::Zero(k, k);
-          Eigen::VectorXd h = Eigen::VectorXd::Zero(k);
-          std::vector<glm::dvec3> a(js.size());
-          const glm::vec4 p(rest_skin[v], 1.0f);
-          for (size_t s = 0; s < S; ++s) {
-            for (size_t i = 0; i < js.size(); ++i) a[i] = glm::dvec3(sample_joints[s][js[i]] * p);
-            const glm::dvec3 x((*sample_x[s])[v]);
-            for (Eigen::Index i = 0; i < k; ++i) {
-              h[i] += glm::dot(a[i], x);
-              for (Eigen::Index j = i; j < k; ++j) G(i, j) += glm::dot(a[i], a[j]);
-            }
-          }
-          G.triangularView<Eigen::StrictlyLower>() = G.transpose();
-          return fit_simplex(G, h, 300);
-        };
-        Eigen::VectorXd w = solve(uniq);
-        std::vector<size_t> order(uniq.size());
-        std::iota(order.begin(), order.end(), 0);
-        std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return w[a] > w[b]; });
-        std::vector<uint32_t> best;
-        for (size_t i = 0; i < order.size() && best.size() < kMaxInfluences; ++i)
-          if (best.empty() || w[order[i]] > 1e-6) best.push_back(uniq[order[i]]);
-        Eigen::VectorXd wb = best.size() < uniq.size() ? solve(best) : Eigen::VectorXd();
-        if (wb.size() == 0) {
-          wb.resize(best.size());
-          for (size_t i = 0; i < best.size(); ++i) wb[i] = w[order[i]];
-        }
-        std::vector<std::pair<float, uint32_t>> kept;
-        for (size_t i = 0; i < best.size(); ++i)
-          if (wb[i] > 1e-6) kept.push_back({static_cast<float>(wb[i]), best[i]});
-        if (kept.empty()) kept.push_back({1.0f, best[0]});
-        std::sort(kept.begin(), kept.end(), [](auto& a, auto& b) { return a.first > b.first; });
-        float sum = 0.0f;
-        for (auto& [x, j] : kept) sum += x;
-        std::vector<float> fw;
-        for (auto& [x, j] : kept) fw.push_back(x / sum);
-        float_weights_summing_to_one(fw);
-        inf_joint[v].fill(0);
-        inf_weight[v].fill(0.0f);
-        for (size_t i = 0; i < kept.size(); ++i) {
-          inf_joint[v][i] = static_cast<uint16_t>(kept[i].second);
-          inf_weight[v][i] = fw[i];
-        }
-      }
-    });
+    stage.begin("fitting", posed_until, 0.7);
+    if (!fit_weights(rest_skin, original, doc.cage_positions(), *att, sample_joints, sample_x, stage, fitted))
+      return cancelled();
     size_t off = 0;
     for (Primitive& p : out.primitives) {
       p.skin = static_cast<int32_t>(att->skin);
       p.influence_start.assign(1, 0);
       for (size_t v = 0; v < p.num_vertices(); ++v) {
         for (size_t i = 0; i < kMaxInfluences; ++i)
-          if (inf_weight[off + v][i] > 0.0f) {
-            p.influence_joint.push_back(inf_joint[off + v][i]);
-            p.influence_weight.push_back(inf_weight[off + v][i]);
+          if (fitted.weight[off + v][i] > 0.0f) {
+            p.influence_joint.push_back(fitted.joint[off + v][i]);
+            p.influence_weight.push_back(fitted.weight[off + v][i]);
           }
         p.influence_start.push_back(static_cast<uint32_t>(p.influence_joint.size()));
       }
@@ -405,48 +592,53 @@ Result<ExportResult> export_rig(const Document& doc, Rig& rig, const ExportOptio
     p.morph_targets.assign(r.frames, std::vector<glm::vec3>(p.num_vertices()));
     p.morph_weights.assign(r.frames, 0.0f);
   }
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, r.frames), [&](const tbb::blocked_range<size_t>& range) {
-    for (size_t f = range.begin(); f != range.end(); ++f) {
-      size_t off = 0;
-      for (Primitive& p : out.primitives) {
-        for (size_t v = 0; v < p.num_vertices(); ++v) {
-          const size_t i = off + v;
-          if (inf_joint.empty()) {
-            p.morph_targets[f][v] = skins[f][i] - rest_skin[i];
-            continue;
-          }
-          glm::dmat4 m(0.0);
-          for (size_t k = 0; k < kMaxInfluences; ++k)
-            if (inf_weight[i][k] > 0.0f)
-              m += double(inf_weight[i][k]) * glm::dmat4(joints[f][inf_joint[i][k]]);
-          const glm::dvec3 lbs(m * glm::dvec4(glm::dvec3(rest_skin[i]), 1.0));
-          const glm::dvec3 residual = glm::dvec3(skins[f][i]) - lbs;
-          const glm::dmat3 l(m);
-          const double det = glm::determinant(l);
-          p.morph_targets[f][v] = glm::vec3(std::abs(det) > 1e-12 ? glm::inverse(l) * residual : residual);
-        }
-        off += p.num_vertices();
-      }
+  const double targets_until = skin_fit ? 0.8 : 0.7;
+  stage.begin("correctives", skin_fit ? 0.7 : posed_until, targets_until);
+  for (size_t f = 0; f < r.frames; ++f) {
+    size_t off = 0;
+    for (Primitive& p : out.primitives) {
+      tbb::parallel_for(tbb::blocked_range<size_t>(0, p.num_vertices(), 1024),
+                        [&](const tbb::blocked_range<size_t>& range) {
+                          for (size_t v = range.begin(); v != range.end(); ++v) {
+                            const size_t i = off + v;
+                            if (fitted.joint.empty()) {
+                              p.morph_targets[f][v] = skins[f][i] - rest_skin[i];
+                              continue;
+                            }
+                            glm::dmat4 m(0.0);
+                            for (size_t k = 0; k < kMaxInfluences; ++k)
+                              if (fitted.weight[i][k] > 0.0f)
+                                m += double(fitted.weight[i][k]) * glm::dmat4(joints[f][fitted.joint[i][k]]);
+                            const glm::dvec3 lbs(m * glm::dvec4(glm::dvec3(rest_skin[i]), 1.0));
+                            const glm::dvec3 residual = glm::dvec3(skins[f][i]) - lbs;
+                            const glm::dmat3 l(m);
+                            const double det = glm::determinant(l);
+                            p.morph_targets[f][v] =
+                                glm::vec3(std::abs(det) > 1e-12 ? glm::inverse(l) * residual : residual);
+                          }
+                        });
+      off += p.num_vertices();
     }
-  });
-  for (const ClipFrames& cf : frames) {
-    AnimationSampler w = one_hot_weights(cf.times, cf.first_target, r.frames);
-    out.clips.push_back(
-        export_clip(ch.clips[cf.clip], options.mode == ExportMode::kBakedSkin, mesh_node, &w));
+    if (!stage.step(f + 1, r.frames)) return cancelled();
+  }
+  for (const ExportClipFrames& cf : frames) {
+    AnimationSampler w = one_hot_weights(cf.times, cf.first, r.frames);
+    out.clips.push_back(export_clip(ch.clips[cf.clip], skin_fit, mesh_node, &w));
     out.clips.back().duration = std::max(out.clips.back().duration, cf.times.back());
   }
 
   // Errors against the rig, measured on the exported character itself (what a loader sees).
+  stage.begin("measuring", targets_until, 1.0);
   PosedCage posed;
   std::vector<glm::vec3> live(np);
   for (size_t c = 0; c < frames.size(); ++c) {
-    const ClipFrames& cf = frames[c];
+    const ExportClipFrames& cf = frames[c];
     for (size_t k = 0; k < cf.times.size(); ++k) {
       Pose pose = sample_pose(out, static_cast<int32_t>(c), cf.times[k]);
-      accumulate(r.at_frames, skin_character(out, pose), skins[cf.first_target + k]);
-      if (baked && options.mode == ExportMode::kBakedSkin) {
+      accumulate(r.at_frames, skin_character(out, pose), skins[cf.first + k]);
+      if (skin_fit) {
         pose.morph_weights[mesh_node].assign(r.frames, 0.0f);
-        accumulate(r.fitted, skin_character(out, pose), skins[cf.first_target + k]);
+        accumulate(r.fitted, skin_character(out, pose), skins[cf.first + k]);
       }
       if (k + 1 < cf.times.size()) {
         const double mid = 0.5 * (cf.times[k] + cf.times[k + 1]);
@@ -454,7 +646,13 @@ Result<ExportResult> export_rig(const Document& doc, Rig& rig, const ExportOptio
         accumulate(r.between_frames, skin_character(out, sample_pose(out, static_cast<int32_t>(c), mid)),
                    live);
       }
+      if (!stage.step(cf.first + k + 1, posed_count)) return cancelled();
     }
+  }
+  for (size_t k = 0; k < keypose_poses.size(); ++k) {
+    accumulate(r.at_keyposes, skin_character(out, export_pose_at(out, keypose_poses[k])),
+               skins[r.frames + k]);
+    if (!stage.step(r.frames + k + 1, posed_count)) return cancelled();
   }
   if (options.mode == ExportMode::kBakedAnimation) r.fitted = r.at_frames;
   return r;

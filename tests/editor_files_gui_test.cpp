@@ -18,12 +18,10 @@
 namespace {
 
 namespace fs = std::filesystem;
+using cagewrap::test::read_file;
 using cagewrap::test::gui_available;
 
-std::string read(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
+
 
 class EditorFilesGui : public ::testing::Test {
  protected:
@@ -42,10 +40,10 @@ class EditorFilesGui : public ::testing::Test {
     const fs::path log = dir_ / (name + ".log");
     const std::string cmd = cagewrap::test::editor_command("--script " + s.string() + " " + args,
                                                            config().string(), log.string());
-    EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd << "\n" << read(log);
-    return read(log);
+    EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd << "\n" << read_file(log);
+    return read_file(log);
   }
-  nlohmann::json prefs() const { return nlohmann::json::parse(read(config() / "preferences.json")); }
+  nlohmann::json prefs() const { return nlohmann::json::parse(read_file(config() / "preferences.json")); }
   fs::path config() const { return dir_ / "config"; }
   fs::path project(const std::string& name) const { return dir_ / "projects" / (name + ".cagewrap"); }
   fs::path dir_;
@@ -95,7 +93,7 @@ TEST_F(EditorFilesGui, OverwriteCanBeDeclined) {
   const std::string log = run("decline", "wait 2\nbrowse save " + (dir_ / "projects").string() +
                                              "\nwait 1\nbrowser_name keep\nbrowser_confirm\nwait "
                                              "1\nbrowser_cancel\nwait 1\nbrowser_cancel\nwait 1\n");
-  EXPECT_EQ(read(project("keep")), "precious") << log;
+  EXPECT_EQ(read_file(project("keep")), "precious") << log;
   EXPECT_EQ(log.find("saved"), std::string::npos) << log;
 }
 

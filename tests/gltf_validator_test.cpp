@@ -11,23 +11,16 @@
 #include "core/demo_character.h"
 #include "core/gltf_writer.h"
 #include "tests/gltf_samples.h"
+#include "tests/gltf_validator.h"
 
 namespace cagewrap {
 namespace {
 
-bool node_available() { return std::system("node --version > /dev/null 2>&1") == 0; }
+using test::node_available;
 
 // Exit status of validate.js over `files`; its report goes to `log`.
 int validate(const std::vector<std::string>& files, const std::string& dir, std::string& log) {
-  std::string cmd = "node '" + std::string(CAGEWRAP_SOURCE_DIR) + "/tests/gltf_validate/validate.js'";
-  for (const auto& f : files) cmd += " '" + f + "'";
-  cmd += " > '" + dir + "/report.txt' 2>&1";
-  int status = std::system(cmd.c_str());
-  std::ifstream in(dir + "/report.txt");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  log = ss.str();
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return test::run_gltf_validator(files, dir + "/report.txt", log);
 }
 
 TEST(GltfValidator, WrittenAndHandBuiltFilesHaveNoErrors) {

@@ -7,6 +7,8 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -88,6 +90,12 @@ inline double skin_share(const Image& img) {
       if (p[0] > 90 && p[0] > p[2] + 30) ++skin;
     }
   return total ? double(skin) / total : 0.0;
+}
+
+// A file's bytes ("" when it cannot be read): a run's log, a saved file.
+inline std::string read_file(const std::filesystem::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
 }
 
 // A scratch folder for GUI test files.

@@ -94,6 +94,40 @@ TEST(Drivers, ReadRotationTwistAndSwingInDegrees) {
   }
 }
 
+// pose_at_driver_values inverts driver_values: exactly for one driver per node or rotation
+// drivers about orthogonal axes (a shoulder read as X, Y, Z), on a joint with a turned rest frame.
+TEST(Drivers, PoseAtDriverValuesReadsThemBack) {
+  OneJoint j;
+  auto set_of = [](std::vector<JointDriver> drivers) {
+    KeyposeSet s;
+    s.name = "s";
+    s.drivers = std::move(drivers);
+    return s;
+  };
+  auto reads = [&](const KeyposeSet& s, std::vector<double> values) {
+    Pose p = pose_at_driver_values(s, values, j.skeleton, j.skeleton.rest_pose());
+    auto x = driver_values(s, j.skeleton, p);
+    ASSERT_EQ(x.size(), values.size());
+    for (size_t i = 0; i < x.size(); ++i) EXPECT_NEAR(x[i], values[i], 1e-3) << "driver " << i;
+  };
+  const glm::vec3 oblique = glm::normalize(glm::vec3(1, 2, -0.5f));
+  reads(set_of({{0, DriverKind::kRotation, oblique}}), {73});
+  reads(set_of({{0, DriverKind::kRotation, {2, 0, 0}}}), {-140});  // the axis need not be unit
+  reads(set_of({{0, DriverKind::kTwist, oblique}}), {-65});
+  reads(set_of({{0, DriverKind::kSwing, oblique}}), {110});
+  reads(set_of({{0, DriverKind::kRotation, {1, 0, 0}}, {0, DriverKind::kRotation, {0, 1, 0}},
+                {0, DriverKind::kRotation, {0, 0, 1}}}),
+        {30, -20, 45});
+  // a driver naming no node is skipped, the others still act
+  KeyposeSet bad = set_of({{7, DriverKind::kRotation, {1, 0, 0}}, {0, DriverKind::kTwist, {0, 1, 0}}});
+  Pose p = pose_at_driver_values(bad, std::vector<double>{10, 25}, j.skeleton, j.skeleton.rest_pose());
+  EXPECT_NEAR(driver_value(bad.drivers[1], j.skeleton, p), 25, 1e-3);
+  // at zero: the rest pose
+  Pose z = pose_at_driver_values(set_of({{0, DriverKind::kSwing, oblique}}), std::vector<double>{0}, j.skeleton,
+                                 j.skeleton.rest_pose());
+  EXPECT_NEAR(std::abs(glm::dot(z.local[0].rotation, j.skeleton.node(0).rest.rotation)), 1.0f, 1e-6f);
+}
+
 TEST(Keyposes, LinearKeyIsFullAtItsAngleHalfWayHalfAndZeroAtRest) {
   OneJoint j;
   KeyposeSet s = one_driver_set();

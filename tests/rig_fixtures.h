@@ -12,7 +12,12 @@
 #include <glm/matrix.hpp>
 #include <gtest/gtest.h>
 
+#include "core/cage_attachment.h"
+#include "core/cage_import.h"
 #include "core/character.h"
+#include "core/demo_character.h"
+#include "core/document.h"
+#include "core/keyposes.h"
 
 namespace cagewrap::test {
 
@@ -88,6 +93,52 @@ inline void rotate(const Skeleton& skeleton, Pose& pose, const std::string& node
 
 inline glm::quat about_deg(double degrees, glm::dvec3 axis) {
   return glm::quat(glm::angleAxis(glm::radians(degrees), glm::normalize(axis)));
+}
+
+// The demo character (core/demo_character.h) with its cage (assets/demo_cage.obj), default settings.
+inline Document demo_document() {
+  Document doc;
+  doc.character = std::make_shared<const Character>(make_demo_character());
+  doc.character_hash = "demo";
+  auto mesh = load_cage_mesh(std::string(CAGEWRAP_SOURCE_DIR) + "/assets/demo_cage.obj");
+  EXPECT_TRUE(mesh.ok()) << mesh.error().message;
+  auto cage = make_cage(std::move(mesh).value(), "demo_cage.obj");
+  EXPECT_TRUE(cage.ok());
+  doc.cage = std::make_shared<const Cage>(std::move(cage).value());
+  doc.revision = next_revision();
+  return doc;
+}
+
+// A biceps bulge on the demo character (core/demo_character.h) and its cage (assets/demo_cage.obj):
+// the cage vertices of the left upper arm's front, mid-bone, pushed 2 cm outwards (bind space),
+// keyed at 120 degrees of forearm.L's rotation about its local X (the elbow's bending axis), linear.
+struct BicepsKeypose {
+  std::vector<uint32_t> vertices;  // the keyed cage vertices
+  std::vector<glm::vec3> bulge;    // #Vc offsets, zero elsewhere
+  KeyposeSet set;                  // "biceps.L"
+};
+
+inline BicepsKeypose demo_biceps_keypose(const Character& demo, std::span<const glm::vec3> cage_rest,
+                                         const CageAttachment& att) {
+  BicepsKeypose b;
+  const Skeleton& sk = demo.skeleton;
+  const auto rest = sk.global_transforms(sk.rest_pose());
+  const uint32_t upper = sk.find("upper_arm.L"), forearm = sk.find("forearm.L");
+  const glm::dvec3 a(rest[upper][3]), e(rest[forearm][3]);  // shoulder and elbow
+  b.bulge.assign(cage_rest.size(), glm::vec3(0.0f));
+  for (uint32_t v = 0; v < cage_rest.size(); ++v) {
+    if (demo.skins[att.skin].joints[att.joint[v]] != upper) continue;
+    glm::dvec3 p(cage_rest[v]);
+    double t = glm::dot(p - a, e - a) / glm::dot(e - a, e - a);
+    glm::dvec3 radial = p - (a + t * (e - a));
+    if (t < 0.25 || t > 0.85 || radial.z < 0.3 * glm::length(radial)) continue;  // mid-bone, front
+    b.vertices.push_back(v);
+    b.bulge[v] = glm::vec3(0.02 * glm::normalize(radial));
+  }
+  b.set.name = "biceps.L";
+  b.set.drivers = {JointDriver{forearm, DriverKind::kRotation, {1, 0, 0}}};
+  set_key(b.set, make_key({120}, b.bulge));
+  return b;
 }
 
 }  // namespace cagewrap::test

@@ -28,13 +28,7 @@ struct Demo {
 
 Demo make_demo() {
   Demo d;
-  d.doc.character = std::make_shared<const Character>(make_demo_character());
-  d.doc.character_hash = "demo";
-  auto mesh = load_cage_mesh(std::string(CAGEWRAP_SOURCE_DIR) + "/assets/demo_cage.obj");
-  EXPECT_TRUE(mesh.ok()) << mesh.error().message;
-  auto cage = make_cage(std::move(mesh).value(), "demo_cage.obj");
-  EXPECT_TRUE(cage.ok());
-  d.doc.cage = std::make_shared<const Cage>(std::move(cage).value());
+  d.doc = test::demo_document();
   // Keyposes alone: automatic separation (on by default) draws its part labels from the attachment
   // of this only nearly symmetric cage, which alone makes the mirrored bulge's total 0.77 of the
   // original's; the left/right comparisons below are about mirroring keys, so it is off here.
@@ -48,25 +42,10 @@ Demo make_demo() {
   EXPECT_TRUE(rig.ok()) << rig.error().message;
   d.rig.emplace(std::move(rig).value());
 
-  const Skeleton& sk = d.doc.character->skeleton;
-  const auto rest = sk.global_transforms(sk.rest_pose());
-  const uint32_t upper = sk.find("upper_arm.L"), forearm = sk.find("forearm.L");
-  const glm::dvec3 a(rest[upper][3]), b(rest[forearm][3]);  // shoulder and elbow
-  const auto positions = d.doc.cage_positions();
-  d.bulge.assign(positions.size(), glm::vec3(0.0f));
-  const CageAttachment& att = *d.rig->attachment();
-  for (uint32_t v = 0; v < positions.size(); ++v) {
-    if (d.doc.character->skins[att.skin].joints[att.joint[v]] != upper) continue;
-    glm::dvec3 p(positions[v]);
-    double t = glm::dot(p - a, b - a) / glm::dot(b - a, b - a);
-    glm::dvec3 radial = p - (a + t * (b - a));
-    if (t < 0.25 || t > 0.85 || radial.z < 0.3 * glm::length(radial)) continue;  // mid-bone, front
-    d.biceps.push_back(v);
-    d.bulge[v] = glm::vec3(0.02 * glm::normalize(radial));
-  }
-  d.biceps_set.name = "biceps.L";
-  d.biceps_set.drivers = {JointDriver{forearm, DriverKind::kRotation, {1, 0, 0}}};
-  set_key(d.biceps_set, make_key({120}, d.bulge));
+  test::BicepsKeypose b = test::demo_biceps_keypose(*d.doc.character, d.doc.cage_positions(), *d.rig->attachment());
+  d.biceps = std::move(b.vertices);
+  d.bulge = std::move(b.bulge);
+  d.biceps_set = std::move(b.set);
   return d;
 }
 

@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
-# CLI checks for `cagewrap export`: each mode writes a .glb that passes the Khronos glTF validator
-# (when node is installed) and reports its error; bad arguments are refused with a sentence.
+# CLI checks for `cagewrap export`: each glb mode writes a .glb that passes the Khronos glTF
+# validator (when node is installed) and reports its error; --format obj writes one OBJ per frame
+# (beside F.obj or into a folder), --format json the rig description; a terminal sees the progress;
+# bad arguments are refused with a sentence, before any work.
 # Usage: export.sh <cagewrap binary> [shared assets dir]. Uses assets/demo_character.glb and demo_cage.obj.
 set -u
 
@@ -26,6 +28,57 @@ for mode in cage baked-animation baked-skin; do
 done
 check "baked-skin reports the skeleton-only error" has "$T/out" "skeleton only"
 
+run export --project "$P" --format glb --mode baked-skin --clips walk --fps 4 --keypose-steps 0 --out "$T/explicit.glb"
+check "--format glb is the default made explicit" [ "$rc" -eq 0 ]
+check "it wrote the file" [ -s "$T/explicit.glb" ]
+check "no keypose line without keypose poses" lacks "$T/out" "keypose"
+
+run export --project "$P" --format obj --clips walk --fps 4 --out "$T/hero.obj"
+check "export obj exits 0" [ "$rc" -eq 0 ]
+check "obj: one file per frame, named by clip and frame" [ -s "$T/hero_walk_0000.obj" ]
+check "obj: up to the last frame" [ -s "$T/hero_walk_0004.obj" ]
+check "obj: no more than the frames" [ ! -e "$T/hero_walk_0005.obj" ]
+check "obj: it says what it wrote" has "$T/out" "^exported skin as OBJ of .*: 5 frames, wrote 5 OBJ files .*hero_walk_0000.obj .. hero_walk_0004.obj"
+check "obj: the skin's vertices" [ "$(grep -c '^v ' "$T/hero_walk_0002.obj")" -eq 34800 ]
+run export --project "$P" --format obj --mode cage --clips arm_raise --fps 2 --out "$T/cage_frames"
+check "export obj of the cage into a folder exits 0" [ "$rc" -eq 0 ]
+check "obj cage: 5 frames in the folder" [ "$(ls "$T/cage_frames" | wc -l)" -eq 5 ]
+check "obj cage: the cage's polygons" [ "$(grep -c '^f ' "$T/cage_frames/arm_raise_0004.obj")" -eq "$(grep -c '^f ' "$CAGE")" ]
+
+run export --project "$P" --format json --out "$T/rig.json"
+check "export json exits 0" [ "$rc" -eq 0 ]
+check "json: it says what it wrote" has "$T/out" "^exported rig as JSON of .*: [0-9]* cage vertices, [0-9]* faces, 0 keypose set(s)"
+check "json: the format is named" has "$T/rig.json" '"format": "cagewrap-rig"'
+check "json: nodes by name" has "$T/rig.json" '"nodes": \["'
+run export --project "$P" --format json --mode cage --out "$T/rig.json"
+check "json refuses a mode" [ "$rc" -ne 0 ]
+check "it says why" has "$T/err" "has no meaning for --format json"
+
+# the progress line, on a terminal (script gives the command one)
+if command -v script > /dev/null; then
+  script -qec "'$BIN' export --project '$P' --mode baked-skin --clips walk --fps 4 --out '$T/tty.glb'" /dev/null > "$T/tty.txt" 2>&1
+  check "a terminal sees the stages" has "$T/tty.txt" "export: posing *5/5"
+  check "and the fit" has "$T/tty.txt" "export: fitting"
+  check "up to 100%" has "$T/tty.txt" "100%"
+fi
+check "without a terminal, no progress line" lacks "$T/err" "export: "
+
+run export --project "$P" --format fbx --out "$T/x.fbx"
+check "an unknown format is refused" [ "$rc" -ne 0 ]
+check "it names the formats" has "$T/err" "should be glb, obj or json"
+run export --project "$P" --out "$T/x.glb"
+check "glb without a mode is refused" [ "$rc" -ne 0 ]
+check "it asks for one" has "$T/err" "needs --mode"
+run export --project "$P" --mode cage --out "$T/nowhere/x.glb"
+check "a missing folder is refused" [ "$rc" -ne 0 ]
+check "it names the folder" hasf "$T/err" "$T/nowhere/x.glb: the folder $T/nowhere does not exist"
+cp "$DEMO" "$T/own.glb"
+run new --character "$T/own.glb" --cage "$CAGE" --out "$T/own.cagewrap"
+run export --project "$T/own.cagewrap" --mode cage --out "$T/own.glb"
+check "the project's own character is not an output" [ "$rc" -ne 0 ]
+check "it says so" hasf "$T/err" "$T/own.glb: is the document's own character file; export elsewhere"
+check "and the character is untouched" cmp -s "$DEMO" "$T/own.glb"
+
 run export --project "$P" --mode baked --out "$T/x.glb"
 check "an unknown mode is refused" [ "$rc" -ne 0 ]
 check "it names the modes" has "$T/err" "should be baked-animation, baked-skin or cage"
@@ -34,5 +87,6 @@ check "an unknown clip is refused" [ "$rc" -ne 0 ]
 check "it names the clips there are" has "$T/err" "no clip named or numbered 'run' (it has 2: walk, arm_raise)"
 run export --project "$P" --mode cage --out "$T/x.obj"
 check "a non-.glb output is refused" [ "$rc" -ne 0 ]
+check "it says what glb writes" has "$T/err" "a glb export is written to a .glb file"
 
 finish

@@ -1,0 +1,292 @@
+#include "app/export_panel.h"
+
+#if CAGEWRAP_GUI
+#include <imgui/imgui.h>
+#endif
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+
+namespace cagewrap::app {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+double now_seconds() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+const char* format_extension(ExportFormat f) {
+  return f == ExportFormat::kGlb ? ".glb" : f == ExportFormat::kObj ? ".obj" : ".json";
+}
+
+// The window's content width and its fields' (it sizes itself to them).
+constexpr float kWindowWidth = 560.0f, kFieldWidth = kWindowWidth - 110.0f - 88.0f;
+
+FilePurpose format_purpose(ExportFormat f) {
+  return f == ExportFormat::kGlb   ? FilePurpose::kExportGlb
+         : f == ExportFormat::kObj ? FilePurpose::kExportObj
+                                   : FilePurpose::kExportJson;
+}
+
+}  // namespace
+
+void ExportPanel::set_output(const std::string& path) {
+  request_.out = path;
+  std::snprintf(out_field_, sizeof out_field_, "%s", path.c_str());
+}
+
+// A file beside the project (or the character) named after it and the mode, never the character
+// file itself: hero.cagewrap -> hero_baked-skin.glb.
+void ExportPanel::default_output(const Scene& scene) {
+  const Document& doc = scene.doc();
+  const fs::path base = !doc.project_path.empty() ? fs::path(doc.project_path) : fs::path(doc.character_path);
+  const std::string suffix =
+      request_.format == ExportFormat::kJson ? "rig" : export_mode_name(request_.options.mode);
+  set_output((base.parent_path() / (base.stem().string() + "_" + suffix + format_extension(request_.format)))
+                 .string());
+}
+
+void ExportPanel::set_format(ExportFormat format) {
+  request_.format = format;
+  // keep the name, change the extension of a file path (an OBJ folder has none)
+  fs::path p(request_.out);
+  if (!request_.out.empty() && (p.has_extension() || format != ExportFormat::kObj))
+    set_output(p.replace_extension(format_extension(format)).string());
+}
+
+ExportRequest ExportPanel::shown_request() const {
+  ExportRequest request = request_;
+  request.options.clips.clear();
+  for (size_t c = 0; c < clip_on_.size(); ++c)
+    if (clip_on_[c]) request.options.clips.push_back(static_cast<int32_t>(c));
+  return request;
+}
+
+void ExportPanel::open(const Scene& scene) {
+  visible_ = true;
+  const void* character = scene.doc().character.get();
+  if (defaults_for_ != character) {
+    defaults_for_ = character;
+    clip_on_.assign(scene.doc().character->clips.size(), 1);
+    default_output(scene);
+  }
+}
+
+std::optional<ExportPanel::BrowseRequest> ExportPanel::take_browse_request() {
+  if (!browse_requested_) return std::nullopt;
+  browse_requested_ = false;
+  fs::path p(request_.out);
+  return BrowseRequest{format_purpose(request_.format), request_.out, p.filename().string()};
+}
+
+bool ExportPanel::start(const Scene& scene, const ExportRequest& request, const EditorHooks& hooks) {
+  if (job_) return false;
+  request_ = request;
+  set_output(request.out);
+  clip_on_.assign(scene.doc().character->clips.size(), 0);
+  for (int32_t c : request.options.clips)
+    if (c >= 0 && static_cast<size_t>(c) < clip_on_.size()) clip_on_[c] = 1;
+  report_.reset();
+  last_outcome_.clear();
+  auto refuse = [&](const std::string& message) {
+    last_outcome_ = message;
+    hooks.show_error("export: " + message);
+    return false;
+  };
+  const Document& doc = scene.doc();
+  if (!doc.cage) return refuse("the document has no cage yet: build or import one first (Cage menu)");
+  if (request.format != ExportFormat::kJson && doc.character->clips.empty())
+    return refuse("the character has no animation clip to bake");
+  if (request.format != ExportFormat::kJson && request.options.clips.empty())
+    return refuse("choose at least one clip to bake");
+  if (auto bad = check_export_path(request); !bad.empty()) return refuse(bad);
+  started_ = now_seconds();
+  hooks.log("exporting " + export_kind_name(request) + " to " + request.out + " ...", false);
+  job_ = std::make_unique<BackgroundTask<ExportReport>>(
+      "export",
+      [doc, request](const BackgroundTask<ExportReport>::Progress& progress,
+                     const std::atomic<bool>& cancel) -> Result<ExportReport> {
+        // A bind of its own: the export must not share the editor's deformer across threads. It
+        // takes about a quarter of the time.
+        const bool needs_rig = request.format != ExportFormat::kJson;
+        const double bind_share = needs_rig ? 0.25 : 0.0;
+        std::optional<Rig> rig;
+        if (needs_rig) {
+          BindProgress bp;
+          bp.cancel = &cancel;
+          bp.on_progress = [&progress, bind_share](double s) { progress("binding", bind_share * s); };
+          auto made = Rig::create(doc, bp);
+          if (!made) return made.error();
+          rig.emplace(std::move(made).value());
+        }
+        ExportProgress ep;
+        ep.cancel = &cancel;
+        ep.on_progress = [&progress, bind_share](const char* stage, size_t done, size_t total, double share) {
+          char text[64];
+          std::snprintf(text, sizeof text, "%s %zu/%zu", stage, done, total);
+          progress(text, bind_share + (1.0 - bind_share) * share);
+        };
+        return run_export(doc, rig ? &*rig : nullptr, request, ep);
+      });
+  return true;
+}
+
+void ExportPanel::poll(const EditorHooks& hooks) {
+  if (!job_ || !job_->done()) return;
+  auto& r = job_->result();
+  seconds_ = now_seconds() - started_;
+  if (!r.ok()) {
+    if (r.error().code == ErrorCode::kCancelled) {
+      last_outcome_ = "cancelled; nothing was written";
+      hooks.log("export cancelled; nothing was written", false);
+    } else {
+      last_outcome_ = r.error().message;
+      hooks.show_error("export: " + r.error().message);
+    }
+    job_.reset();
+    return;
+  }
+  report_ = std::move(r).value();
+  job_.reset();
+  char secs[32];
+  std::snprintf(secs, sizeof secs, " in %.1f s", seconds_);
+  hooks.log("exported " + report_->what + ": " + report_->summary + secs, false);
+  for (const std::string& line : report_->error_lines) hooks.log("  " + line, false);
+  for (const std::string& w : report_->warnings) hooks.log("warning: export: " + w, false);
+}
+
+#if CAGEWRAP_GUI
+
+void ExportPanel::draw(Scene& scene, const EditorHooks& hooks) {
+  if (!visible_) return;
+  if (defaults_for_ != scene.doc().character.get()) open(scene);  // another document: new defaults
+  ImGui::SetNextWindowPos(ImVec2(280, 60), ImGuiCond_FirstUseEver);
+  if (!ImGui::Begin("Export", &visible_, ImGuiWindowFlags_AlwaysAutoResize)) {
+    ImGui::End();
+    return;
+  }
+  const Character& ch = *scene.doc().character;
+  ImGui::BeginDisabled(job_ != nullptr);
+  int format = static_cast<int>(request_.format);
+  ImGui::TextUnformatted("format");
+  ImGui::SameLine(110);
+  for (ExportFormat f : {ExportFormat::kGlb, ExportFormat::kObj, ExportFormat::kJson}) {
+    if (f != ExportFormat::kGlb) ImGui::SameLine();
+    if (ImGui::RadioButton(export_format_name(f), &format, static_cast<int>(f))) set_format(f);
+  }
+  ImGui::TextDisabled("%s", request_.format == ExportFormat::kGlb
+                                ? "binary glTF for engines: the skin and the clips"
+                            : request_.format == ExportFormat::kObj
+                                ? "one OBJ per frame: F.obj gives F_<clip>_<frame>.obj"
+                                : "the cage, its attachment to the skeleton and the keyposes");
+  if (request_.format != ExportFormat::kJson) {
+    int mode = static_cast<int>(request_.options.mode);
+    const char* modes[] = {"baked-animation", "baked-skin", "cage"};
+    ImGui::TextUnformatted("mode");
+    ImGui::SameLine(110);
+    ImGui::SetNextItemWidth(180);
+    if (request_.format == ExportFormat::kObj) {
+      bool cage = request_.options.mode == ExportMode::kCage;
+      if (ImGui::RadioButton("skin", !cage)) request_.options.mode = ExportMode::kBakedAnimation;
+      ImGui::SameLine();
+      if (ImGui::RadioButton("cage", cage)) request_.options.mode = ExportMode::kCage;
+    } else if (ImGui::Combo("##mode", &mode, modes, 3)) {
+      request_.options.mode = static_cast<ExportMode>(mode);
+    }
+    if (request_.format == ExportFormat::kGlb) {
+      ImGui::SameLine();
+      ImGui::TextDisabled("%s",
+                          request_.options.mode == ExportMode::kBakedSkin ? "fitted weights + correctives"
+                          : request_.options.mode == ExportMode::kBakedAnimation ? "a morph target per frame"
+                                                                                 : "the cage, skinned");
+    }
+    ImGui::TextUnformatted("clips");
+    ImGui::SameLine(110);
+    if (clip_on_.size() != ch.clips.size()) clip_on_.assign(ch.clips.size(), 1);
+    for (size_t c = 0; c < ch.clips.size(); ++c) {
+      if (c) ImGui::SameLine();
+      bool on = clip_on_[c] != 0;
+      char label[160];
+      std::snprintf(label, sizeof label, "%s (%.1f s)##clip%zu", ch.clips[c].name.c_str(),
+                    ch.clips[c].duration, c);
+      if (ImGui::Checkbox(label, &on)) clip_on_[c] = on;
+    }
+    if (ch.clips.empty()) ImGui::TextDisabled("the character has no clips");
+    float fps = static_cast<float>(request_.options.fps);
+    ImGui::TextUnformatted("fps");
+    ImGui::SameLine(110);
+    ImGui::SetNextItemWidth(180);
+    if (ImGui::DragFloat("##fps", &fps, 0.5f, 1.0f, 240.0f, "%.1f frames/s", ImGuiSliderFlags_AlwaysClamp))
+      request_.options.fps = fps;
+    if (request_.format == ExportFormat::kGlb && request_.options.mode != ExportMode::kBakedAnimation) {
+      ImGui::TextUnformatted("keyposes");
+      ImGui::SameLine(110);
+      ImGui::SetNextItemWidth(180);
+      ImGui::SliderInt("poses per key##kp", &request_.options.keypose_steps, 0, 10);
+      if (ImGui::IsItemHovered())
+        ImGui::SetTooltip(
+            "each keypose set swept from rest to each key: baked-skin fits its weights to these poses "
+            "too, and the error there is reported");
+    }
+  }
+  ImGui::TextUnformatted("output");
+  ImGui::SameLine(110);
+  ImGui::SetNextItemWidth(kFieldWidth);
+  if (ImGui::InputText("##out", out_field_, sizeof out_field_)) request_.out = out_field_;
+  if (ImGui::IsItemHovered() && !request_.out.empty()) ImGui::SetTooltip("%s", request_.out.c_str());
+  ImGui::SameLine();
+  if (ImGui::Button("Browse...", ImVec2(80, 0))) browse_requested_ = true;
+  ImGui::EndDisabled();
+
+  const ExportRequest request = shown_request();
+  const std::vector<int32_t>& clips = request.options.clips;
+  const bool need_clips = request.format != ExportFormat::kJson;
+  const std::string path_problem = check_export_path(request);
+  ImGui::Separator();
+  if (job_) {
+    const std::string stage = job_->stage();
+    ImGui::ProgressBar(static_cast<float>(job_->progress()), ImVec2(kWindowWidth - 88, 0),
+                       stage.empty() ? "starting" : stage.c_str());
+    ImGui::SameLine();
+    ImGui::BeginDisabled(job_->cancelling());
+    if (ImGui::Button("Cancel", ImVec2(80, 0))) job_->cancel();
+    ImGui::EndDisabled();
+  } else {
+    const bool ready = path_problem.empty() && (!need_clips || !clips.empty()) && scene.doc().cage;
+    ImGui::BeginDisabled(!ready);
+    if (ImGui::Button("Export", ImVec2(kWindowWidth, 0))) start(scene, request, hooks);
+    ImGui::EndDisabled();
+    const ImVec4 warn(1.0f, 0.6f, 0.3f, 1.0f);
+    if (!scene.doc().cage)
+      ImGui::TextColored(warn, "the document has no cage yet (Cage menu)");
+    else if (need_clips && clips.empty())
+      ImGui::TextColored(warn, "choose at least one clip");
+    else if (!path_problem.empty())
+      ImGui::TextColored(warn, "%s", path_problem.c_str());
+  }
+  ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + kWindowWidth);
+  if (report_) {
+    ImGui::TextColored(ImVec4(0.5f, 0.9f, 0.5f, 1.0f), "exported %s in %.1f s", report_->what.c_str(),
+                       seconds_);
+    ImGui::TextWrapped("%s", report_->summary.c_str());
+    if (report_->keypose_poses) ImGui::Text("%zu keypose poses measured", report_->keypose_poses);
+    for (const std::string& line : report_->error_lines) ImGui::TextUnformatted(line.c_str());
+    for (const std::string& w : report_->warnings)
+      ImGui::TextColored(ImVec4(1, 0.8f, 0.3f, 1), "%s", w.c_str());
+  } else if (!last_outcome_.empty() && !job_) {
+    ImGui::TextColored(ImVec4(1, 0.5f, 0.4f, 1), "%s", last_outcome_.c_str());
+  }
+  ImGui::PopTextWrapPos();
+  ImGui::End();
+}
+
+#else
+
+void ExportPanel::draw(Scene&, const EditorHooks&) {}
+
+#endif
+
+}  // namespace cagewrap::app
