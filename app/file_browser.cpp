@@ -34,6 +34,8 @@ const FilePurposeInfo& purpose_info(FilePurpose purpose) {
   static const FilePurposeInfo kCage{"Import cage", "Import", {".obj", ".ply", ".off", ".stl", ".glb", ".gltf"}, "", false};
   static const FilePurposeInfo kShot{"Save screenshot", "Save", {".png"}, ".png", true};
   static const FilePurposeInfo kNew{"New project from a character", "Create", {".glb", ".gltf"}, "", false};
+  static const FilePurposeInfo kLocate{"Locate the character", "Use", {".glb", ".gltf"}, "", false};
+  static const FilePurposeInfo kSaveCharacter{"Save the embedded character as", "Save", {".glb", ".gltf"}, ".glb", true};
   switch (purpose) {
     case FilePurpose::kOpen:
       return kOpen;
@@ -45,6 +47,10 @@ const FilePurposeInfo& purpose_info(FilePurpose purpose) {
       return kShot;
     case FilePurpose::kNewFromCharacter:
       return kNew;
+    case FilePurpose::kLocateCharacter:
+      return kLocate;
+    case FilePurpose::kSaveCharacter:
+      return kSaveCharacter;
   }
   return kOpen;
 }

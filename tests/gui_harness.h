@@ -7,6 +7,8 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -49,6 +51,36 @@ inline bool gui_available(std::string& why) {
 inline std::string editor_command(const std::string& args, const std::string& config_dir, const std::string& log) {
   return "CAGEWRAP_CONFIG_DIR='" + config_dir + "' xvfb-run -a -s '-screen 0 1280x720x24' " + std::string(CAGEWRAP_BINARY) + " " +
          args + " > '" + log + "' 2>&1";
+}
+
+// The same run with the editor's process id written to `pid_file` (the editor replaces the shell
+// that wrote it), so a test can signal it (a SIGKILL test).
+inline std::string editor_command_with_pid(const std::string& args, const std::string& config_dir, const std::string& log,
+                                           const std::string& pid_file) {
+  return "CAGEWRAP_CONFIG_DIR='" + config_dir + "' xvfb-run -a -s '-screen 0 1280x720x24' sh -c \"echo \\$\\$ > '" + pid_file +
+         "'; exec " + std::string(CAGEWRAP_BINARY) + " " + args + "\" > '" + log + "' 2>&1";
+}
+
+inline std::string read_file_text(const std::filesystem::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+struct EditorRun {
+  int status = -1;  // std::system's
+  std::string log;  // stdout and stderr
+};
+// Runs the editor with `script` (written to DIR/NAME.script) and `args`, its preferences in
+// `config_dir`; the log is DIR/NAME.log.
+inline EditorRun run_editor_script(const std::filesystem::path& dir, const std::string& name, const std::string& script,
+                                   const std::string& args, const std::filesystem::path& config_dir) {
+  const std::filesystem::path s = dir / (name + ".script");
+  std::ofstream(s) << script;
+  const std::filesystem::path log = dir / (name + ".log");
+  EditorRun run;
+  run.status = std::system(editor_command("--script " + s.string() + " " + args, config_dir.string(), log.string()).c_str());
+  run.log = read_file_text(log);
+  return run;
 }
 
 // Runs the editor and returns the screenshot (asserting exit status 0); its log is NAME.log.

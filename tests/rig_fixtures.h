@@ -12,7 +12,10 @@
 #include <glm/matrix.hpp>
 #include <gtest/gtest.h>
 
+#include "core/cage_attachment.h"
 #include "core/character.h"
+#include "core/document.h"
+#include "core/keyposes.h"
 
 namespace cagewrap::test {
 
@@ -88,6 +91,38 @@ inline void rotate(const Skeleton& skeleton, Pose& pose, const std::string& node
 
 inline glm::quat about_deg(double degrees, glm::dvec3 axis) {
   return glm::quat(glm::angleAxis(glm::radians(degrees), glm::normalize(axis)));
+}
+
+// The demo character's biceps bulge (rig_test.cpp's acceptance case): the cage vertices that follow
+// the left upper arm, on its front and mid-bone, pushed 2 cm outwards (bind space), keyed at 120
+// degrees of elbow flexion (forearm.L's rotation about its local X; linear). `attachment` is the
+// demo cage's attachment to the demo character (`doc`).
+struct BicepsKey {
+  std::vector<uint32_t> vertices;  // the bulging cage vertices
+  std::vector<glm::vec3> bulge;    // #Vc offsets (zero elsewhere)
+  KeyposeSet set;
+};
+inline BicepsKey biceps_keypose(const Document& doc, const CageAttachment& attachment) {
+  BicepsKey k;
+  const Skeleton& sk = doc.character->skeleton;
+  const auto rest = sk.global_transforms(sk.rest_pose());
+  const uint32_t upper = sk.find("upper_arm.L"), forearm = sk.find("forearm.L");
+  const glm::dvec3 a(rest[upper][3]), b(rest[forearm][3]);  // shoulder and elbow
+  const auto positions = doc.cage_positions();
+  k.bulge.assign(positions.size(), glm::vec3(0.0f));
+  for (uint32_t v = 0; v < positions.size(); ++v) {
+    if (doc.character->skins[attachment.skin].joints[attachment.joint[v]] != upper) continue;
+    glm::dvec3 p(positions[v]);
+    double t = glm::dot(p - a, b - a) / glm::dot(b - a, b - a);
+    glm::dvec3 radial = p - (a + t * (b - a));
+    if (t < 0.25 || t > 0.85 || radial.z < 0.3 * glm::length(radial)) continue;  // mid-bone, front
+    k.vertices.push_back(v);
+    k.bulge[v] = glm::vec3(0.02 * glm::normalize(radial));
+  }
+  k.set.name = "biceps.L";
+  k.set.drivers = {JointDriver{forearm, DriverKind::kRotation, {1, 0, 0}}};
+  set_key(k.set, make_key({120}, k.bulge));
+  return k;
 }
 
 }  // namespace cagewrap::test

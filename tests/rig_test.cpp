@@ -44,25 +44,10 @@ Demo make_demo() {
   EXPECT_TRUE(rig.ok()) << rig.error().message;
   d.rig.emplace(std::move(rig).value());
 
-  const Skeleton& sk = d.doc.character->skeleton;
-  const auto rest = sk.global_transforms(sk.rest_pose());
-  const uint32_t upper = sk.find("upper_arm.L"), forearm = sk.find("forearm.L");
-  const glm::dvec3 a(rest[upper][3]), b(rest[forearm][3]);  // shoulder and elbow
-  const auto positions = d.doc.cage_positions();
-  d.bulge.assign(positions.size(), glm::vec3(0.0f));
-  const CageAttachment& att = *d.rig->attachment();
-  for (uint32_t v = 0; v < positions.size(); ++v) {
-    if (d.doc.character->skins[att.skin].joints[att.joint[v]] != upper) continue;
-    glm::dvec3 p(positions[v]);
-    double t = glm::dot(p - a, b - a) / glm::dot(b - a, b - a);
-    glm::dvec3 radial = p - (a + t * (b - a));
-    if (t < 0.25 || t > 0.85 || radial.z < 0.3 * glm::length(radial)) continue;  // mid-bone, front
-    d.biceps.push_back(v);
-    d.bulge[v] = glm::vec3(0.02 * glm::normalize(radial));
-  }
-  d.biceps_set.name = "biceps.L";
-  d.biceps_set.drivers = {JointDriver{forearm, DriverKind::kRotation, {1, 0, 0}}};
-  set_key(d.biceps_set, make_key({120}, d.bulge));
+  test::BicepsKey k = test::biceps_keypose(d.doc, *d.rig->attachment());
+  d.biceps = std::move(k.vertices);
+  d.bulge = std::move(k.bulge);
+  d.biceps_set = std::move(k.set);
   return d;
 }
 
