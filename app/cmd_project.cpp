@@ -102,7 +102,9 @@ void add_project_command(CLI::App& app, int& exit_code) {
     // caching on: the project's binding, from a cache still valid or bound now
     std::optional<Rig> rig;
     if (doc.cache_binding && doc.cage) {
-      if (!load_binding_cache(doc)) changed = true;  // none yet, or out of date: bind and write it
+      // asked to cache: bind and write it when there is none yet or it is out of date; showing
+      // the project (no option) never writes
+      if (args->cache && !load_binding_cache(doc)) changed = true;
       if (changed) {
         rig = rig_of_project(doc, P);
         if (!rig) return;

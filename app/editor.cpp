@@ -207,6 +207,7 @@ void Editor::log(std::string text, bool error) {
     return;
   }
   std::fprintf(error ? stderr : stdout, "%s\n", text.c_str());
+  std::fflush(error ? stderr : stdout);  // the log survives a crash or a kill
   log_.push_back({std::move(text), 1, error});
   if (log_.size() > 500) log_.pop_front();
 }
@@ -962,6 +963,16 @@ void Editor::draw_menu() {
     if (ImGui::MenuItem("Save", "Ctrl+S", false, scene_ != nullptr)) request_save();
     if (ImGui::MenuItem("Save as...", nullptr, false, scene_ != nullptr)) open_save_popup_ = true;
     if (scene_) act_on(dialogs_.menu_items(*scene_, hooks_));
+    if (ImGui::BeginMenu("Autosave every")) {  // the recovery file of unsaved work (core/autosave.h)
+      const std::pair<const char*, double> choices[] = {{"1 minute", 60}, {"3 minutes", 180}, {"10 minutes", 600}, {"never", 0}};
+      for (const auto& [label, seconds] : choices)
+        if (ImGui::MenuItem(label, nullptr, autosave_->interval_seconds() == seconds)) {
+          autosave_->set_interval_seconds(seconds);
+          if (auto e = files_.set_autosave_seconds(seconds); !e.empty()) log("warning: " + e);
+          log(seconds > 0 ? std::string("autosave every ") + label : std::string("autosave off"));
+        }
+      ImGui::EndMenu();
+    }
     ImGui::Separator();
     if (ImGui::MenuItem("Import cage...", nullptr, false, scene_ != nullptr)) browse(FilePurpose::kImportCage);
     ImGui::Separator();
@@ -1261,11 +1272,13 @@ void Editor::draw_log() {
   ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x * 0.6f, io.DisplaySize.y - kBottomHeight), ImGuiCond_Always);
   ImGui::SetNextWindowSize(ImVec2(io.DisplaySize.x * 0.4f, kBottomHeight), ImGuiCond_Always);
   ImGui::Begin("Log", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
+  ImGui::PushTextWrapPos(0.0f);  // long paths wrap instead of running off the panel
   for (const auto& l : log_) {
     ImVec4 c = l.error ? ImVec4(1, 0.4f, 0.35f, 1) : (l.text.rfind("warning", 0) == 0 ? ImVec4(1, 0.8f, 0.3f, 1) : ImVec4(0.85f, 0.85f, 0.85f, 1));
     if (l.repeats > 1) ImGui::TextColored(c, "%s (and %d similar)", l.text.c_str(), l.repeats - 1);
     else ImGui::TextColored(c, "%s", l.text.c_str());
   }
+  ImGui::PopTextWrapPos();
   if (ImGui::GetScrollY() >= ImGui::GetScrollMaxY()) ImGui::SetScrollHereY(1.0f);
   ImGui::End();
   if (!error_modal_.empty()) {
@@ -1794,7 +1807,6 @@ void Editor::script_rotate_drag(std::istringstream& in) {
 void Editor::draw_panels() {
   draw_menu();
   draw_file_popups();
-  act_on(dialogs_.draw());
   draw_gizmo();
   draw_outliner();
   draw_properties();
@@ -1806,6 +1818,9 @@ void Editor::draw_panels() {
   if (scene_) rig_panel_.draw(*scene_, selection_, mirror_.enabled, rig_mirror_tolerance(), hooks_);
   if (scene_) sets_panel_.draw(*scene_, selection_, hooks_);
   draw_help();
+  // last: a window appearing after a modal's first Begin in the same frame trips an assertion in
+  // Dear ImGui 1.86 (FindBlockingModal), and at start-up every panel appears with the prompt
+  act_on(dialogs_.draw());
 }
 
 bool Editor::save_screenshot(const std::string& path, bool view_only) {

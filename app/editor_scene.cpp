@@ -32,9 +32,11 @@ bool Scene::needs_rebind() const {
 }
 
 void Scene::adopt_binding(Binding b) {
-  auto d = Deformer::create(b, skin_rest);
+  auto owned = std::make_unique<Binding>(std::move(b));
+  auto d = Deformer::create(*owned, skin_rest);  // refers to the binding: made from its final place
   if (!d) return;  // a fresh bind follows
-  binding = std::make_unique<Binding>(std::move(b));
+  deformer.reset();
+  binding = std::move(owned);
   deformer.emplace(std::move(d).value());
   bound_cage = doc().cage;
   bound_edits_ = doc().set_edits;
