@@ -1,6 +1,6 @@
 // The editor keeping and finding projects, under Xvfb: the autosave survives a SIGKILL and the
 // next start offers it back (Recover / Discard / Later; a recovered document is unsaved and saves
-// with the edit); a moved character is located through the dialog and the file browser, and the
+// with the edit; a clean quit or a save removes it); a moved character is located through the dialog and the file browser, and the
 // project remembers the new place when saved; a project of a newer version is refused naming both
 // versions; unknown fields are logged and written back; a cached binding opens without a bind
 // and a stale one says why; the character is embedded from the File menu and the project then
@@ -87,7 +87,9 @@ TEST_F(EditorProjectGui, AutosaveSurvivesSigkillAndTheNextStartRecoversIt) {
       config().string(), p("edit.log"), p("editor.pid"));
   std::thread editor([cmd] { (void)std::system(cmd.c_str()); });
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
-  while (recovery_files(recovery_dir).empty() && std::chrono::steady_clock::now() < deadline)
+  // the log line comes after the file is in place: once it is there, the kill finds a written file
+  while (read_file_text(p("edit.log")).find("autosaved the unsaved work to") == std::string::npos &&
+         std::chrono::steady_clock::now() < deadline)
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   const std::string pid_text = read_file_text(p("editor.pid"));
   const pid_t pid = static_cast<pid_t>(std::atoi(pid_text.c_str()));
@@ -129,7 +131,11 @@ TEST_F(EditorProjectGui, AutosaveSurvivesSigkillAndTheNextStartRecoversIt) {
   r = run("discard", "wait 2\nanswer_recovery discard\nwait 2\n", "--autosave-seconds 1");
   EXPECT_TRUE(Logged(r.log, "discarded the recovery file"));
   EXPECT_TRUE(recovery_files(recovery_dir).empty()) << r.log;
-  // a quit with nothing unsaved leaves nothing behind; the project saved after its autosave is not offered
+  // a clean quit removes the recovery file even with unsaved work (the artist was asked on quit)
+  r = run("quit", "wait 2\nselect_cage_vertex 5\nmove 0 0.05 0\nwait 5\n", p("hero.cagewrap") + " --autosave-seconds 0.01");
+  EXPECT_TRUE(Logged(r.log, "autosaved the unsaved work to "));
+  EXPECT_TRUE(recovery_files(recovery_dir).empty()) << r.log;
+  // the project saved after its autosave: not offered, removed
   fs::copy_file(p("kept.cagewrap"), recovery_dir / "recovery-1-1.cagewrap");
   fs::last_write_time(p("hero.cagewrap"), fs::file_time_type::clock::now());
   r = run("stale", "wait 2\n", "--autosave-seconds 1");
