@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <mutex>
 
+#include "core/binding_cache.h"
 #include "core/mesh_io.h"
 
 namespace cagewrap::app {
@@ -138,6 +139,22 @@ std::optional<Rig> rig_of_project(const Document& doc, const std::string& projec
     std::fprintf(stderr, "error: %s: the project has no cage yet; give it one (cagewrap new --cage, or the editor)\n",
                  project.c_str());
     return std::nullopt;
+  }
+  if (!doc.binding_cache.file.empty()) {  // a cached binding, when it is still the project's
+    auto cached = load_binding_cache(doc);
+    if (cached) {
+      auto rig = Rig::create(doc, std::move(cached).value());
+      if (rig) {
+        std::fprintf(stderr, "note: %s: using the cached binding %s (no bind)\n", project.c_str(),
+                     doc.binding_cache.file.c_str());
+        return std::move(rig).value();
+      }
+      std::fprintf(stderr, "warning: %s: the cached binding was not used (%s); binding again\n", project.c_str(),
+                   rig.error().message.c_str());
+    } else {
+      std::fprintf(stderr, "warning: binding cache not used: %s; binding again (`cagewrap project %s --cache-binding` refreshes it)\n",
+                   cached.error().message.c_str(), project.c_str());
+    }
   }
   auto rig = Rig::create(doc, terminal_progress("bind"));
   if (!rig) {

@@ -47,8 +47,10 @@ void print_bind_summary(const Binding& b, const std::string& cage_path, size_t n
 // A progress bar on stderr when it is a terminal.
 BindProgress terminal_progress(const char* label);
 
-// The rig of a loaded project (`project`: its path, for messages), bound with a progress bar;
-// prints the error (no cage yet, a failed bind) and returns nullopt.
+// The rig of a loaded project (`project`: its path, for messages): from the project's cached
+// binding when it is still valid (core/binding_cache.h; a note on stderr), else bound with a
+// progress bar (saying why the cache was not used). Prints the error (no cage yet, a failed bind)
+// and returns nullopt.
 std::optional<Rig> rig_of_project(const Document& doc, const std::string& project);
 
 }  // namespace cagewrap::app

@@ -1,9 +1,12 @@
-// cagewrap new --character F [--cage C | --auto-cage FACES [auto-cage options]] [params] --out P.cagewrap
+// cagewrap new --character F [--cage C | --auto-cage FACES [auto-cage options]] [params] [--embed]
+//              [--cache-binding] --out P.cagewrap
 #include <cstdio>
 
 #include "app/auto_cage_options.h"
 #include "app/cli_common.h"
 #include "app/commands.h"
+#include "core/binding_cache.h"
+#include "core/character_embedding.h"
 #include "core/document.h"
 #include "core/project_io.h"
 
@@ -15,12 +18,16 @@ void add_new_command(CLI::App& app, int& exit_code) {
     BindOptions bind;
     AutoCageOptions auto_cage;
     CLI::Option* auto_cage_option = nullptr;
+    bool embed = false, cache = false;
   };
   auto args = std::make_shared<Args>();
   auto* cmd = app.add_subcommand("new", "make a project (.cagewrap) from a character and a cage");
   cmd->add_option("--character", args->character, "character (.glb .gltf)")->required();
   cmd->add_option("--cage", args->cage, "cage at rest (.obj .ply .off .stl); without it the project has no cage yet");
   cmd->add_option("--out", args->out, "project file to write (.cagewrap)")->required();
+  cmd->add_flag("--embed", args->embed, "put the character file into the project: it opens with no other file");
+  cmd->add_flag("--cache-binding", args->cache,
+                "bind now and keep the binding beside the project (P.cagewrap.cwb): opening needs no bind");
   add_bind_options(*cmd, args->bind);
   args->auto_cage_option = add_auto_cage_options(*cmd, args->auto_cage, "--auto-cage");
   args->auto_cage_option->description("build the cage automatically with about this many triangles (see `cagewrap cage`)");
@@ -53,7 +60,27 @@ void add_new_command(CLI::App& app, int& exit_code) {
       print_cage_report(*r, args->auto_cage.params);
       *doc = with_cage(*doc, std::make_shared<const Cage>(std::move(cage).value()));
     }
-    if (auto s = save_project(args->out, *doc); !s) {
+    if (args->embed) {
+      auto e = embed_character(*doc);
+      if (!e) {
+        report_error(e.error());
+        return;
+      }
+      *doc = std::move(e).value();
+    }
+    std::optional<Rig> rig;
+    if (args->cache) {
+      if (!doc->cage) {
+        std::fprintf(stderr, "error: --cache-binding needs a cage (--cage or --auto-cage)\n");
+        return;
+      }
+      *doc = with_cache_binding(*doc, true);
+      rig = rig_of_project(*doc, args->out);
+      if (!rig) return;
+    }
+    SaveOptions options;
+    if (rig) options.binding = &rig->binding();
+    if (auto s = save_project(args->out, *doc, options); !s) {
       report_error(s.error());
       return;
     }
@@ -65,6 +92,11 @@ void add_new_command(CLI::App& app, int& exit_code) {
                   doc->cage->polygons.num_faces());
     else
       std::printf("cage       none\n");
+    if (doc->embedded_character)
+      std::printf("embedded   the character (%zu bytes)\n", doc->embedded_character->size());
+    if (rig)
+      std::printf("cached     the binding in %s (%u points, %zu entries)\n", binding_cache_path(args->out).c_str(),
+                  rig->binding().num_points, rig->binding().num_entries());
     std::printf("wrote      %s\n", args->out.c_str());
     exit_code = 0;
   });

@@ -28,6 +28,9 @@
 #include "app/sets_panel.h"
 #include "app/editor_files.h"
 #include "app/editor_scene.h"
+#include "app/project_dialogs.h"
+#include "core/autosave.h"
+#include "core/binding_cache.h"
 #include "core/camera.h"
 #include "core/mesh_io.h"
 #include "core/move_gizmo.h"
@@ -106,6 +109,8 @@ class Editor {
   void request_save();
   bool save_project_to(const std::string& path);
   bool open_path(const std::string& path);
+  bool open_project(const std::string& path, const std::string& character_override = {});
+  void act_on(const ProjectDialogs::Request& request);
   bool import_cage(const std::string& path);
   void guard_unsaved(std::function<void()> action);
   void browse(FilePurpose purpose, const std::string& dir = {});
@@ -165,6 +170,9 @@ class Editor {
   bool box_selecting_ = false;
   ImVec2 box_start_{0, 0};
   EditorFiles files_;  // preferences, recent files, the file browser (app/editor_files.h)
+  ProjectDialogs dialogs_;  // locate a moved character, recover unsaved work, embed/cache (app/project_dialogs.h)
+  std::unique_ptr<Autosave> autosave_;  // the recovery file of unsaved work (core/autosave.h)
+  bool recovered_ = false;  // the document came from a recovery file and was not saved since
   // requests for the file browser: Save as, Open (Ctrl+O); quit once the Save as is done
   bool open_save_popup_ = false, open_open_popup_ = false, quit_requested_ = false;
   // "Save changes?": what to do once the unsaved work is saved or discarded (quit, open, new), and
@@ -203,6 +211,7 @@ void Editor::log(std::string text, bool error) {
     return;
   }
   std::fprintf(error ? stderr : stdout, "%s\n", text.c_str());
+  std::fflush(error ? stderr : stdout);  // the log survives a crash or a kill
   log_.push_back({std::move(text), 1, error});
   if (log_.size() > 500) log_.pop_front();
 }
@@ -243,6 +252,8 @@ bool Editor::open_window() {
 
 void Editor::set_scene(std::unique_ptr<Scene> scene) {
   scene_ = std::move(scene);
+  if (autosave_) autosave_->discard();  // the work it held was saved or discarded (guard_unsaved)
+  recovered_ = false;
   topology_dirty_ = true;
   skin_bvh_built_ = false;
   display_key_.clear();
@@ -264,9 +275,11 @@ void Editor::load_initial() {
       if (!st.ok()) log("error: " + st.error().message, true);
     }
   }
-  std::vector<std::string> warnings;
-  auto s = has_extension(path, ".cagewrap") ? load_project_scene(path, warnings) : load_scene(path, cage);
-  for (const auto& w : warnings) log("warning: " + w);
+  if (has_extension(path, ".cagewrap")) {  // the project's own messages, prompts and recent files
+    open_project(path);
+    return;
+  }
+  auto s = load_scene(path, cage);
   if (!s.ok()) {
     error_modal_ = s.error().message;
     log("error: " + s.error().message, true);
@@ -861,27 +874,69 @@ void Editor::request_save() {
 }
 
 bool Editor::save_project_to(const std::string& path) {
-  auto st = save_project(path, scene_->doc());
+  SaveOptions options;  // the binding goes beside the project when it is cached and up to date
+  if (scene_->doc().cache_binding && scene_->binding && !scene_->job && !scene_->needs_rebind() &&
+      binding_fits(*scene_->binding, scene_->doc()))
+    options.binding = scene_->binding.get();
+  auto st = save_project(path, scene_->doc(), options);
   if (!st.ok()) {
     error_modal_ = st.error().message;
     log("error: " + st.error().message, true);
     return false;
   }
   scene_->history.mark_saved(path);
-  log("saved " + path);
+  if (autosave_) autosave_->discard();
+  recovered_ = false;
+  log("saved " + path + (options.binding ? " (and its binding, " + binding_cache_path(path) + ")" : ""));
+  if (auto e = files_.add_recent(path); !e.empty()) log("warning: " + e);
+  return true;
+}
+
+// Opens a project (or a recovery file); a missing character asks to be located, a recovery file
+// becomes the unsaved work of the project it names. The current document stays on any error.
+bool Editor::open_project(const std::string& path, const std::string& character_override) {
+  ProjectOpen opened;
+  auto s = load_project_scene(path, opened, character_override);
+  for (const auto& w : opened.warnings) log("warning: " + w);
+  if (!s.ok()) {
+    log("error: " + s.error().message, true);
+    if (!opened.missing_character.empty()) dialogs_.character_missing(path, opened.missing_character);
+    else error_modal_ = s.error().message;
+    return false;
+  }
+  for (const auto& n : opened.notes) log(n);
+  set_scene(std::move(s).value());
+  if (opened.recovery) {  // the work belongs to its project, not to the recovery file; not saved
+    std::error_code ec;
+    const int64_t when = modified_seconds(path).value_or(0);
+    scene_->history.mark_saved(opened.recovery->project);
+    scene_->history.mark_unsaved();
+    recovered_ = true;
+    if (autosave_ && autosave_->enabled()) {  // protected again at once, under this editor's name
+      if (auto w = autosave_->write(scene_->doc()); !w) log("error: autosave failed: " + w.error().message, true);
+    }
+    std::filesystem::remove(path, ec);
+    log("recovered the unsaved work" + (opened.recovery->project.empty() ? std::string(" (untitled)") : " of " + opened.recovery->project) +
+        (when ? " from " + format_local_time(when) : std::string()) + "; save to keep it");
+    return true;
+  }
+  if (!character_override.empty()) {
+    scene_->history.mark_unsaved();
+    log("located the character at " + character_override + "; save the project to remember the new place");
+  }
+  log("opened " + path);
   if (auto e = files_.add_recent(path); !e.empty()) log("warning: " + e);
   return true;
 }
 
 bool Editor::open_path(const std::string& path) {
-  std::vector<std::string> warnings;
-  auto s = has_extension(path, ".cagewrap") ? load_project_scene(path, warnings) : load_scene(path, "");
+  if (has_extension(path, ".cagewrap")) return open_project(path);
+  auto s = load_scene(path, "");
   if (!s.ok()) {  // the current document stays as it is
     error_modal_ = s.error().message;
     log("error: " + s.error().message, true);
     return false;
   }
-  for (const auto& w : warnings) log("warning: " + w);
   log("opened " + path);
   set_scene(std::move(s).value());
   if (auto e = files_.add_recent(path); !e.empty()) log("warning: " + e);
@@ -911,6 +966,17 @@ void Editor::draw_menu() {
     }
     if (ImGui::MenuItem("Save", "Ctrl+S", false, scene_ != nullptr)) request_save();
     if (ImGui::MenuItem("Save as...", nullptr, false, scene_ != nullptr)) open_save_popup_ = true;
+    if (scene_) act_on(dialogs_.menu_items(*scene_, hooks_));
+    if (ImGui::BeginMenu("Autosave every")) {  // the recovery file of unsaved work (core/autosave.h)
+      const std::pair<const char*, double> choices[] = {{"1 minute", 60}, {"3 minutes", 180}, {"10 minutes", 600}, {"never", 0}};
+      for (const auto& [label, seconds] : choices)
+        if (ImGui::MenuItem(label, nullptr, autosave_->interval_seconds() == seconds)) {
+          autosave_->set_interval_seconds(seconds);
+          if (auto e = files_.set_autosave_seconds(seconds); !e.empty()) log("warning: " + e);
+          log(seconds > 0 ? std::string("autosave every ") + label : std::string("autosave off"));
+        }
+      ImGui::EndMenu();
+    }
     ImGui::Separator();
     if (ImGui::MenuItem("Import cage...", nullptr, false, scene_ != nullptr)) browse(FilePurpose::kImportCage);
     if (ImGui::MenuItem("Export...", nullptr, false, scene_ != nullptr)) export_panel_.open(*scene_);
@@ -1211,11 +1277,13 @@ void Editor::draw_log() {
   ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x * 0.6f, io.DisplaySize.y - kBottomHeight), ImGuiCond_Always);
   ImGui::SetNextWindowSize(ImVec2(io.DisplaySize.x * 0.4f, kBottomHeight), ImGuiCond_Always);
   ImGui::Begin("Log", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
+  ImGui::PushTextWrapPos(0.0f);  // long paths wrap instead of running off the panel
   for (const auto& l : log_) {
     ImVec4 c = l.error ? ImVec4(1, 0.4f, 0.35f, 1) : (l.text.rfind("warning", 0) == 0 ? ImVec4(1, 0.8f, 0.3f, 1) : ImVec4(0.85f, 0.85f, 0.85f, 1));
     if (l.repeats > 1) ImGui::TextColored(c, "%s (and %d similar)", l.text.c_str(), l.repeats - 1);
     else ImGui::TextColored(c, "%s", l.text.c_str());
   }
+  ImGui::PopTextWrapPos();
   if (ImGui::GetScrollY() >= ImGui::GetScrollMaxY()) ImGui::SetScrollHereY(1.0f);
   ImGui::End();
   if (!error_modal_.empty()) {
@@ -1354,6 +1422,30 @@ void Editor::act_on(const EditorFiles::Choice& choice) {
     case FilePurpose::kExportGlb:
     case FilePurpose::kExportObj:
     case FilePurpose::kExportJson: export_panel_.set_output(choice.path); break;
+    case FilePurpose::kLocateCharacter: {
+      const std::string project = dialogs_.locating_project();
+      dialogs_.located();
+      if (!project.empty()) open_project(project, choice.path);
+      break;
+    }
+    case FilePurpose::kSaveCharacter:
+      if (scene_) dialogs_.unembed_to(*scene_, choice.path, hooks_);
+      break;
+  }
+}
+
+void Editor::act_on(const ProjectDialogs::Request& request) {
+  using Kind = ProjectDialogs::Request::Kind;
+  switch (request.kind) {
+    case Kind::kNone: break;
+    case Kind::kLocate: files_.browser().open(FilePurpose::kLocateCharacter, request.directory); break;
+    case Kind::kSaveCharacter: files_.browser().open(FilePurpose::kSaveCharacter, request.directory, request.character); break;
+    case Kind::kRecover: {
+      const std::string path = request.recovery.path;
+      guard_unsaved([this, path] { open_project(path); });
+      break;
+    }
+    case Kind::kDiscardRecovery: log("discarded the recovery file " + request.recovery.path); break;
   }
 }
 
@@ -1443,7 +1535,26 @@ void Editor::run_script_step() {
     std::string cmd;
     in >> cmd;
     if (cmd.empty() || cmd[0] == '#') continue;
-    if (!scene_) break;
+    ProjectDialogs::Request request;
+    if (dialogs_.script_command(cmd, in, scene_.get(), hooks_, request)) {  // the prompts work without a document
+      act_on(request);
+      script_wait_ = 1;
+      continue;
+    }
+    if (cmd == "wait") {
+      in >> script_wait_;
+      continue;
+    }
+    if (cmd == "screenshot") {
+      in >> pending_screenshot_;
+      script_wait_ = 1;  // taken after this frame renders
+      continue;
+    }
+    if (!scene_) {
+      if (!run_file_script_command(cmd, in))
+        log("error: script line " + std::to_string(script_pos_) + ": '" + cmd + "' needs an open document", true);
+      continue;
+    }
     if (cmd == "wait") in >> script_wait_;
     else if (cmd == "select_cage_vertex") {
       uint32_t i;
@@ -1644,9 +1755,6 @@ void Editor::run_script_step() {
       std::string p;
       in >> p;
       save_project_to(p);
-    } else if (cmd == "screenshot") {
-      in >> pending_screenshot_;
-      script_wait_ = 1;  // taken after this frame renders
     } else if (cmd == "play") scene_->player.play();
     else if (cmd == "pause") scene_->player.pause();
     else if (cmd == "time") {
@@ -1776,6 +1884,9 @@ void Editor::draw_panels() {
   if (scene_) rig_panel_.draw(*scene_, selection_, mirror_.enabled, rig_mirror_tolerance(), hooks_);
   if (scene_) sets_panel_.draw(*scene_, selection_, hooks_);
   draw_help();
+  // last: a window appearing after a modal's first Begin in the same frame trips an assertion in
+  // Dear ImGui 1.86 (FindBlockingModal), and at start-up every panel appears with the prompt
+  act_on(dialogs_.draw());
 }
 
 bool Editor::save_screenshot(const std::string& path, bool view_only) {
@@ -1830,7 +1941,16 @@ int Editor::run() {
     error_modal_ = message;
     log("error: " + message, true);
   };
-  load_initial();
+  {
+    const double interval = options_.autosave_seconds >= 0 ? options_.autosave_seconds : files_.prefs().autosave_seconds;
+    const std::string dir = recovery_directory(preferences_directory());
+    auto scan = list_recovery_files(dir);  // before this editor writes its own
+    autosave_ = std::make_unique<Autosave>(dir, interval);
+    load_initial();
+    for (const auto& note : scan.notes) log(note);
+    if (!scan.offer.empty()) log(std::to_string(scan.offer.size()) + " recovery file(s) of unsaved work found in " + dir);
+    dialogs_.offer_recovery(std::move(scan.offer));
+  }
   int frame = 0;
   int exit_code = 0;
   auto last = std::chrono::steady_clock::now();
@@ -1905,7 +2025,8 @@ int Editor::run() {
                                     cage_tools_.show_failing() ? std::span<const uint32_t>(cage_tools_.failing_points()) : std::span<const uint32_t>());
       renderer_->update_skeleton(scene_->joint_heads, scene_->bones, joint_mask_);
       std::string title = "cagewrap - " + (scene_->doc().project_path.empty() ? std::string("untitled") : scene_->doc().project_path) +
-                          (scene_->history.dirty(scene_->doc()) ? " *" : "");
+                          (recovered_ ? " (recovered)" : "") + (scene_->history.dirty(scene_->doc()) ? " *" : "");
+      if (auto m = autosave_->tick(scene_->doc(), scene_->history.dirty(scene_->doc()))) log(*m, m->rfind("error", 0) == 0);
       if (title != title_) glfwSetWindowTitle(window_, (title_ = title).c_str());
     }
     draw_panels();
@@ -1944,6 +2065,7 @@ int Editor::run() {
   int window_w = 0, window_h = 0;
   glfwGetWindowSize(window_, &window_w, &window_h);
   files_.remember(style_, window_w, window_h);
+  autosave_->discard();  // a clean quit: the work was saved, or the artist chose to discard it
   if (auto e = files_.save(); !e.empty()) log("warning: " + e);
   ImGui_ImplOpenGL3_Shutdown();
   ImGui_ImplGlfw_Shutdown();

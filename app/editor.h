@@ -14,6 +14,7 @@ struct EditorOptions {
   int frames = 3;
   int width = 0, height = 0;  // 0 = the size the window was left at (preferences), else 1600 x 900
   bool play = false;       // start playing the first clip
+  double autosave_seconds = -1;  // recovery file interval (core/autosave.h); < 0 = the preferences'; 0 = off
 };
 
 // Returns the process exit code.

@@ -84,6 +84,11 @@ std::optional<EditorFiles::Choice> EditorFiles::draw_browser() {
   return Choice{browser_.purpose(), *chosen};
 }
 
+std::string EditorFiles::set_autosave_seconds(double seconds) {
+  prefs_.autosave_seconds = seconds;
+  return save();
+}
+
 std::string EditorFiles::add_recent(const std::string& path) {
   add_recent_file(prefs_, path);
   return save();

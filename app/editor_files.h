@@ -40,6 +40,9 @@ class EditorFiles {
   // Draws the browser while open; returns the file chosen this frame. Remembers the folder browsed.
   std::optional<Choice> draw_browser();
 
+  // Remembers the autosave interval (0 = off) and saves the preferences; returns an error or "".
+  std::string set_autosave_seconds(double seconds);
+
   // Puts `path` first in the recent files and saves the preferences; returns an error or "".
   std::string add_recent(const std::string& path);
   // Drops `path` from the recent files (it could not be opened); returns the message to log.

@@ -4,6 +4,7 @@
 
 #include <filesystem>
 
+#include "core/binding_cache.h"
 #include "core/gltf_loader.h"
 #include "core/mesh_io.h"
 #include "core/project_io.h"
@@ -28,6 +29,19 @@ bool Scene::needs_rebind() const {
   if (!binding || bound_cage != doc().cage || !same_set_edits(bound_edits_, doc().set_edits)) return true;
   if (params.separate && !(bound_attachment_ == doc().attachment)) return true;  // other part labels
   return !(params == binding->params);
+}
+
+void Scene::adopt_binding(Binding b) {
+  auto owned = std::make_unique<Binding>(std::move(b));
+  auto d = Deformer::create(*owned, skin_rest);  // refers to the binding: made from its final place
+  if (!d) return;  // a fresh bind follows
+  deformer.reset();
+  binding = std::move(owned);
+  deformer.emplace(std::move(d).value());
+  bound_cage = doc().cage;
+  bound_edits_ = doc().set_edits;
+  bound_attachment_ = doc().attachment;
+  params = doc().params;
 }
 
 void Scene::start_bind() {
@@ -160,7 +174,7 @@ void Scene::update_pose() {
 }
 
 namespace {
-std::unique_ptr<Scene> make_scene(Document doc) {
+std::unique_ptr<Scene> make_scene(Document doc, std::optional<Binding> cached = std::nullopt) {
   auto scene = std::make_unique<Scene>(std::move(doc));
   const Character& ch = *scene->doc().character;
   for (const auto& prim : ch.primitives) scene->skin_rest.insert(scene->skin_rest.end(), prim.positions.begin(), prim.positions.end());
@@ -169,6 +183,7 @@ std::unique_ptr<Scene> make_scene(Document doc) {
     scene->clip = 0;
     scene->player = ClipPlayer(ch.clips[0].duration);
   }
+  if (cached) scene->adopt_binding(std::move(*cached));
   scene->document_changed();
   scene->update_pose();
   return scene;
@@ -181,11 +196,24 @@ Result<std::unique_ptr<Scene>> load_scene(const std::string& character_path, con
   return make_scene(std::move(doc).value());
 }
 
-Result<std::unique_ptr<Scene>> load_project_scene(const std::string& project_path, std::vector<std::string>& warnings) {
-  auto loaded = load_project(project_path);
+Result<std::unique_ptr<Scene>> load_project_scene(const std::string& project_path, ProjectOpen& out,
+                                                  const std::string& character_override) {
+  auto loaded = load_project(project_path, character_override, &out.missing_character);
   if (!loaded) return loaded.error();
-  warnings.insert(warnings.end(), loaded->warnings.begin(), loaded->warnings.end());
-  return make_scene(std::move(loaded->document));
+  out.warnings.insert(out.warnings.end(), loaded->warnings.begin(), loaded->warnings.end());
+  out.recovery = loaded->recovery;
+  std::optional<Binding> cached;
+  const Document& doc = loaded->document;
+  if (!doc.binding_cache.file.empty() && doc.cage) {
+    auto b = load_binding_cache(doc);
+    if (b) {
+      cached = std::move(b).value();
+      out.notes.push_back("using the cached binding " + doc.binding_cache.file + " (no bind)");
+    } else {
+      out.warnings.push_back("binding cache not used: " + b.error().message + "; binding again");
+    }
+  }
+  return make_scene(std::move(loaded->document), std::move(cached));
 }
 
 std::string demo_cage_path(const std::string& character_path) {

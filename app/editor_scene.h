@@ -19,6 +19,7 @@
 #include "core/character.h"
 #include "core/deformer.h"
 #include "core/document.h"
+#include "core/project_io.h"
 #include "core/history.h"
 #include "core/registration.h"
 #include "core/rig.h"
@@ -67,6 +68,9 @@ struct Scene {
   bool skin_from_cage = false;  // false: the file's own linear blend skinning is shown
 
   bool needs_rebind() const;
+  // Takes a binding made earlier for the document as it is (a project's cache: the caller checked
+  // binding_fits), as a finished bind would; call before document_changed so that none starts.
+  void adopt_binding(Binding binding);
   // Call after the document changed (undo, redo, load): re-attaches and rebinds what it must.
   void document_changed();
   // The pose shown: the clip at the player's time (the rest pose without a clip) and the overrides.
@@ -98,8 +102,18 @@ struct Scene {
 
 // Loads a character file (glTF) and optionally a cage; errors name the file.
 Result<std::unique_ptr<Scene>> load_scene(const std::string& character_path, const std::string& cage_path);
-// Opens a saved project (.cagewrap); warnings are appended.
-Result<std::unique_ptr<Scene>> load_project_scene(const std::string& project_path, std::vector<std::string>& warnings);
+// What opening a project reports beside its scene.
+struct ProjectOpen {
+  std::vector<std::string> warnings;  // each to log as a warning
+  std::vector<std::string> notes;     // to log as they are (the cached binding used)
+  std::string missing_character;      // the character file looked for, when it was not found
+  std::optional<RecoveryInfo> recovery;  // the file was an editor recovery file (core/autosave.h)
+};
+// Opens a saved project (.cagewrap), with `character_override` for a character that moved
+// (core/project_io.h load_project). Uses the project's cached binding when it is still valid
+// (core/binding_cache.h), else binds in the background and says why in the warnings.
+Result<std::unique_ptr<Scene>> load_project_scene(const std::string& project_path, ProjectOpen& out,
+                                                  const std::string& character_override = {});
 // The demo character shipped in assets/ (found beside the executable or the source tree), or
 // generated in-process when the file cannot be found.
 std::string demo_character_path();

@@ -37,6 +37,8 @@ const FilePurposeInfo& purpose_info(FilePurpose purpose) {
   static const FilePurposeInfo kGlb{"Export to glTF binary", "Choose", {".glb"}, ".glb", true};
   static const FilePurposeInfo kObj{"Export OBJ frames (F.obj gives F_<clip>_<frame>.obj)", "Choose", {".obj"}, ".obj", true};
   static const FilePurposeInfo kJson{"Export the rig as JSON", "Choose", {".json"}, ".json", true};
+  static const FilePurposeInfo kLocate{"Locate the character", "Use", {".glb", ".gltf"}, "", false};
+  static const FilePurposeInfo kSaveCharacter{"Save the embedded character as", "Save", {".glb", ".gltf"}, ".glb", true};
   switch (purpose) {
     case FilePurpose::kOpen:
       return kOpen;
@@ -54,6 +56,10 @@ const FilePurposeInfo& purpose_info(FilePurpose purpose) {
       return kObj;
     case FilePurpose::kExportJson:
       return kJson;
+    case FilePurpose::kLocateCharacter:
+      return kLocate;
+    case FilePurpose::kSaveCharacter:
+      return kSaveCharacter;
   }
   return kOpen;
 }

@@ -12,7 +12,18 @@
 
 namespace cagewrap::app {
 
-enum class FilePurpose { kOpen, kSaveProject, kImportCage, kScreenshot, kNewFromCharacter, kExportGlb, kExportObj, kExportJson };
+enum class FilePurpose {
+  kOpen,
+  kSaveProject,
+  kImportCage,
+  kScreenshot,
+  kNewFromCharacter,
+  kExportGlb,
+  kExportObj,
+  kExportJson,
+  kLocateCharacter,  // a project's character file that moved (app/project_dialogs.h)
+  kSaveCharacter,    // where to write an embedded character taken out of the project
+};
 
 struct FilePurposeInfo {
   const char* title;                    // window title ("Open")

@@ -17,6 +17,8 @@ int main(int argc, char** argv) {
   app.add_option("--width", editor.width, "window width (default: as it was left, else 1600)");
   app.add_option("--height", editor.height, "window height (default: as it was left, else 900)");
   app.add_flag("--play", editor.play, "start playing the first clip");
+  app.add_option("--autosave-seconds", editor.autosave_seconds,
+                 "write a recovery file of unsaved work this often (default: the preferences' autosave, 180 s; 0 = off)");
   app.positionals_at_end(false);
   cagewrap::app::add_bind_command(app, exit_code);
   cagewrap::app::add_deform_command(app, exit_code);
@@ -29,6 +31,7 @@ int main(int argc, char** argv) {
   cagewrap::app::add_cage_edit_command(app, exit_code);
   cagewrap::app::add_pose_command(app, exit_code);
   cagewrap::app::add_export_command(app, exit_code);
+  cagewrap::app::add_project_command(app, exit_code);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,5 +1,7 @@
 #include "core/binding_io.h"
 
+#include "core/atomic_write.h"
+
 #include <cstring>
 #include <fstream>
 #include <iterator>
@@ -136,7 +138,7 @@ Status validate_binding(const Binding& b) {
   return Ok{};
 }
 
-Status save_binding(const std::string& path, const Binding& b) {
+std::string binding_bytes(const Binding& b) {
   Writer w;
   for (char c : kMagic) w.pod(c);
   w.pod(kVersion);
@@ -174,18 +176,12 @@ Status save_binding(const std::string& path, const Binding& b) {
   w.array(b.set_ids);
   w.array(b.set_weights);
   w.array(b.separated);
-  // write beside, then rename: a failed write never leaves half a file under the real name
-  std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) return make_error(ErrorCode::kWrite, path + ": cannot be opened for writing");
-    out.write(w.data().data(), static_cast<std::streamsize>(w.data().size()));
-    out.flush();
-    if (!out) return make_error(ErrorCode::kWrite, path + ": write failed (disk full?)");
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0)
-    return make_error(ErrorCode::kWrite, path + ": could not replace the file");
-  return Ok{};
+  return std::string(w.data().begin(), w.data().end());
+}
+
+Status save_binding(const std::string& path, const Binding& binding) {
+  // write beside, fsync, rename: a failed or killed write never leaves half a file under the real name
+  return write_file_atomic(path, binding_bytes(binding));
 }
 
 Result<Binding> load_binding(const std::string& path) {

@@ -18,6 +18,9 @@
 
 namespace cagewrap {
 
+// The file's bytes.
+std::string binding_bytes(const Binding& binding);
+// Written atomically (core/atomic_write.h).
 Status save_binding(const std::string& path, const Binding& binding);
 // Validates every count against the file size, then the binding with validate_binding; every error
 // names the file (and the table, entry and index where there is one).

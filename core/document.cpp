@@ -112,6 +112,22 @@ Document with_character(const Document& doc, std::shared_ptr<const Character> ch
   return out;
 }
 
+Document with_embedded_character(const Document& doc, std::shared_ptr<const std::string> bytes) {
+  CAGEWRAP_CHECK(!bytes || format_hash(fnv1a64(*bytes)) == doc.character_hash,
+                 "the embedded bytes must be the document's character file");
+  Document out = doc;
+  out.embedded_character = std::move(bytes);
+  out.revision = next_revision();
+  return out;
+}
+
+Document with_cache_binding(const Document& doc, bool cache) {
+  Document out = doc;
+  out.cache_binding = cache;
+  out.revision = next_revision();
+  return out;
+}
+
 bool same_params(const BindParams& a, const BindParams& b) {
   return a == b;
 }
@@ -147,7 +163,8 @@ size_t vector_bytes(const std::vector<T>& v) {
 }  // namespace
 
 bool same_content(const Document& a, const Document& b) {
-  return a.character_hash == b.character_hash && same_cage(a.cage.get(), b.cage.get()) &&
+  return a.character_hash == b.character_hash && !a.embedded_character == !b.embedded_character &&
+         a.cache_binding == b.cache_binding && same_cage(a.cage.get(), b.cage.get()) &&
          same_offsets(a.cage_offsets, b.cage_offsets) && same_params(a.params, b.params) &&
          same_set_edits(a.set_edits, b.set_edits) && a.attachment == b.attachment &&
          a.keyposes == b.keyposes && a.preserved_fields == b.preserved_fields;

@@ -22,10 +22,36 @@
 
 namespace cagewrap {
 
+// What a binding depends on, each as a content hash ("fnv1a64:<hex>"; core/binding_cache.h makes
+// them): a cached binding is used only when every one matches the document.
+struct BindingInputs {
+  std::string program;     // the program and binding format that made it
+  std::string character;   // the character file's content hash
+  std::string cage;        // rest cage topology and positions, bit for bit
+  std::string params;      // every binding parameter
+  std::string set_edits;
+  std::string attachment;  // the attachment settings (the part labels of automatic separation)
+
+  bool operator==(const BindingInputs&) const = default;
+};
+
+// The binding cache a project file records (docs/project-format.md, "binding_cache").
+struct BindingCacheRecord {
+  std::string file;       // the .cwb file, absolute; "" = nothing cached
+  std::string file_hash;  // content hash of the .cwb file's bytes when it was written
+  BindingInputs inputs;   // what it was made from
+
+  bool operator==(const BindingCacheRecord&) const = default;
+};
+
 struct Document {
   std::shared_ptr<const Character> character;  // never null in a document made by the functions here
   std::string character_path;  // as given (command line, file dialog) or resolved from the project file
   std::string character_hash;  // "fnv1a64:<hex>" of the character file's bytes (core/file_hash.h)
+  // The character file's bytes when the project embeds the character (saved in the project file,
+  // which then needs no other file to open; core/project_storage.h); null = the project names
+  // character_path. character_path then tells where the file came from.
+  std::shared_ptr<const std::string> embedded_character;
   std::shared_ptr<const Cage> cage;  // the rest cage R; null = no cage yet; replaced on edit
   BindParams params;
   std::vector<SetEdit> set_edits;
@@ -42,6 +68,12 @@ struct Document {
   // ("extensions" and unknown top-level fields), written back unchanged on save. "" = nothing.
   std::string preserved_fields;
   std::string project_path;  // the .cagewrap file it was loaded from or last saved to; "" = never saved
+  // Whether saving the project also writes its binding beside it, so that opening it needs no bind
+  // (core/binding_cache.h); a project property, saved.
+  bool cache_binding = false;
+  // The cache the project file recorded when it was loaded (not part of the work: where a
+  // by-product lies, like project_path); empty when none.
+  BindingCacheRecord binding_cache;
   // A stamp from a process-wide counter, fresh for every content change made through the helpers
   // below: two documents with the same revision have the same content (a renderer can key GPU
   // copies on it; History's dirty flag compares it). Code that edits fields directly must set
@@ -77,10 +109,14 @@ Document with_keyposes(const Document& doc, std::vector<KeyposeSet> keyposes);
 // The character file moved (or was replaced): new path, hash and data.
 Document with_character(const Document& doc, std::shared_ptr<const Character> character, std::string path,
                         std::string hash);
+// The character embedded (its file's bytes, whose hash must be character_hash: checked) or not (null).
+Document with_embedded_character(const Document& doc, std::shared_ptr<const std::string> bytes);
+Document with_cache_binding(const Document& doc, bool cache);
 
-// True when the work is the same: character hash, cage (topology, and positions bit for bit),
-// cage offsets, parameters, set edits, attachment settings, keyposes and preserved fields. Paths
-// and revisions are not compared.
+// True when the work is the same: character hash and whether it is embedded, cage (topology, and
+// positions bit for bit), cage offsets, parameters, set edits, attachment settings, keyposes,
+// whether the binding is cached, and preserved fields. Paths, the binding cache record and
+// revisions are not compared.
 bool same_content(const Document& a, const Document& b);
 bool same_params(const BindParams& a, const BindParams& b);
 bool same_set_edits(std::span<const SetEdit> a, std::span<const SetEdit> b);
@@ -89,7 +125,7 @@ bool same_set_edits(std::span<const SetEdit> a, std::span<const SetEdit> b);
 size_t estimated_bytes(const Character& character);
 size_t estimated_bytes(const Cage& cage);
 // What a snapshot owns by value: set edits, cage offsets, attachment overrides, keyposes, paths,
-// preserved fields (not the shared data).
+// preserved fields (not the shared data: character, cage, embedded character bytes).
 size_t estimated_own_bytes(const Document& doc);
 
 }  // namespace cagewrap

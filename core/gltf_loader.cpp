@@ -14,6 +14,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <numeric>
 
@@ -213,9 +214,9 @@ std::string percent_decode(const std::string& uri) {
 }
 
 // After tinygltf refused a file, find which buffer could not be read, so the message names it.
-std::string diagnose_buffers(const std::string& path, bool binary) {
-  std::ifstream in(path, std::ios::binary);
-  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+// `bytes` is the whole file; `dir` the folder its relative URIs start from, or nullptr when the
+// file came from memory and may refer to no other file.
+std::string diagnose_buffers(const std::string& bytes, bool binary, const std::filesystem::path* dir) {
   std::string json_text = bytes;
   if (binary) {
     if (bytes.size() < 20) return "";
@@ -226,7 +227,6 @@ std::string diagnose_buffers(const std::string& path, bool binary) {
   }
   auto j = nlohmann::json::parse(json_text, nullptr, false);
   if (j.is_discarded() || !j.contains("buffers") || !j["buffers"].is_array()) return "";
-  const auto dir = std::filesystem::path(path).parent_path();
   for (size_t i = 0; i < j["buffers"].size(); ++i) {
     const auto& b = j["buffers"][i];
     std::string name = b.value("name", "");
@@ -236,7 +236,10 @@ std::string diagnose_buffers(const std::string& path, bool binary) {
     }
     std::string uri = b.value("uri", "");
     if (uri.rfind("data:", 0) == 0) continue;
-    auto file = dir / percent_decode(uri);
+    if (!dir)
+      return named("buffer", i, name) + " refers to the file '" + uri +
+             "'; a character kept in memory (embedded in a project) must hold all its buffers";
+    auto file = *dir / percent_decode(uri);
     std::error_code ec;
     if (!std::filesystem::exists(file, ec))
       return named("buffer", i, name) + " refers to '" + uri + "', which does not exist";
@@ -247,6 +250,23 @@ std::string diagnose_buffers(const std::string& path, bool binary) {
              "' holds " + std::to_string(size) + " bytes";
   }
   return "";
+}
+
+std::string read_whole_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+// File access for a character parsed from memory: there are no other files.
+bool no_file_exists(const std::string&, void*) { return false; }
+std::string same_path(const std::string& path, void*) { return path; }
+bool no_file_read(std::vector<unsigned char>*, std::string* err, const std::string& path, void*) {
+  if (err) *err += "'" + path + "' cannot be read: a character in memory may refer to no other file\n";
+  return false;
+}
+bool no_file_write(std::string* err, const std::string&, const std::vector<unsigned char>&, void*) {
+  if (err) *err += "no files are written\n";
+  return false;
 }
 
 std::string first_lines(std::string s) {
@@ -753,7 +773,8 @@ Result<Character> load_character(const std::string& path) {
   bool ok = binary ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
                    : loader.LoadASCIIFromFile(&model, &err, &warn, path);
   if (!ok) {
-    std::string which = diagnose_buffers(path, binary);
+    const auto dir = std::filesystem::path(path).parent_path();
+    std::string which = diagnose_buffers(read_whole_file(path), binary, &dir);
     if (!which.empty()) return make_error(ErrorCode::kFileUnreadable, path + ": " + which);
     return make_error(ErrorCode::kParse, path + ": not a usable glTF 2.0 file: " + first_lines(err));
   }
@@ -762,6 +783,30 @@ Result<Character> load_character(const std::string& path) {
     std::string w = first_lines(warn);
     c->warnings.insert(c->warnings.begin(), path + ": " + w);
   }
+  return c;
+}
+
+Result<Character> load_character_bytes(const std::string& bytes, const std::string& name) {
+  if (bytes.empty()) return make_error(ErrorCode::kEmpty, name + ": is empty");
+  if (bytes.size() > std::numeric_limits<unsigned int>::max())
+    return make_error(ErrorCode::kFileUnreadable, name + ": is larger than 4 GiB");
+  const bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
+  tinygltf::TinyGLTF loader;
+  loader.SetImageLoader(&ignore_image, nullptr);
+  loader.SetFsCallbacks({&no_file_exists, &same_path, &no_file_read, &no_file_write, nullptr});
+  tinygltf::Model model;
+  std::string err, warn;
+  const auto size = static_cast<unsigned int>(bytes.size());
+  bool ok = binary ? loader.LoadBinaryFromMemory(&model, &err, &warn,
+                                                 reinterpret_cast<const unsigned char*>(bytes.data()), size, "")
+                   : loader.LoadASCIIFromString(&model, &err, &warn, bytes.data(), size, "");
+  if (!ok) {
+    std::string which = diagnose_buffers(bytes, binary, nullptr);
+    if (!which.empty()) return make_error(ErrorCode::kFileUnreadable, name + ": " + which);
+    return make_error(ErrorCode::kParse, name + ": not a usable glTF 2.0 file: " + first_lines(err));
+  }
+  auto c = Importer(model, name).run();
+  if (c && !warn.empty()) c->warnings.insert(c->warnings.begin(), name + ": " + first_lines(warn));
   return c;
 }
 

@@ -15,5 +15,9 @@ namespace cagewrap {
 // hierarchies, accessors past their buffer view or buffer) fail with a message naming the file,
 // the object and its index; usable oddities become Character::warnings.
 Result<Character> load_character(const std::string& path);
+// The same from a whole file's bytes held in memory (a project's embedded character): `name` stands
+// for the file in messages and in Character::source. Such a file may refer to no other file: a
+// .glb, or a .gltf whose buffers are data: URIs; a buffer in a separate file is named in the error.
+Result<Character> load_character_bytes(const std::string& bytes, const std::string& name);
 
 }  // namespace cagewrap

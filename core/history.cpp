@@ -30,6 +30,8 @@ void History::account(const Entry& e, bool add) {
   // the estimate is only computed the first time an address is seen
   share(character, add && character && !shared_.contains(character) ? estimated_bytes(*character) : 0, add);
   share(cage, add && cage && !shared_.contains(cage) ? estimated_bytes(*cage) : 0, add);
+  const std::string* embedded = e.doc.embedded_character.get();
+  share(embedded, add && embedded && !shared_.contains(embedded) ? embedded->size() : 0, add);
 }
 
 bool History::push(std::string label, Document doc) {
@@ -100,5 +102,7 @@ void History::mark_saved(const std::string& project_path) {
   }
   if (drag_start_) drag_start_->project_path = project_path;
 }
+
+void History::mark_unsaved() { saved_revision_ = 0; }
 
 }  // namespace cagewrap

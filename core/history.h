@@ -58,6 +58,8 @@ class History {
   // The current state was written to `project_path`: it becomes the save point, and every snapshot
   // learns the path (where the work lives is not an undoable edit). Revisions are unchanged.
   void mark_saved(const std::string& project_path);
+  // No state is saved (a document recovered from an autosave): dirty until the next save.
+  void mark_unsaved();
   // Whether the current state (or the live document, during a drag) differs from the save point.
   // Undoing back to the saved state is clean again; a save point dropped by the cap or by a new
   // branch can never come back, so it stays dirty until the next save.

@@ -18,6 +18,7 @@ namespace {
 
 constexpr const char* kFormat = "cagewrap-preferences";
 constexpr int kMinWindow = 200, kMaxWindow = 16384;
+constexpr double kMaxAutosaveSeconds = 24 * 3600;
 
 struct Flag {
   const char* key;
@@ -87,6 +88,22 @@ void read_known_fields(Json& j, Preferences& p, const std::string& path, std::ve
       j.erase(it);
     }
   }
+  if (auto it = j.find("autosave"); it != j.end()) {
+    if (it->is_object()) {
+      if (auto f = it->find("interval_seconds"); f != it->end()) {
+        if (f->is_number() && f->get<double>() >= 0 && f->get<double>() <= kMaxAutosaveSeconds)
+          p.autosave_seconds = f->get<double>();
+        else
+          bad("autosave.interval_seconds", "is not a number of seconds from 0 (never) to " +
+                                               std::to_string(static_cast<int>(kMaxAutosaveSeconds)));
+        it->erase(f);
+      }
+      if (it->empty()) j.erase(it);
+    } else {
+      bad("autosave", "is not an object");
+      j.erase(it);
+    }
+  }
   if (auto it = j.find("display"); it != j.end()) {
     if (it->is_object()) {
       for (const Flag& flag : kDisplayFlags) {
@@ -124,6 +141,7 @@ bool operator==(const Preferences& a, const Preferences& b) {
   for (const Flag& f : kDisplayFlags) flags = flags && a.*f.member == b.*f.member;
   return flags && a.recent_files == b.recent_files && a.window_width == b.window_width &&
          a.window_height == b.window_height && a.last_directory == b.last_directory &&
+         a.autosave_seconds == b.autosave_seconds &&
          a.preserved_fields == b.preserved_fields;
 }
 
@@ -205,6 +223,7 @@ std::string preferences_to_json(const Preferences& prefs) {
   Json display = Json::object();
   for (const Flag& f : kDisplayFlags) display[f.key] = prefs.*f.member;
   j["display"] = display;
+  j["autosave"] = {{"interval_seconds", prefs.autosave_seconds}};
   if (!prefs.preserved_fields.empty()) {  // a newer build's fields, known ones taking precedence
     Json kept = Json::parse(prefs.preserved_fields, nullptr, false);
     if (kept.is_object()) add_missing(j, kept);

@@ -1,5 +1,5 @@
-// What the editor remembers between runs: recent files, window size, the last folder browsed and the
-// display toggles, in preferences.json in the user's config folder ($CAGEWRAP_CONFIG_DIR, else
+// What the editor remembers between runs: recent files, window size, the last folder browsed, the
+// display toggles and the autosave interval, in preferences.json in the user's config folder ($CAGEWRAP_CONFIG_DIR, else
 // $XDG_CONFIG_HOME/cagewrap, else ~/.config/cagewrap). Loading never fails: a missing file gives
 // the defaults, a corrupt one the defaults and a warning naming it, a bad field its default and a
 // warning naming the field. Saving is atomic (core/atomic_write.h).
@@ -22,6 +22,8 @@ struct Preferences {
   // display toggles (View menu)
   bool show_skin = true, show_cage = true, show_skeleton = true, show_grid = true;
   bool wireframe = false, xray = false;
+  // How often the editor writes a recovery file of unsaved work (core/autosave.h); 0 = never.
+  double autosave_seconds = 180.0;
   // A JSON object (text) of the fields this build does not know, written back unchanged so that a
   // newer version's settings survive a run of this one. "" = none.
   std::string preserved_fields;

@@ -11,6 +11,8 @@
 #include <nlohmann/json.hpp>
 
 #include "core/atomic_write.h"
+#include "core/base64.h"
+#include "core/binding_cache.h"
 #include "core/file_hash.h"
 #include "core/gltf_loader.h"
 #include "core/json_reader.h"
@@ -22,8 +24,16 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const char* const kKnownFields[] = {"format",    "version",    "character", "cage",      "binding",
-                                    "set_edits", "attachment", "keyposes",  "extensions"};
+const char* const kKnownFields[] = {"format",     "version",  "recovery",      "character",
+                                    "cage",       "binding",  "set_edits",     "attachment",
+                                    "keyposes",   "extensions", "binding_cache"};
+
+// The members of "binding_cache.inputs", in the order they are written.
+const std::pair<const char*, std::string BindingInputs::*> kInputFields[] = {
+    {"program", &BindingInputs::program},     {"character", &BindingInputs::character},
+    {"cage", &BindingInputs::cage},           {"binding", &BindingInputs::params},
+    {"set_edits", &BindingInputs::set_edits}, {"attachment", &BindingInputs::attachment},
+};
 
 bool known_field(const std::string& key) {
   for (const char* k : kKnownFields)
@@ -45,12 +55,13 @@ std::string one_line(const Json& object) {
   return s + "}";
 }
 
-// The character path as the project records it: relative to the project's folder, '/' separated.
-std::string relative_character_path(const std::string& project_path, const std::string& character_path) {
+// A path as the project records it (the character, the binding cache): relative to the project's
+// folder, '/' separated.
+std::string relative_path(const std::string& project_path, const std::string& file) {
   fs::path project_dir = fs::absolute(project_path).lexically_normal().parent_path();
-  fs::path character = fs::absolute(character_path).lexically_normal();
-  fs::path rel = character.lexically_relative(project_dir);
-  return (rel.empty() ? character : rel).generic_string();
+  fs::path target = fs::absolute(file).lexically_normal();
+  fs::path rel = target.lexically_relative(project_dir);
+  return (rel.empty() ? target : rel).generic_string();
 }
 
 std::string vec3_text(const glm::vec3& v) {
@@ -119,7 +130,20 @@ std::string keyposes_text(const Document& doc) {
   return s;
 }
 
-Result<std::string> project_text(const std::string& path, const Document& doc) {
+// "binding_cache": the record (its file relative to the project's folder), or {} when caching is on
+// and nothing is cached.
+std::string binding_cache_text(const std::string& path, const BindingCacheRecord& record) {
+  if (record.file.empty()) return "  \"binding_cache\": {},\n";
+  Json inputs = Json::object();
+  for (const auto& [key, member] : kInputFields) inputs[key] = record.inputs.*member;
+  std::string s = "  \"binding_cache\": {\"file\": " + Json(relative_path(path, record.file)).dump() +
+                  ", \"hash\": " + Json(record.file_hash).dump() + ",\n    \"inputs\": " + one_line(inputs) + "},\n";
+  return s;
+}
+
+// `cache`: the binding cache record to write (null: caching is off).
+Result<std::string> project_text(const std::string& path, const Document& doc, const BindingCacheRecord* cache,
+                                 const std::optional<RecoveryInfo>& recovery) {
   Json preserved = Json::object();
   if (!doc.preserved_fields.empty()) {
     preserved = Json::parse(doc.preserved_fields, nullptr, false);
@@ -128,8 +152,14 @@ Result<std::string> project_text(const std::string& path, const Document& doc) {
   }
   std::string s = "{\n";
   s += "  \"format\": " + Json(kProjectFormat).dump() + ",\n";
-  s += "  \"version\": " + std::to_string(kProjectVersion) + ",\n";
-  Json character = {{"path", relative_character_path(path, doc.character_path)}, {"hash", doc.character_hash}};
+  // the oldest version that holds the document: older builds still open what needs nothing newer
+  s += "  \"version\": " + std::to_string(doc.embedded_character ? 3 : 2) + ",\n";
+  if (recovery) {
+    Json r = {{"project", recovery->project}, {"pid", recovery->pid}};
+    s += "  \"recovery\": " + one_line(r) + ",\n";
+  }
+  Json character = {{"path", relative_path(path, doc.character_path)}, {"hash", doc.character_hash}};
+  if (doc.embedded_character) character["embedded"] = base64_encode(*doc.embedded_character);
   s += "  \"character\": " + one_line(character) + ",\n";
   s += "  \"cage\": {\n    \"positions\": [";
   auto positions = doc.cage_positions();
@@ -176,6 +206,7 @@ Result<std::string> project_text(const std::string& path, const Document& doc) {
   s += doc.set_edits.empty() ? "],\n" : "\n  ],\n";
   s += attachment_text(doc);
   s += keyposes_text(doc);
+  if (cache) s += binding_cache_text(path, *cache);
   s += "  \"extensions\": " + (preserved.contains("extensions") ? preserved["extensions"] : Json::object()).dump();
   for (const auto& [key, value] : preserved.items())
     if (!known_field(key)) s += ",\n  " + Json(key).dump() + ": " + value.dump();
@@ -430,6 +461,48 @@ std::vector<KeyposeSet> read_keyposes(const Reader& r, const Json& list, const C
   return out;
 }
 
+// A path the project records, resolved against the project's folder and made absolute
+// (independent of later changes of the working folder).
+std::string resolve_path(const std::string& project_path, const std::string& recorded) {
+  fs::path resolved = fs::path(recorded);
+  if (resolved.is_relative()) resolved = fs::path(project_path).parent_path() / resolved;
+  return fs::absolute(resolved).lexically_normal().string();
+}
+
+// "binding_cache": caching on; its record when it names a file. A malformed record is a warning
+// (the cache is a by-product: the project still opens, and binds).
+void read_binding_cache(const Json& root, const std::string& path, Document& doc, std::vector<std::string>& warnings) {
+  if (!root.contains("binding_cache")) return;
+  doc.cache_binding = true;
+  const Json& bc = root["binding_cache"];
+  const Reader r(path);
+  try {
+    if (!bc.is_object()) r.fail(ErrorCode::kParse, "binding_cache should be an object, not " + Reader::show(bc));
+    warn_unknown(bc, "binding_cache", {"file", "hash", "inputs"}, warnings, path);
+    if (!bc.contains("file")) return;  // caching on, nothing cached yet
+    BindingCacheRecord record;
+    record.file = resolve_path(path, r.string(bc["file"], "binding_cache.file"));
+    record.file_hash = r.string(r.field(bc, "binding_cache", "hash"), "binding_cache.hash");
+    const Json& inputs = r.object(bc, "binding_cache", "inputs");
+    for (const auto& [key, member] : kInputFields)
+      record.inputs.*member = r.string(r.field(inputs, "binding_cache.inputs", key), Reader::join("binding_cache.inputs", key));
+    doc.binding_cache = std::move(record);
+  } catch (const JsonLoadFailure& f) {
+    warnings.push_back(f.error.message + "; the cached binding is not used");
+  }
+}
+
+std::optional<RecoveryInfo> read_recovery(const Reader& r, const Json& root) {
+  if (!root.contains("recovery")) return std::nullopt;
+  const Json& j = r.object(root, "", "recovery");
+  RecoveryInfo info;
+  info.project = r.string(r.field(j, "recovery", "project"), "recovery.project");
+  const Json& pid = r.field(j, "recovery", "pid");
+  if (!pid.is_number_integer()) r.fail(ErrorCode::kParse, "recovery.pid should be a whole number, not " + Reader::show(pid));
+  info.pid = pid.get<int64_t>();
+  return info;
+}
+
 Result<ProjectLoad> load(const std::string& path, const std::string& character_override, std::string* missing) {
   Reader r(path);
   auto parsed = read_json_file(path);
@@ -456,6 +529,18 @@ Result<ProjectLoad> load(const std::string& path, const std::string& character_o
   std::string recorded = r.string(r.field(character, "character", "path"), "character.path");
   if (recorded.empty()) r.fail(ErrorCode::kParse, "character.path is empty");
   std::string recorded_hash = r.string(r.field(character, "character", "hash"), "character.hash");
+  warn_unknown(character, "character", {"path", "hash", "embedded"}, out.warnings, path);
+  out.recovery = read_recovery(r, root);
+  std::shared_ptr<const std::string> embedded;
+  if (character.contains("embedded")) {
+    auto bytes = base64_decode(r.string(character["embedded"], "character.embedded"), path + ": character.embedded");
+    if (!bytes) return bytes.error();
+    // a damaged file (an edit, a bad merge) must not load as another character
+    if (const std::string h = format_hash(fnv1a64(*bytes)); h != recorded_hash)
+      r.fail(ErrorCode::kParse, "character.embedded does not match character.hash (its bytes hash to " + h +
+                                    "): the project file is damaged");
+    embedded = std::make_shared<const std::string>(std::move(bytes).value());
+  }
   doc.cage = read_cage(r, root);
   doc.params = read_params(r, root, out.warnings, path);
   doc.set_edits = read_set_edits(r, root, doc.cage ? doc.cage->num_elements() : 0);
@@ -488,25 +573,39 @@ Result<ProjectLoad> load(const std::string& path, const std::string& character_o
     }
   if (!preserved.empty()) doc.preserved_fields = preserved.dump();
 
-  // The character: a relative path is relative to the project's folder.
-  fs::path resolved = fs::path(recorded);
-  if (resolved.is_relative()) resolved = fs::path(path).parent_path() / resolved;
-  resolved = fs::absolute(resolved).lexically_normal();  // independent of later changes of the working folder
-  std::string character_path = character_override.empty() ? resolved.string() : character_override;
-  out.character_relocated = !character_override.empty() && fs::path(character_override).lexically_normal() != resolved;
-  std::error_code ec;
-  if (!fs::exists(character_path, ec)) {
-    if (missing) *missing = character_path;
-    return make_error(ErrorCode::kFileNotFound, path + ": character file " + character_path +
-                                                    " not found; locate it (or move it back beside the project)");
+  // The character: embedded, or a file whose relative path is relative to the project's folder.
+  const std::string resolved = resolve_path(path, recorded);
+  std::string character_path = resolved;
+  std::optional<Result<Character>> loaded_file;
+  if (embedded) {
+    const std::string name = fs::path(recorded).filename().string();
+    loaded_file.emplace(load_character_bytes(*embedded, path + ": the embedded character " + name));
+    if (*loaded_file) (*loaded_file)->source = name + " (embedded)";
+  } else {
+    if (!character_override.empty()) character_path = character_override;
+    out.character_relocated = !character_override.empty() && fs::path(character_override).lexically_normal() != resolved;
+    std::error_code ec;
+    if (!fs::exists(character_path, ec)) {
+      if (missing) *missing = character_path;
+      return make_error(ErrorCode::kFileNotFound, path + ": character file " + character_path +
+                                                      " not found; locate it (or move it back beside the project)");
+    }
+    loaded_file.emplace(load_character(character_path));
   }
-  auto loaded = load_character(character_path);
-  if (!loaded) return make_error(loaded.error().code, path + ": the character could not be loaded: " + loaded.error().message);
-  auto hash = hash_file(character_path);
-  if (!hash) return hash.error();
-  if (*hash != recorded_hash)
+  auto& loaded = *loaded_file;
+  if (!loaded)
+    return make_error(loaded.error().code,
+                      embedded ? loaded.error().message
+                               : path + ": the character could not be loaded: " + loaded.error().message);
+  std::string hash = recorded_hash;
+  if (!embedded) {
+    auto h = hash_file(character_path);
+    if (!h) return h.error();
+    hash = std::move(h).value();
+  }
+  if (hash != recorded_hash)
     out.warnings.push_back(path + ": the character file " + character_path +
-                           " changed since the project was saved (hash " + *hash + ", project says " + recorded_hash +
+                           " changed since the project was saved (hash " + hash + ", project says " + recorded_hash +
                            "); check that the cage and set edits still fit it");
   const size_t num_points = loaded->num_vertices();
   for (size_t i = 0; i < doc.set_edits.size(); ++i)
@@ -522,15 +621,17 @@ Result<ProjectLoad> load(const std::string& path, const std::string& character_o
     doc.keyposes = read_keyposes(r, root["keyposes"], *loaded, num_cage_vertices, out.warnings, path);
   doc.character = std::make_shared<const Character>(std::move(loaded).value());
   doc.character_path = character_path;
-  doc.character_hash = std::move(hash).value();
+  doc.character_hash = std::move(hash);
+  doc.embedded_character = std::move(embedded);
   doc.project_path = path;
+  read_binding_cache(root, path, doc, out.warnings);
   doc.revision = next_revision();
   return out;
 }
 
 }  // namespace
 
-Status save_project(const std::string& path, const Document& doc) {
+Status save_project(const std::string& path, const Document& doc, const SaveOptions& options) {
   if (doc.character_path.empty())
     return make_error(ErrorCode::kInvalidArgument, path + ": not saved: the document has no character file");
   std::error_code ec;
@@ -540,9 +641,25 @@ Status save_project(const std::string& path, const Document& doc) {
                       path + ": not saved: that is the character file; choose another name for the project");
   if (auto v = validate(doc.params); !v)
     return make_error(ErrorCode::kInvalidArgument, path + ": not saved: " + v.error().message);
+  // the binding cache: written first, so a project never names a cache file that is not there yet
+  std::optional<BindingCacheFile> cache_file;
+  BindingCacheRecord record;  // what the project records; empty = nothing cached
+  if (doc.cache_binding && !options.recovery && doc.cage) {
+    if (options.binding) {
+      auto made = make_binding_cache(path, doc, *options.binding);
+      if (!made) return made.error();
+      cache_file = std::move(made).value();
+      record = cache_file->record;
+    } else if (doc.binding_cache.file == fs::absolute(binding_cache_path(path)).lexically_normal().string() &&
+               doc.binding_cache.inputs == binding_inputs(doc)) {
+      record = doc.binding_cache;  // saved again, nothing the binding depends on changed
+    }
+  }
   try {
-    auto text = project_text(path, doc);
+    auto text = project_text(path, doc, doc.cache_binding ? &record : nullptr, options.recovery);
     if (!text) return text.error();
+    if (cache_file)
+      if (auto s = write_file_atomic(cache_file->path, cache_file->bytes); !s) return s.error();
     return write_file_atomic(path, *text);
   } catch (const Json::exception& e) {  // a string that is not UTF-8 (a file name, a preserved field)
     return make_error(ErrorCode::kInvalidArgument, path + ": not saved: " + e.what());

@@ -91,6 +91,14 @@ Result<Binding> bind_document(const Document& doc, std::span<const glm::vec3> sk
 }
 
 Result<Rig> Rig::create(const Document& doc, const BindProgress& progress) {
+  return make(doc, nullptr, progress);
+}
+
+Result<Rig> Rig::create(const Document& doc, Binding binding) {
+  return make(doc, &binding, {});
+}
+
+Result<Rig> Rig::make(const Document& doc, Binding* binding, const BindProgress& progress) {
   if (!doc.character) return make_error(ErrorCode::kInvalidArgument, "the document has no character");
   if (!doc.cage)
     return make_error(ErrorCode::kInvalidArgument, "the document has no cage to pose the skin with");
@@ -106,9 +114,13 @@ Result<Rig> Rig::create(const Document& doc, const BindProgress& progress) {
   }
   for (const Primitive& p : ch.primitives)
     s.skin_rest.insert(s.skin_rest.end(), p.positions.begin(), p.positions.end());
-  auto bound = bind_document(doc, s.skin_rest, s.attachment ? &*s.attachment : nullptr, progress);
-  if (!bound) return make_error(bound.error().code, "bind: " + bound.error().message);
-  s.binding = std::move(bound).value();
+  if (binding) {
+    s.binding = std::move(*binding);
+  } else {
+    auto bound = bind_document(doc, s.skin_rest, s.attachment ? &*s.attachment : nullptr, progress);
+    if (!bound) return make_error(bound.error().code, "bind: " + bound.error().message);
+    s.binding = std::move(bound).value();
+  }
   auto deformer = Deformer::create(s.binding, s.skin_rest);
   if (!deformer) return make_error(deformer.error().code, "bind: " + deformer.error().message);
   s.deformer.emplace(std::move(deformer).value());

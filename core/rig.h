@@ -70,6 +70,9 @@ class Rig {
   // Fails when the document has no cage, the attachment fails (an override naming a non-joint) or
   // the bind fails; the message says which. A character without a skin gets no attachment.
   static Result<Rig> create(const Document& doc, const BindProgress& progress = {});
+  // The same with a binding made earlier for this document (a project's cache, core/binding_cache.h:
+  // the caller has checked that it fits): no bind.
+  static Result<Rig> create(const Document& doc, Binding binding);
 
   // Whether `doc` has this rig's cage (same object or same content), parameters and attachment.
   bool fits(const Document& doc) const;
@@ -88,6 +91,7 @@ class Rig {
 
  private:
   Rig();
+  static Result<Rig> make(const Document& doc, Binding* binding, const BindProgress& progress);
   struct State;
   std::unique_ptr<State> state_;
 };

@@ -35,13 +35,9 @@ class EditorFilesGui : public ::testing::Test {
   }
   // Runs the editor (demo character) with `script`; returns its log. `args` adds options.
   std::string run(const std::string& name, const std::string& script, const std::string& args = "") {
-    const fs::path s = dir_ / (name + ".script");
-    std::ofstream(s) << script;
-    const fs::path log = dir_ / (name + ".log");
-    const std::string cmd = cagewrap::test::editor_command("--script " + s.string() + " " + args,
-                                                           config().string(), log.string());
-    EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd << "\n" << read_file(log);
-    return read_file(log);
+    auto r = cagewrap::test::run_editor_script(dir_, name, script, args, config());
+    EXPECT_EQ(r.status, 0) << name << "\n" << r.log;
+    return r.log;
   }
   nlohmann::json prefs() const { return nlohmann::json::parse(read_file(config() / "preferences.json")); }
   fs::path config() const { return dir_ / "config"; }

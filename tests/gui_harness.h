@@ -53,6 +53,37 @@ inline std::string editor_command(const std::string& args, const std::string& co
          args + " > '" + log + "' 2>&1";
 }
 
+// The same run with the editor's process id written to `pid_file` (the editor replaces the shell
+// that wrote it), so a test can signal it (a SIGKILL test).
+inline std::string editor_command_with_pid(const std::string& args, const std::string& config_dir, const std::string& log,
+                                           const std::string& pid_file) {
+  return "CAGEWRAP_CONFIG_DIR='" + config_dir + "' xvfb-run -a -s '-screen 0 1280x720x24' sh -c \"echo \\$\\$ > '" + pid_file +
+         "'; exec " + std::string(CAGEWRAP_BINARY) + " " + args + "\" > '" + log + "' 2>&1";
+}
+
+// A file's bytes ("" when it cannot be read): a run's log, a saved file.
+inline std::string read_file(const std::filesystem::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+struct EditorRun {
+  int status = -1;  // std::system's
+  std::string log;  // stdout and stderr
+};
+// Runs the editor with `script` (written to DIR/NAME.script) and `args`, its preferences in
+// `config_dir`; the log is DIR/NAME.log.
+inline EditorRun run_editor_script(const std::filesystem::path& dir, const std::string& name, const std::string& script,
+                                   const std::string& args, const std::filesystem::path& config_dir) {
+  const std::filesystem::path s = dir / (name + ".script");
+  std::ofstream(s) << script;
+  const std::filesystem::path log = dir / (name + ".log");
+  EditorRun run;
+  run.status = std::system(editor_command("--script " + s.string() + " " + args, config_dir.string(), log.string()).c_str());
+  run.log = read_file(log);
+  return run;
+}
+
 // Runs the editor and returns the screenshot (asserting exit status 0); its log is NAME.log.
 inline Image screenshot(const std::string& args, const std::string& name) {
   std::filesystem::path dir = std::filesystem::temp_directory_path() / "cagewrap_gui_test";
@@ -90,12 +121,6 @@ inline double skin_share(const Image& img) {
       if (p[0] > 90 && p[0] > p[2] + 30) ++skin;
     }
   return total ? double(skin) / total : 0.0;
-}
-
-// A file's bytes ("" when it cannot be read): a run's log, a saved file.
-inline std::string read_file(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
 }
 
 // A scratch folder for GUI test files.

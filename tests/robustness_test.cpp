@@ -15,10 +15,12 @@
 #include <filesystem>
 #include <fstream>
 #include <random>
+#include <set>
 #include <thread>
 
 #include "core/gltf_loader.h"
 #include "core/mesh_io.h"
+#include "core/autosave.h"
 #include "core/project_io.h"
 #include "core/registration.h"
 #include "tests/document_fixtures.h"
@@ -189,6 +191,23 @@ TEST(RobustnessBind, CageFarFromTheSkinStillBindsEveryPoint) {
 // ---------------------------------------------------------------------------------------- kill test
 
 #ifdef CAGEWRAP_SAVE_LOOP
+// Runs `cagewrap_save_loop DIR [mode]`, kills it with SIGKILL after `delay_us` microseconds and
+// reaps it; true when the kill found it still running (not exited on its own).
+bool run_save_loop_and_kill(const std::string& dir, const char* mode, int delay_us) {
+  pid_t child = fork();
+  EXPECT_GE(child, 0);
+  if (child == 0) {
+    execl(CAGEWRAP_SAVE_LOOP, CAGEWRAP_SAVE_LOOP, dir.c_str(), mode, static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  std::this_thread::sleep_for(std::chrono::microseconds(delay_us));
+  kill(child, SIGKILL);
+  int status = 0;
+  EXPECT_EQ(waitpid(child, &status, 0), child);
+  EXPECT_FALSE(WIFEXITED(status) && WEXITSTATUS(status) == 127) << "could not run " << CAGEWRAP_SAVE_LOOP;
+  return WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL;
+}
+
 // `cagewrap_save_loop DIR` saves DIR/big.cagewrap over and over (two different cages in turn).
 // Killed with SIGKILL after a random delay, 32 times: the file is always a complete project.
 TEST_F(Robustness, KilledWhileSavingLeavesTheLastProjectIntact) {
@@ -206,18 +225,7 @@ TEST_F(Robustness, KilledWhileSavingLeavesTheLastProjectIntact) {
   std::uniform_int_distribution<int> delay_us(0, 400000);
   int killed_mid_run = 0;
   for (int round = 0; round < 32; ++round) {
-    pid_t child = fork();
-    ASSERT_GE(child, 0);
-    if (child == 0) {
-      execl(CAGEWRAP_SAVE_LOOP, CAGEWRAP_SAVE_LOOP, dir_.c_str(), static_cast<char*>(nullptr));
-      _exit(127);
-    }
-    std::this_thread::sleep_for(std::chrono::microseconds(delay_us(rng)));
-    kill(child, SIGKILL);
-    int status = 0;
-    ASSERT_EQ(waitpid(child, &status, 0), child);
-    if (WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL) ++killed_mid_run;
-    ASSERT_FALSE(WIFEXITED(status) && WEXITSTATUS(status) == 127) << "could not run " << CAGEWRAP_SAVE_LOOP;
+    killed_mid_run += run_save_loop_and_kill(dir_.string(), nullptr, delay_us(rng));
     auto r = load_project(project);
     ASSERT_TRUE(r.ok()) << "round " << round << ": " << r.error().message;
     ASSERT_TRUE(r->document.cage);
@@ -230,6 +238,42 @@ TEST_F(Robustness, KilledWhileSavingLeavesTheLastProjectIntact) {
   ASSERT_TRUE(doc.ok());
   EXPECT_TRUE(save_project(project, *doc).ok());
   EXPECT_TRUE(load_project(project).ok());
+}
+
+// The editor's autosave under the same treatment: `cagewrap_save_loop DIR --recovery` autosaves the
+// recovery file DIR/config/recovery/loop.cagewrap over and over (two documents in turn), killed
+// with SIGKILL after a random delay, 32 times: the recovery file the next start finds always loads
+// (the previous complete autosave, or the new one), and the start-up scan offers it.
+TEST_F(Robustness, KilledWhileAutosavingLeavesTheLastRecoveryFileIntact) {
+  test::write_tiny_character(path("hero.gltf"));
+  test::write_box_cage(path("cage_a.obj"), 2.0, 40);
+  test::write_box_cage(path("cage_b.obj"), 3.0, 40);
+  const std::string recovery = path("config/recovery/loop.cagewrap");
+  const size_t vertices = fixtures::box_cage(2.0, 40).num_vertices();
+  std::mt19937 rng(20261123);
+  std::uniform_int_distribution<int> delay_us(0, 400000);
+  int killed_mid_run = 0, killed_mid_write = 0, found = 0;
+  std::set<float> seen_sizes;  // which document each round left (cage a or b, told apart by size)
+  for (int round = 0; round < 32; ++round) {
+    killed_mid_run += run_save_loop_and_kill(dir_.string(), "--recovery", delay_us(rng));
+    killed_mid_write += fs::exists(recovery + ".tmp");  // the kill interrupted a write
+    if (!fs::exists(recovery)) continue;  // killed before its first autosave finished (round 0 only)
+    ++found;
+    RecoveryScan scan = list_recovery_files(path("config/recovery"), /*remove_stale=*/false);
+    ASSERT_EQ(scan.offer.size(), 1u) << "round " << round;
+    EXPECT_EQ(scan.offer[0].path, recovery);
+    auto r = load_project(recovery);
+    ASSERT_TRUE(r.ok()) << "round " << round << ": " << r.error().message;
+    ASSERT_TRUE(r->recovery) << "round " << round;
+    ASSERT_TRUE(r->document.cage);
+    EXPECT_EQ(r->document.cage->num_vertices(), vertices) << "round " << round;
+    seen_sizes.insert(r->document.cage->polygons.positions[0].x);
+  }
+  EXPECT_GE(found, 30);
+  EXPECT_GE(killed_mid_run, 30);
+  EXPECT_EQ(seen_sizes.size(), 2u) << "both documents were autosaved in turn";
+  EXPECT_GE(killed_mid_write, 2) << "some kills must land in the middle of a write (8 of 32 here)";
+  RecordProperty("killed_mid_write", killed_mid_write);
 }
 #endif
 

@@ -8,6 +8,7 @@
 
 #include "core/document.h"
 #include "core/mesh_io.h"
+#include "core/character_embedding.h"
 #include "core/project_io.h"
 #include "core/set_edits_io.h"
 #include "tests/fixtures.h"
@@ -101,6 +102,11 @@ int main(int argc, char** argv) {
   if (!bare.ok()) fail(bare.error().message);
   if (auto s = save_project(project, *bare); !s.ok()) fail(s.error().message);
   fs::copy_file(project, out / "project" / "no_cage.cagewrap", fs::copy_options::overwrite_existing);
+  // version 3: the character embedded (base64), a binding cache record (caching on, nothing cached)
+  auto embedded = embed_character(with_cache_binding(*doc, true));
+  if (!embedded.ok()) fail(embedded.error().message);
+  if (auto s = save_project(project, *embedded); !s.ok()) fail(s.error().message);
+  fs::copy_file(project, out / "project" / "embedded.cagewrap", fs::copy_options::overwrite_existing);
 
   // set edits: a saved file and one with rules
   const std::string edits = (out / "set_edits" / "saved.json").string();
