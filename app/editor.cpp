@@ -25,6 +25,7 @@
 #include "app/cage_tools.h"
 #include "app/rig_panel.h"
 #include "app/sets_panel.h"
+#include "app/skin_display.h"
 #include "app/editor_files.h"
 #include "app/editor_scene.h"
 #include "core/camera.h"
@@ -181,6 +182,7 @@ class Editor {
   std::string title_;
   std::unique_ptr<Scene> scene_;
   CageTools cage_tools_;
+  SkinDisplay skin_display_;  // the skin on the GPU or the CPU, and the frame-time split
   RigPanel rig_panel_;
   SetsPanel sets_panel_;
   bool painting_ = false;  // a set-edit brush stroke in progress
@@ -277,15 +279,12 @@ void Editor::load_initial() {
 
 void Editor::frame_all() {
   if (!scene_) return;
-  Aabb box = bounding_box(scene_->skin_posed.empty() ? scene_->skin_rest : scene_->skin_posed);
+  Aabb box = bounding_box(scene_->skin_posed().empty() ? scene_->skin_rest : scene_->skin_posed());
   camera_.frame(box, view_w_ / std::max(1.0f, view_h_));
 }
 
 void Editor::upload_topology() {
-  renderer_->set_skin_topology(scene_->skin_rest.size(), scene_->skin_topology.face_vertices.empty()
-                                                           ? std::span<const Tri>()
-                                                           : std::span<const Tri>(reinterpret_cast<const Tri*>(scene_->skin_topology.face_vertices.data()),
-                                                                                  scene_->skin_topology.face_vertices.size() / 3));
+  renderer_->set_skin_topology(scene_->skin_rest.size(), scene_->skin_triangles());
   if (const Cage* cage = scene_->doc().cage.get()) {
     renderer_->set_cage_topology(cage->polygons, cage->elements, cage->element_face);
     cage_picker_ = PolygonPicker(cage->polygons);
@@ -521,13 +520,11 @@ double Editor::grid_spacing() const {
 }
 
 const TriangleBvh& Editor::skin_occluder() {
-  const auto& fv = scene_->skin_topology.face_vertices;
-  std::span<const Tri> tris(reinterpret_cast<const Tri*>(fv.data()), fv.size() / 3);
   if (!skin_bvh_built_) {
-    skin_bvh_ = TriangleBvh(scene_->skin_posed, tris);
+    skin_bvh_ = TriangleBvh(scene_->skin_posed(), scene_->skin_triangles());
     skin_bvh_built_ = true;
   } else {
-    skin_bvh_.refit(scene_->skin_posed);
+    skin_bvh_.refit(scene_->skin_posed());
   }
   return skin_bvh_;
 }
@@ -551,7 +548,7 @@ void Editor::click_select(const ImVec2& mouse, bool add, bool remove) {
       }
       break;
     case SelectMode::kSkinVertices:
-      if (style_.show_skin) hit = pick_vertex(camera_, vp, px, scene_->skin_posed, 8.0, style_.xray ? nullptr : &skin_occluder());
+      if (style_.show_skin) hit = pick_vertex(camera_, vp, px, scene_->skin_posed(), 8.0, style_.xray ? nullptr : &skin_occluder());
       break;
     case SelectMode::kJoints:
       if (style_.show_skeleton) hit = pick_joint(camera_, vp, px, scene_->joint_heads, 8.0);
@@ -584,7 +581,7 @@ void Editor::box_select_in_mode(const ImVec2& a, const ImVec2& b, bool add, bool
       if (scene_->doc().cage) hits = box_select(camera_, vp, to_view(a), to_view(b), face_centroids(scene_->cage_posed));
       break;
     case SelectMode::kSkinVertices:
-      hits = box_select(camera_, vp, to_view(a), to_view(b), scene_->skin_posed, style_.xray ? nullptr : &skin_occluder());
+      hits = box_select(camera_, vp, to_view(a), to_view(b), scene_->skin_posed(), style_.xray ? nullptr : &skin_occluder());
       break;
     case SelectMode::kJoints:
       hits = box_select(camera_, vp, to_view(a), to_view(b), scene_->joint_heads);
@@ -964,6 +961,7 @@ void Editor::draw_menu() {
     ImGui::MenuItem("Cage coloured by bone", "C", &color_by_bone_);
     ImGui::MenuItem("Wireframe", "W", &style_.wireframe);
     ImGui::MenuItem("X-ray", "Alt+X", &style_.xray);
+    skin_display_.menu_item();
     ImGui::Separator();
     if (ImGui::MenuItem("Frame all", "F")) frame_all();
     ImGui::EndMenu();
@@ -1237,8 +1235,7 @@ void Editor::draw_stats() {
   if (scene_) {
     ImGui::Text("skin %zu vertices", scene_->skin_rest.size());
     if (scene_->doc().cage) ImGui::Text("cage %zu vertices, %zu faces", scene_->doc().cage->num_vertices(), scene_->doc().cage->polygons.num_faces());
-    if (scene_->skin_from_cage) ImGui::Text("deform %.2f ms", scene_->deform_ms);
-    else ImGui::TextDisabled("skin: file's linear blend skinning");
+    skin_display_.draw_stats(*scene_);
   }
   (void)io;
   ImGui::End();
@@ -1470,11 +1467,14 @@ void Editor::run_script_step() {
                       : cmd == "select_skin_vertex" ? selection_.skin_vertices : selection_.joints;
       if (mode == "add") set.add(idx);
       else set.set(idx);
-    } else if (cmd == "click_cage_vertex") {  // a real click at the vertex's projection: exercises picking
+    } else if (cmd == "click_cage_vertex" || cmd == "click_skin_vertex") {  // a real click at the vertex's projection: exercises picking
       uint32_t i;
       in >> i;
-      if (i < scene_->cage_posed.size()) {
-        glm::dvec2 p = camera_.project(glm::dvec3(scene_->cage_posed[i]), view_w_, view_h_).pixel;
+      const bool skin = cmd == "click_skin_vertex";
+      if (skin) mode_ = SelectMode::kSkinVertices;
+      const std::vector<glm::vec3>& points = skin ? scene_->skin_posed() : scene_->cage_posed;
+      if (i < points.size()) {
+        glm::dvec2 p = camera_.project(glm::dvec3(points[i]), view_w_, view_h_).pixel;
         click_select(ImVec2(view_x_ + static_cast<float>(p.x), view_y_ + static_cast<float>(p.y)), false, false);
       }
     } else if (cmd == "select") {
@@ -1576,7 +1576,7 @@ void Editor::run_script_step() {
       double r = 0.0;
       in >> i >> r;
       if (r > 0) sets_panel_.set_brush_radius(r);
-      if (i < scene_->skin_posed.size()) {
+      if (i < scene_->skin_posed().size()) {
         const auto& fv = scene_->skin_topology.face_vertices;
         uint32_t tri = 0;
         for (size_t k = 0; k < fv.size(); ++k)
@@ -1585,7 +1585,7 @@ void Editor::run_script_step() {
             break;
           }
         sets_panel_.begin_stroke(*scene_);
-        sets_panel_.dab(*scene_, selection_, tri, glm::dvec3(scene_->skin_posed[i]), hooks_);
+        sets_panel_.dab(*scene_, selection_, tri, glm::dvec3(scene_->skin_posed()[i]), hooks_);
         sets_panel_.end_stroke(*scene_);
       }
     } else if (cmd == "pose") {  // NODE X Y Z: the joint's rotation on top of the clip, degrees
@@ -1746,6 +1746,7 @@ int Editor::run() {
   }
   files_.apply(style_);
   if (!open_window()) return 1;
+  log(skin_display_.init(!options_.cpu_deform, options_.frame_stats));
   glfwSetWindowUserPointer(window_, this);
   glfwSetDropCallback(window_, [](GLFWwindow* w, int count, const char** paths) {
     auto* self = static_cast<Editor*>(glfwGetWindowUserPointer(w));
@@ -1818,9 +1819,10 @@ int Editor::run() {
       }
       // scripted runs advance a fixed 1/30 s per frame so they are reproducible
       scene_->player.advance(scripted ? 1.0 / 30.0 : dt);
+      skin_display_.before_pose(*scene_);
       scene_->update_pose();
       if (topology_dirty_) upload_topology();
-      renderer_->update_skin(scene_->skin_posed);
+      if (auto e = skin_display_.update(*scene_, *renderer_); !e.empty()) log(e);
       update_selection_display();
       {
         const auto& colors = sets_panel_.colors(*scene_, selection_);
@@ -1833,15 +1835,20 @@ int Editor::run() {
         }
       }
       if (scene_->doc().cage) renderer_->update_cage(scene_->cage_posed, cage_weights_, face_mask_, bone_colors_);
-      renderer_->update_skin_points(scene_->skin_posed, selection_.skin_vertices.indices(),
+      // the skin's CPU copy only when points are shown on it (the GPU path makes it on demand)
+      const bool skin_points = !selection_.skin_vertices.empty() || cage_tools_.show_failing();
+      renderer_->update_skin_points(skin_points ? std::span<const glm::vec3>(scene_->skin_posed()) : std::span<const glm::vec3>(),
+                                    selection_.skin_vertices.indices(),
                                     cage_tools_.show_failing() ? std::span<const uint32_t>(cage_tools_.failing_points()) : std::span<const uint32_t>());
       renderer_->update_skeleton(scene_->joint_heads, scene_->bones, joint_mask_);
       std::string title = "cagewrap - " + (scene_->doc().project_path.empty() ? std::string("untitled") : scene_->doc().project_path) +
                           (scene_->history.dirty(scene_->doc()) ? " *" : "");
       if (title != title_) glfwSetWindowTitle(window_, (title_ = title).c_str());
     }
+    const auto ui_start = std::chrono::steady_clock::now();
     draw_panels();
     ImGui::Render();
+    skin_display_.add_cpu_ms(FramePart::kUi, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - ui_start).count());
 
     glViewport(0, 0, w, h);
     glClearColor(0.16f, 0.17f, 0.19f, 1.0f);
@@ -1855,9 +1862,14 @@ int Editor::run() {
       v.view = glm::mat4(camera_.view());
       v.projection = glm::mat4(camera_.projection(double(v.width) / double(v.height)));
       v.grid_spacing = static_cast<float>(grid_spacing());
+      skin_display_.begin(FramePart::kDraw);
       renderer_->draw(v, style_);
+      skin_display_.end(FramePart::kDraw);
     }
+    skin_display_.begin(FramePart::kUi);
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+    skin_display_.end(FramePart::kUi);
+    skin_display_.end_frame(dt * 1e3);
     ++frame;
     if (!pending_screenshot_.empty() && pending_screenshot_frames_-- <= 0) {
       save_screenshot(pending_screenshot_, screenshot_view_only_);
@@ -1872,6 +1884,7 @@ int Editor::run() {
     if (options_.screenshot.empty() && !script_.empty() && script_done && frame > 1) break;
     glfwSwapBuffers(window_);
   }
+  if (options_.frame_stats) std::printf("%s\n", skin_display_.summary().c_str());
   int window_w = 0, window_h = 0;
   glfwGetWindowSize(window_, &window_w, &window_h);
   files_.remember(style_, window_w, window_h);

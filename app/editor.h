@@ -14,6 +14,8 @@ struct EditorOptions {
   int frames = 3;
   int width = 0, height = 0;  // 0 = the size the window was left at (preferences), else 1600 x 900
   bool play = false;       // start playing the first clip
+  bool cpu_deform = false;   // deform the skin on the CPU even where OpenGL 4.3 could (app/skin_display.h)
+  bool frame_stats = false;  // print the frame-time split (medians) at exit; finishes GL work per part
 };
 
 // Returns the process exit code.

@@ -17,6 +17,9 @@ int main(int argc, char** argv) {
   app.add_option("--width", editor.width, "window width (default: as it was left, else 1600)");
   app.add_option("--height", editor.height, "window height (default: as it was left, else 900)");
   app.add_flag("--play", editor.play, "start playing the first clip");
+  app.add_flag("--cpu-deform", editor.cpu_deform, "deform the skin on the CPU (default: on the GPU with OpenGL 4.3)");
+  app.add_flag("--frame-stats", editor.frame_stats,
+               "print where the frame time goes (deform, normals, draw, UI; medians) at exit");
   app.positionals_at_end(false);
   cagewrap::app::add_bind_command(app, exit_code);
   cagewrap::app::add_deform_command(app, exit_code);
