@@ -18,8 +18,10 @@ namespace cagewrap::app {
 struct GpuBenchFigures {
   double deform_ms = 0, normals_ms = 0;  // GPU time (GL_TIME_ELAPSED), medians over the states
   double total_ms = 0, total_min_ms = 0;  // deform + normals per state: median and minimum
-  double wall_ms = 0;         // median wall time per state: maps on the CPU, upload, both passes, glFinish
-  double maps_ms = 0;         // of which building the maps on the CPU (Deformer::update_maps), median
+  // Wall-clock medians, each pass followed by glFinish: what software OpenGL is measured by (its
+  // timer queries do not see compute work), and an upper bound on a GPU (submission included).
+  double wall_deform_ms = 0, wall_normals_ms = 0;  // upload + deform pass; normals passes
+  double maps_ms = 0;         // building the maps on the CPU (Deformer::update_maps), median
   double cpu_normals_ms = 0;  // the CPU path's normals (core/mesh_normals.h), median, for comparison
   double max_distance = 0;    // last state: largest |GPU - CPU| position, relative to the diagonal
   double max_normal_degrees = 0;  // last state: largest angle between GPU and CPU normals

@@ -1231,7 +1231,7 @@ void Editor::draw_stats() {
   ImGui::SetNextWindowBgAlpha(0.35f);
   ImGui::Begin("stats", nullptr, ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoInputs |
                                      ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoNav);
-  ImGui::Text("%.0f fps", fps_);
+  if (!scene_) ImGui::Text("%.0f fps", fps_);
   if (scene_) {
     ImGui::Text("skin %zu vertices", scene_->skin_rest.size());
     if (scene_->doc().cage) ImGui::Text("cage %zu vertices, %zu faces", scene_->doc().cage->num_vertices(), scene_->doc().cage->polygons.num_faces());
@@ -1894,6 +1894,7 @@ int Editor::run() {
   ImGui::DestroyContext();
   scene_.reset();
   renderer_.reset();  // GL objects go while the context is current
+  skin_display_.release_gl();
   glfwDestroyWindow(window_);
   // No glfwTerminate(): with Mesa's software rasterizer it unloads swrast_dri.so, whose LLVM static
   // destructors crash in __cxa_finalize. The process is about to exit; the OS reclaims the display.

@@ -108,6 +108,11 @@ void SkinDisplay::end_frame(double frame_ms) {
   timed_.fill(false);
 }
 
+void SkinDisplay::release_gl() {
+  gpu_.reset();
+  timer_.reset();
+}
+
 void SkinDisplay::menu_item() {
   ImGui::MenuItem("Deform on the GPU", nullptr, &use_gpu_, gpu_available());
   if (!gpu_available() && ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled))
@@ -115,7 +120,7 @@ void SkinDisplay::menu_item() {
 }
 
 void SkinDisplay::draw_stats(const Scene& scene) {
-  ImGui::Text("frame %.1f ms", shown_frame_ms_);
+  ImGui::Text("%.0f fps, frame %.1f ms", shown_frame_ms_ > 0 ? 1000.0 / shown_frame_ms_ : 0.0, shown_frame_ms_);
   if (!scene.skin_from_cage) {
     ImGui::TextDisabled("skin: file's linear blend skinning");
   } else {

@@ -53,6 +53,9 @@ class SkinDisplay {
   // At the end of each frame, with its wall time.
   void end_frame(double frame_ms);
 
+  // Deletes the GL objects (timers, the GPU table) while the context is still current.
+  void release_gl();
+
   void menu_item();                       // View > Deform on the GPU
   void draw_stats(const Scene& scene);    // lines for the stats overlay
   // Medians over the frames so far (the first 5 left out): for --frame-stats.

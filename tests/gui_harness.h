@@ -75,7 +75,7 @@ struct PixelRect {
   bool contains(int x, int y) const { return x >= x0 && x < x1 && y >= y0 && y < y1; }
 };
 // Where the stats overlay (fps, frame times: different on every run) sits in the view's top left.
-constexpr PixelRect kStatsOverlay{kLeft, kTop, kLeft + 420, kTop + 190};
+constexpr PixelRect kStatsOverlay{kLeft, kTop, kLeft + 420, kTop + 200};
 
 // Share of the view's pixels (those outside `exclude`) that differ by more than `tolerance` in a channel.
 inline double share_differing(const Image& a, const Image& b, int tolerance, PixelRect exclude = {}) {
