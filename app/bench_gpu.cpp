@@ -15,6 +15,8 @@
 
 namespace cagewrap::app {
 
+#if CAGEWRAP_GUI
+
 namespace {
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
@@ -24,8 +26,6 @@ double ms_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 }  // namespace
-
-#if CAGEWRAP_GUI
 
 struct GpuBench::Context {
   std::unique_ptr<render::HeadlessGl> gl;

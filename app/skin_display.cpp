@@ -46,6 +46,7 @@ void SkinDisplay::before_pose(Scene& scene) const {
 std::string SkinDisplay::update(Scene& scene, render::ViewportRenderer& renderer) {
   std::string message;
   on_gpu_ = false;
+  from_cage_ = scene.skin_from_cage;
   if (scene.skin_from_cage) add_cpu_ms(FramePart::kDeform, scene.deform_ms);  // the CPU deform, or the maps alone
   if (scene.skin_on_gpu && scene.skin_from_cage && scene.deformer) {
     if (!gpu_ || gpu_revision_ != scene.binding_revision) {
@@ -96,7 +97,7 @@ void SkinDisplay::end(FramePart part) {
 
 void SkinDisplay::end_frame(double frame_ms) {
   for (size_t p = 0; p < kFrameParts; ++p) gpu_ms_[p] = timed_[p] ? std::max(0.0, timer_->ms(p)) : 0.0;
-  records_.push_back({frame_ms, cpu_ms_, gpu_ms_, on_gpu_});
+  records_.push_back({frame_ms, cpu_ms_, gpu_ms_, on_gpu_, from_cage_});
   // smoothed for reading
   const double k = records_.size() == 1 ? 1.0 : 0.1;
   shown_frame_ms_ += k * (frame_ms - shown_frame_ms_);
@@ -131,12 +132,13 @@ void SkinDisplay::draw_stats(const Scene& scene) {
 }
 
 std::string SkinDisplay::summary() const {
-  const size_t skip = std::min<size_t>(5, records_.size());
-  const size_t n = records_.size() - skip;
+  const bool any_from_cage = std::any_of(records_.begin(), records_.end(), [](const FrameRecord& r) { return r.from_cage; });
   std::vector<double> frame;
   std::array<std::vector<double>, kFrameParts> cpu, gpu;
-  size_t gpu_frames = 0;
-  for (size_t i = skip; i < records_.size(); ++i) {
+  size_t gpu_frames = 0, n = 0, seen = 0;
+  for (size_t i = 0; i < records_.size(); ++i) {
+    if (records_[i].from_cage != any_from_cage || seen++ < 5) continue;
+    ++n;
     frame.push_back(records_[i].frame_ms);
     for (size_t p = 0; p < kFrameParts; ++p) {
       cpu[p].push_back(records_[i].cpu[p]);
@@ -145,8 +147,9 @@ std::string SkinDisplay::summary() const {
     gpu_frames += records_[i].on_gpu;
   }
   char buf[512];
-  int len = std::snprintf(buf, sizeof buf, "frame stats: %zu frames (skin on the GPU in %zu), median frame %.2f ms (%.1f fps)", n,
-                          gpu_frames, median(frame), median(frame) > 0 ? 1000.0 / median(frame) : 0.0);
+  int len = std::snprintf(buf, sizeof buf, "frame stats: %zu frames %s (on the GPU in %zu), median frame %.2f ms (%.1f fps)", n,
+                          any_from_cage ? "with the skin deformed through the cage" : "with no cage deformation", gpu_frames,
+                          median(frame), median(frame) > 0 ? 1000.0 / median(frame) : 0.0);
   std::string out(buf, static_cast<size_t>(std::max(len, 0)));
   for (size_t p = 0; p < kFrameParts; ++p) {
     len = std::snprintf(buf, sizeof buf, "; %s %.2f ms CPU %.2f ms GPU", kPartNames[p], median(cpu[p]), median(gpu[p]));

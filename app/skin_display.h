@@ -58,7 +58,8 @@ class SkinDisplay {
 
   void menu_item();                       // View > Deform on the GPU
   void draw_stats(const Scene& scene);    // lines for the stats overlay
-  // Medians over the frames so far (the first 5 left out): for --frame-stats.
+  // Medians over the frames so far whose skin was deformed through the cage (the first 5 of them
+  // left out: kernels compile, buffers fill), or over all frames when none was: for --frame-stats.
   std::string summary() const;
 
  private:
@@ -67,7 +68,7 @@ class SkinDisplay {
   uint64_t gpu_revision_ = 0;   // the scene's binding_revision the GPU table was made for
   uint64_t failed_revision_ = 0;  // a revision the GPU could not take (logged once; CPU used)
   std::string unavailable_;  // why there is no GPU path (empty: there is)
-  bool use_gpu_ = true, synchronous_ = false, on_gpu_ = false;
+  bool use_gpu_ = true, synchronous_ = false, on_gpu_ = false, from_cage_ = false;
   std::array<double, kFrameParts> cpu_ms_{}, gpu_ms_{};  // this frame's, then shown
   std::array<double, kFrameParts> shown_cpu_{}, shown_gpu_{};
   double shown_frame_ms_ = 0;
@@ -75,7 +76,7 @@ class SkinDisplay {
   struct FrameRecord {
     double frame_ms;
     std::array<double, kFrameParts> cpu, gpu;
-    bool on_gpu;
+    bool on_gpu, from_cage;
   };
   std::vector<FrameRecord> records_;
   std::chrono::steady_clock::time_point started_[kFrameParts];

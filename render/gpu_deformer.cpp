@@ -143,15 +143,15 @@ Status GpuDeformer::upload_table() {
   if (auto s = check_storage(rest.size_bytes(), "the deformed skin (" + std::to_string(b.num_points) + " points)"); !s)
     return s;
   if (auto s = fill_storage(rest_, rest, "the rest skin", bytes); !s) return s;
-  if (auto s = fill_storage(offsets_, std::span<const uint32_t>(b.offsets), "the binding's offsets", bytes); !s) return s;
-  if (auto s = fill_storage(ids_, std::span<const uint32_t>(b.ids), "the binding's ids", bytes); !s) return s;
-  if (auto s = fill_storage(weights_, std::span<const float>(b.weights), "the binding's weights", bytes); !s) return s;
-  if (auto s = fill_storage(bary_, std::span<const float>(b.bary), "the binding's anchors", bytes); !s) return s;
+  if (auto s = fill_storage(offsets_, std::span<const uint32_t>(b.offsets), "the binding's offset table", bytes); !s) return s;
+  if (auto s = fill_storage(ids_, std::span<const uint32_t>(b.ids), "the binding's id table", bytes); !s) return s;
+  if (auto s = fill_storage(weights_, std::span<const float>(b.weights), "the binding's weight table", bytes); !s) return s;
+  if (auto s = fill_storage(bary_, std::span<const float>(b.bary), "the binding's anchor table", bytes); !s) return s;
   std::vector<glm::uvec4> fallback(b.rigid_points.size());
   for (size_t k = 0; k < fallback.size(); ++k)
     fallback[k] = glm::uvec4(b.rigid_points[k], b.rigid_element[k], std::bit_cast<uint32_t>(b.rigid_bary[2 * k]),
                              std::bit_cast<uint32_t>(b.rigid_bary[2 * k + 1]));
-  if (auto s = fill_storage(fallback_list_, std::span<const glm::uvec4>(fallback), "the fallback points", bytes); !s)
+  if (auto s = fill_storage(fallback_list_, std::span<const glm::uvec4>(fallback), "the fallback point table", bytes); !s)
     return s;
   num_fallback_ = fallback.size();
   table_bytes_ = bytes;
