@@ -241,6 +241,7 @@ bool Editor::open_window() {
 
 void Editor::set_scene(std::unique_ptr<Scene> scene) {
   scene_ = std::move(scene);
+  skin_display_.scene_changed();
   topology_dirty_ = true;
   skin_bvh_built_ = false;
   display_key_.clear();
@@ -1408,7 +1409,7 @@ void Editor::guard_unsaved(std::function<void()> action) {
 //   wait N | select_cage_vertex I [add] | select_cage_vertices_all | move DX DY DZ | undo | redo
 //   save PATH | screenshot PATH | play | pause | time T
 //   mode cage_vertices|cage_faces|skin_vertices|joints | select_cage_face I [add]
-//   select_skin_vertex I [add] | select_joint I [add] | click_cage_vertex I
+//   select_skin_vertex I [add] | select_joint I [add] | click_cage_vertex I | click_skin_vertex I
 //   select all|none|invert|grow|shrink|mirror | soft on|off [R] [FALLOFF] [volume|surface]
 //   mirror on|off | view front|right|top | clip NAME|rest | gizmo_drag x|y|z|yz|xz|xy|screen DX DY
 //   auto_cage [FACES] | cage_op merge|weld D|flip|flip_all|linear [N]|loop [N]|refine|triangulate

@@ -50,14 +50,21 @@ std::string SkinDisplay::update(Scene& scene, render::ViewportRenderer& renderer
   if (scene.skin_from_cage) add_cpu_ms(FramePart::kDeform, scene.deform_ms);  // the CPU deform, or the maps alone
   if (scene.skin_on_gpu && scene.skin_from_cage && scene.deformer) {
     if (!gpu_ || gpu_revision_ != scene.binding_revision) {
-      gpu_.reset();
-      auto g = render::GpuDeformer::create(*scene.deformer, scene.skin_triangles());
-      if (g) {
-        gpu_ = std::move(g).value();
-        gpu_revision_ = scene.binding_revision;
+      // the first binding of this scene: kernels, skin topology and table; later ones (a rebind, a
+      // live set edit) only replace the table: the deformer lives in the same place, the skin is the same
+      Status s = Ok{};
+      if (gpu_) {
+        s = gpu_->table_changed();
       } else {
+        auto g = render::GpuDeformer::create(*scene.deformer, scene.skin_triangles());
+        if (g) gpu_ = std::move(g).value();
+        else s = g.error();
+      }
+      gpu_revision_ = scene.binding_revision;
+      if (!s) {
+        gpu_.reset();
         failed_revision_ = scene.binding_revision;  // the CPU deforms this binding; tried again after a rebind
-        message = "warning: the skin is deformed on the CPU, the GPU cannot take it: " + g.error().message;
+        message = "warning: the skin is deformed on the CPU, the GPU cannot take it: " + s.error().message;
       }
     }
     if (gpu_) {

@@ -40,6 +40,8 @@ class SkinDisplay {
   // Whether this frame's skin was deformed on the GPU.
   bool on_gpu() const { return on_gpu_; }
 
+  // A new scene (another character): the GPU copy of the old skin goes.
+  void scene_changed() { gpu_.reset(); }
   // Before Scene::update_pose: whether the scene should leave the skin to the GPU.
   void before_pose(Scene& scene) const;
   // After update_pose (and the renderer's topology upload): puts the frame's skin into the

@@ -63,9 +63,9 @@ TEST(EditorGpuGui, GpuAndCpuPathsDrawTheSamePosedSkin) {
   EXPECT_EQ(gpu_log.find("error"), std::string::npos) << gpu_log;
 
   // the same picture: positions agree to ~1e-7 of the diagonal, so only a rare edge pixel may flip
-  EXPECT_LT(share_differing(gpu, cpu, 8, kStatsOverlay), 0.0005);
+  EXPECT_LT(share_differing(gpu, cpu, 8), 0.0005);
   // and it is the posed skin, not the rest skin: the arms are raised
-  EXPECT_GT(share_differing(gpu, gpu_rest, 24, kStatsOverlay), 0.01);
+  EXPECT_GT(share_differing(gpu, gpu_rest, 24), 0.01);
   EXPECT_GT(skin_share(gpu), 0.02);
   // the click picked the skin vertex in both paths: its point is drawn over the skin
   EXPECT_GT(skin_point_pixels(gpu), 8u);
