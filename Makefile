@@ -49,7 +49,7 @@ bench: build
 
 # the GPU path (OpenGL 4.3 compute): bench --gpu headless, 4M-vertex memory, the editor's frame split
 bench-gpu: build
-	bash scripts/bench_gpu.sh ./$(BUILD)/cagewrap $(SHARED_ASSETS)
+	bash scripts/bench.sh ./$(BUILD)/cagewrap $(SHARED_ASSETS) gpu
 
 clean:
 	rm -rf $(BUILD) $(BUILD_SAN) $(BUILD_FUZZ)

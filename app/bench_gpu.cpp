@@ -56,22 +56,21 @@ Result<GpuBenchFigures> GpuBench::run(Deformer& deformer, std::span<const Tri> t
   render::GpuTimer timer(2, 1);
   enum { kDeform, kNormals };
   std::vector<double> deform, normals, total, wall_deform, wall_normals, maps;
+  // one pass under the timer query of `section`, then to the end (glFinish) for its wall time
+  auto pass = [&](size_t section, auto&& work, std::vector<double>& wall) {
+    auto t0 = std::chrono::steady_clock::now();
+    timer.begin(section);
+    work();
+    timer.end(section);
+    glFinish();
+    wall.push_back(ms_since(t0));
+  };
   auto one_change = [&](const std::vector<glm::vec3>& state) -> Status {
     auto t0 = std::chrono::steady_clock::now();
     if (auto s = deformer.update_maps(state); !s) return s;
     maps.push_back(ms_since(t0));
-    t0 = std::chrono::steady_clock::now();
-    timer.begin(kDeform);
-    (*gpu)->deform(skin);
-    timer.end(kDeform);
-    glFinish();
-    wall_deform.push_back(ms_since(t0));
-    t0 = std::chrono::steady_clock::now();
-    timer.begin(kNormals);
-    (*gpu)->normals(skin);
-    timer.end(kNormals);
-    glFinish();
-    wall_normals.push_back(ms_since(t0));
+    pass(kDeform, [&] { (*gpu)->deform(skin); }, wall_deform);
+    pass(kNormals, [&] { (*gpu)->normals(skin); }, wall_normals);
     return Ok{};
   };
   if (auto s = one_change(states.front()); !s) return s.error();  // warm-up: kernels, first touch

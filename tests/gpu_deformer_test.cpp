@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -64,36 +66,6 @@ struct Agreement {
   double max_normal_degrees = 0;
 };
 
-// One cage state through both paths. `gpu_deformer` may be made from another (deliberately wrong)
-// table than `cpu`, to show a difference is caught.
-struct Paths {
-  Deformer& cpu;
-  Deformer& gpu_maps;  // the deformer whose maps the GPU applies
-  render::GpuDeformer& gpu;
-  render::TriangleBuffer& target;
-  NormalComputer& normals;
-  double diagonal;
-
-  Agreement compare(std::span<const glm::vec3> cage, std::span<const glm::dmat3> frames = {}) {
-    const size_t n = cpu.binding().num_points;
-    std::vector<glm::vec3> cpu_pos(n), cpu_nrm(n), gpu_pos(n), gpu_nrm(n);
-    EXPECT_TRUE(cpu.deform(cage, cpu_pos, frames).ok());
-    normals.compute(cpu_pos, cpu_nrm);
-    EXPECT_TRUE(gpu_maps.update_maps(cage, frames).ok());
-    gpu.deform(target);
-    gpu.normals(target);
-    target.read_positions(gpu_pos);
-    target.read_normals(gpu_nrm);
-    Fidelity f = relative_distance(gpu_pos, cpu_pos, diagonal);
-    Agreement a;
-    a.max_distance = std::isfinite(f.rms) ? f.max : INFINITY;  // a NaN anywhere makes the RMS NaN
-    a.rms_distance = f.rms;
-    a.max_normal_degrees = max_normal_angle(gpu_nrm, cpu_nrm) * 180.0 / M_PI;
-    return a;
-  }
-};
-
-
 // The worst agreement seen by a test, printed at its end (the figures docs/benchmarks.md quotes).
 struct Worst {
   Agreement a;
@@ -110,37 +82,106 @@ void expect_agreement(const Agreement& a, const std::string& what, Worst& worst)
   worst.a.max_normal_degrees = std::max(worst.a.max_normal_degrees, a.max_normal_degrees);
 }
 
-// A bench triplet from the shared assets: every variant, the cage moving from rest to the twisted
-// cage and beyond (extrapolated), fitted vertex frames (no attachment).
-void check_triplet(const std::string& dir, const std::string& mesh_name, Worst& worst) {
+// A skin with its triangles, and a cage at rest.
+struct Skin {
+  std::vector<glm::vec3> rest;
+  std::vector<Tri> triangles;
+  double diagonal = 0;
+};
+
+// A bench triplet from the shared assets: the skin, the cage and the twisted cage.
+struct Triplet {
+  Skin skin;
+  std::optional<Cage> cage;
+  std::vector<glm::vec3> posed;
+};
+
+Triplet load_triplet(const std::string& dir, const std::string& mesh_name) {
+  Triplet t;
   auto mesh = load_mesh(dir + "/" + mesh_name);
-  ASSERT_TRUE(mesh.ok()) << mesh.error().message;
+  EXPECT_TRUE(mesh.ok()) << (mesh.ok() ? "" : mesh.error().message);
   auto cage_mesh = load_cage_mesh(dir + "/cage.obj");
-  ASSERT_TRUE(cage_mesh.ok());
-  auto cage = make_cage(std::move(cage_mesh).value(), "cage.obj");
-  ASSERT_TRUE(cage.ok());
   auto posed = load_mesh(dir + "/cage_posed.obj");
-  ASSERT_TRUE(posed.ok());
-  const auto triangles = triangulate(*mesh).triangles;
-  const double diagonal = bounding_box(mesh->positions).diagonal();
-  for (Variant v : {Variant::kBasic, Variant::kClamped, Variant::kExtended}) {
+  EXPECT_TRUE(cage_mesh.ok() && posed.ok()) << dir;
+  if (!mesh.ok() || !cage_mesh.ok() || !posed.ok()) return t;
+  auto cage = make_cage(std::move(cage_mesh).value(), "cage.obj");
+  EXPECT_TRUE(cage.ok());
+  if (!cage.ok()) return t;
+  t.cage.emplace(std::move(cage).value());
+  t.skin.triangles = triangulate(*mesh).triangles;
+  t.skin.rest = std::move(mesh->positions);
+  t.skin.diagonal = bounding_box(t.skin.rest).diagonal();
+  t.posed = std::move(posed->positions);
+  return t;
+}
+
+// Both paths over one binding. The GPU may apply the maps of another deformer (`gpu_maps`, made
+// from a deliberately wrong table) to show that a difference is caught.
+class Paths {
+ public:
+  Paths(Deformer& cpu, const Skin& skin, Deformer* gpu_maps = nullptr)
+      : cpu_(cpu), gpu_maps_(gpu_maps ? *gpu_maps : cpu), skin_(skin), normals_(skin.rest.size(), skin.triangles) {
+    target_.upload_indices(skin.triangles);
+    auto g = render::GpuDeformer::create(gpu_maps_, skin.triangles);
+    EXPECT_TRUE(g.ok()) << (g.ok() ? "" : g.error().message);
+    if (g.ok()) gpu_ = std::move(g).value();
+  }
+  bool ok() const { return gpu_ != nullptr; }
+  render::GpuDeformer& gpu() { return *gpu_; }
+
+  // One cage state through both paths, read back and compared.
+  Agreement compare(std::span<const glm::vec3> cage, std::span<const glm::dmat3> frames = {}) {
+    const size_t n = skin_.rest.size();
+    std::vector<glm::vec3> cpu_pos(n), cpu_nrm(n), gpu_pos(n), gpu_nrm(n);
+    EXPECT_TRUE(cpu_.deform(cage, cpu_pos, frames).ok());
+    normals_.compute(cpu_pos, cpu_nrm);
+    EXPECT_TRUE(gpu_maps_.update_maps(cage, frames).ok());
+    gpu_->deform(target_);
+    gpu_->normals(target_);
+    target_.read_positions(gpu_pos);
+    target_.read_normals(gpu_nrm);
+    Fidelity f = relative_distance(gpu_pos, cpu_pos, skin_.diagonal);
+    Agreement a;
+    a.max_distance = std::isfinite(f.rms) ? f.max : INFINITY;  // a NaN anywhere makes the RMS NaN
+    a.rms_distance = f.rms;
+    a.max_normal_degrees = max_normal_angle(gpu_nrm, cpu_nrm) * 180.0 / M_PI;
+    return a;
+  }
+
+ private:
+  Deformer& cpu_;
+  Deformer& gpu_maps_;
+  const Skin& skin_;
+  NormalComputer normals_;
+  render::TriangleBuffer target_;
+  std::unique_ptr<render::GpuDeformer> gpu_;
+};
+
+constexpr Variant kVariants[] = {Variant::kBasic, Variant::kClamped, Variant::kExtended};
+
+Binding bind_triplet(const Triplet& t, BindParams params) {
+  auto b = bind_skin(t.skin.rest, *t.cage, t.cage->polygons.positions, params);
+  EXPECT_TRUE(b.ok()) << (b.ok() ? "" : b.error().message);
+  return b.ok() ? std::move(b).value() : Binding{};
+}
+
+// Every variant, the cage moving from rest to the twisted cage and beyond (extrapolated), vertex
+// frames fitted from the one-rings (no attachment).
+void check_triplet(const std::string& dir, const std::string& mesh_name, Worst& worst) {
+  const Triplet t = load_triplet(dir, mesh_name);
+  ASSERT_TRUE(t.cage);
+  for (Variant v : kVariants) {
     BindParams params;
     params.variant = v;
-    auto b = bind_skin(mesh->positions, *cage, cage->polygons.positions, params);
-    ASSERT_TRUE(b.ok()) << b.error().message;
-    auto d = Deformer::create(*b, mesh->positions);
+    const Binding b = bind_triplet(t, params);
+    auto d = Deformer::create(b, t.skin.rest);
     ASSERT_TRUE(d.ok());
-    auto gpu = render::GpuDeformer::create(*d, triangles);
-    ASSERT_TRUE(gpu.ok()) << gpu.error().message;
-    render::TriangleBuffer target;
-    target.upload_indices(triangles);
-    NormalComputer normals(mesh->positions.size(), triangles);
-    Paths paths{*d, *d, **gpu, target, normals, diagonal};
-    for (double t : {0.0, 0.35, 1.0, 1.6}) {
-      std::vector<glm::vec3> state(cage->num_vertices());
-      for (size_t i = 0; i < state.size(); ++i)
-        state[i] = glm::mix(cage->polygons.positions[i], posed->positions[i], static_cast<float>(t));
-      expect_agreement(paths.compare(state), dir + " " + variant_name(v) + " t=" + std::to_string(t), worst);
+    Paths paths(*d, t.skin);
+    ASSERT_TRUE(paths.ok());
+    for (float share : {0.0f, 0.35f, 1.0f, 1.6f}) {
+      std::vector<glm::vec3> state(t.posed.size());
+      for (size_t i = 0; i < state.size(); ++i) state[i] = glm::mix(t.cage->polygons.positions[i], t.posed[i], share);
+      expect_agreement(paths.compare(state), dir + " " + variant_name(v) + " at " + std::to_string(share), worst);
     }
   }
 }
@@ -159,28 +200,24 @@ TEST_F(GpuDeformerTest, DemoCharacterPosedByItsClipsAgreesEveryVariant) {
   auto doc = document_from_files(assets + "demo_character.glb", assets + "demo_cage.obj");
   ASSERT_TRUE(doc.ok()) << doc.error().message;
   const Character& ch = *doc->character;
-  std::vector<glm::vec3> skin;
-  for (const auto& prim : ch.primitives) skin.insert(skin.end(), prim.positions.begin(), prim.positions.end());
-  const auto triangles = triangulate(combined_topology(ch)).triangles;
+  Skin skin;
+  for (const auto& prim : ch.primitives) skin.rest.insert(skin.rest.end(), prim.positions.begin(), prim.positions.end());
+  skin.triangles = triangulate(combined_topology(ch)).triangles;
+  skin.diagonal = bounding_box(skin.rest).diagonal();
   auto attachment = attach_cage(ch, doc->cage->polygons.positions, doc->attachment);
   ASSERT_TRUE(attachment.ok()) << attachment.error().message;
-  const double diagonal = bounding_box(skin).diagonal();
   ASSERT_GE(ch.clips.size(), 2u);
   Worst worst;
-  for (Variant v : {Variant::kBasic, Variant::kClamped, Variant::kExtended}) {
+  for (Variant v : kVariants) {
     BindParams params = doc->params;
     params.variant = v;
     Document d = with_params(*doc, params);
-    auto b = bind_document(d, skin, &*attachment);
+    auto b = bind_document(d, skin.rest, &*attachment);
     ASSERT_TRUE(b.ok()) << b.error().message;
-    auto def = Deformer::create(*b, skin);
+    auto def = Deformer::create(*b, skin.rest);
     ASSERT_TRUE(def.ok());
-    auto gpu = render::GpuDeformer::create(*def, triangles);
-    ASSERT_TRUE(gpu.ok()) << gpu.error().message;
-    render::TriangleBuffer target;
-    target.upload_indices(triangles);
-    NormalComputer normals(skin.size(), triangles);
-    Paths paths{*def, *def, **gpu, target, normals, diagonal};
+    Paths paths(*def, skin);
+    ASSERT_TRUE(paths.ok());
     PosedCage posed;
     for (int clip = 0; clip < 2; ++clip)
       for (double share : {0.0, 0.3, 0.65, 1.0}) {
@@ -197,35 +234,21 @@ TEST_F(GpuDeformerTest, DemoCharacterPosedByItsClipsAgreesEveryVariant) {
 // their nearest element rigidly (the fallback pass, which runs after the main one), every variant.
 TEST_F(GpuDeformerTest, FallbackPointsAgree) {
   CAGEWRAP_REQUIRE_ASSETS(assets);
-  const std::string dir = assets + "/bench/armadillo";
-  auto mesh = load_mesh(dir + "/mesh_10001.obj");
-  ASSERT_TRUE(mesh.ok());
-  auto cage_mesh = load_cage_mesh(dir + "/cage.obj");
-  ASSERT_TRUE(cage_mesh.ok());
-  auto cage = make_cage(std::move(cage_mesh).value(), "cage.obj");
-  ASSERT_TRUE(cage.ok());
-  auto posed = load_mesh(dir + "/cage_posed.obj");
-  ASSERT_TRUE(posed.ok());
-  const auto triangles = triangulate(*mesh).triangles;
-  const double diagonal = bounding_box(mesh->positions).diagonal();
+  const Triplet t = load_triplet(assets + "/bench/armadillo", "mesh_10001.obj");
+  ASSERT_TRUE(t.cage);
   Worst worst;
-  for (Variant v : {Variant::kBasic, Variant::kClamped, Variant::kExtended}) {
+  for (Variant v : kVariants) {
     BindParams params;
     params.variant = v;
-    params.max_distance = 0.004 * diagonal;  // points deeper inside than this get no element
-    auto b = bind_skin(mesh->positions, *cage, cage->polygons.positions, params);
-    ASSERT_TRUE(b.ok()) << b.error().message;
-    ASSERT_GT(b->rigid_points.size(), 20u) << "the case must exercise the fallback pass";
-    ASSERT_LT(b->rigid_points.size(), mesh->positions.size() / 2);
-    auto d = Deformer::create(*b, mesh->positions);
+    params.max_distance = 0.004 * t.skin.diagonal;  // points deeper inside than this get no element
+    const Binding b = bind_triplet(t, params);
+    ASSERT_GT(b.rigid_points.size(), 20u) << "the case must exercise the fallback pass";
+    ASSERT_LT(b.rigid_points.size(), t.skin.rest.size() / 2);
+    auto d = Deformer::create(b, t.skin.rest);
     ASSERT_TRUE(d.ok());
-    auto gpu = render::GpuDeformer::create(*d, triangles);
-    ASSERT_TRUE(gpu.ok()) << gpu.error().message;
-    render::TriangleBuffer target;
-    target.upload_indices(triangles);
-    NormalComputer normals(mesh->positions.size(), triangles);
-    Paths paths{*d, *d, **gpu, target, normals, diagonal};
-    expect_agreement(paths.compare(posed->positions), std::string("fallback, ") + variant_name(v), worst);
+    Paths paths(*d, t.skin);
+    ASSERT_TRUE(paths.ok());
+    expect_agreement(paths.compare(t.posed), std::string("fallback, ") + variant_name(v), worst);
   }
 }
 
@@ -233,47 +256,33 @@ TEST_F(GpuDeformerTest, FallbackPointsAgree) {
 // element would) is caught by the tolerance, positions and normals both.
 TEST_F(GpuDeformerTest, OneSkippedElementIsCaught) {
   CAGEWRAP_REQUIRE_ASSETS(assets);
-  const std::string dir = assets + "/bench/mannequiny";
-  auto mesh = load_mesh(dir + "/mesh_7136.obj");
-  ASSERT_TRUE(mesh.ok());
-  auto cage_mesh = load_cage_mesh(dir + "/cage.obj");
-  ASSERT_TRUE(cage_mesh.ok());
-  auto cage = make_cage(std::move(cage_mesh).value(), "cage.obj");
-  ASSERT_TRUE(cage.ok());
-  auto posed = load_mesh(dir + "/cage_posed.obj");
-  ASSERT_TRUE(posed.ok());
-  const auto triangles = triangulate(*mesh).triangles;
-  const double diagonal = bounding_box(mesh->positions).diagonal();
-  for (Variant v : {Variant::kBasic, Variant::kClamped, Variant::kExtended}) {
+  const Triplet t = load_triplet(assets + "/bench/mannequiny", "mesh_7136.obj");
+  ASSERT_TRUE(t.cage);
+  for (Variant v : kVariants) {
     BindParams params;
     params.variant = v;
-    auto b = bind_skin(mesh->positions, *cage, cage->polygons.positions, params);
-    ASSERT_TRUE(b.ok());
+    const Binding b = bind_triplet(t, params);
     // the point whose weakest entry weighs most, dropped from a copy of the table
     uint32_t point = 0;
     float best = 0;
-    for (uint32_t i = 0; i < b->num_points; ++i)
-      if (b->offsets[i + 1] - b->offsets[i] >= 2 && b->weights[b->offsets[i + 1] - 1] > best) {
-        best = b->weights[b->offsets[i + 1] - 1];
+    for (uint32_t i = 0; i < b.num_points; ++i)
+      if (b.offsets[i + 1] - b.offsets[i] >= 2 && b.weights[b.offsets[i + 1] - 1] > best) {
+        best = b.weights[b.offsets[i + 1] - 1];
         point = i;
       }
     ASSERT_GT(best, 0.05f);
-    Binding skipped = *b;
+    Binding skipped = b;
     const uint32_t entry = skipped.offsets[point + 1] - 1;
     skipped.ids.erase(skipped.ids.begin() + entry);
     skipped.weights.erase(skipped.weights.begin() + entry);
     if (!skipped.bary.empty()) skipped.bary.erase(skipped.bary.begin() + 2 * entry, skipped.bary.begin() + 2 * entry + 2);
     for (uint32_t i = point + 1; i <= skipped.num_points; ++i) skipped.offsets[i]--;
-    auto good = Deformer::create(*b, mesh->positions);
-    auto bad = Deformer::create(skipped, mesh->positions);
+    auto good = Deformer::create(b, t.skin.rest);
+    auto bad = Deformer::create(skipped, t.skin.rest);
     ASSERT_TRUE(good.ok() && bad.ok());
-    auto gpu = render::GpuDeformer::create(*bad, triangles);
-    ASSERT_TRUE(gpu.ok());
-    render::TriangleBuffer target;
-    target.upload_indices(triangles);
-    NormalComputer normals(mesh->positions.size(), triangles);
-    Paths paths{*good, *bad, **gpu, target, normals, diagonal};
-    Agreement a = paths.compare(posed->positions);
+    Paths paths(*good, t.skin, &*bad);
+    ASSERT_TRUE(paths.ok());
+    Agreement a = paths.compare(t.posed);
     EXPECT_GT(a.max_distance, 100 * kPositionTolerance) << variant_name(v);
     EXPECT_GT(a.max_normal_degrees, kNormalToleranceDegrees) << variant_name(v);
   }
@@ -283,39 +292,25 @@ TEST_F(GpuDeformerTest, OneSkippedElementIsCaught) {
 // again and the GPU follows, where the old table would not.
 TEST_F(GpuDeformerTest, TableChangedInPlaceIsUploadedAgain) {
   CAGEWRAP_REQUIRE_ASSETS(assets);
-  const std::string dir = assets + "/bench/mannequiny";
-  auto mesh = load_mesh(dir + "/mesh_7136.obj");
-  ASSERT_TRUE(mesh.ok());
-  auto cage_mesh = load_cage_mesh(dir + "/cage.obj");
-  ASSERT_TRUE(cage_mesh.ok());
-  auto cage = make_cage(std::move(cage_mesh).value(), "cage.obj");
-  ASSERT_TRUE(cage.ok());
-  auto posed = load_mesh(dir + "/cage_posed.obj");
-  ASSERT_TRUE(posed.ok());
-  const auto triangles = triangulate(*mesh).triangles;
-  const double diagonal = bounding_box(mesh->positions).diagonal();
+  const Triplet t = load_triplet(assets + "/bench/mannequiny", "mesh_7136.obj");
+  ASSERT_TRUE(t.cage);
   BindParams params;
   params.variant = Variant::kBasic;
-  auto first = bind_skin(mesh->positions, *cage, cage->polygons.positions, params);
+  const Binding first = bind_triplet(t, params);
   params.max_elements = 1;  // another table for the same skin and cage: one element per point
-  auto second = bind_skin(mesh->positions, *cage, cage->polygons.positions, params);
-  ASSERT_TRUE(first.ok() && second.ok());
-  Binding live = *first;
-  auto d = Deformer::create(live, mesh->positions);
+  const Binding second = bind_triplet(t, params);
+  Binding live = first;
+  auto d = Deformer::create(live, t.skin.rest);
   ASSERT_TRUE(d.ok());
-  auto gpu = render::GpuDeformer::create(*d, triangles);
-  ASSERT_TRUE(gpu.ok());
-  render::TriangleBuffer target;
-  target.upload_indices(triangles);
-  NormalComputer normals(mesh->positions.size(), triangles);
-  Paths paths{*d, *d, **gpu, target, normals, diagonal};
+  Paths paths(*d, t.skin);
+  ASSERT_TRUE(paths.ok());
   Worst worst;
-  expect_agreement(paths.compare(posed->positions), "first table", worst);
-  live = *second;
+  expect_agreement(paths.compare(t.posed), "first table", worst);
+  live = second;
   ASSERT_TRUE(d->stencil_changed().ok());
-  EXPECT_GT(paths.compare(posed->positions).max_distance, 10 * kPositionTolerance) << "stale table on the GPU";
-  ASSERT_TRUE((*gpu)->table_changed().ok());
-  expect_agreement(paths.compare(posed->positions), "second table", worst);
+  EXPECT_GT(paths.compare(t.posed).max_distance, 10 * kPositionTolerance) << "stale table on the GPU";
+  ASSERT_TRUE(paths.gpu().table_changed().ok());
+  expect_agreement(paths.compare(t.posed), "second table", worst);
 }
 
 #else
