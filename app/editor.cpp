@@ -1292,7 +1292,7 @@ void Editor::browse(FilePurpose purpose, const std::string& dir) {
 // Script commands for files (see run_script_step; PATH and NAME are the rest of the line):
 // open PATH | import_cage PATH |
 // browse open|save|import_cage|screenshot [DIR] | browser_select NAME | browser_name NAME |
-// browser_confirm | browser_cancel | toggle wireframe|xray|skin|cage|skeleton|grid
+// browser_confirm | browser_cancel | toggle wireframe|xray|skin|cage|skeleton|grid|gpu_deform
 bool Editor::run_file_script_command(const std::string& cmd, std::istringstream& in) {
   // the argument is the rest of the line (names may hold spaces); `browse` splits off its first word
   std::string arg, rest;
@@ -1317,8 +1317,9 @@ bool Editor::run_file_script_command(const std::string& cmd, std::istringstream&
   else if (cmd == "browser_confirm") files_.browser().confirm();
   else if (cmd == "browser_cancel") files_.browser().cancel();
   else if (cmd == "toggle") {
-    bool* flags[] = {&style_.wireframe, &style_.xray, &style_.show_skin, &style_.show_cage, &style_.show_skeleton, &style_.show_grid};
-    const char* names[] = {"wireframe", "xray", "skin", "cage", "skeleton", "grid"};
+    bool* flags[] = {&style_.wireframe, &style_.xray, &style_.show_skin, &style_.show_cage, &style_.show_skeleton, &style_.show_grid,
+                     &skin_display_.use_gpu()};
+    const char* names[] = {"wireframe", "xray", "skin", "cage", "skeleton", "grid", "gpu_deform"};
     auto it = std::find(std::begin(names), std::end(names), arg);
     if (it == std::end(names)) return false;
     bool* f = flags[it - std::begin(names)];

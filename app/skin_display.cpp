@@ -44,6 +44,16 @@ void SkinDisplay::before_pose(Scene& scene) const {
 }
 
 std::string SkinDisplay::update(Scene& scene, render::ViewportRenderer& renderer) {
+  std::string message = put_skin(scene, renderer);
+  if (from_cage_) {
+    if (shown_path_ >= 0 && shown_path_ != int(on_gpu_) && message.empty())
+      message = std::string("skin now deformed on the ") + (on_gpu_ ? "GPU" : "CPU");
+    shown_path_ = on_gpu_;
+  }
+  return message;
+}
+
+std::string SkinDisplay::put_skin(Scene& scene, render::ViewportRenderer& renderer) {
   std::string message;
   on_gpu_ = false;
   from_cage_ = scene.skin_from_cage;

@@ -39,13 +39,16 @@ class SkinDisplay {
   bool gpu_available() const { return unavailable_.empty(); }
   // Whether this frame's skin was deformed on the GPU.
   bool on_gpu() const { return on_gpu_; }
+  // The user's choice (View > Deform on the GPU; script `toggle gpu_deform`).
+  bool& use_gpu() { return use_gpu_; }
 
   // A new scene (another character): the GPU copy of the old skin goes.
   void scene_changed() { gpu_.reset(); }
   // Before Scene::update_pose: whether the scene should leave the skin to the GPU.
   void before_pose(Scene& scene) const;
   // After update_pose (and the renderer's topology upload): puts the frame's skin into the
-  // renderer's buffers, on the GPU when it can. Returns an error line to log once, or empty.
+  // renderer's buffers, on the GPU when it can. Returns a line to log (a warning once when the GPU
+  // cannot take a binding, or the path changing), or empty.
   std::string update(Scene& scene, render::ViewportRenderer& renderer);
 
   // Time a part of the frame the editor runs itself (draw, UI); CPU time is added to the part.
@@ -65,12 +68,15 @@ class SkinDisplay {
   std::string summary() const;
 
  private:
+  std::string put_skin(Scene& scene, render::ViewportRenderer& renderer);
+
   std::unique_ptr<render::GpuDeformer> gpu_;
   std::unique_ptr<render::GpuTimer> timer_;
   uint64_t gpu_revision_ = 0;   // the scene's binding_revision the GPU table was made for
   uint64_t failed_revision_ = 0;  // a revision the GPU could not take (logged once; CPU used)
   std::string unavailable_;  // why there is no GPU path (empty: there is)
   bool use_gpu_ = true, synchronous_ = false, on_gpu_ = false, from_cage_ = false;
+  int shown_path_ = -1;  // the path of the last frame deformed through the cage: 1 GPU, 0 CPU, -1 none yet
   std::array<double, kFrameParts> cpu_ms_{}, gpu_ms_{};  // this frame's, then shown
   std::array<double, kFrameParts> shown_cpu_{}, shown_gpu_{};
   double shown_frame_ms_ = 0;

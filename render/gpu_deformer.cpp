@@ -64,12 +64,10 @@ void bind(GLuint index, GLuint buffer) { glBindBufferBase(GL_SHADER_STORAGE_BUFF
 
 // Runs `count` invocations of the program in use, on a 2-D grid of groups when one row would exceed
 // the GL's group-count limit (u_row tells the kernel the row length).
-void dispatch(const GlProgram& program, size_t count) {
+void dispatch(const GlProgram& program, size_t count, size_t max_groups_x) {
   if (!count) return;
-  GLint max_x = 65535;
-  glGetIntegeri_v(GL_MAX_COMPUTE_WORK_GROUP_COUNT, 0, &max_x);
   const size_t groups = (count + kGroupSize - 1) / kGroupSize;
-  const size_t gx = std::min(groups, static_cast<size_t>(std::max(max_x, 1)));
+  const size_t gx = std::min(groups, max_groups_x);
   const size_t gy = (groups + gx - 1) / gx;
   program.set("u_count", static_cast<unsigned>(count));
   program.set("u_row", static_cast<unsigned>(gx * kGroupSize));
@@ -111,6 +109,9 @@ Result<std::unique_ptr<GpuDeformer>> GpuDeformer::create(const Deformer& deforme
   if (auto why = unsupported_reason(); !why.empty()) return make_error(ErrorCode::kUnsupportedFormat, why);
   std::unique_ptr<GpuDeformer> g(new GpuDeformer());
   g->deformer_ = &deformer;
+  GLint max_x = 0;
+  glGetIntegeri_v(GL_MAX_COMPUTE_WORK_GROUP_COUNT, 0, &max_x);
+  g->max_groups_x_ = static_cast<size_t>(std::max(max_x, 65535));  // GL 4.3 guarantees at least 65535
   std::string log;
   if (!g->affine_.build_compute("deform.comp.glsl", {"KERNEL_AFFINE"}, log) ||
       !g->rigid_.build_compute("deform.comp.glsl", {"KERNEL_RIGID"}, log) ||
@@ -206,14 +207,14 @@ void GpuDeformer::deform(TriangleBuffer& target) {
   } else {
     bind(4, affine_maps_);
   }
-  dispatch(main, b.num_points);
+  dispatch(main, b.num_points, max_groups_x_);
   if (num_fallback_) {
     barrier();  // the fallback points overwrite what the main pass wrote for them
     fallback_.use();
     fallback_.set("u_origin", origin);
     bind(1, fallback_list_);
     bind(5, rigid_maps_);
-    dispatch(fallback_, num_fallback_);
+    dispatch(fallback_, num_fallback_, max_groups_x_);
   }
   barrier();
 }
@@ -226,14 +227,14 @@ void GpuDeformer::normals(TriangleBuffer& target) {
   bind(0, target.position_buffer());
   bind(1, target.index_buffer());
   bind(2, face_normals_);
-  dispatch(faces_, num_triangles_);
+  dispatch(faces_, num_triangles_, max_groups_x_);
   barrier();
   vertices_.use();
   bind(0, target.normal_buffer());
   bind(1, starts_);
   bind(2, face_normals_);
   bind(3, incident_);
-  dispatch(vertices_, num_vertices_);
+  dispatch(vertices_, num_vertices_, max_groups_x_);
   barrier();
 }
 

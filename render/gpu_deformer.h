@@ -68,6 +68,7 @@ class GpuDeformer {
   GLuint affine_maps_ = 0, rigid_maps_ = 0;                                            // per change
   GLuint starts_ = 0, incident_ = 0, face_normals_ = 0;                                 // skin topology
   size_t num_fallback_ = 0, num_triangles_ = 0, num_vertices_ = 0;
+  size_t max_groups_x_ = 65535;  // GL_MAX_COMPUTE_WORK_GROUP_COUNT[0]
   size_t affine_allocated_ = 0, rigid_allocated_ = 0;  // bytes of the map buffers
   size_t table_bytes_ = 0, topology_bytes_ = 0, maps_bytes_ = 0;
 };

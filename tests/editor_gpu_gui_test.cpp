@@ -47,15 +47,19 @@ TEST(EditorGpuGui, GpuAndCpuPathsDrawTheSamePosedSkin) {
       ++index;
     }
   const fs::path dir = gui_test_dir();
-  const fs::path posed = dir / "gpu_posed.script", rest = dir / "gpu_rest.script";
+  const fs::path posed = dir / "gpu_posed.script", rest = dir / "gpu_rest.script", toggled = dir / "gpu_toggled.script";
+  const std::string pose_and_pick = "clip arm_raise\ntime 1.2\nclick_skin_vertex " + std::to_string(front) + "\nwait 2\n";
   {
-    std::ofstream(posed) << "clip arm_raise\ntime 1.2\nclick_skin_vertex " << front << "\nwait 2\n";
+    std::ofstream(posed) << pose_and_pick;
     std::ofstream(rest) << "clip rest\nwait 2\n";
+    // View > Deform on the GPU switched off, then on again, while the pose stays
+    std::ofstream(toggled) << pose_and_pick << "toggle gpu_deform\nwait 2\ntoggle gpu_deform\nwait 2\n";
   }
   Image gpu = screenshot("--frames 3 --script " + posed.string(), "gpu_path");
   Image cpu = screenshot("--frames 3 --cpu-deform --script " + posed.string(), "cpu_path");
   Image gpu_rest = screenshot("--frames 3 --script " + rest.string(), "gpu_path_rest");
-  const std::string gpu_log = read_log("gpu_path"), cpu_log = read_log("cpu_path");
+  Image back = screenshot("--frames 3 --script " + toggled.string(), "gpu_path_toggled");
+  const std::string gpu_log = read_log("gpu_path"), cpu_log = read_log("cpu_path"), toggled_log = read_log("gpu_path_toggled");
   if (gpu_log.find("skin deformed on the CPU: ") != std::string::npos)
     GTEST_SKIP() << "this OpenGL has no compute shaders, only the CPU path runs: " << gpu_log;
   ASSERT_NE(gpu_log.find("skin deformed on the GPU"), std::string::npos) << gpu_log;
@@ -67,6 +71,11 @@ TEST(EditorGpuGui, GpuAndCpuPathsDrawTheSamePosedSkin) {
   // and it is the posed skin, not the rest skin: the arms are raised
   EXPECT_GT(share_differing(gpu, gpu_rest, 24), 0.01);
   EXPECT_GT(skin_share(gpu), 0.02);
+  // switching the path in the middle of a session: CPU then GPU again, the same picture
+  const size_t to_cpu = toggled_log.find("skin now deformed on the CPU");
+  EXPECT_NE(to_cpu, std::string::npos) << toggled_log;
+  EXPECT_NE(toggled_log.find("skin now deformed on the GPU", to_cpu), std::string::npos) << toggled_log;
+  EXPECT_LT(share_differing(back, gpu, 8), 0.0005);
   // the click picked the skin vertex in both paths: its point is drawn over the skin
   EXPECT_GT(skin_point_pixels(gpu), 8u);
   EXPECT_GT(skin_point_pixels(cpu), 8u);
