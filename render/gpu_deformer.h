@@ -13,6 +13,7 @@
 
 #include <epoxy/gl.h>
 
+#include <algorithm>
 #include <memory>
 #include <span>
 #include <string>
@@ -49,6 +50,10 @@ class GpuDeformer {
   void deform(TriangleBuffer& target);
   // Recomputes `target`'s normals from its positions (after deform()).
   void normals(TriangleBuffer& target);
+
+  // For tests: pretends the GL allows at most `groups` work groups per row, so that the 2-D grid
+  // large skins need (over 16.7M points at the guaranteed 65535) runs on a small one.
+  void limit_groups_per_row(size_t groups) { max_groups_x_ = std::max<size_t>(groups, 1); }
 
   size_t num_points() const;
   // Bytes held on the GPU: table, rest skin, adjacency, scratch and maps (not the target buffers).

@@ -288,6 +288,24 @@ TEST_F(GpuDeformerTest, OneSkippedElementIsCaught) {
   }
 }
 
+// Skins too large for one row of work groups are dispatched on a 2-D grid: forced here with three
+// groups (768 invocations) per row on a 7,136-point skin (10 rows), whose 13,932 triangles take 19.
+TEST_F(GpuDeformerTest, TwoDimensionalDispatchCoversEveryPoint) {
+  CAGEWRAP_REQUIRE_ASSETS(assets);
+  const Triplet t = load_triplet(assets + "/bench/mannequiny", "mesh_7136.obj");
+  ASSERT_TRUE(t.cage);
+  BindParams params;
+  params.variant = Variant::kBasic;
+  const Binding b = bind_triplet(t, params);
+  auto d = Deformer::create(b, t.skin.rest);
+  ASSERT_TRUE(d.ok());
+  Paths paths(*d, t.skin);
+  ASSERT_TRUE(paths.ok());
+  paths.gpu().limit_groups_per_row(3);
+  Worst worst;
+  expect_agreement(paths.compare(t.posed), "2-D grid", worst);
+}
+
 // A live set edit changes the table in place (Deformer::stencil_changed); table_changed uploads it
 // again and the GPU follows, where the old table would not.
 TEST_F(GpuDeformerTest, TableChangedInPlaceIsUploadedAgain) {
