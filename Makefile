@@ -10,7 +10,7 @@ JOBS         ?= $(shell nproc)
 CMAKE_FLAGS  ?=
 SHARED_ASSETS ?= $(abspath ../shared/assets)
 
-.PHONY: all setup build run test test-sanitize fuzz bench clean
+.PHONY: all setup build run test test-sanitize fuzz bench bench-gpu clean
 
 all: build
 
@@ -46,6 +46,10 @@ fuzz: setup
 
 bench: build
 	bash scripts/bench.sh ./$(BUILD)/cagewrap $(SHARED_ASSETS)
+
+# the GPU path (OpenGL 4.3 compute): bench --gpu headless, 4M-vertex memory, the editor's frame split
+bench-gpu: build
+	bash scripts/bench.sh ./$(BUILD)/cagewrap $(SHARED_ASSETS) gpu
 
 clean:
 	rm -rf $(BUILD) $(BUILD_SAN) $(BUILD_FUZZ)

@@ -1,4 +1,4 @@
-// cagewrap bench --mesh M --cage C --posed-cage C2 [--subdivide n] [--variant v|all] [--twist inputs.json] [--json]
+// cagewrap bench --mesh M --cage C --posed-cage C2 [--subdivide n] [--variant v|all] [--twist inputs.json] [--gpu] [--json]
 #include <sys/resource.h>
 
 #include <algorithm>
@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "app/bench_gpu.h"
 #include "app/cli_common.h"
 #include "app/commands.h"
 #include "core/deformer.h"
@@ -32,6 +33,7 @@ struct BenchResult {
   bool has_twist = false;
   Fidelity twist;
   size_t affected_points = 0, affected_elements = 0;
+  std::optional<GpuBenchFigures> gpu;
 };
 
 }  // namespace
@@ -40,7 +42,7 @@ void add_bench_command(CLI::App& app, int& exit_code) {
   struct Args {
     std::string mesh, cage, posed, twist, variant_list = variant_name(BindParams{}.variant);
     uint32_t subdivide = 0, changes = 20;
-    bool json = false;
+    bool json = false, gpu = false;
     BindOptions bind;
   };
   auto args = std::make_shared<Args>();
@@ -52,6 +54,8 @@ void add_bench_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--changes", args->changes, "cage changes to time (>= 20)")->capture_default_str();
   cmd->add_option("--twist", args->twist, "inputs.json with the analytic twist: report fidelity to it");
   cmd->add_flag("--json", args->json, "print one JSON object instead of a table");
+  cmd->add_flag("--gpu", args->gpu,
+                "also time the OpenGL 4.3 compute path (deform + normals, GL timer queries) in a headless EGL context");
   add_bind_options(*cmd, args->bind);
   cmd->remove_option(cmd->get_option("--variant"));
   cmd->add_option("--variant", args->variant_list, "basic | clamped | extended | all")->capture_default_str();
@@ -84,6 +88,15 @@ void add_bench_command(CLI::App& app, int& exit_code) {
       }
       twist = *t;
     }
+    std::unique_ptr<GpuBench> gpu;
+    if (args->gpu) {
+      auto g = GpuBench::create();
+      if (!g) {
+        report_error(g.error());
+        return;
+      }
+      gpu = std::move(g).value();
+    }
     if (args->subdivide > 0) *mesh = subdivide_edges_uniform(*mesh, args->subdivide);
     const auto& skin = mesh->positions;
     const double diag = bounding_box(skin).diagonal();
@@ -100,6 +113,7 @@ void add_bench_command(CLI::App& app, int& exit_code) {
         states[k][v] = glm::vec3(glm::mix(glm::dvec3(cage->polygons.positions[v]), glm::dvec3(posed->positions[v]), t));
     }
     std::vector<BenchResult> results;
+    std::vector<Tri> triangles;  // for the GPU path's normals
     for (const auto& vname : variants) {
       BindOptions opts = args->bind;
       opts.variant = vname;
@@ -145,6 +159,15 @@ void add_bench_command(CLI::App& app, int& exit_code) {
         r.has_twist = true;
         r.twist = relative_distance(out, reference, diag);
       }
+      if (gpu) {
+        if (triangles.empty()) triangles = triangulate(*mesh).triangles;
+        auto g = gpu->run(*d, triangles, states, out, diag);
+        if (!g) {
+          report_error(g.error());
+          return;
+        }
+        r.gpu = *g;
+      }
       results.push_back(r);
     }
     if (args->json) {
@@ -152,6 +175,7 @@ void add_bench_command(CLI::App& app, int& exit_code) {
       j["points"] = skin.size();
       j["elements"] = cage->num_elements();
       j["peak_rss_mb"] = peak_rss_mb();
+      if (gpu) j["gpu_device"] = gpu->device();
       for (const auto& r : results) {
         nlohmann::json v{{"variant", r.variant},
                          {"bind_s", r.bind_s},
@@ -166,6 +190,19 @@ void add_bench_command(CLI::App& app, int& exit_code) {
                          {"affected_points", r.affected_points},
                          {"affected_elements", r.affected_elements}};
         if (r.has_twist) v["twist"] = {{"rms", r.twist.rms}, {"max", r.twist.max}};
+        if (r.gpu)
+          v["gpu"] = {{"deform_median_ms", r.gpu->deform_ms},
+                      {"normals_median_ms", r.gpu->normals_ms},
+                      {"total_median_ms", r.gpu->total_ms},
+                      {"total_min_ms", r.gpu->total_min_ms},
+                      {"wall_deform_median_ms", r.gpu->wall_deform_ms},
+                      {"wall_normals_median_ms", r.gpu->wall_normals_ms},
+                      {"cpu_maps_median_ms", r.gpu->maps_ms},
+                      {"cpu_normals_median_ms", r.gpu->cpu_normals_ms},
+                      {"max_distance_to_cpu", r.gpu->max_distance},
+                      {"max_normal_angle_to_cpu_degrees", r.gpu->max_normal_degrees},
+                      {"gpu_bytes", r.gpu->gpu_bytes},
+                      {"upload_bytes_per_change", r.gpu->upload_bytes}};
         j["variants"].push_back(v);
       }
       std::printf("%s\n", j.dump(1).c_str());
@@ -180,6 +217,22 @@ void add_bench_command(CLI::App& app, int& exit_code) {
                     r.bytes_written / 1e6, r.gbps, 100 * r.quality);
         if (r.has_twist) std::printf(" %10.2e %10.2e", r.twist.rms, r.twist.max);
         std::printf("\n");
+      }
+      if (gpu) {
+        std::printf("GPU path: %s\n", gpu->device().c_str());
+        if (gpu->software())
+          std::printf("software OpenGL: its timer queries do not see compute work (they read 0) and its 'GPU' is this "
+                      "CPU; read the wall times\n");
+        std::printf("%-9s %10s %10s %9s %8s %9s %9s %9s %9s %9s %11s %10s %8s\n", "variant", "deform ms", "normals ms",
+                    "total ms", "min ms", "wall def", "wall nrm", "maps ms", "CPU def", "CPU nrm", "|GPU-CPU|",
+                    "normal deg", "GPU MB");
+        for (const auto& r : results) {
+          const auto& g = *r.gpu;
+          std::printf("%-9s %10.3f %10.3f %9.3f %8.3f %9.2f %9.2f %9.3f %9.2f %9.2f %11.2e %10.2e %8.1f\n",
+                      r.variant.c_str(), g.deform_ms, g.normals_ms, g.total_ms, g.total_min_ms, g.wall_deform_ms,
+                      g.wall_normals_ms, g.maps_ms, r.deform_median_ms, g.cpu_normals_ms, g.max_distance,
+                      g.max_normal_degrees, g.gpu_bytes / 1e6);
+        }
       }
       std::printf("peak memory %.0f MB\n", peak_rss_mb());
     }

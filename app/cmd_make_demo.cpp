@@ -25,8 +25,8 @@ void add_make_demo_command(CLI::App& app, int& exit_code) {
       std::fprintf(stderr, "error: %s: output must end in .glb\n", args->out.c_str());
       return;
     }
-    if (!(args->options.cell_size >= 0.005 && args->options.cell_size <= 0.1)) {
-      std::fprintf(stderr, "error: --cell-size %g is outside 0.005..0.1 m\n", args->options.cell_size);
+    if (!(args->options.cell_size >= 0.0025 && args->options.cell_size <= 0.1)) {
+      std::fprintf(stderr, "error: --cell-size %g is outside 0.0025..0.1 m\n", args->options.cell_size);
       return;
     }
     Character c = make_demo_character(args->options);

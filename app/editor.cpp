@@ -26,6 +26,7 @@
 #include "app/export_panel.h"
 #include "app/rig_panel.h"
 #include "app/sets_panel.h"
+#include "app/skin_display.h"
 #include "app/editor_files.h"
 #include "app/editor_scene.h"
 #include "app/project_dialogs.h"
@@ -193,6 +194,7 @@ class Editor {
   CageTools cage_tools_;
   ExportPanel export_panel_;
   bool script_waits_for_export_ = true;  // false after `export_nowait`: the script goes on meanwhile
+  SkinDisplay skin_display_;  // the skin on the GPU or the CPU, and the frame-time split
   RigPanel rig_panel_;
   SetsPanel sets_panel_;
   bool painting_ = false;  // a set-edit brush stroke in progress
@@ -254,6 +256,7 @@ void Editor::set_scene(std::unique_ptr<Scene> scene) {
   scene_ = std::move(scene);
   if (autosave_) autosave_->discard();  // the work it held was saved or discarded (guard_unsaved)
   recovered_ = false;
+  skin_display_.scene_changed();
   topology_dirty_ = true;
   skin_bvh_built_ = false;
   display_key_.clear();
@@ -294,15 +297,12 @@ void Editor::load_initial() {
 
 void Editor::frame_all() {
   if (!scene_) return;
-  Aabb box = bounding_box(scene_->skin_posed.empty() ? scene_->skin_rest : scene_->skin_posed);
+  Aabb box = bounding_box(scene_->skin_posed().empty() ? scene_->skin_rest : scene_->skin_posed());
   camera_.frame(box, view_w_ / std::max(1.0f, view_h_));
 }
 
 void Editor::upload_topology() {
-  renderer_->set_skin_topology(scene_->skin_rest.size(), scene_->skin_topology.face_vertices.empty()
-                                                           ? std::span<const Tri>()
-                                                           : std::span<const Tri>(reinterpret_cast<const Tri*>(scene_->skin_topology.face_vertices.data()),
-                                                                                  scene_->skin_topology.face_vertices.size() / 3));
+  renderer_->set_skin_topology(scene_->skin_rest.size(), scene_->skin_triangles());
   if (const Cage* cage = scene_->doc().cage.get()) {
     renderer_->set_cage_topology(cage->polygons, cage->elements, cage->element_face);
     cage_picker_ = PolygonPicker(cage->polygons);
@@ -538,13 +538,11 @@ double Editor::grid_spacing() const {
 }
 
 const TriangleBvh& Editor::skin_occluder() {
-  const auto& fv = scene_->skin_topology.face_vertices;
-  std::span<const Tri> tris(reinterpret_cast<const Tri*>(fv.data()), fv.size() / 3);
   if (!skin_bvh_built_) {
-    skin_bvh_ = TriangleBvh(scene_->skin_posed, tris);
+    skin_bvh_ = TriangleBvh(scene_->skin_posed(), scene_->skin_triangles());
     skin_bvh_built_ = true;
   } else {
-    skin_bvh_.refit(scene_->skin_posed);
+    skin_bvh_.refit(scene_->skin_posed());
   }
   return skin_bvh_;
 }
@@ -568,7 +566,7 @@ void Editor::click_select(const ImVec2& mouse, bool add, bool remove) {
       }
       break;
     case SelectMode::kSkinVertices:
-      if (style_.show_skin) hit = pick_vertex(camera_, vp, px, scene_->skin_posed, 8.0, style_.xray ? nullptr : &skin_occluder());
+      if (style_.show_skin) hit = pick_vertex(camera_, vp, px, scene_->skin_posed(), 8.0, style_.xray ? nullptr : &skin_occluder());
       break;
     case SelectMode::kJoints:
       if (style_.show_skeleton) hit = pick_joint(camera_, vp, px, scene_->joint_heads, 8.0);
@@ -601,7 +599,7 @@ void Editor::box_select_in_mode(const ImVec2& a, const ImVec2& b, bool add, bool
       if (scene_->doc().cage) hits = box_select(camera_, vp, to_view(a), to_view(b), face_centroids(scene_->cage_posed));
       break;
     case SelectMode::kSkinVertices:
-      hits = box_select(camera_, vp, to_view(a), to_view(b), scene_->skin_posed, style_.xray ? nullptr : &skin_occluder());
+      hits = box_select(camera_, vp, to_view(a), to_view(b), scene_->skin_posed(), style_.xray ? nullptr : &skin_occluder());
       break;
     case SelectMode::kJoints:
       hits = box_select(camera_, vp, to_view(a), to_view(b), scene_->joint_heads);
@@ -1035,6 +1033,7 @@ void Editor::draw_menu() {
     ImGui::MenuItem("Cage coloured by bone", "C", &color_by_bone_);
     ImGui::MenuItem("Wireframe", "W", &style_.wireframe);
     ImGui::MenuItem("X-ray", "Alt+X", &style_.xray);
+    skin_display_.menu_item();
     ImGui::Separator();
     if (ImGui::MenuItem("Frame all", "F")) frame_all();
     ImGui::EndMenu();
@@ -1306,12 +1305,11 @@ void Editor::draw_stats() {
   ImGui::SetNextWindowBgAlpha(0.35f);
   ImGui::Begin("stats", nullptr, ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoInputs |
                                      ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoNav);
-  ImGui::Text("%.0f fps", fps_);
+  if (!scene_) ImGui::Text("%.0f fps", fps_);
   if (scene_) {
     ImGui::Text("skin %zu vertices", scene_->skin_rest.size());
     if (scene_->doc().cage) ImGui::Text("cage %zu vertices, %zu faces", scene_->doc().cage->num_vertices(), scene_->doc().cage->polygons.num_faces());
-    if (scene_->skin_from_cage) ImGui::Text("deform %.2f ms", scene_->deform_ms);
-    else ImGui::TextDisabled("skin: file's linear blend skinning");
+    skin_display_.draw_stats(*scene_);
   }
   (void)io;
   ImGui::End();
@@ -1367,7 +1365,7 @@ void Editor::browse(FilePurpose purpose, const std::string& dir) {
 // Script commands for files (see run_script_step; PATH and NAME are the rest of the line):
 // open PATH | import_cage PATH |
 // browse open|save|import_cage|screenshot [DIR] | browser_select NAME | browser_name NAME |
-// browser_confirm | browser_cancel | toggle wireframe|xray|skin|cage|skeleton|grid
+// browser_confirm | browser_cancel | toggle wireframe|xray|skin|cage|skeleton|grid|gpu_deform
 bool Editor::run_file_script_command(const std::string& cmd, std::istringstream& in) {
   // the argument is the rest of the line (names may hold spaces); `browse` splits off its first word
   std::string arg, rest;
@@ -1392,8 +1390,9 @@ bool Editor::run_file_script_command(const std::string& cmd, std::istringstream&
   else if (cmd == "browser_confirm") files_.browser().confirm();
   else if (cmd == "browser_cancel") files_.browser().cancel();
   else if (cmd == "toggle") {
-    bool* flags[] = {&style_.wireframe, &style_.xray, &style_.show_skin, &style_.show_cage, &style_.show_skeleton, &style_.show_grid};
-    const char* names[] = {"wireframe", "xray", "skin", "cage", "skeleton", "grid"};
+    bool* flags[] = {&style_.wireframe, &style_.xray, &style_.show_skin, &style_.show_cage, &style_.show_skeleton, &style_.show_grid,
+                     &skin_display_.use_gpu()};
+    const char* names[] = {"wireframe", "xray", "skin", "cage", "skeleton", "grid", "gpu_deform"};
     auto it = std::find(std::begin(names), std::end(names), arg);
     if (it == std::end(names)) return false;
     bool* f = flags[it - std::begin(names)];
@@ -1512,7 +1511,7 @@ void Editor::guard_unsaved(std::function<void()> action) {
 //   wait N | select_cage_vertex I [add] | select_cage_vertices_all | move DX DY DZ | undo | redo
 //   save PATH | screenshot PATH | play | pause | time T
 //   mode cage_vertices|cage_faces|skin_vertices|joints | select_cage_face I [add]
-//   select_skin_vertex I [add] | select_joint I [add] | click_cage_vertex I
+//   select_skin_vertex I [add] | select_joint I [add] | click_cage_vertex I | click_skin_vertex I
 //   select all|none|invert|grow|shrink|mirror | soft on|off [R] [FALLOFF] [volume|surface]
 //   mirror on|off | view front|right|top | camera YAW PITCH DIST [TX TY TZ] | clip NAME|rest | gizmo_drag x|y|z|yz|xz|xy|screen DX DY
 //   auto_cage [FACES] | cage_op merge|weld D|flip|flip_all|linear [N]|loop [N]|refine|triangulate
@@ -1593,11 +1592,14 @@ void Editor::run_script_step() {
                       : cmd == "select_skin_vertex" ? selection_.skin_vertices : selection_.joints;
       if (mode == "add") set.add(idx);
       else set.set(idx);
-    } else if (cmd == "click_cage_vertex") {  // a real click at the vertex's projection: exercises picking
+    } else if (cmd == "click_cage_vertex" || cmd == "click_skin_vertex") {  // a real click at the vertex's projection: exercises picking
       uint32_t i;
       in >> i;
-      if (i < scene_->cage_posed.size()) {
-        glm::dvec2 p = camera_.project(glm::dvec3(scene_->cage_posed[i]), view_w_, view_h_).pixel;
+      const bool skin = cmd == "click_skin_vertex";
+      if (skin) mode_ = SelectMode::kSkinVertices;
+      const std::vector<glm::vec3>& points = skin ? scene_->skin_posed() : scene_->cage_posed;
+      if (i < points.size()) {
+        glm::dvec2 p = camera_.project(glm::dvec3(points[i]), view_w_, view_h_).pixel;
         click_select(ImVec2(view_x_ + static_cast<float>(p.x), view_y_ + static_cast<float>(p.y)), false, false);
       }
     } else if (cmd == "select") {
@@ -1712,7 +1714,7 @@ void Editor::run_script_step() {
       double r = 0.0;
       in >> i >> r;
       if (r > 0) sets_panel_.set_brush_radius(r);
-      if (i < scene_->skin_posed.size()) {
+      if (i < scene_->skin_posed().size()) {
         const auto& fv = scene_->skin_topology.face_vertices;
         uint32_t tri = 0;
         for (size_t k = 0; k < fv.size(); ++k)
@@ -1721,7 +1723,7 @@ void Editor::run_script_step() {
             break;
           }
         sets_panel_.begin_stroke(*scene_);
-        sets_panel_.dab(*scene_, selection_, tri, glm::dvec3(scene_->skin_posed[i]), hooks_);
+        sets_panel_.dab(*scene_, selection_, tri, glm::dvec3(scene_->skin_posed()[i]), hooks_);
         sets_panel_.end_stroke(*scene_);
       }
     } else if (cmd == "pose") {  // NODE X Y Z: the joint's rotation on top of the clip, degrees
@@ -1923,6 +1925,10 @@ int Editor::run() {
   }
   files_.apply(style_);
   if (!open_window()) return 1;
+  log(skin_display_.init(options_.cpu_deform ? SkinDisplay::Path::kCpu
+                         : options_.gpu_deform ? SkinDisplay::Path::kGpu
+                                               : SkinDisplay::Path::kAutomatic,
+                         options_.frame_stats));
   glfwSetWindowUserPointer(window_, this);
   glfwSetDropCallback(window_, [](GLFWwindow* w, int count, const char** paths) {
     auto* self = static_cast<Editor*>(glfwGetWindowUserPointer(w));
@@ -2006,9 +2012,10 @@ int Editor::run() {
       }
       // scripted runs advance a fixed 1/30 s per frame so they are reproducible
       scene_->player.advance(scripted ? 1.0 / 30.0 : dt);
+      skin_display_.before_pose(*scene_);
       scene_->update_pose();
       if (topology_dirty_) upload_topology();
-      renderer_->update_skin(scene_->skin_posed);
+      if (auto e = skin_display_.update(*scene_, *renderer_); !e.empty()) log(e);
       update_selection_display();
       {
         const auto& colors = sets_panel_.colors(*scene_, selection_);
@@ -2021,7 +2028,10 @@ int Editor::run() {
         }
       }
       if (scene_->doc().cage) renderer_->update_cage(scene_->cage_posed, cage_weights_, face_mask_, bone_colors_);
-      renderer_->update_skin_points(scene_->skin_posed, selection_.skin_vertices.indices(),
+      // the skin's CPU copy only when points are shown on it (the GPU path makes it on demand)
+      const bool skin_points = !selection_.skin_vertices.empty() || cage_tools_.show_failing();
+      renderer_->update_skin_points(skin_points ? std::span<const glm::vec3>(scene_->skin_posed()) : std::span<const glm::vec3>(),
+                                    selection_.skin_vertices.indices(),
                                     cage_tools_.show_failing() ? std::span<const uint32_t>(cage_tools_.failing_points()) : std::span<const uint32_t>());
       renderer_->update_skeleton(scene_->joint_heads, scene_->bones, joint_mask_);
       std::string title = "cagewrap - " + (scene_->doc().project_path.empty() ? std::string("untitled") : scene_->doc().project_path) +
@@ -2029,8 +2039,10 @@ int Editor::run() {
       if (auto m = autosave_->tick(scene_->doc(), scene_->history.dirty(scene_->doc()))) log(*m, m->rfind("error", 0) == 0);
       if (title != title_) glfwSetWindowTitle(window_, (title_ = title).c_str());
     }
+    const auto ui_start = std::chrono::steady_clock::now();
     draw_panels();
     ImGui::Render();
+    skin_display_.add_cpu_ms(FramePart::kUi, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - ui_start).count());
 
     glViewport(0, 0, w, h);
     glClearColor(0.16f, 0.17f, 0.19f, 1.0f);
@@ -2044,9 +2056,14 @@ int Editor::run() {
       v.view = glm::mat4(camera_.view());
       v.projection = glm::mat4(camera_.projection(double(v.width) / double(v.height)));
       v.grid_spacing = static_cast<float>(grid_spacing());
+      skin_display_.begin(FramePart::kDraw);
       renderer_->draw(v, style_);
+      skin_display_.end(FramePart::kDraw);
     }
+    skin_display_.begin(FramePart::kUi);
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+    skin_display_.end(FramePart::kUi);
+    skin_display_.end_frame(dt * 1e3);
     ++frame;
     if (!pending_screenshot_.empty() && pending_screenshot_frames_-- <= 0) {
       save_screenshot(pending_screenshot_, screenshot_view_only_);
@@ -2062,6 +2079,7 @@ int Editor::run() {
     if (options_.screenshot.empty() && !script_.empty() && script_done && frame > 1) break;
     glfwSwapBuffers(window_);
   }
+  if (options_.frame_stats) std::printf("%s\n", skin_display_.summary().c_str());
   int window_w = 0, window_h = 0;
   glfwGetWindowSize(window_, &window_w, &window_h);
   files_.remember(style_, window_w, window_h);
@@ -2072,6 +2090,7 @@ int Editor::run() {
   ImGui::DestroyContext();
   scene_.reset();
   renderer_.reset();  // GL objects go while the context is current
+  skin_display_.release_gl();
   glfwDestroyWindow(window_);
   // No glfwTerminate(): with Mesa's software rasterizer it unloads swrast_dri.so, whose LLVM static
   // destructors crash in __cxa_finalize. The process is about to exit; the OS reclaims the display.

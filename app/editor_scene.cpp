@@ -67,9 +67,10 @@ void Scene::document_changed() {
     attached_cage_ = cage;
     attached_settings_ = doc().attachment;
   }
-  if (!cage) {
+  if (!cage && deformer) {
     deformer.reset();
     binding.reset();
+    binding_revision = next_revision();
   }
   if (needs_rebind() && !job) start_bind();
 }
@@ -102,6 +103,7 @@ bool Scene::update_set_edits_live(const std::vector<SetEdit>& edits, std::span<c
   }
   if (!rebinder_->update(*binding, edits, points).ok()) return false;
   if (!deformer->stencil_changed().ok()) return false;
+  binding_revision = next_revision();
   bound_edits_ = edits;
   pending_edits_ = edits;
   return true;
@@ -117,6 +119,7 @@ std::optional<std::string> Scene::poll_bind() {
     bound_edits_ = pending_edits_;
     bound_attachment_ = pending_attachment_;
     auto d = Deformer::create(*binding, skin_rest);
+    binding_revision = next_revision();
     if (d.ok()) {
       deformer.emplace(std::move(d).value());
       char buf[256];
@@ -125,6 +128,7 @@ std::optional<std::string> Scene::poll_bind() {
                     binding->rigid_points.size(), 100 * binding->quality());
       message = buf;
     } else {
+      deformer.reset();  // it read the binding just replaced
       message = "error: " + d.error().message;
     }
   } else {
@@ -162,15 +166,33 @@ void Scene::update_pose() {
     cage_linear = posed.linear;
     cage_skinning = posed.skinning;
     if (deformer && bound_cage == cage) {
-      skin_posed.resize(skin_rest.size());
+      skin_posed_.resize(skin_rest.size());
       auto t0 = std::chrono::steady_clock::now();
-      auto s = deform_through_cage(*deformer, posed, skin_posed);
+      auto s = skin_on_gpu ? deformer->update_maps(posed.positions, cage_vertex_frames(*binding, posed))
+                           : deform_through_cage(*deformer, posed, skin_posed_);
       deform_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
       skin_from_cage = s.ok();
     }
   }
   if (show_file_skinning) skin_from_cage = false;
-  if (!skin_from_cage) skin_posed = skin_character(ch, pose);
+  skin_stale_ = skin_from_cage && skin_on_gpu;
+  if (!skin_from_cage) skin_posed_ = skin_character(ch, pose);
+}
+
+const std::vector<glm::vec3>& Scene::skin_posed() {
+  if (skin_stale_) {
+    skin_stale_ = false;
+    skin_posed_.resize(skin_rest.size());
+    // the deformer was replaced since update_pose (a bind finished) and no longer fits: the file's skinning
+    if (!deformer || !deform_through_cage(*deformer, posed, skin_posed_).ok())
+      skin_posed_ = skin_character(*doc().character, current_pose());
+  }
+  return skin_posed_;
+}
+
+std::span<const Tri> Scene::skin_triangles() const {
+  const auto& fv = skin_topology.face_vertices;
+  return {reinterpret_cast<const Tri*>(fv.data()), fv.size() / 3};
 }
 
 namespace {

@@ -58,7 +58,7 @@ struct Scene {
   bool show_file_skinning = false;  // compare: show the file's own linear blend skinning instead
 
   // the current frame
-  std::vector<glm::vec3> cage_posed, skin_posed, joint_heads;
+  std::vector<glm::vec3> cage_posed, joint_heads;
   std::vector<glm::mat4> joint_globals;  // #nodes world transforms of the current pose
   std::vector<glm::dmat3> cage_linear;
   std::vector<glm::mat4> cage_skinning;  // skinning matrix of each cage vertex (blended when smooth)
@@ -66,6 +66,18 @@ struct Scene {
   std::vector<std::array<uint32_t, 2>> bones;
   double deform_ms = 0.0;
   bool skin_from_cage = false;  // false: the file's own linear blend skinning is shown
+  // Set by the editor when the skin is deformed on the GPU (app/skin_display.h): update_pose then
+  // only builds the deformer's per-change maps (Deformer::update_maps) for the GPU kernels, and the
+  // CPU copy of the skin is made only when something asks for it (skin_posed()).
+  bool skin_on_gpu = false;
+  // Changes (to a value never used before, by any scene) whenever `deformer` is replaced or its
+  // table changes in place, so a GPU copy of the table knows to follow.
+  uint64_t binding_revision = 0;
+  // The deformed skin of the current frame (#V, the order of skin_rest), for picking, brushes and
+  // the skin points; with skin_on_gpu it is deformed on the CPU here, at the first call per frame.
+  const std::vector<glm::vec3>& skin_posed();
+  // The skin's triangles (skin_topology, whose faces are all triangles).
+  std::span<const Tri> skin_triangles() const;
 
   bool needs_rebind() const;
   // Takes a binding made earlier for the document as it is (a project's cache: the caller checked
@@ -95,6 +107,8 @@ struct Scene {
   std::vector<SetEdit> pending_edits_, bound_edits_;  // the set edits of the running job / the binding
   std::unique_ptr<Rebinder> rebinder_;  // for live set edits, made for the current binding
   const Binding* rebinder_for_ = nullptr;
+  std::vector<glm::vec3> skin_posed_;  // see skin_posed()
+  bool skin_stale_ = false;            // the GPU has this frame's skin; skin_posed_ is older
   AttachmentSettings pending_attachment_, bound_attachment_;
   std::shared_ptr<const Cage> attached_cage_;  // the cage `attachment` was made for
   AttachmentSettings attached_settings_;       // and the settings it was made with

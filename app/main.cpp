@@ -19,6 +19,12 @@ int main(int argc, char** argv) {
   app.add_flag("--play", editor.play, "start playing the first clip");
   app.add_option("--autosave-seconds", editor.autosave_seconds,
                  "write a recovery file of unsaved work this often (default: the preferences' autosave, 180 s; 0 = off)");
+  app.add_flag("--cpu-deform", editor.cpu_deform,
+               "deform the skin on the CPU (default: on the GPU with OpenGL 4.3, unless the OpenGL is software)");
+  app.add_flag("--gpu-deform", editor.gpu_deform,
+               "deform the skin with OpenGL compute shaders even on a software OpenGL (Mesa's llvmpipe), where the CPU is faster");
+  app.add_flag("--frame-stats", editor.frame_stats,
+               "print where the frame time goes (deform, normals, draw, UI; medians) at exit");
   app.positionals_at_end(false);
   cagewrap::app::add_bind_command(app, exit_code);
   cagewrap::app::add_deform_command(app, exit_code);

@@ -67,8 +67,7 @@ bool SetsPanel::apply(Scene& scene, const Selection& sel, const IndexSet& points
 }
 
 void SetsPanel::begin_stroke(Scene& scene) {
-  const auto& fv = scene.skin_topology.face_vertices;
-  brush_ = SkinBrush(scene.skin_posed, std::span<const Tri>(reinterpret_cast<const Tri*>(fv.data()), fv.size() / 3));
+  brush_ = SkinBrush(scene.skin_posed(), scene.skin_triangles());
   scene.history.begin(scene.doc());
   stroking_ = true;
 }

@@ -178,22 +178,33 @@ inline void apply_rigid(const RigidMap& r, float b1, float b2, const float p[3],
 
 }  // namespace
 
-Status Deformer::deform(std::span<const glm::vec3> posed, std::span<glm::vec3> out,
-                        std::span<const glm::dmat3> vertex_linear) {
+Status Deformer::update_maps(std::span<const glm::vec3> posed, std::span<const glm::dmat3> vertex_linear) {
   const Binding& b = *binding_;
-  if (out.size() != b.num_points)
-    return make_error(ErrorCode::kInvalidArgument, "output holds " + std::to_string(out.size()) +
-                                                       " points but the skin has " + std::to_string(b.num_points));
   if (auto s = check_cage(posed); !s) return s;
   const Variant variant = b.params.variant;
   if (!vertex_linear.empty() && (variant != Variant::kExtended || vertex_linear.size() != b.num_cage_vertices))
     return make_error(ErrorCode::kInvalidArgument,
                       "vertex frames are for the extended variant and need one per cage vertex (" +
                           std::to_string(b.num_cage_vertices) + ")");
-
   if (variant == Variant::kBasic) build_element_maps(posed);
   if (variant == Variant::kExtended) build_vertex_maps(posed, vertex_linear);
   if (need_rigid_) build_rigid_maps(posed);
+  return Ok{};
+}
+
+std::span<const Affine> Deformer::affine_maps() const {
+  if (binding_->params.variant == Variant::kClamped) return {};
+  return maps_;
+}
+
+Status Deformer::deform(std::span<const glm::vec3> posed, std::span<glm::vec3> out,
+                        std::span<const glm::dmat3> vertex_linear) {
+  const Binding& b = *binding_;
+  if (out.size() != b.num_points)
+    return make_error(ErrorCode::kInvalidArgument, "output holds " + std::to_string(out.size()) +
+                                                       " points but the skin has " + std::to_string(b.num_points));
+  if (auto s = update_maps(posed, vertex_linear); !s) return s;
+  const Variant variant = b.params.variant;
 
   const glm::vec3 origin(b.origin);
   const uint32_t* offsets = b.offsets.data();

@@ -43,7 +43,19 @@ class Deformer {
   Status deform(std::span<const glm::vec3> posed, std::span<glm::vec3> out,
                 std::span<const glm::dmat3> vertex_linear = {});
 
+  // The first half of deform(): checks the posed cage and rebuilds the per-change maps from it
+  // (cage-sized work), without applying them to the skin. A kernel elsewhere (the GPU deformer,
+  // render/gpu_deformer.h) then applies the table with affine_maps() / rigid_maps().
+  Status update_maps(std::span<const glm::vec3> posed, std::span<const glm::dmat3> vertex_linear = {});
+  // The maps of the last update_maps() or deform(): basic, one per element (#E); extended, one per
+  // cage vertex (#Vc); clamped, none. The stencil's ids index them.
+  std::span<const Affine> affine_maps() const;
+  // The clamped variant's per-element maps (#E), also used by the fallback points (rigid_points) of
+  // any variant; empty when neither needs them.
+  std::span<const RigidMap> rigid_maps() const { return rigid_maps_; }
+
   const Binding& binding() const { return *binding_; }
+  std::span<const glm::vec3> skin_rest() const { return skin_; }  // #P x 3
 
   // The table of the Binding this deformer reads changed in place (Rebinder::update: same skin,
   // cage and parameters, some points re-registered): checks it again and sizes the fallback maps.

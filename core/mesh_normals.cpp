@@ -1,5 +1,10 @@
 #include "core/mesh_normals.h"
 
+#include "core/check.h"
+
+#include <algorithm>
+#include <cmath>
+
 #include <glm/geometric.hpp>
 #include <tbb/parallel_for.h>
 
@@ -34,6 +39,20 @@ void NormalComputer::compute(std::span<const glm::vec3> p, std::span<glm::vec3> 
       normals[v] = len > 0 ? n / len : glm::vec3(0.f);
     }
   });
+}
+
+double max_normal_angle(std::span<const glm::vec3> a, std::span<const glm::vec3> b) {
+  CAGEWRAP_CHECK(a.size() == b.size(), "one normal per vertex in both sets");
+  double worst = 0.0;
+  for (size_t i = 0; i < a.size(); ++i) {
+    const glm::dvec3 p(a[i]), q(b[i]);
+    const double lp = glm::length(p), lq = glm::length(q);
+    if (lp == 0.0 && lq == 0.0) continue;
+    // atan2 of |p x q| and p . q stays accurate for tiny angles, where acos does not
+    const double angle = lp == 0.0 || lq == 0.0 ? M_PI : std::atan2(glm::length(glm::cross(p, q)), glm::dot(p, q));
+    worst = std::max(worst, std::isnan(angle) ? M_PI : angle);  // a NaN normal is as wrong as can be
+  }
+  return worst;
 }
 
 }  // namespace cagewrap

@@ -60,10 +60,13 @@ void pose_document_cage(const Document& doc, const CageAttachment* attachment, c
   }
 }
 
+std::span<const glm::dmat3> cage_vertex_frames(const Binding& binding, const PosedCage& cage) {
+  const bool frames = binding.params.variant == Variant::kExtended && cage.attached;
+  return frames ? std::span<const glm::dmat3>(cage.linear) : std::span<const glm::dmat3>();
+}
+
 Status deform_through_cage(Deformer& deformer, const PosedCage& cage, std::span<glm::vec3> skin_out) {
-  const bool frames = deformer.binding().params.variant == Variant::kExtended && cage.attached;
-  return deformer.deform(cage.positions, skin_out,
-                         frames ? std::span<const glm::dmat3>(cage.linear) : std::span<const glm::dmat3>());
+  return deformer.deform(cage.positions, skin_out, cage_vertex_frames(deformer.binding(), cage));
 }
 
 struct Rig::State {

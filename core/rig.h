@@ -53,6 +53,9 @@ void pose_document_cage(const Document& doc, const CageAttachment* attachment, c
 // Deforms the skin through a posed cage: the extended variant takes the vertices' linear parts when
 // the cage was posed by an attachment (otherwise it fits them from the one-rings).
 Status deform_through_cage(Deformer& deformer, const PosedCage& cage, std::span<glm::vec3> skin_out);
+// The vertex frames deform_through_cage hands the deformer: the cage's linear parts for the
+// extended variant of an attached cage, else none (fitted from the one-rings).
+std::span<const glm::dmat3> cage_vertex_frames(const Binding& binding, const PosedCage& cage);
 
 // Binds a document's skin (every primitive concatenated) to its cage with its parameters and set
 // edits; with automatic separation on and an attachment, the skeleton-part labels of

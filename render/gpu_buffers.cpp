@@ -1,5 +1,7 @@
 #include "render/gpu_buffers.h"
 
+#include "core/check.h"
+
 namespace cagewrap::render {
 
 namespace {
@@ -46,7 +48,29 @@ void TriangleBuffer::upload_indices(std::span<const Tri> triangles) {
 void TriangleBuffer::upload_positions(std::span<const glm::vec3> positions, std::span<const glm::vec3> normals) {
   fill(positions_, positions);
   fill(normals_, normals);
+  vertex_count_ = positions.size();
 }
+
+void TriangleBuffer::allocate_vertices(size_t n) {
+  if (n == vertex_count_) return;
+  const auto bytes = static_cast<GLsizeiptr>(n * sizeof(glm::vec3));
+  for (GLuint b : {positions_, normals_}) {
+    glBindBuffer(GL_ARRAY_BUFFER, b);
+    glBufferData(GL_ARRAY_BUFFER, bytes, nullptr, GL_DYNAMIC_COPY);
+  }
+  vertex_count_ = n;
+}
+
+namespace {
+void read_back(GLuint buffer, size_t count, std::span<glm::vec3> out) {
+  CAGEWRAP_CHECK(out.size() == count, "read back as many vertices as the buffer holds");
+  glBindBuffer(GL_ARRAY_BUFFER, buffer);
+  glGetBufferSubData(GL_ARRAY_BUFFER, 0, static_cast<GLsizeiptr>(out.size_bytes()), out.data());
+}
+}  // namespace
+
+void TriangleBuffer::read_positions(std::span<glm::vec3> out) const { read_back(positions_, vertex_count_, out); }
+void TriangleBuffer::read_normals(std::span<glm::vec3> out) const { read_back(normals_, vertex_count_, out); }
 
 void TriangleBuffer::upload_colors(std::span<const glm::vec4> colors) {
   has_colors_ = !colors.empty();

@@ -41,6 +41,8 @@ class ViewportRenderer {
 
   void set_skin_topology(size_t num_vertices, std::span<const Tri> triangles);
   void update_skin(std::span<const glm::vec3> positions);
+  // The skin's vertex buffers, for a kernel that writes them on the GPU instead (render/gpu_deformer.h).
+  TriangleBuffer& skin_buffer() { return *skin_; }
   // Per-vertex colours over the skin (heat maps); empty to return to the plain material.
   void set_skin_colors(std::span<const glm::vec4> colors);
 

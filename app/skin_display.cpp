@@ -1,0 +1,187 @@
+#if CAGEWRAP_GUI  // the editor's; nothing here without it
+
+#include "app/skin_display.h"
+
+#include <imgui/imgui.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+
+namespace cagewrap::app {
+
+namespace {
+
+const char* const kPartNames[kFrameParts] = {"deform", "normals", "draw", "UI"};
+
+double ms_between(std::chrono::steady_clock::time_point a, std::chrono::steady_clock::time_point b) {
+  return std::chrono::duration<double, std::milli>(b - a).count();
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
+}
+
+}  // namespace
+
+std::string SkinDisplay::init(Path path, bool synchronous) {
+  synchronous_ = synchronous;
+  unavailable_ = render::GpuDeformer::unsupported_reason();
+  timer_ = std::make_unique<render::GpuTimer>(kFrameParts);
+  const char* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+  const std::string gl = std::string(renderer ? renderer : "unknown renderer") + ", OpenGL " +
+                         std::to_string(epoxy_gl_version() / 10) + "." + std::to_string(epoxy_gl_version() % 10);
+  // a software OpenGL runs compute shaders on the CPU, slower than the CPU path (docs/benchmarks.md)
+  const std::string name = renderer ? renderer : "";
+  const bool software = name.find("llvmpipe") != std::string::npos || name.find("softpipe") != std::string::npos ||
+                        name.find("swrast") != std::string::npos;
+  use_gpu_ = path == Path::kGpu || (path == Path::kAutomatic && !software);
+  if (!unavailable_.empty()) return "skin deformed on the CPU: " + unavailable_;
+  if (path == Path::kCpu) return "skin deformed on the CPU (--cpu-deform); " + gl + " can do it: View > Deform on the GPU";
+  if (!use_gpu_)
+    return "skin deformed on the CPU: " + gl + " is software OpenGL, where the CPU path is faster (--gpu-deform or "
+           "View > Deform on the GPU to use it anyway)";
+  return "skin deformed on the GPU (OpenGL compute shaders, " + gl + ")";
+}
+
+void SkinDisplay::before_pose(Scene& scene) const {
+  scene.skin_on_gpu = use_gpu_ && gpu_available() && failed_revision_ != scene.binding_revision;
+}
+
+std::string SkinDisplay::update(Scene& scene, render::ViewportRenderer& renderer) {
+  std::string message = put_skin(scene, renderer);
+  if (from_cage_) {
+    if (shown_path_ >= 0 && shown_path_ != int(on_gpu_) && message.empty())
+      message = std::string("skin now deformed on the ") + (on_gpu_ ? "GPU" : "CPU");
+    shown_path_ = on_gpu_;
+  }
+  return message;
+}
+
+std::string SkinDisplay::put_skin(Scene& scene, render::ViewportRenderer& renderer) {
+  std::string message;
+  on_gpu_ = false;
+  from_cage_ = scene.skin_from_cage;
+  if (scene.skin_from_cage) add_cpu_ms(FramePart::kDeform, scene.deform_ms);  // the CPU deform, or the maps alone
+  if (scene.skin_on_gpu && scene.skin_from_cage && scene.deformer) {
+    if (!gpu_ || gpu_revision_ != scene.binding_revision) {
+      // the first binding of this scene: kernels, skin topology and table; later ones (a rebind, a
+      // live set edit) only replace the table: the deformer lives in the same place, the skin is the same
+      Status s = Ok{};
+      if (gpu_) {
+        s = gpu_->table_changed();
+      } else {
+        auto g = render::GpuDeformer::create(*scene.deformer, scene.skin_triangles());
+        if (g) gpu_ = std::move(g).value();
+        else s = g.error();
+      }
+      gpu_revision_ = scene.binding_revision;
+      if (!s) {
+        gpu_.reset();
+        failed_revision_ = scene.binding_revision;  // the CPU deforms this binding; tried again after a rebind
+        message = "warning: the skin is deformed on the CPU, the GPU cannot take it: " + s.error().message;
+      }
+    }
+    if (gpu_) {
+      begin(FramePart::kDeform);
+      gpu_->deform(renderer.skin_buffer());
+      end(FramePart::kDeform);
+      begin(FramePart::kNormals);
+      gpu_->normals(renderer.skin_buffer());
+      end(FramePart::kNormals);
+      on_gpu_ = true;
+      return message;
+    }
+  }
+  auto t0 = std::chrono::steady_clock::now();
+  const auto& skin = scene.skin_posed();  // deformed now if the scene had left it to the GPU
+  auto t1 = std::chrono::steady_clock::now();
+  add_cpu_ms(FramePart::kDeform, ms_between(t0, t1));
+  begin(FramePart::kNormals);
+  renderer.update_skin(skin);
+  end(FramePart::kNormals);
+  return message;
+}
+
+void SkinDisplay::begin(FramePart part) {
+  const size_t p = static_cast<size_t>(part);
+  started_[p] = std::chrono::steady_clock::now();
+  timer_->begin(p);
+  timed_[p] = true;
+}
+
+void SkinDisplay::end(FramePart part) {
+  const size_t p = static_cast<size_t>(part);
+  timer_->end(p);
+  if (synchronous_) glFinish();
+  cpu_ms_[p] += ms_between(started_[p], std::chrono::steady_clock::now());
+}
+
+void SkinDisplay::end_frame(double frame_ms) {
+  for (size_t p = 0; p < kFrameParts; ++p) gpu_ms_[p] = timed_[p] ? std::max(0.0, timer_->ms(p)) : 0.0;
+  records_.push_back({frame_ms, cpu_ms_, gpu_ms_, on_gpu_, from_cage_});
+  // smoothed for reading
+  const double k = records_.size() == 1 ? 1.0 : 0.1;
+  shown_frame_ms_ += k * (frame_ms - shown_frame_ms_);
+  for (size_t p = 0; p < kFrameParts; ++p) {
+    shown_cpu_[p] += k * (cpu_ms_[p] - shown_cpu_[p]);
+    shown_gpu_[p] += k * (gpu_ms_[p] - shown_gpu_[p]);
+  }
+  cpu_ms_.fill(0.0);
+  timed_.fill(false);
+}
+
+void SkinDisplay::release_gl() {
+  gpu_.reset();
+  timer_.reset();
+}
+
+void SkinDisplay::menu_item() {
+  ImGui::MenuItem("Deform on the GPU", nullptr, &use_gpu_, gpu_available());
+  if (!gpu_available() && ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled))
+    ImGui::SetTooltip("%s", unavailable_.c_str());
+}
+
+void SkinDisplay::draw_stats(const Scene& scene) {
+  ImGui::Text("%.0f fps, frame %.1f ms", shown_frame_ms_ > 0 ? 1000.0 / shown_frame_ms_ : 0.0, shown_frame_ms_);
+  if (!scene.skin_from_cage) {
+    ImGui::TextDisabled("skin: file's linear blend skinning");
+  } else {
+    ImGui::Text("skin deformed on the %s", on_gpu_ ? "GPU" : "CPU");
+  }
+  for (size_t p = 0; p < kFrameParts; ++p)
+    ImGui::Text("%-8s %6.2f ms CPU %6.2f ms GPU", kPartNames[p], shown_cpu_[p], shown_gpu_[p]);
+}
+
+std::string SkinDisplay::summary() const {
+  const bool any_from_cage = std::any_of(records_.begin(), records_.end(), [](const FrameRecord& r) { return r.from_cage; });
+  std::vector<double> frame;
+  std::array<std::vector<double>, kFrameParts> cpu, gpu;
+  size_t gpu_frames = 0, n = 0, seen = 0;
+  for (size_t i = 0; i < records_.size(); ++i) {
+    if (records_[i].from_cage != any_from_cage || seen++ < 5) continue;
+    ++n;
+    frame.push_back(records_[i].frame_ms);
+    for (size_t p = 0; p < kFrameParts; ++p) {
+      cpu[p].push_back(records_[i].cpu[p]);
+      gpu[p].push_back(records_[i].gpu[p]);
+    }
+    gpu_frames += records_[i].on_gpu;
+  }
+  char buf[512];
+  int len = std::snprintf(buf, sizeof buf, "frame stats: %zu frames %s (on the GPU in %zu), median frame %.2f ms (%.1f fps)", n,
+                          any_from_cage ? "with the skin deformed through the cage" : "with no cage deformation", gpu_frames,
+                          median(frame), median(frame) > 0 ? 1000.0 / median(frame) : 0.0);
+  std::string out(buf, static_cast<size_t>(std::max(len, 0)));
+  for (size_t p = 0; p < kFrameParts; ++p) {
+    len = std::snprintf(buf, sizeof buf, "; %s %.2f ms CPU %.2f ms GPU", kPartNames[p], median(cpu[p]), median(gpu[p]));
+    out.append(buf, static_cast<size_t>(std::max(len, 0)));
+  }
+  return out;
+}
+
+}  // namespace cagewrap::app
+
+#endif  // CAGEWRAP_GUI

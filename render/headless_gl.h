@@ -1,0 +1,36 @@
+// An OpenGL 4.3+ core context with no window, for the GPU tests and `cagewrap bench --gpu`: EGL with
+// no surface, so it runs on a machine with no display (a CI runner, a GPU server) as well as on a
+// desktop. It tries, in order: the EGL devices of the machine (EGL_EXT_platform_device; hardware
+// devices before Mesa's software one; CAGEWRAP_EGL_DEVICE=n picks device n), Mesa's surfaceless
+// platform, and the default display.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "core/result.h"
+
+namespace cagewrap::render {
+
+class HeadlessGl {
+ public:
+  // Creates the context and makes it current on this thread; fails with what was tried and why.
+  static Result<std::unique_ptr<HeadlessGl>> create();
+  ~HeadlessGl();
+  HeadlessGl(const HeadlessGl&) = delete;
+  HeadlessGl& operator=(const HeadlessGl&) = delete;
+
+  // "GL_RENDERER, OpenGL GL_VERSION" of the context, and how it was reached.
+  const std::string& description() const { return description_; }
+  // Whether the context runs on Mesa's software rasterizer (llvmpipe, softpipe, swrast).
+  bool software() const { return software_; }
+
+ private:
+  HeadlessGl() = default;
+  void* display_ = nullptr;
+  void* context_ = nullptr;
+  std::string description_;
+  bool software_ = false;
+};
+
+}  // namespace cagewrap::render
