@@ -12,16 +12,18 @@
 
 namespace cagewrap::fuzz {
 
-// The harness's own folder, made once per process.
+// The harness's own folder, made once per process and removed at exit. The name is never
+// destroyed: the exit handler that removes the folder runs after static destructors would have.
 inline const std::string& work_dir() {
-  static const std::string dir = [] {
+  static const std::string* dir = [] {
     std::filesystem::path base = std::filesystem::exists("/dev/shm") ? "/dev/shm" : std::filesystem::temp_directory_path();
     auto d = base / ("cagewrap-fuzz-" + std::to_string(::getpid()));
     std::filesystem::create_directories(d);
+    auto* name = new std::string(d.string());
     std::atexit([] { std::error_code ec; std::filesystem::remove_all(work_dir(), ec); });
-    return d.string();
+    return name;
   }();
-  return dir;
+  return *dir;
 }
 
 // Writes `size` bytes to work_dir()/name and returns the path.
