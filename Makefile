@@ -3,14 +3,15 @@ BUILD        ?= build
 BUILD_SAN    ?= build-sanitize
 BUILD_FUZZ   ?= build-fuzz
 FUZZ_SECONDS ?= 60
-# make test can run each fuzzer this long after ctest (skipped without clang). 0 by default: the
-# harnesses' clang build takes over 10 minutes on 2 cores and has not been run in CI yet.
-TEST_FUZZ_SECONDS ?= 0
+# make test ends with a run of each fuzzer this long (0 = none; skipped without clang)
+TEST_FUZZ_SECONDS ?= 30
+# make test runs the sanitizer suite (make test-sanitize) after the main one; 0 skips it
+TEST_SANITIZE ?= 1
 JOBS         ?= $(shell nproc)
 CMAKE_FLAGS  ?=
 SHARED_ASSETS ?= $(abspath ../shared/assets)
 
-.PHONY: all setup build run test test-sanitize fuzz bench bench-gpu clean
+.PHONY: all setup build run test check test-sanitize fuzz bench bench-gpu clean
 
 all: build
 
@@ -26,15 +27,23 @@ build: setup $(BUILD)/build.ninja
 run: build
 	./$(BUILD)/cagewrap
 
-test: build
-	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+# every test: the suite, the same suite under ASan + UBSan, a short run of each fuzzer
+test: check
+ifneq ($(TEST_SANITIZE),0)
+	$(MAKE) --no-print-directory test-sanitize
+endif
 ifneq ($(TEST_FUZZ_SECONDS),0)
 	bash scripts/fuzz.sh $(BUILD_FUZZ) $(TEST_FUZZ_SECONDS) $(JOBS) || [ $$? -eq 77 ]
 endif
 
+# the suite alone (the quick check while developing)
+check: build
+	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+
 $(BUILD_SAN)/build.ninja:
-	# the editor is left out: Mesa and X11 keep allocations to exit, which LeakSanitizer reports
-	cmake -S . -B $(BUILD_SAN) -G Ninja -DCMAKE_BUILD_TYPE=Debug -DCAGEWRAP_SANITIZE=ON -DCAGEWRAP_GUI=OFF -DCAGEWRAP_SHARED_ASSETS=$(SHARED_ASSETS) $(CMAKE_FLAGS)
+	# the editor is left out: Mesa and X11 keep allocations to exit, which LeakSanitizer reports.
+	# Debug (assertions on) at -O1: the sanitizers' usual level, several times faster than -O0
+	cmake -S . -B $(BUILD_SAN) -G Ninja -DCMAKE_BUILD_TYPE=Debug "-DCMAKE_CXX_FLAGS_DEBUG=-g -O1" -DCAGEWRAP_SANITIZE=ON -DCAGEWRAP_GUI=OFF -DCAGEWRAP_SHARED_ASSETS=$(SHARED_ASSETS) $(CMAKE_FLAGS)
 
 test-sanitize: setup $(BUILD_SAN)/build.ninja
 	cmake --build $(BUILD_SAN) -j $(JOBS)

@@ -96,7 +96,7 @@ TEST_F(EditorExportGui, ABadPathIsAnErrorAndTheEditorCarriesOn) {
   ASSERT_TRUE(j.ok()) << j.error().message;
   EXPECT_EQ((*j)["format"], "cagewrap-rig");
   EXPECT_GT((*j)["cage"]["positions"].size(), 100u);
-  EXPECT_EQ((*j)["attachment"]["mode"], "rigid");
+  EXPECT_EQ((*j)["attachment"]["mode"], "skin_weights");  // the default a new document gets
 }
 
 // A long bake (both clips at 60 fps) shows its progress; Cancel stops it and leaves no file.
