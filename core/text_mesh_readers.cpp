@@ -1,5 +1,6 @@
 #include "core/text_mesh_readers.h"
 
+#include <algorithm>
 #include <cctype>
 #include <charconv>
 #include <cmath>
@@ -493,8 +494,10 @@ Status check_ascii_ply(std::string_view data, const std::string& path) {
     if (!tokens.next(keyword)) continue;
     const std::string where = at_line(path, lines.number());
     if (keyword == "format") {
-      std::string_view format;
+      std::string_view format, version, extra;
       tokens.next(format);
+      if (!tokens.next(version) || version != "1.0" || tokens.next(extra))
+        return make_error(ErrorCode::kParse, where + "the format line should read 'format <type> 1.0'");
       if (format == "ascii")
         ascii = true;
       else if (format != "binary_little_endian" && format != "binary_big_endian")
@@ -537,6 +540,9 @@ Status check_ascii_ply(std::string_view data, const std::string& path) {
   }
   if (!ended) return make_error(ErrorCode::kParse, path + ": the PLY header has no end_header line");
   if (!have_format) return make_error(ErrorCode::kParse, path + ": the PLY header has no format line");
+  // OpenMesh's reader assumes a vertex element (it crashed on a header without one: found by fuzzing)
+  if (std::none_of(elements.begin(), elements.end(), [](const PlyElement& e) { return e.name == "vertex"; }))
+    return make_error(ErrorCode::kParse, path + ": the PLY header declares no vertex element");
   if (!ascii) return Ok{};
 
   uint64_t num_vertices = 0;
