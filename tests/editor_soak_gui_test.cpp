@@ -30,7 +30,7 @@ namespace {
 namespace fs = std::filesystem;
 using test::read_file;
 
-constexpr int kDefaultCycles = 8;
+constexpr int kDefaultCycles = 10;
 constexpr int kWarmupCycles = 1;  // the first bind, GL buffers, fonts, every window's first showing
 // Resident memory may grow after the warm-up by the history's estimated growth times
 // kHistoryOverhead (the estimate counts vector payloads, not malloc's per-block headers and
