@@ -9,6 +9,7 @@
 #include <imgui/backends/imgui_impl_opengl3.h>
 #include <imgui/imgui.h>
 #include <stb_image_write.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
@@ -121,6 +122,8 @@ class Editor {
   void script_gizmo_drag(std::istringstream& in);
   void script_rotate_drag(std::istringstream& in);
   void script_export(std::istringstream& in);
+  void script_bind_param(std::istringstream& in);
+  void script_memory(std::istringstream& in);
   void draw_file_popups();
   void draw_panels();
   void draw_menu();
@@ -1127,7 +1130,7 @@ void Editor::draw_properties() {
       if (scene_->needs_rebind()) {
         ImGui::TextColored(ImVec4(1.0f, 0.75f, 0.2f, 1), "Parameters changed: rebind to apply");
       }
-      if (ImGui::Button(scene_->binding ? "Rebind" : "Bind", ImVec2(-1, 0))) scene_->start_bind();
+      if (ImGui::Button(scene_->binding ? "Rebind" : "Bind", ImVec2(-1, 0))) scene_->rebind();
     }
     if (scene_->binding) {
       const Binding& b = *scene_->binding;
@@ -1520,6 +1523,9 @@ void Editor::guard_unsaved(std::function<void()> action) {
 //   mirror_keyset | rig_panel | sets_panel [MAP] | set_edit remove|add|only|reset [mirror]
 //   paint_at_skin_vertex I [RADIUS] | select_limb_faces | export_window | export_cancel
 //   export_browse | export_press (the window's Browse... and Export buttons)
+//   bind_param local|epsilon|max_elements|scale|max_distance|separation_steps|variant VALUE (the
+//   Binding panel's fields) | rebind (its Rebind button: changed parameters become an undo step)
+//   memory PATH [LABEL] (appends the resident memory and the undo history's size to PATH: the soak test)
 //   export glb|obj|json MODE|- FPS all|CLIP[,CLIP] PATH (File > Export: runs in the background; the
 //   script waits for it; export_nowait: the script goes on), and those of run_file_script_command
 // `move` goes through the gizmo's own path: one drag, one undo step. `gizmo_drag` grabs a handle
@@ -1547,6 +1553,10 @@ void Editor::run_script_step() {
     if (cmd == "screenshot") {
       in >> pending_screenshot_;
       script_wait_ = 1;  // taken after this frame renders
+      continue;
+    }
+    if (cmd == "memory") {
+      script_memory(in);
       continue;
     }
     if (!scene_) {
@@ -1751,6 +1761,10 @@ void Editor::run_script_step() {
       camera_.set_distance(dist);
       glm::dvec3 t;
       if (in >> t.x >> t.y >> t.z) camera_.set_target(t);
+    } else if (cmd == "bind_param") {
+      script_bind_param(in);
+    } else if (cmd == "rebind") {
+      scene_->rebind();
     } else if (cmd == "undo") undo();
     else if (cmd == "redo") redo();
     else if (cmd == "save") {
@@ -1869,6 +1883,51 @@ void Editor::script_export(std::istringstream& in) {
     start = comma + 1;
   }
   export_panel_.start(*scene_, request, hooks_);
+}
+
+// bind_param NAME VALUE: sets a field of the Binding panel as its slider would (Rebind applies it).
+void Editor::script_bind_param(std::istringstream& in) {
+  std::string name, value;
+  in >> name >> value;
+  const std::string where = "error: script line " + std::to_string(script_pos_) + ": bind_param " + name + ": ";
+  BindParams p = scene_->params;
+  char* end = nullptr;
+  const double v = std::strtod(value.c_str(), &end);
+  if (name == "variant") {
+    if (!parse_variant(value, p.variant)) return log(where + "unknown variant '" + value + "'", true);
+  } else if (value.empty() || *end != '\0' || !(v >= 0.0) || v > 1e9) {
+    return log(where + "'" + value + "' is not a non-negative number", true);
+  } else if (name == "local") p.local = v;
+  else if (name == "epsilon") p.epsilon = v;
+  else if (name == "max_elements") p.max_elements = static_cast<uint32_t>(v);
+  else if (name == "scale") p.scale = v;
+  else if (name == "max_distance") p.max_distance = v;
+  else if (name == "separation_steps") p.separation_steps = static_cast<uint32_t>(v);
+  else return log(where + "unknown parameter", true);
+  if (auto st = validate(p); !st) return log(where + st.error().message, true);
+  scene_->params = p;
+}
+
+// Resident memory of this process in KiB (/proc/self/statm's second field, in pages); 0 where it
+// cannot be read.
+long resident_kib() {
+  std::ifstream in("/proc/self/statm");
+  long size = 0, resident = 0;
+  if (!(in >> size >> resident)) return 0;
+  return resident * (sysconf(_SC_PAGESIZE) / 1024);
+}
+
+// memory PATH [LABEL]: appends "LABEL rss_kib=N history_bytes=N undo_steps=N redo_steps=N" to PATH
+// (the soak test reads it: tests/editor_soak_gui_test.cpp).
+void Editor::script_memory(std::istringstream& in) {
+  std::string path, label;
+  in >> path;
+  std::getline(in >> std::ws, label);
+  std::ofstream out(path, std::ios::app);
+  const History* h = scene_ ? &scene_->history : nullptr;
+  out << (label.empty() ? "-" : label) << " rss_kib=" << resident_kib() << " history_bytes=" << (h ? h->memory_bytes() : 0)
+      << " undo_steps=" << (h ? h->undo_steps() : 0) << " redo_steps=" << (h ? h->redo_steps() : 0) << "\n";
+  if (!out.flush()) log("error: " + path + ": cannot append the memory figures", true);
 }
 
 void Editor::draw_panels() {

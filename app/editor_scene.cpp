@@ -52,6 +52,12 @@ void Scene::start_bind() {
   pending_attachment_ = doc().attachment;
 }
 
+void Scene::rebind() {
+  if (!doc().cage || job || live) return;
+  if (!(params == doc().params)) history.push("Change binding parameters", with_params(doc(), params));
+  start_bind();
+}
+
 void Scene::document_changed() {
   params = doc().params;
   const auto& cage = doc().cage;

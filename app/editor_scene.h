@@ -90,6 +90,9 @@ struct Scene {
   // Poses skeleton and cage at the player's time and deforms the skin.
   void update_pose();
   void start_bind();
+  // The panel's Rebind: its parameters become the document's (one undo step, saved with the
+  // project) when they differ, then the skin binds again.
+  void rebind();
   // Set edits changed for `points` only (a brush dab, an applied edit): re-registers just those points
   // in the current binding (core/registration.h Rebinder) so the skin updates at once; the caller
   // has put `edits` into the document (live or committed). False (nothing done) when there is no
