@@ -194,12 +194,17 @@ TEST(RobustnessBind, CageFarFromTheSkinStillBindsEveryPoint) {
 // Runs `cagewrap_save_loop DIR [mode]`, kills it with SIGKILL after `delay_us` microseconds and
 // reaps it; true when the kill found it still running (not exited on its own).
 bool run_save_loop_and_kill(const std::string& dir, const char* mode, int delay_us) {
+  const std::string ready = dir + "/loop.ready";  // written by the loop after its first write
+  std::filesystem::remove(ready);
   pid_t child = fork();
   EXPECT_GE(child, 0);
   if (child == 0) {
     execl(CAGEWRAP_SAVE_LOOP, CAGEWRAP_SAVE_LOOP, dir.c_str(), mode, static_cast<char*>(nullptr));
     _exit(127);
   }
+  // the delay counts from the end of the first write (at most 60 s of waiting for it)
+  for (int i = 0; i < 6000 && !std::filesystem::exists(ready); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
   std::this_thread::sleep_for(std::chrono::microseconds(delay_us));
   kill(child, SIGKILL);
   int status = 0;
@@ -257,7 +262,7 @@ TEST_F(Robustness, KilledWhileAutosavingLeavesTheLastRecoveryFileIntact) {
   for (int round = 0; round < 32; ++round) {
     killed_mid_run += run_save_loop_and_kill(dir_.string(), "--recovery", delay_us(rng));
     killed_mid_write += fs::exists(recovery + ".tmp");  // the kill interrupted a write
-    if (!fs::exists(recovery)) continue;  // killed before its first autosave finished (round 0 only)
+    if (!fs::exists(recovery)) continue;  // not expected: the kill comes after the first autosave
     ++found;
     RecoveryScan scan = list_recovery_files(path("config/recovery"), /*remove_stale=*/false);
     ASSERT_EQ(scan.offer.size(), 1u) << "round " << round;

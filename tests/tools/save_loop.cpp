@@ -27,6 +27,11 @@ int main(int argc, char** argv) {
   cagewrap::Autosave autosave(cagewrap::recovery_directory(dir + "/config"), 1e-9,
                               cagewrap::Autosave::Clock::now(), "loop.cagewrap");
   for (unsigned i = 0;; ++i) {
+    // DIR/loop.ready once the first write is done: the test's random delay starts there, so a slow
+    // start (a sanitizer build, a loaded machine) does not eat it
+    if (i == 1) {
+      if (std::FILE* f = std::fopen((dir + "/loop.ready").c_str(), "w")) std::fclose(f);
+    }
     const cagewrap::Document& doc = i % 2 ? *b : *a;
     if (recovery) {
       cagewrap::Document edited = doc;
