@@ -7,6 +7,7 @@ PACKAGES=(
   build-essential cmake ninja-build pkg-config git
   libglfw3-dev libimgui-dev libglm-dev libtinygltf-dev libopenmesh-dev libeigen3-dev
   libepoxy-dev libgl-dev libgl1-mesa-dri libglx-mesa0 mesa-utils
+  libegl-dev libegl1 libegl-mesa0
   libtbb-dev nlohmann-json3-dev libcli11-dev libstb-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   xvfb xauth
