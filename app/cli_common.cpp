@@ -78,6 +78,16 @@ std::optional<PolyMesh> load_mesh_or_report(const std::string& path) {
   return std::move(m).value();
 }
 
+std::optional<ProjectLoad> load_project_or_report(const std::string& path) {
+  auto loaded = load_project(path);
+  if (!loaded) {
+    report_error(loaded.error());
+    return std::nullopt;
+  }
+  for (const std::string& w : loaded->warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+  return std::move(loaded).value();
+}
+
 std::optional<Cage> load_cage_or_report(const std::string& path) {
   auto m = load_mesh_or_report(path);
   if (!m) return std::nullopt;

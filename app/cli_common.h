@@ -9,6 +9,7 @@
 #include "core/binding.h"
 #include "core/cage.h"
 #include "core/mesh.h"
+#include "core/project_io.h"
 #include "core/registration.h"
 #include "core/rig.h"
 
@@ -37,6 +38,8 @@ std::string bind_options_differing(const BindOptions& opts, const BindParams& bo
 // Loads a mesh or cage, printing "error: <message>" on failure.
 std::optional<PolyMesh> load_mesh_or_report(const std::string& path);
 std::optional<Cage> load_cage_or_report(const std::string& path);
+// Loads a project, printing "error: <message>" on failure and "warning: <message>" for each warning.
+std::optional<ProjectLoad> load_project_or_report(const std::string& path);
 
 int report_error(const Error& e);  // prints to stderr, returns the exit code (1)
 

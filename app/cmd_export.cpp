@@ -110,12 +110,8 @@ void add_export_command(CLI::App& app, int& exit_code) {
       std::fprintf(stderr, "error: %s\n", bad.c_str());
       return;
     }
-    auto loaded = load_project(P);
-    if (!loaded) {
-      report_error(loaded.error());
-      return;
-    }
-    for (const std::string& w : loaded->warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+    auto loaded = load_project_or_report(P);
+    if (!loaded) return;
     const Document& doc = loaded->document;
     const Character& ch = *doc.character;
     for (const std::string& name : args->clips) {
