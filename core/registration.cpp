@@ -971,23 +971,53 @@ Status Rebinder::update_points(Binding& b, std::span<const SetEdit> edit_list, s
     using T = typename std::remove_cvref_t<decltype(v)>::value_type;
     return std::span<const T>(v.data() + size_t(first) * width, size_t(count) * width);
   };
-  std::vector<uint32_t> offsets = splice_offsets(b.offsets, touched, counts);
-  b.ids = splice_rows(b.ids, b.offsets, offsets, touched, 1,
-                      [&](size_t t) { return new_row(t, &Chunk::ids, slots[t].entry, counts[t], 1); });
-  b.weights = splice_rows(b.weights, b.offsets, offsets, touched, 1,
-                          [&](size_t t) { return new_row(t, &Chunk::weights, slots[t].entry, counts[t], 1); });
-  if (clamped)
-    b.bary = splice_rows(b.bary, b.offsets, offsets, touched, 2,
-                         [&](size_t t) { return new_row(t, &Chunk::bary, slots[t].entry, counts[t], 2); });
-  b.offsets = std::move(offsets);
-  if (extended) {
-    std::vector<uint32_t> set_offsets = splice_offsets(b.set_offsets, touched, set_counts);
-    b.set_ids = splice_rows(b.set_ids, b.set_offsets, set_offsets, touched, 1,
-                            [&](size_t t) { return new_row(t, &Chunk::set_ids, slots[t].member, set_counts[t], 1); });
-    b.set_weights = splice_rows(b.set_weights, b.set_offsets, set_offsets, touched, 1, [&](size_t t) {
-      return new_row(t, &Chunk::set_weights, slots[t].member, set_counts[t], 1);
-    });
-    b.set_offsets = std::move(set_offsets);
+  // Same row sizes as before (the usual case for a small edit): written in place, so the cost follows
+  // the touched points and not the skin. Otherwise the tables are spliced (a copy of the whole table).
+  const Binding::SetsView old_sets = b.sets();
+  uint32_t old_max_touched = 0, new_max_touched = 0;
+  int64_t set_delta = 0;
+  bool same_sizes = true;
+  for (size_t t = 0; t < touched.size(); ++t) {
+    const uint32_t p = touched[t];
+    same_sizes = same_sizes && counts[t] == b.offsets[p + 1] - b.offsets[p] &&
+                 (!extended || set_counts[t] == b.set_offsets[p + 1] - b.set_offsets[p]);
+    const uint32_t before = old_sets.offsets[p + 1] - old_sets.offsets[p], after = extended ? set_counts[t] : counts[t];
+    old_max_touched = std::max(old_max_touched, before);
+    new_max_touched = std::max(new_max_touched, after);
+    set_delta += int64_t(after) - int64_t(before);
+  }
+  if (same_sizes) {
+    for (size_t t = 0; t < touched.size(); ++t) {
+      const uint32_t first = b.offsets[touched[t]];
+      const Chunk& ch = chunks[slots[t].chunk];
+      std::copy_n(ch.ids.begin() + slots[t].entry, counts[t], b.ids.begin() + first);
+      std::copy_n(ch.weights.begin() + slots[t].entry, counts[t], b.weights.begin() + first);
+      if (clamped) std::copy_n(ch.bary.begin() + 2 * size_t(slots[t].entry), 2 * size_t(counts[t]), b.bary.begin() + 2 * size_t(first));
+      if (extended) {
+        const uint32_t m = b.set_offsets[touched[t]];
+        std::copy_n(ch.set_ids.begin() + slots[t].member, set_counts[t], b.set_ids.begin() + m);
+        std::copy_n(ch.set_weights.begin() + slots[t].member, set_counts[t], b.set_weights.begin() + m);
+      }
+    }
+  } else {
+    std::vector<uint32_t> offsets = splice_offsets(b.offsets, touched, counts);
+    b.ids = splice_rows(b.ids, b.offsets, offsets, touched, 1,
+                        [&](size_t t) { return new_row(t, &Chunk::ids, slots[t].entry, counts[t], 1); });
+    b.weights = splice_rows(b.weights, b.offsets, offsets, touched, 1,
+                            [&](size_t t) { return new_row(t, &Chunk::weights, slots[t].entry, counts[t], 1); });
+    if (clamped)
+      b.bary = splice_rows(b.bary, b.offsets, offsets, touched, 2,
+                           [&](size_t t) { return new_row(t, &Chunk::bary, slots[t].entry, counts[t], 2); });
+    b.offsets = std::move(offsets);
+    if (extended) {
+      std::vector<uint32_t> set_offsets = splice_offsets(b.set_offsets, touched, set_counts);
+      b.set_ids = splice_rows(b.set_ids, b.set_offsets, set_offsets, touched, 1,
+                              [&](size_t t) { return new_row(t, &Chunk::set_ids, slots[t].member, set_counts[t], 1); });
+      b.set_weights = splice_rows(b.set_weights, b.set_offsets, set_offsets, touched, 1, [&](size_t t) {
+        return new_row(t, &Chunk::set_weights, slots[t].member, set_counts[t], 1);
+      });
+      b.set_offsets = std::move(set_offsets);
+    }
   }
 
   // fallback points: the untouched ones kept, the touched ones' new entries added, in point order
@@ -1009,11 +1039,15 @@ Status Rebinder::update_points(Binding& b, std::span<const SetEdit> edit_list, s
   b.rigid_element = std::move(rigid.rigid_element);
   b.rigid_bary = std::move(rigid.rigid_bary);
 
-  // set sizes over the whole skin, from the table
-  const Binding::SetsView sets = b.sets();
-  b.max_set_size = 0;
-  for (size_t p = 0; p < np; ++p) b.max_set_size = std::max(b.max_set_size, sets.offsets[p + 1] - sets.offsets[p]);
-  b.total_set_size = sets.ids.size();
+  // set sizes: the largest over the whole skin only when a touched point that may have held it shrank
+  b.total_set_size = uint64_t(int64_t(b.total_set_size) + set_delta);
+  if (new_max_touched >= b.max_set_size || old_max_touched < b.max_set_size) {
+    b.max_set_size = std::max(b.max_set_size, new_max_touched);
+  } else {
+    const Binding::SetsView sets = b.sets();
+    b.max_set_size = 0;
+    for (size_t p = 0; p < np; ++p) b.max_set_size = std::max(b.max_set_size, sets.offsets[p + 1] - sets.offsets[p]);
+  }
   return Ok{};
 }
 

@@ -74,6 +74,7 @@ class Rebinder {
   // ReachIndex::affected_points finds them. Errors: another topology, skin or parameters, and a
   // move that changes h (the mean cage edge length when BindParams::scale is 0: every weight
   // changes; bind again or fix the scale).
+  // A Deformer reading `binding` keeps frames of the old rest cage: make it again (Deformer::create).
   Status move_rest(Binding& binding, std::span<const SetEdit> edits, std::span<const uint32_t> points) const;
 
   Rebinder(Rebinder&&) noexcept;

@@ -4,7 +4,10 @@
 #include <cmath>
 #include <limits>
 
+#include <glm/common.hpp>
+
 #include "core/cage.h"
+#include "core/geometry.h"
 #include "core/registration.h"
 
 namespace cagewrap {
