@@ -11,7 +11,7 @@ JOBS         ?= $(shell nproc)
 CMAKE_FLAGS  ?=
 SHARED_ASSETS ?= $(abspath ../shared/assets)
 
-.PHONY: all setup build run test check test-sanitize fuzz bench bench-gpu clean
+.PHONY: all setup build run test check test-sanitize fuzz bench bench-gpu bench-peers clean
 
 all: build
 
@@ -59,6 +59,10 @@ bench: build
 # the GPU path (OpenGL 4.3 compute): bench --gpu headless, 4M-vertex memory, the editor's frame split
 bench-gpu: build
 	bash scripts/bench.sh ./$(BUILD)/cagewrap $(SHARED_ASSETS) gpu
+
+# cagewrap against Blender's Surface Deform on the same meshes (bench/peers/; skipped without blender)
+bench-peers: build
+	bash bench/peers/run.sh ./$(BUILD)/cagewrap $(SHARED_ASSETS)
 
 clean:
 	rm -rf $(BUILD) $(BUILD_SAN) $(BUILD_FUZZ)

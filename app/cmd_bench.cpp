@@ -1,8 +1,10 @@
 // cagewrap bench --mesh M --cage C --posed-cage C2 [--subdivide n] [--variant v|all] [--twist inputs.json] [--gpu] [--json]
+//                [--export-skin S.obj] [--score-deformed D.bin]   (bench/peers/: the same meshes in another tool)
 #include <sys/resource.h>
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 
 #include <nlohmann/json.hpp>
@@ -11,6 +13,7 @@
 #include "app/cli_common.h"
 #include "app/commands.h"
 #include "core/deformer.h"
+#include "core/mesh_io.h"
 #include "core/subdivide.h"
 #include "core/twist.h"
 
@@ -41,6 +44,7 @@ struct BenchResult {
 void add_bench_command(CLI::App& app, int& exit_code) {
   struct Args {
     std::string mesh, cage, posed, twist, variant_list = variant_name(BindParams{}.variant);
+    std::string export_skin, score_deformed;
     uint32_t subdivide = 0, changes = 20;
     bool json = false, gpu = false;
     BindOptions bind;
@@ -54,6 +58,11 @@ void add_bench_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--changes", args->changes, "cage changes to time (>= 20)")->capture_default_str();
   cmd->add_option("--twist", args->twist, "inputs.json with the analytic twist: report fidelity to it");
   cmd->add_flag("--json", args->json, "print one JSON object instead of a table");
+  cmd->add_option("--export-skin", args->export_skin,
+                  "write the skin the bench deforms (after --subdivide) to this .obj first, for another tool");
+  cmd->add_option("--score-deformed", args->score_deformed,
+                  "score another tool's deformed skin for the posed cage instead of timing (raw float32 #P x 3 in "
+                  "the skin's vertex order, .bin): its twist fidelity, the same figure (needs --twist)");
   cmd->add_flag("--gpu", args->gpu,
                 "also time the OpenGL 4.3 compute path (deform + normals, GL timer queries) in a headless EGL context");
   add_bind_options(*cmd, args->bind);
@@ -97,13 +106,49 @@ void add_bench_command(CLI::App& app, int& exit_code) {
       }
       gpu = std::move(g).value();
     }
+    if (!args->score_deformed.empty() && !twist) {
+      std::fprintf(stderr, "error: --score-deformed needs --twist (the reference it is scored against)\n");
+      return;
+    }
     if (args->subdivide > 0) *mesh = subdivide_edges_uniform(*mesh, args->subdivide);
     const auto& skin = mesh->positions;
+    if (!args->export_skin.empty()) {
+      if (auto s = save_obj(args->export_skin, skin, *mesh); !s) {
+        report_error(s.error());
+        return;
+      }
+    }
     const double diag = bounding_box(skin).diagonal();
     std::vector<glm::vec3> reference;
     if (twist) {
       reference.resize(skin.size());
       for (size_t i = 0; i < skin.size(); ++i) reference[i] = glm::vec3(twist->apply(glm::dvec3(skin[i])));
+    }
+    if (!args->score_deformed.empty()) {
+      auto other = load_bin(args->score_deformed);
+      if (!other) {
+        report_error(other.error());
+        return;
+      }
+      if (other->size() != skin.size()) {
+        std::fprintf(stderr, "error: %s holds %zu points but the skin (%s, --subdivide %u) has %zu\n",
+                     args->score_deformed.c_str(), other->size(), args->mesh.c_str(), args->subdivide, skin.size());
+        return;
+      }
+      for (size_t i = 0; i < other->size(); ++i) {
+        const glm::vec3& q = (*other)[i];
+        if (!std::isfinite(q.x) || !std::isfinite(q.y) || !std::isfinite(q.z)) {
+          std::fprintf(stderr, "error: %s: point %zu is not finite\n", args->score_deformed.c_str(), i);
+          return;
+        }
+      }
+      const Fidelity f = relative_distance(*other, reference, diag);
+      if (args->json)
+        std::printf("%s\n", nlohmann::json{{"points", skin.size()}, {"twist", {{"rms", f.rms}, {"max", f.max}}}}.dump(1).c_str());
+      else
+        std::printf("%s: %zu points, twist rms %.3e max %.3e\n", args->score_deformed.c_str(), skin.size(), f.rms, f.max);
+      exit_code = 0;
+      return;
     }
     // N distinct cage states between rest and posed; the last is the posed cage itself
     std::vector<std::vector<glm::vec3>> states(args->changes, cage->polygons.positions);

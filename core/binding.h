@@ -113,6 +113,12 @@ struct Binding {
   uint64_t total_separated = 0;     // sum of `separated`
   uint32_t separated_points = 0;    // points with separated > 0
   double seconds = 0.0;
+  // Per point (#P; empty for a binding read from a file, which does not store it): the distance
+  // from the point within which lies every element its registration depends on (its threshold
+  // radius, or nearer its (K+1)-th nearest allowed element), rounded up; infinite for a point
+  // that follows its nearest element. Moving cage elements farther than this leaves the point's
+  // registration as it is (core/rest_edit.h). Not read by the deformer.
+  std::vector<float> reach;
 
   struct SetsView {
     std::span<const uint32_t> offsets;  // #P+1

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <memory>
 #include <unordered_map>
 
@@ -176,6 +177,7 @@ struct Chunk {
   std::vector<float> set_weights;
   std::vector<uint32_t> separated;  // per point (separating only)
   std::vector<uint8_t> inside;      // per point: passes the cage-quality test
+  std::vector<float> reach;         // per point: Binding::reach
   std::vector<uint32_t> rigid_points, rigid_element;
   std::vector<float> rigid_bary;
   uint32_t max_set = 0;
@@ -204,10 +206,14 @@ double radius2_of(const Context& ctx, double best2) {
 // Turns the gathered candidates of one point into its stencil entries.
 // `cands` holds every allowed, non-excluded valid element within the threshold radius, sorted by
 // distance (possibly more beyond the (K+1)-th: they are cut here).
+// `need2`: the squared distance within which every element it depends on lies (needed_bound2).
 void finish_point(const Context& ctx, uint32_t point, const glm::dvec3& p, std::vector<Candidate>& cands,
-                  const SetEdit* edit, uint32_t separated, Chunk& out) {
+                  const SetEdit* edit, uint32_t separated, double need2, Chunk& out) {
   const BindParams& prm = ctx.params;
   if (ctx.separate) out.separated.push_back(separated);
+  // rounded up, so that the stored reach never falls short of the exact one
+  const float reach = static_cast<float>(std::sqrt(need2));
+  out.reach.push_back(std::nextafter(reach, std::numeric_limits<float>::infinity()));
   if (prm.max_distance > 0) {
     const double md2 = prm.max_distance * prm.max_distance;
     std::erase_if(cands, [&](const Candidate& c) { return c.dist2 > md2; });
@@ -252,6 +258,7 @@ void finish_point(const Context& ctx, uint32_t point, const glm::dvec3& p, std::
         }
       }
     }
+    out.reach.back() = std::numeric_limits<float>::infinity();  // the nearest element of all
     out.counts.push_back(0);
     out.rigid_points.push_back(point);
     out.rigid_element.push_back(best);
@@ -464,7 +471,8 @@ Result<Edits> make_edits(const Context& ctx, std::span<const SetEdit> edits, std
   return out;
 }
 
-// Orders points along a Morton curve so that chunks of consecutive entries are spatially compact.
+}  // namespace
+
 std::vector<uint32_t> morton_order(std::span<const glm::vec3> pts) {
   Aabb box = bounding_box(pts);
   glm::dvec3 ext = glm::max(box.hi - box.lo, glm::dvec3(1e-30));
@@ -491,14 +499,17 @@ std::vector<uint32_t> morton_order(std::span<const glm::vec3> pts) {
   return order;
 }
 
+namespace {
+
 constexpr size_t kChunk = 128;
 
 // Registers the points of `order` in chunks of kChunk consecutive ones (chunk c holds
 // order[c * kChunk ...]). `new_source()` gives per-thread candidate sources with
 //   prepare(ctx, chunk_points)                 once per spatially compact chunk, and
-//   gather(ctx, point, p, edit, out) -> count  per point: every allowed, non-excluded valid element
-//                                              within the threshold radius, sorted by distance; returns
-//                                              how many elements the labels kept out (see Binding).
+//   gather(ctx, point, p, edit, out, need2) -> count  per point: every allowed, non-excluded valid
+//                                              element within the threshold radius, sorted by distance;
+//                                              need2: needed_bound2 of the point; returns how many
+//                                              elements the labels kept out (see Binding).
 // False when cancelled.
 template <class NewSource>
 bool register_points(const Context& ctx, const Edits& edits, std::span<const uint32_t> order, NewSource new_source,
@@ -525,8 +536,9 @@ bool register_points(const Context& ctx, const Edits& edits, std::span<const uin
       for (uint32_t i : pts) {
         const SetEdit* edit = edits.find(i);
         glm::dvec3 p(ctx.skin[i]);
-        const uint32_t separated = source.gather(ctx, i, p, edit, cands);
-        finish_point(ctx, i, p, cands, edit, separated, out);
+        double need2 = 0.0;
+        const uint32_t separated = source.gather(ctx, i, p, edit, cands, need2);
+        finish_point(ctx, i, p, cands, edit, separated, need2, out);
       }
       size_t d = done.fetch_add(1) + 1;
       if (progress.on_progress && (d % report_every == 0 || d == num_chunks)) progress.on_progress(double(d) / num_chunks);
@@ -575,6 +587,7 @@ Binding assemble(const Context& ctx, std::span<const uint32_t> order, std::vecto
   if (extended) b.set_offsets.assign(n + 1, 0);
   b.separation_applied = ctx.separate;
   if (ctx.separate) b.separated.assign(n, 0);
+  b.reach.assign(n, 0.f);
   for (size_t c = 0; c < num_chunks; ++c) {
     const auto& ch = chunks[c];
     for (size_t k = 0; k < ch.counts.size(); ++k) {
@@ -582,6 +595,7 @@ Binding assemble(const Context& ctx, std::span<const uint32_t> order, std::vecto
       b.offsets[i + 1] = ch.counts[k];
       if (extended) b.set_offsets[i + 1] = ch.set_counts[k];
       if (ctx.separate) b.separated[i] = ch.separated[k];
+      b.reach[i] = ch.reach[k];
       b.quality_inside += ch.inside[k];
     }
   }
@@ -690,7 +704,7 @@ class ChunkedBvhSource {
     }
   }
   uint32_t gather(const Context& ctx, uint32_t point, const glm::dvec3& p, const SetEdit* edit,
-                  std::vector<Candidate>& out) {
+                  std::vector<Candidate>& out, double& need2) {
     out.clear();
     rejected_.clear();
     // Only the K nearest elements within the threshold radius survive, so once K are known the
@@ -727,23 +741,23 @@ class ChunkedBvhSource {
     std::sort(out.begin(), out.end(), closer);
     // Every element within `cover` of p is among the chunk's; the answer is exact when all it
     // depends on lies within that.
-    const double need2 = needed_bound2(ctx, out, radius2);
+    need2 = needed_bound2(ctx, out, radius2);
     const double cover = reach_ - glm::length(p - centre_);
-    if (out.empty() || !(cover > 0 && need2 <= cover * cover)) return direct(ctx, point, p, edit, out);
+    if (out.empty() || !(cover > 0 && need2 <= cover * cover)) return direct(ctx, point, p, edit, out, need2);
     return static_cast<uint32_t>(std::count_if(rejected_.begin(), rejected_.end(), [&](double d2) { return d2 <= need2; }));
   }
 
  private:
   // The point's own query of the whole hierarchy.
   uint32_t direct(const Context& ctx, uint32_t point, const glm::dvec3& p, const SetEdit* edit,
-                  std::vector<Candidate>& out) {
+                  std::vector<Candidate>& out, double& need2) {
     auto skip = [&](uint32_t e) { return excluded(edit, e) || !ctx.allowed(point, e); };
     auto radius = [&](double d) {
       return ctx.h * threshold_radius(d / ctx.h, ctx.params.local, ctx.params.epsilon);
     };
     bvh_.within_adaptive_radius(p, radius, skip, out);
+    need2 = needed_bound2(ctx, out, out.empty() ? 1e300 : radius2_of(ctx, out.front().dist2));
     if (!ctx.separate) return 0;
-    const double need2 = needed_bound2(ctx, out, out.empty() ? 1e300 : radius2_of(ctx, out.front().dist2));
     bvh_.boxes_within(p, std::sqrt(need2) * (1 + 1e-9), direct_elems_);
     uint32_t count = 0;
     for (const auto& e : direct_elems_)
@@ -766,7 +780,7 @@ struct BruteForceSource {
   std::vector<double> rejected;
   void prepare(const Context&, std::span<const uint32_t>) {}
   uint32_t gather(const Context& ctx, uint32_t point, const glm::dvec3& p, const SetEdit* edit,
-                  std::vector<Candidate>& out) {
+                  std::vector<Candidate>& out, double& need2) {
     out.clear();
     rejected.clear();
     double best = 1e300;
@@ -783,7 +797,7 @@ struct BruteForceSource {
     const double radius2 = out.empty() ? 1e300 : radius2_of(ctx, best);
     std::erase_if(out, [&](const Candidate& c) { return c.dist2 > radius2; });
     std::sort(out.begin(), out.end(), closer);
-    const double need2 = needed_bound2(ctx, out, radius2);
+    need2 = needed_bound2(ctx, out, radius2);
     return static_cast<uint32_t>(std::count_if(rejected.begin(), rejected.end(), [&](double d2) { return d2 <= need2; }));
   }
 };
@@ -858,13 +872,36 @@ Result<Binding> Rebinder::bind(std::span<const SetEdit> edits, const BindProgres
 
 Status Rebinder::update(Binding& b, std::span<const SetEdit> edit_list, std::span<const uint32_t> points) const {
   const Context& ctx = state_->ctx;
+  if (b.elements != ctx.cage->elements || b.rest_cage.size() != ctx.rest.size() ||
+      !std::equal(b.rest_cage.begin(), b.rest_cage.end(), ctx.rest.begin()))
+    return make_error(ErrorCode::kTopologyMismatch, "the binding was made for another cage; bind again");
+  return update_points(b, edit_list, points);
+}
+
+Status Rebinder::move_rest(Binding& b, std::span<const SetEdit> edit_list, std::span<const uint32_t> points) const {
+  const Context& ctx = state_->ctx;
+  if (b.elements != ctx.cage->elements || b.rest_cage.size() != ctx.rest.size())
+    return make_error(ErrorCode::kTopologyMismatch, "the binding was made for a cage of another topology; bind again");
+  if (b.h != ctx.h)
+    return make_error(ErrorCode::kInvalidArgument,
+                      "the moved rest cage changes the distance scale h (" + std::to_string(b.h) + " -> " +
+                          std::to_string(ctx.h) + ", the mean cage edge length) and so every weight; bind again, "
+                          "or give a fixed scale to keep rest edits local");
+  if (auto s = update_points(b, edit_list, points); !s) return s;
+  b.rest_cage.assign(ctx.rest.begin(), ctx.rest.end());
+  b.element_status = ctx.status;
+  b.invalid_elements.clear();
+  for (size_t e = 0; e < ctx.status.size(); ++e)
+    if (ctx.status[e] != ElementStatus::kValid) b.invalid_elements.push_back(static_cast<uint32_t>(e));
+  return Ok{};
+}
+
+Status Rebinder::update_points(Binding& b, std::span<const SetEdit> edit_list, std::span<const uint32_t> points) const {
+  const Context& ctx = state_->ctx;
   const size_t np = ctx.skin.size();
   if (b.num_points != np || b.offsets.size() != np + 1)
     return make_error(ErrorCode::kTopologyMismatch, "the binding was made for " + std::to_string(b.num_points) +
                                                         " skin points but the skin has " + std::to_string(np));
-  if (b.elements != ctx.cage->elements || b.rest_cage.size() != ctx.rest.size() ||
-      !std::equal(b.rest_cage.begin(), b.rest_cage.end(), ctx.rest.begin()))
-    return make_error(ErrorCode::kTopologyMismatch, "the binding was made for another cage; bind again");
   if (b.params != ctx.params || b.separation_applied != ctx.separate)
     return make_error(ErrorCode::kInvalidArgument, "the binding was made with other parameters or labels; bind again");
   if (!b.has_sets())
@@ -910,7 +947,9 @@ Status Rebinder::update(Binding& b, std::span<const SetEdit> edit_list, std::spa
       }
     }
   }
-  // the report figures of the touched points, before
+  // the report figures of the touched points, before (on the binding's own rest cage)
+  if (b.reach.size() == np)
+    for (size_t t = 0; t < touched.size(); ++t) b.reach[touched[t]] = chunks[slots[t].chunk].reach[slots[t].k];
   int64_t inside = 0;
   for (uint32_t p : touched) inside -= well_bound(b, ctx.skin, p);
   for (size_t t = 0; t < touched.size(); ++t) inside += chunks[slots[t].chunk].inside[slots[t].k];
@@ -932,23 +971,53 @@ Status Rebinder::update(Binding& b, std::span<const SetEdit> edit_list, std::spa
     using T = typename std::remove_cvref_t<decltype(v)>::value_type;
     return std::span<const T>(v.data() + size_t(first) * width, size_t(count) * width);
   };
-  std::vector<uint32_t> offsets = splice_offsets(b.offsets, touched, counts);
-  b.ids = splice_rows(b.ids, b.offsets, offsets, touched, 1,
-                      [&](size_t t) { return new_row(t, &Chunk::ids, slots[t].entry, counts[t], 1); });
-  b.weights = splice_rows(b.weights, b.offsets, offsets, touched, 1,
-                          [&](size_t t) { return new_row(t, &Chunk::weights, slots[t].entry, counts[t], 1); });
-  if (clamped)
-    b.bary = splice_rows(b.bary, b.offsets, offsets, touched, 2,
-                         [&](size_t t) { return new_row(t, &Chunk::bary, slots[t].entry, counts[t], 2); });
-  b.offsets = std::move(offsets);
-  if (extended) {
-    std::vector<uint32_t> set_offsets = splice_offsets(b.set_offsets, touched, set_counts);
-    b.set_ids = splice_rows(b.set_ids, b.set_offsets, set_offsets, touched, 1,
-                            [&](size_t t) { return new_row(t, &Chunk::set_ids, slots[t].member, set_counts[t], 1); });
-    b.set_weights = splice_rows(b.set_weights, b.set_offsets, set_offsets, touched, 1, [&](size_t t) {
-      return new_row(t, &Chunk::set_weights, slots[t].member, set_counts[t], 1);
-    });
-    b.set_offsets = std::move(set_offsets);
+  // Same row sizes as before (the usual case for a small edit): written in place, so the cost follows
+  // the touched points and not the skin. Otherwise the tables are spliced (a copy of the whole table).
+  const Binding::SetsView old_sets = b.sets();
+  uint32_t old_max_touched = 0, new_max_touched = 0;
+  int64_t set_delta = 0;
+  bool same_sizes = true;
+  for (size_t t = 0; t < touched.size(); ++t) {
+    const uint32_t p = touched[t];
+    same_sizes = same_sizes && counts[t] == b.offsets[p + 1] - b.offsets[p] &&
+                 (!extended || set_counts[t] == b.set_offsets[p + 1] - b.set_offsets[p]);
+    const uint32_t before = old_sets.offsets[p + 1] - old_sets.offsets[p], after = extended ? set_counts[t] : counts[t];
+    old_max_touched = std::max(old_max_touched, before);
+    new_max_touched = std::max(new_max_touched, after);
+    set_delta += int64_t(after) - int64_t(before);
+  }
+  if (same_sizes) {
+    for (size_t t = 0; t < touched.size(); ++t) {
+      const uint32_t first = b.offsets[touched[t]];
+      const Chunk& ch = chunks[slots[t].chunk];
+      std::copy_n(ch.ids.begin() + slots[t].entry, counts[t], b.ids.begin() + first);
+      std::copy_n(ch.weights.begin() + slots[t].entry, counts[t], b.weights.begin() + first);
+      if (clamped) std::copy_n(ch.bary.begin() + 2 * size_t(slots[t].entry), 2 * size_t(counts[t]), b.bary.begin() + 2 * size_t(first));
+      if (extended) {
+        const uint32_t m = b.set_offsets[touched[t]];
+        std::copy_n(ch.set_ids.begin() + slots[t].member, set_counts[t], b.set_ids.begin() + m);
+        std::copy_n(ch.set_weights.begin() + slots[t].member, set_counts[t], b.set_weights.begin() + m);
+      }
+    }
+  } else {
+    std::vector<uint32_t> offsets = splice_offsets(b.offsets, touched, counts);
+    b.ids = splice_rows(b.ids, b.offsets, offsets, touched, 1,
+                        [&](size_t t) { return new_row(t, &Chunk::ids, slots[t].entry, counts[t], 1); });
+    b.weights = splice_rows(b.weights, b.offsets, offsets, touched, 1,
+                            [&](size_t t) { return new_row(t, &Chunk::weights, slots[t].entry, counts[t], 1); });
+    if (clamped)
+      b.bary = splice_rows(b.bary, b.offsets, offsets, touched, 2,
+                           [&](size_t t) { return new_row(t, &Chunk::bary, slots[t].entry, counts[t], 2); });
+    b.offsets = std::move(offsets);
+    if (extended) {
+      std::vector<uint32_t> set_offsets = splice_offsets(b.set_offsets, touched, set_counts);
+      b.set_ids = splice_rows(b.set_ids, b.set_offsets, set_offsets, touched, 1,
+                              [&](size_t t) { return new_row(t, &Chunk::set_ids, slots[t].member, set_counts[t], 1); });
+      b.set_weights = splice_rows(b.set_weights, b.set_offsets, set_offsets, touched, 1, [&](size_t t) {
+        return new_row(t, &Chunk::set_weights, slots[t].member, set_counts[t], 1);
+      });
+      b.set_offsets = std::move(set_offsets);
+    }
   }
 
   // fallback points: the untouched ones kept, the touched ones' new entries added, in point order
@@ -970,11 +1039,15 @@ Status Rebinder::update(Binding& b, std::span<const SetEdit> edit_list, std::spa
   b.rigid_element = std::move(rigid.rigid_element);
   b.rigid_bary = std::move(rigid.rigid_bary);
 
-  // set sizes over the whole skin, from the table
-  const Binding::SetsView sets = b.sets();
-  b.max_set_size = 0;
-  for (size_t p = 0; p < np; ++p) b.max_set_size = std::max(b.max_set_size, sets.offsets[p + 1] - sets.offsets[p]);
-  b.total_set_size = sets.ids.size();
+  // set sizes: the largest over the whole skin only when a touched point that may have held it shrank
+  b.total_set_size = uint64_t(int64_t(b.total_set_size) + set_delta);
+  if (new_max_touched >= b.max_set_size || old_max_touched < b.max_set_size) {
+    b.max_set_size = std::max(b.max_set_size, new_max_touched);
+  } else {
+    const Binding::SetsView sets = b.sets();
+    b.max_set_size = 0;
+    for (size_t p = 0; p < np; ++p) b.max_set_size = std::max(b.max_set_size, sets.offsets[p + 1] - sets.offsets[p]);
+  }
   return Ok{};
 }
 

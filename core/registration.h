@@ -67,6 +67,16 @@ class Rebinder {
   // Deformer reading `binding` must then be told: Deformer::stencil_changed().
   Status update(Binding& binding, std::span<const SetEdit> edits, std::span<const uint32_t> points) const;
 
+  // Moving reference cage vertices (same topology): `binding` was made for another rest cage, this
+  // Rebinder for the moved one. Re-registers `points` as update() does (on the new rest cage) and
+  // takes the new rest cage and element statuses. The result equals a full bind on the moved cage
+  // when `points` holds every point whose registration can change: core/rest_edit.h
+  // ReachIndex::affected_points finds them. Errors: another topology, skin or parameters, and a
+  // move that changes h (the mean cage edge length when BindParams::scale is 0: every weight
+  // changes; bind again or fix the scale).
+  // A Deformer reading `binding` keeps frames of the old rest cage: make it again (Deformer::create).
+  Status move_rest(Binding& binding, std::span<const SetEdit> edits, std::span<const uint32_t> points) const;
+
   Rebinder(Rebinder&&) noexcept;
   Rebinder& operator=(Rebinder&&) noexcept;
   ~Rebinder();
@@ -74,6 +84,7 @@ class Rebinder {
  private:
   struct State;
   Rebinder() = default;
+  Status update_points(Binding& binding, std::span<const SetEdit> edits, std::span<const uint32_t> points) const;
   std::unique_ptr<State> state_;
 };
 
@@ -95,6 +106,10 @@ bool well_bound(const Binding& binding, std::span<const glm::vec3> skin, uint32_
 // the edits it was made with; `edits` is ignored and kept for callers). Errors: a skin of another size.
 Result<std::vector<uint32_t>> quality_failures(const Binding& binding, std::span<const glm::vec3> skin,
                                                std::span<const SetEdit> edits = {});
+
+// The points' indices ordered along a Morton curve, so that runs of consecutive entries are
+// spatially compact (registration's chunks, core/rest_edit.h's leaves).
+std::vector<uint32_t> morton_order(std::span<const glm::vec3> points);
 
 // Weight function of eq. 1 on a distance already divided by h.
 double falloff(double d, double local);

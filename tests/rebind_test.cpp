@@ -1,5 +1,6 @@
 // Registration with set edits and part labels: the hierarchy against the brute-force loop, automatic
-// separation on the two-legs fixture, and Rebinder::update against a full bind, bit for bit.
+// separation on the two-legs fixture, and Rebinder::update (set edits) and Rebinder::move_rest with
+// ReachIndex (moved rest cage vertices) against a full bind, bit for bit.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -9,6 +10,7 @@
 
 #include "core/deformer.h"
 #include "core/registration.h"
+#include "core/rest_edit.h"
 #include "core/set_editing.h"
 #include "tests/fixtures.h"
 #include "tests/set_fixtures.h"
@@ -43,6 +45,7 @@ void expect_same_tables(const Binding& a, const Binding& b) {
   EXPECT_EQ(a.quality_inside, b.quality_inside);
   EXPECT_EQ(a.max_set_size, b.max_set_size);
   EXPECT_EQ(a.total_set_size, b.total_set_size);
+  EXPECT_EQ(a.reach, b.reach);
 }
 
 // Some edits of every kind on the two legs: remove a face of the other leg, add one, make one face
@@ -128,6 +131,46 @@ TEST_P(EveryVariantSets, UpdateEqualsAFullBind) {
   }
 }
 
+// Moving rest cage vertices: the points ReachIndex finds, re-registered on the moved cage, give a
+// full bind on it bit for bit (edits and labels included), move after move; a local move touches a
+// part of the skin only. One move collapses a vertex onto its neighbour (degenerate elements).
+TEST_P(EveryVariantSets, RestMoveEqualsAFullBind) {
+  TwoLegs t = fixtures::two_legs();
+  BindParams p;
+  p.variant = GetParam();
+  const std::vector<SetEdit> edits = assorted_edits(t);
+  for (const PartLabels* labels :
+       {static_cast<const PartLabels*>(nullptr), static_cast<const PartLabels*>(&t.labels)}) {
+    p.scale = bind_or_die(t, p, edits, labels).h;  // a fixed h: the moves below leave it alone
+    Binding live = bind_or_die(t, p, edits, labels);
+    auto index = ReachIndex::create(live, t.skin.positions);
+    ASSERT_TRUE(index.ok()) << index.error().message;
+    std::vector<glm::vec3> rest = t.cage.polygons.positions;
+    const Tri first = t.cage.elements[0];
+    const std::vector<std::vector<uint32_t>> moves = {{0}, {first[1], first[2]}, {first[0]}};
+    for (size_t m = 0; m < moves.size(); ++m) {
+      for (uint32_t v : moves[m]) rest[v] += glm::vec3(0.03f * float(m + 1), -0.05f, 0.02f);
+      if (m == 2) rest[first[0]] = rest[first[1]];  // element 0 (and its neighbours) collapse
+      auto points = index->affected_points(live, t.cage, rest, moves[m], edits);
+      ASSERT_TRUE(points.ok()) << points.error().message;
+      EXPECT_FALSE(points->empty());
+      EXPECT_LT(points->size(), t.skin.num_vertices() / 2) << "move " << m << " is local";
+      auto rebinder = Rebinder::create(t.skin.positions, t.cage, rest, p, labels);
+      ASSERT_TRUE(rebinder.ok()) << rebinder.error().message;
+      ASSERT_TRUE(rebinder->move_rest(live, edits, *points).ok());
+      index->refresh(live, *points);
+      auto full = bind_skin(t.skin.positions, t.cage, rest, p, edits, {}, labels);
+      ASSERT_TRUE(full.ok()) << full.error().message;
+      SCOPED_TRACE("move " + std::to_string(m));
+      expect_same_tables(live, *full);
+      EXPECT_EQ(live.rest_cage, full->rest_cage);
+      EXPECT_EQ(live.element_status, full->element_status);
+      EXPECT_EQ(live.invalid_elements, full->invalid_elements);
+    }
+    EXPECT_FALSE(live.invalid_elements.empty()) << "the collapse made degenerate elements";
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(Sets, EveryVariantSets,
                          ::testing::Values(Variant::kBasic, Variant::kClamped, Variant::kExtended),
                          [](const auto& info) { return std::string(variant_name(info.param)); });
@@ -187,6 +230,34 @@ TEST(Rebinder, RefusesABindingOfAnotherSkinCageOrParameters) {
                             std::vector<uint32_t>{1, 2});
   ASSERT_TRUE(copy.ok());
   expect_same_tables(*copy, b);
+}
+
+// What a rest edit cannot do locally, or is given wrong, is refused with what to do.
+TEST(RestEdit, RefusesAnotherHBadVerticesAndAFileBinding) {
+  TwoLegs t = fixtures::two_legs();
+  BindParams p;  // scale 0: h is the mean cage edge length, which a move changes
+  Binding b = bind_or_die(t, p);
+  auto index = ReachIndex::create(b, t.skin.positions);
+  ASSERT_TRUE(index.ok());
+  std::vector<glm::vec3> rest = t.cage.polygons.positions;
+  rest[3].y += 0.2f;
+  auto rebinder = Rebinder::create(t.skin.positions, t.cage, rest, p);
+  ASSERT_TRUE(rebinder.ok());
+  auto points = index->affected_points(b, t.cage, rest, std::vector<uint32_t>{3}, {});
+  ASSERT_TRUE(points.ok());
+  auto s = rebinder->move_rest(b, {}, *points);
+  ASSERT_FALSE(s.ok());
+  EXPECT_NE(s.error().message.find("scale h"), std::string::npos) << s.error().message;
+  auto bad = index->affected_points(b, t.cage, rest, std::vector<uint32_t>{4242}, {});
+  ASSERT_FALSE(bad.ok());
+  EXPECT_NE(bad.error().message.find("4242"), std::string::npos);
+  std::vector<glm::vec3> short_rest(rest.begin(), rest.end() - 1);
+  EXPECT_FALSE(index->affected_points(b, t.cage, short_rest, std::vector<uint32_t>{3}, {}).ok());
+  Binding from_file = b;
+  from_file.reach.clear();
+  auto none = ReachIndex::create(from_file, t.skin.positions);
+  ASSERT_FALSE(none.ok());
+  EXPECT_NE(none.error().message.find("bind again"), std::string::npos);
 }
 
 // Separation on the two legs: without it the inside of each leg takes elements of the other leg's
