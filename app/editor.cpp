@@ -147,6 +147,9 @@ class Editor {
   SelectMode mode_ = SelectMode::kCageVertices;
   SoftSelectionParams soft_;
   MirrorParams mirror_;                   // tolerance set from mirror_tolerance_share_ when used
+  // Moves edit the reference (rest) cage instead of adding pose offsets: the skin stays and only the
+  // skin points near the moved vertices are registered again (Scene::moved_rest).
+  bool move_rest_ = false;
   double mirror_tolerance_share_ = 1e-3;  // of the skin's bounding-box diagonal
   // gizmo drag
   GizmoHandle drag_handle_ = GizmoHandle::kNone;
@@ -507,7 +510,8 @@ GizmoLayout Editor::gizmo() const {
 // displacement each time, so nothing accumulates rounding and undo restores the start exactly.
 void Editor::apply_move(const glm::dvec3& total) {
   drag_total_ = ImGui::GetIO().KeyCtrl ? snap_displacement(total, grid_spacing()) : total;
-  scene_->live = scene_->moved(drag_start_, drag_weights_, drag_total_);
+  scene_->live = move_rest_ ? scene_->moved_rest(drag_start_, drag_weights_, drag_total_)
+                            : scene_->moved(drag_start_, drag_weights_, drag_total_);
 }
 
 bool Editor::begin_move(GizmoHandle handle, glm::dvec2 from) {
@@ -530,10 +534,12 @@ bool Editor::begin_move(GizmoHandle handle, glm::dvec2 from) {
 }
 
 void Editor::end_move() {
-  if (scene_->live) scene_->history.commit("Move cage vertices", *scene_->live);
+  const bool changed = scene_->live.has_value();
+  if (changed) scene_->history.commit(move_rest_ ? "Move rest cage vertices" : "Move cage vertices", *scene_->live);
   else scene_->history.cancel();
   scene_->live.reset();
   drag_handle_ = GizmoHandle::kNone;
+  if (changed && move_rest_) scene_->document_changed();  // re-attach, and register the reachable points again
 }
 
 double Editor::grid_spacing() const {
@@ -1177,6 +1183,11 @@ void Editor::draw_toolbar() {
   ImGui::SameLine();
   ImGui::Checkbox("Mirror X", &mirror_.enabled);
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("X-mirror editing (Shift+X)");
+  ImGui::SameLine();
+  ImGui::Checkbox("Edit rest", &move_rest_);
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip("Moves edit the reference (rest) cage: the skin stays, and only the skin points\n"
+                      "near the moved vertices are registered again");
   if (scene_) {
     const IndexSet& s = active_set();
     ImGui::TextDisabled("%zu %s selected", s.size(), mode_name(mode_));
@@ -1634,6 +1645,11 @@ void Editor::run_script_step() {
       std::string on;
       in >> on;
       mirror_.enabled = on == "on";
+    } else if (cmd == "move_target") {  // rest | pose
+      std::string t;
+      in >> t;
+      if (t != "rest" && t != "pose") log("error: script line " + std::to_string(script_pos_) + ": move_target rest|pose", true);
+      else move_rest_ = t == "rest";
     } else if (cmd == "clip") {  // NAME, or "rest" for the bind pose
       std::string name;
       in >> name;

@@ -24,6 +24,30 @@ std::unique_ptr<BindJob> start_bind_job(std::vector<glm::vec3> skin, Document do
   });
 }
 
+std::unique_ptr<BindJob> start_rest_edit_job(std::vector<glm::vec3> skin, Document doc,
+                                             std::optional<CageAttachment> attachment, Binding previous,
+                                             std::optional<CageAttachment> previous_attachment,
+                                             std::shared_ptr<RestRebindReport> report) {
+  return std::make_unique<BindJob>(
+      "rest edit", [skin = std::move(skin), doc = std::move(doc), attachment = std::move(attachment),
+                    previous = std::move(previous), previous_attachment = std::move(previous_attachment),
+                    report = std::move(report)](const BindJob::Progress& progress, const std::atomic<bool>& cancel) mutable {
+        BindProgress p;
+        p.on_progress = [&progress](double f) { progress("bind", f); };
+        p.cancel = &cancel;
+        return rebind_document(doc, skin, attachment ? &*attachment : nullptr, std::move(previous),
+                               previous_attachment ? &*previous_attachment : nullptr, p, report.get());
+      });
+}
+
+bool Scene::rest_edit_possible() const {
+  const auto& cage = doc().cage;
+  return binding && bound_cage && cage && bound_cage != cage && bound_cage->elements == cage->elements &&
+         bound_cage->num_vertices() == cage->num_vertices() && !binding->reach.empty() &&
+         same_set_edits(bound_edits_, doc().set_edits) &&
+         rest_edit_params_fit(binding->params, binding->h, params) && bound_attachment_ == doc().attachment;
+}
+
 bool Scene::needs_rebind() const {
   if (!doc().cage) return false;
   if (!binding || bound_cage != doc().cage || !same_set_edits(bound_edits_, doc().set_edits)) return true;
@@ -41,12 +65,21 @@ void Scene::adopt_binding(Binding b) {
   bound_cage = doc().cage;
   bound_edits_ = doc().set_edits;
   bound_attachment_ = doc().attachment;
+  bound_attachment_data_ = attachment;
   params = doc().params;
 }
 
 void Scene::start_bind() {
   if (!doc().cage || job) return;
-  job = start_bind_job(skin_rest, with_params(doc(), params), attachment);
+  pending_rest_report_.reset();
+  if (rest_edit_possible()) {
+    pending_rest_report_ = std::make_shared<RestRebindReport>();
+    job = start_rest_edit_job(skin_rest, with_params(doc(), params), attachment, *binding, bound_attachment_data_,
+                              pending_rest_report_);
+  } else {
+    job = start_bind_job(skin_rest, with_params(doc(), params), attachment);
+  }
+  pending_attachment_data_ = attachment;
   pending_cage_ = doc().cage;
   pending_edits_ = doc().set_edits;
   pending_attachment_ = doc().attachment;
@@ -81,17 +114,35 @@ void Scene::document_changed() {
   if (needs_rebind() && !job) start_bind();
 }
 
+// Adds the move to `values` (#cage vertices), each vertex's share taken back into its joint's bind
+// space (the joint's linear part undone), where offsets and rest positions live.
+void Scene::add_move(std::vector<glm::vec3>& values, const MoveWeights& weights, const glm::dvec3& world_delta) const {
+  for (size_t i = 0; i < weights.vertices.size(); ++i) {
+    const uint32_t v = weights.vertices[i];
+    if (v >= values.size()) continue;
+    glm::dmat3 lin = v < cage_skinning.size() ? glm::dmat3(glm::mat3(cage_skinning[v])) : glm::dmat3(1.0);
+    values[v] += glm::vec3(glm::inverse(lin) * weights.displacement(i, world_delta));
+  }
+}
+
 Document Scene::moved(const Document& from, const MoveWeights& weights, const glm::dvec3& world_delta) const {
   std::vector<glm::vec3> offsets = from.cage_offsets;
   offsets.resize(from.cage ? from.cage->num_vertices() : 0, glm::vec3(0.f));
-  for (size_t i = 0; i < weights.vertices.size(); ++i) {
-    const uint32_t v = weights.vertices[i];
-    if (v >= offsets.size()) continue;
-    // the offset lives in the bind space of the vertex's joint: undo the joint's linear part
-    glm::dmat3 lin = v < cage_skinning.size() ? glm::dmat3(glm::mat3(cage_skinning[v])) : glm::dmat3(1.0);
-    offsets[v] += glm::vec3(glm::inverse(lin) * weights.displacement(i, world_delta));
-  }
+  add_move(offsets, weights, world_delta);
   return with_cage_offsets(from, std::move(offsets));
+}
+
+Document Scene::moved_rest(const Document& from, const MoveWeights& weights, const glm::dvec3& world_delta) const {
+  if (!from.cage) return from;
+  std::vector<glm::vec3> rest(from.cage_positions().begin(), from.cage_positions().end());
+  add_move(rest, weights, world_delta);
+  Document d = with_cage_positions(from, rest);
+  if (d.params.scale <= 0 && binding && binding->params == d.params) {
+    BindParams p = d.params;
+    p.scale = binding->h;  // keep h: the mean edge length would change with the move, and every weight with it
+    d = with_params(d, p);
+  }
+  return d;
 }
 
 bool Scene::update_set_edits_live(const std::vector<SetEdit>& edits, std::span<const uint32_t> points) {
@@ -124,12 +175,17 @@ std::optional<std::string> Scene::poll_bind() {
     bound_cage = pending_cage_;
     bound_edits_ = pending_edits_;
     bound_attachment_ = pending_attachment_;
+    bound_attachment_data_ = pending_attachment_data_;
     auto d = Deformer::create(*binding, skin_rest);
     binding_revision = next_revision();
     if (d.ok()) {
       deformer.emplace(std::move(d).value());
       char buf[256];
-      std::snprintf(buf, sizeof buf, "bound %u points to %zu elements in %.2f s (%zu skipped elements, %zu fallback points, quality %.1f%%)",
+      if (pending_rest_report_ && pending_rest_report_->points < binding->num_points)
+        std::snprintf(buf, sizeof buf, "rest cage edit: %zu moved vertices, %zu of %u skin points registered again in %.3f s",
+                      pending_rest_report_->moved_vertices, pending_rest_report_->points, binding->num_points,
+                      pending_rest_report_->seconds);
+      else std::snprintf(buf, sizeof buf, "bound %u points to %zu elements in %.2f s (%zu skipped elements, %zu fallback points, quality %.1f%%)",
                     binding->num_points, binding->elements.size(), binding->seconds, binding->invalid_elements.size(),
                     binding->rigid_points.size(), 100 * binding->quality());
       message = buf;

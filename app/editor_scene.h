@@ -33,6 +33,12 @@ using BindJob = BackgroundTask<Binding>;
 // Binds the document's skin to its cage (parameters, set edits, automatic separation by the
 // attachment's skeleton parts: core/rig.h bind_document).
 std::unique_ptr<BindJob> start_bind_job(std::vector<glm::vec3> skin, Document doc, std::optional<CageAttachment> attachment);
+// The document's rest cage moved since `previous` was bound (core/rig.h rebind_document): only the
+// skin points within reach of the moved vertices are registered again; `report` is filled when it ends.
+std::unique_ptr<BindJob> start_rest_edit_job(std::vector<glm::vec3> skin, Document doc,
+                                             std::optional<CageAttachment> attachment, Binding previous,
+                                             std::optional<CageAttachment> previous_attachment,
+                                             std::shared_ptr<RestRebindReport> report);
 
 struct Scene {
   explicit Scene(Document doc) : history(std::move(doc)) {}
@@ -104,10 +110,20 @@ struct Scene {
   // share (soft selection, X-mirror: core/soft_selection.h), stored as offsets in each vertex's joint
   // bind space, and returns the new document (not yet in history).
   Document moved(const Document& from, const MoveWeights& weights, const glm::dvec3& world_delta) const;
+  // The same move applied to the reference (rest) cage instead: the skin stays where it is and, once
+  // committed (document_changed), only the skin points the moved vertices can reach are registered
+  // again. A distance scale of 0 (h from the mean edge length, which any move changes) is fixed to
+  // the bound h in the same document, so the edit stays local.
+  Document moved_rest(const Document& from, const MoveWeights& weights, const glm::dvec3& world_delta) const;
 
  private:
   std::shared_ptr<const Cage> pending_cage_;   // the cage the running job binds
   std::vector<SetEdit> pending_edits_, bound_edits_;  // the set edits of the running job / the binding
+  std::optional<CageAttachment> pending_attachment_data_, bound_attachment_data_;  // the attachment they used
+  std::shared_ptr<RestRebindReport> pending_rest_report_;  // set when the running job is a rest edit
+  // whether the running job may re-register only some points (same elements, parameters, edits)
+  bool rest_edit_possible() const;
+  void add_move(std::vector<glm::vec3>& values, const MoveWeights& weights, const glm::dvec3& world_delta) const;
   std::unique_ptr<Rebinder> rebinder_;  // for live set edits, made for the current binding
   const Binding* rebinder_for_ = nullptr;
   std::vector<glm::vec3> skin_posed_;  // see skin_posed()

@@ -14,6 +14,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <limits>
 #include <map>
 #include <numeric>
@@ -226,15 +227,19 @@ std::string diagnose_buffers(const std::string& bytes, bool binary, const std::f
     json_text = bytes.substr(20, len);
   }
   auto j = nlohmann::json::parse(json_text, nullptr, false);
-  if (j.is_discarded() || !j.contains("buffers") || !j["buffers"].is_array()) return "";
+  if (j.is_discarded() || !j.is_object() || !j.contains("buffers") || !j["buffers"].is_array()) return "";
   for (size_t i = 0; i < j["buffers"].size(); ++i) {
     const auto& b = j["buffers"][i];
-    std::string name = b.value("name", "");
+    if (!b.is_object()) return named("buffer", i, "") + " is not a JSON object";
+    std::string name = b.contains("name") && b["name"].is_string() ? b["name"].get<std::string>() : "";
+    if (!b.contains("byteLength") || !b["byteLength"].is_number_unsigned() || b["byteLength"].get<uint64_t>() == 0)
+      return named("buffer", i, name) + " has no usable byteLength (it must be a whole number above 0)";
+    if (b.contains("uri") && !b["uri"].is_string()) return named("buffer", i, name) + " has a 'uri' that is not a string";
     if (!b.contains("uri")) {
       if (!binary) return named("buffer", i, name) + " has no 'uri' (only a .glb may embed its first buffer)";
       continue;
     }
-    std::string uri = b.value("uri", "");
+    std::string uri = b["uri"].get<std::string>();
     if (uri.rfind("data:", 0) == 0) continue;
     if (!dir)
       return named("buffer", i, name) + " refers to the file '" + uri +
@@ -244,7 +249,7 @@ std::string diagnose_buffers(const std::string& bytes, bool binary, const std::f
     if (!std::filesystem::exists(file, ec))
       return named("buffer", i, name) + " refers to '" + uri + "', which does not exist";
     uint64_t size = std::filesystem::file_size(file, ec);
-    uint64_t want = b.value("byteLength", uint64_t(0));
+    uint64_t want = b["byteLength"].get<uint64_t>();
     if (!ec && size != want)
       return named("buffer", i, name) + " declares byteLength " + std::to_string(want) + " but '" + uri +
              "' holds " + std::to_string(size) + " bytes";
@@ -563,10 +568,10 @@ class Importer {
             if (j != 0) zero = true;  // joint 0 with weight 0 is the usual padding, not a problem
             continue;
           }
-          if (j >= double(nj))
+          if (!(j >= 0 && j < double(nj)))  // a signed component type can hold a negative index
             return fail(ErrorCode::kIndexOutOfRange,
                         label + " vertex " + std::to_string(v) + ": JOINTS_" + std::to_string(set) + " lists joint " +
-                            std::to_string(uint64_t(j)) + ", but " + named("skin", skin_index, skin.name) + " has " +
+                            std::to_string(int64_t(j)) + ", but " + named("skin", skin_index, skin.name) + " has " +
                             std::to_string(nj) + " joints");
           entries.emplace_back(static_cast<uint32_t>(j), w);
         }
@@ -751,6 +756,37 @@ class Importer {
   std::string first_line_prim_;
 };
 
+// tinygltf parses into `model`; a throw from inside it (it indexes some arrays with at(), and a huge
+// size can fail to allocate) becomes a parse failure with the exception's text, never a crash.
+bool parse_guarded(const std::function<bool(std::string*, std::string*)>& parse, std::string& err,
+                   std::string& warn) {
+  try {
+    return parse(&err, &warn);
+  } catch (const std::bad_alloc&) {
+    err = "it asks for more memory than there is (a size in it is too large)";
+  } catch (const std::exception& e) {
+    err = std::string("the glTF reader stopped: ") + e.what();
+  }
+  return false;
+}
+
+Result<Character> import_parsed(bool ok, const tinygltf::Model& model, const std::string& err,
+                                const std::string& warn, const std::string& name, const std::string& bytes,
+                                bool binary, const std::filesystem::path* dir) {
+  if (!ok) {
+    std::string which = diagnose_buffers(bytes, binary, dir);
+    if (!which.empty()) return make_error(ErrorCode::kFileUnreadable, name + ": " + which);
+    return make_error(ErrorCode::kParse, name + ": not a usable glTF 2.0 file: " + first_lines(err));
+  }
+  try {
+    auto c = Importer(model, name).run();
+    if (c && !warn.empty()) c->warnings.insert(c->warnings.begin(), name + ": " + first_lines(warn));
+    return c;
+  } catch (const std::bad_alloc&) {
+    return make_error(ErrorCode::kParse, name + ": not a usable glTF 2.0 file: a size in it is too large to load");
+  }
+}
+
 }  // namespace
 
 Result<Character> load_character(const std::string& path) {
@@ -770,20 +806,13 @@ Result<Character> load_character(const std::string& path) {
   loader.SetImageLoader(&ignore_image, nullptr);
   tinygltf::Model model;
   std::string err, warn;
-  bool ok = binary ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
-                   : loader.LoadASCIIFromFile(&model, &err, &warn, path);
-  if (!ok) {
-    const auto dir = std::filesystem::path(path).parent_path();
-    std::string which = diagnose_buffers(read_whole_file(path), binary, &dir);
-    if (!which.empty()) return make_error(ErrorCode::kFileUnreadable, path + ": " + which);
-    return make_error(ErrorCode::kParse, path + ": not a usable glTF 2.0 file: " + first_lines(err));
-  }
-  auto c = Importer(model, path).run();
-  if (c && !warn.empty()) {
-    std::string w = first_lines(warn);
-    c->warnings.insert(c->warnings.begin(), path + ": " + w);
-  }
-  return c;
+  const bool ok = parse_guarded(
+      [&](std::string* e, std::string* w) {
+        return binary ? loader.LoadBinaryFromFile(&model, e, w, path) : loader.LoadASCIIFromFile(&model, e, w, path);
+      },
+      err, warn);
+  const auto dir = std::filesystem::path(path).parent_path();
+  return import_parsed(ok, model, err, warn, path, ok ? std::string() : read_whole_file(path), binary, &dir);
 }
 
 Result<Character> load_character_bytes(const std::string& bytes, const std::string& name) {
@@ -797,17 +826,14 @@ Result<Character> load_character_bytes(const std::string& bytes, const std::stri
   tinygltf::Model model;
   std::string err, warn;
   const auto size = static_cast<unsigned int>(bytes.size());
-  bool ok = binary ? loader.LoadBinaryFromMemory(&model, &err, &warn,
-                                                 reinterpret_cast<const unsigned char*>(bytes.data()), size, "")
-                   : loader.LoadASCIIFromString(&model, &err, &warn, bytes.data(), size, "");
-  if (!ok) {
-    std::string which = diagnose_buffers(bytes, binary, nullptr);
-    if (!which.empty()) return make_error(ErrorCode::kFileUnreadable, name + ": " + which);
-    return make_error(ErrorCode::kParse, name + ": not a usable glTF 2.0 file: " + first_lines(err));
-  }
-  auto c = Importer(model, name).run();
-  if (c && !warn.empty()) c->warnings.insert(c->warnings.begin(), name + ": " + first_lines(warn));
-  return c;
+  const bool ok = parse_guarded(
+      [&](std::string* e, std::string* w) {
+        return binary ? loader.LoadBinaryFromMemory(&model, e, w, reinterpret_cast<const unsigned char*>(bytes.data()),
+                                                    size, "")
+                      : loader.LoadASCIIFromString(&model, e, w, bytes.data(), size, "");
+      },
+      err, warn);
+  return import_parsed(ok, model, err, warn, name, bytes, binary, nullptr);
 }
 
 }  // namespace cagewrap

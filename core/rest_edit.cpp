@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 #include <glm/common.hpp>
@@ -167,6 +168,34 @@ Result<std::vector<uint32_t>> ReachIndex::affected_points(const Binding& b, cons
   std::sort(out.begin(), out.end());
   out.erase(std::unique(out.begin(), out.end()), out.end());
   return out;
+}
+
+Result<RestRebindReport> rebind_moved_rest(Binding& binding, std::span<const glm::vec3> skin, const Cage& cage,
+                                           std::span<const glm::vec3> new_rest, std::span<const SetEdit> edits,
+                                           const PartLabels* labels, const PartLabels* previous_labels) {
+  const bool now = labels && !labels->empty(), before = previous_labels && !previous_labels->empty();
+  if (now != before || (now && (labels->point != previous_labels->point || labels->parent != previous_labels->parent)))
+    return make_error(ErrorCode::kInvalidArgument, "the skin's part labels changed since the bind; bind again");
+  if (new_rest.size() != binding.rest_cage.size() || binding.elements != cage.elements)
+    return make_error(ErrorCode::kTopologyMismatch, "the binding was made for a cage of another topology; bind again");
+  RestRebindReport report;
+  std::vector<uint32_t> moved;
+  for (uint32_t v = 0; v < new_rest.size(); ++v) {
+    const bool relabelled = now && (v >= labels->cage_vertex.size() || v >= previous_labels->cage_vertex.size() ||
+                                    labels->cage_vertex[v] != previous_labels->cage_vertex[v]);
+    if (relabelled || std::memcmp(&new_rest[v], &binding.rest_cage[v], sizeof(glm::vec3)) != 0) moved.push_back(v);
+  }
+  report.moved_vertices = moved.size();
+  if (moved.empty()) return report;
+  auto index = ReachIndex::create(binding, skin);
+  if (!index) return index.error();
+  auto points = index->affected_points(binding, cage, new_rest, moved, edits);
+  if (!points) return points.error();
+  auto rebinder = Rebinder::create(skin, cage, new_rest, binding.params, now ? labels : nullptr);
+  if (!rebinder) return rebinder.error();
+  if (auto s = rebinder->move_rest(binding, edits, *points); !s) return s.error();
+  report.points = points->size();
+  return report;
 }
 
 }  // namespace cagewrap

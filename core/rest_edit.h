@@ -20,6 +20,11 @@
 #include "core/result.h"
 
 namespace cagewrap {
+struct Cage;
+struct PartLabels;
+}  // namespace cagewrap
+
+namespace cagewrap {
 
 // The skin points of a binding in a hierarchy of boxes that know the largest reach of their points,
 // so that the points an element can reach are found without visiting the whole skin.
@@ -55,5 +60,25 @@ class ReachIndex {
   std::vector<float> max_reach_;  // -1 for an empty node
   void refresh_leaf(uint32_t leaf);
 };
+
+// What rebind_moved_rest did.
+struct RestRebindReport {
+  size_t moved_vertices = 0;  // cage vertices that moved or changed part label
+  size_t points = 0;          // skin points registered again
+  double seconds = 0.0;       // wall time
+};
+
+// The rest cage moved from binding.rest_cage to `new_rest` (same cage elements, parameters and set
+// edits): re-registers, in place, only the skin points the change can reach (ReachIndex, once per
+// call: O(P) plus the affected points). Afterwards `binding` equals bind_skin(skin, cage, new_rest,
+// binding.params, edits, labels) bit for bit. `labels` / `previous_labels`: the part labels now and
+// those the binding was made with (both null without separation); the skin points' labels must be
+// the same, a cage vertex whose label changed counts as moved. A scale of 0 (h from the mean edge
+// length) changes with any move and so every weight: fix BindParams::scale to binding.h first.
+// Errors (bind again instead): another topology, a binding without reach, h that would change,
+// point labels that differ.
+Result<RestRebindReport> rebind_moved_rest(Binding& binding, std::span<const glm::vec3> skin, const Cage& cage,
+                                           std::span<const glm::vec3> new_rest, std::span<const SetEdit> edits,
+                                           const PartLabels* labels, const PartLabels* previous_labels);
 
 }  // namespace cagewrap

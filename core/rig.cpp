@@ -4,6 +4,7 @@
 
 #include "core/part_labels.h"
 
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <numbers>
@@ -82,15 +83,48 @@ Rig::Rig(Rig&&) noexcept = default;
 Rig& Rig::operator=(Rig&&) noexcept = default;
 Rig::~Rig() = default;
 
+namespace {
+std::optional<PartLabels> document_labels(const Document& doc, const CageAttachment* attachment) {
+  if (!doc.params.separate || !attachment || !doc.character) return std::nullopt;
+  auto l = skeleton_part_labels(*doc.character, *attachment);
+  if (!l) return std::nullopt;  // without labels the bind simply does not separate
+  return std::move(l).value();
+}
+}  // namespace
+
 Result<Binding> bind_document(const Document& doc, std::span<const glm::vec3> skin_rest, const CageAttachment* attachment,
                               const BindProgress& progress) {
   if (!doc.cage) return make_error(ErrorCode::kInvalidArgument, "the document has no cage to bind to");
-  std::optional<PartLabels> labels;
-  if (doc.params.separate && attachment && doc.character) {
-    auto l = skeleton_part_labels(*doc.character, *attachment);
-    if (l) labels = std::move(l).value();  // without labels the bind simply does not separate
-  }
+  const std::optional<PartLabels> labels = document_labels(doc, attachment);
   return bind_skin(skin_rest, *doc.cage, doc.cage_positions(), doc.params, doc.set_edits, progress, labels ? &*labels : nullptr);
+}
+
+bool rest_edit_params_fit(const BindParams& bound, double h, const BindParams& now) {
+  if (!(now.scale > 0)) return false;
+  BindParams b = bound;
+  if (b.scale <= 0) b.scale = h;
+  return b == now;
+}
+
+Result<Binding> rebind_document(const Document& doc, std::span<const glm::vec3> skin_rest, const CageAttachment* attachment,
+                                Binding previous, const CageAttachment* previous_attachment,
+                                const BindProgress& progress, RestRebindReport* report) {
+  const auto start = std::chrono::steady_clock::now();
+  auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+  if (doc.cage && rest_edit_params_fit(previous.params, previous.h, doc.params) && previous.num_points == skin_rest.size()) {
+    previous.params.scale = previous.h;  // the same binding: h came out as this scale
+    auto labels = document_labels(doc, attachment), before = document_labels(doc, previous_attachment);
+    auto r = rebind_moved_rest(previous, skin_rest, *doc.cage, doc.cage_positions(), doc.set_edits,
+                               labels ? &*labels : nullptr, before ? &*before : nullptr);
+    if (r) {
+      if (report) *report = *r, report->seconds = elapsed();
+      if (progress.on_progress) progress.on_progress(1.0);
+      return previous;
+    }
+  }
+  auto full = bind_document(doc, skin_rest, attachment, progress);
+  if (full && report) *report = {doc.cage ? doc.cage->num_vertices() : 0, full->num_points, elapsed()};
+  return full;
 }
 
 Result<Rig> Rig::create(const Document& doc, const BindProgress& progress) {

@@ -22,6 +22,7 @@
 #include "core/deformer.h"
 #include "core/document.h"
 #include "core/registration.h"
+#include "core/rest_edit.h"
 
 namespace cagewrap {
 
@@ -62,6 +63,18 @@ std::span<const glm::dmat3> cage_vertex_frames(const Binding& binding, const Pos
 // core/part_labels.h keep unrelated parts apart. The one bind the editor, the CLI and export share.
 Result<Binding> bind_document(const Document& doc, std::span<const glm::vec3> skin_rest, const CageAttachment* attachment,
                               const BindProgress& progress = {});
+
+// bind_document for a document whose rest cage moved (same cage elements, parameters and set edits)
+// since `previous` was bound with `previous_attachment`: only the skin points the moved vertices can
+// reach are registered again (core/rest_edit.h), with the same result bit for bit. Anything else (other
+// topology or parameters, a binding read from a file, a scale of 0, other skin labels) binds in full.
+// `report` (may be null): moved vertices and points registered (every point after a full bind).
+// Whether a binding made with `bound` (its distance scale came out as `h`) can follow a rest edit to
+// parameters `now`: the same parameters, `now` giving a scale, and a bound scale of 0 counting as h.
+bool rest_edit_params_fit(const BindParams& bound, double h, const BindParams& now);
+Result<Binding> rebind_document(const Document& doc, std::span<const glm::vec3> skin_rest, const CageAttachment* attachment,
+                                Binding previous, const CageAttachment* previous_attachment,
+                                const BindProgress& progress = {}, RestRebindReport* report = nullptr);
 
 // Everything a document needs to be posed again and again: the attachment of its cage, the binding
 // of its skin (every primitive concatenated, as skin_character orders them) and the deformer.

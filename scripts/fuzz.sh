@@ -4,6 +4,9 @@
 # (cagewrap_fuzz_seeds); what the fuzzer adds stays in BUILD/corpus/<harness>, crashes go to
 # BUILD/artifacts/<harness>/ and fail the run.
 # Usage: fuzz.sh [BUILD (build-fuzz)] [SECONDS per harness (60)] [JOBS]
+# FUZZ_RUNS=N runs N inputs per harness instead of SECONDS, and FUZZ_SEED=S fixes libFuzzer's seed:
+# together they make a run that does the same on every machine (make test uses them, so that a green
+# run here is a green run in CI; open-ended exploration is make fuzz).
 # Exits 77 (skipped) when clang is not installed.
 set -euo pipefail
 BUILD=${1:-build-fuzz}
@@ -31,9 +34,12 @@ for harness in gltf mesh project set_edits; do
   # checked-in regression inputs (crashes found before) run first, as seeds
   extra=()
   [ -d "$ROOT/tests/fuzz/corpus/$harness" ] && extra+=("$ROOT/tests/fuzz/corpus/$harness")
-  echo "fuzz: $harness for ${SECONDS_EACH}s"
+  budget=(-max_total_time="$SECONDS_EACH")
+  [ -n "${FUZZ_RUNS:-}" ] && budget=(-runs="$FUZZ_RUNS")
+  [ -n "${FUZZ_SEED:-}" ] && budget+=(-seed="$FUZZ_SEED")
+  echo "fuzz: $harness, ${budget[*]}"
   if ! ASAN_OPTIONS=detect_leaks=1:allocator_may_return_null=1 UBSAN_OPTIONS=print_stacktrace=1 \
-    "$BUILD/fuzz_$harness" -max_total_time="$SECONDS_EACH" -timeout=10 -rss_limit_mb=2048 -max_len=65536 \
+    "$BUILD/fuzz_$harness" "${budget[@]}" -timeout=10 -rss_limit_mb=2048 -max_len=65536 \
     -print_final_stats=1 -artifact_prefix="$artifacts/" "$corpus" "$BUILD/seeds/$harness" "${extra[@]}" \
     >"$BUILD/fuzz_$harness.log" 2>&1; then
     echo "fuzz: $harness FAILED; see $BUILD/fuzz_$harness.log and $artifacts/"

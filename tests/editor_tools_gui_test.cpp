@@ -4,6 +4,8 @@
 // project), a face selection moves the face's corners, and a skin selection is drawn.
 #include <gtest/gtest.h>
 
+#include <cstdio>
+
 #include <cmath>
 #include <fstream>
 #include <iterator>
@@ -132,6 +134,40 @@ TEST(EditorTools, FaceSelectionMovesTheFaceCornersOnly) {
       EXPECT_EQ(glm::length(off[i]), 0.0) << "vertex " << i;
     }
   }
+}
+
+// "Edit rest" (move_target rest): the move goes into the reference cage, not the offsets; the
+// distance scale is fixed to the bound h; only the skin points near the vertex register again.
+TEST(EditorTools, RestEditMovesTheReferenceCageAndRegistersOnlyNearbyPoints) {
+  std::string why;
+  if (!gui_available(why)) GTEST_SKIP() << why;
+  PolyMesh cage = demo_cage();
+  fs::path dir = gui_test_dir(), project = dir / "tools_rest.cagewrap", script = dir / "tools_rest.script";
+  fs::remove(project);
+  write_script(script, "clip rest\nwait 2\nmode cage_vertices\nselect_cage_vertex 500\nmove_target rest\nmove 0 0.03 0\n"
+                       "wait 2\nsave " + project.string() + "\n");
+  screenshot("--script " + script.string(), "tools_rest");
+  std::ifstream in(project);
+  ASSERT_TRUE(in) << project;
+  auto j = nlohmann::json::parse(in);
+  const auto& pos = j.at("cage").at("positions");
+  ASSERT_EQ(pos.size(), cage.num_vertices());
+  for (uint32_t i = 0; i < cage.num_vertices(); ++i) {
+    const glm::dvec3 p(pos[i][0].get<double>(), pos[i][1].get<double>(), pos[i][2].get<double>());
+    const glm::dvec3 expect = glm::dvec3(cage.positions[i]) + (i == 500 ? glm::dvec3(0, 0.03, 0) : glm::dvec3(0.0));
+    EXPECT_NEAR(glm::length(p - expect), 0.0, 1e-5) << "vertex " << i;
+  }
+  for (const auto& o : j.at("cage").value("offsets", nlohmann::json::array()))
+    EXPECT_EQ(o[0].get<double>() * o[0].get<double>() + o[1].get<double>() * o[1].get<double>() +
+                  o[2].get<double>() * o[2].get<double>(), 0.0);
+  EXPECT_GT(j.at("binding").at("scale").get<double>(), 0.0) << "h is fixed so the edit stays local";
+  const std::string log = read_file(dir / "tools_rest.log");
+  const auto at = log.find("rest cage edit: 1 moved vertices, ");
+  ASSERT_NE(at, std::string::npos) << log;
+  unsigned long points = 0, total = 0;
+  ASSERT_EQ(std::sscanf(log.c_str() + at, "rest cage edit: 1 moved vertices, %lu of %lu", &points, &total), 2) << log;
+  EXPECT_GT(points, 0u);
+  EXPECT_LT(points * 10, total) << "a one-vertex edit registers under a tenth of the skin";
 }
 
 // Pink points are the skin selection's colour (render/viewport_renderer.cpp).

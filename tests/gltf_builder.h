@@ -141,8 +141,8 @@ class GltfBuilder {
   nlohmann::json finished() const {
     nlohmann::json d = doc;
     while (d["buffers"].size() < 1) d["buffers"].push_back(nlohmann::json::object());
-    size_t len = bin.size();
-    d["buffers"][0]["byteLength"] = len;
+    // a byteLength already in doc is kept (tests of bad lengths)
+    if (!d["buffers"][0].contains("byteLength")) d["buffers"][0]["byteLength"] = bin.size();
     return d;
   }
 };

@@ -303,6 +303,15 @@ TEST(GltfLoader, UnusableFilesNameTheObjectAndIndex) {
     std::string e = load_error(dir + "/view.glb");
     EXPECT_NE(e.find("bufferView 1 spans bytes 48..4048 of buffer 0, which holds only"), std::string::npos) << e;
   }
+  // A GLB buffer of length 0: tinygltf throws (std::out_of_range) reading it; the loader reports it.
+  {
+    GltfBuilder b = single_primitive(grid_positions(2), {0, 1, 3});
+    b.doc["buffers"] = json::array({{{"byteLength", 0}}});
+    b.write_glb(dir + "/empty_buffer.glb");
+    std::string e = load_error(dir + "/empty_buffer.glb");
+    EXPECT_EQ(e.rfind(dir + "/empty_buffer.glb: ", 0), 0u) << e;
+    EXPECT_NE(e.find("buffer 0 has no usable byteLength"), std::string::npos) << e;
+  }
   // Joint index beyond the skin.
   {
     GltfBuilder b = skinned_plate<uint8_t, float>({0, 9, 0, 0}, test::kUnsignedByte, {0.5f, 0.5f, 0, 0}, test::kFloat,
@@ -310,6 +319,17 @@ TEST(GltfLoader, UnusableFilesNameTheObjectAndIndex) {
     b.write_embedded(dir + "/joint.gltf");
     std::string e = load_error(dir + "/joint.gltf");
     EXPECT_NE(e.find("mesh 0 ('messy') primitive 0 vertex 0: JOINTS_0 lists joint 9, but skin 0 ('rig') has 2 joints"),
+              std::string::npos)
+        << e;
+  }
+  // A negative joint index (a signed component type; the spec allows only unsigned ones).
+  {
+    GltfBuilder b = skinned_plate<int8_t, float>({0, -128, 0, 0}, test::kByte, {0.5f, 0.5f, 0, 0}, test::kFloat,
+                                                 false, 1);
+    b.write_embedded(dir + "/negative_joint.gltf");
+    std::string e = load_error(dir + "/negative_joint.gltf");
+    EXPECT_NE(e.find("mesh 0 ('messy') primitive 0 vertex 0: JOINTS_0 lists joint -128, but skin 0 ('rig') has 2 "
+                     "joints"),
               std::string::npos)
         << e;
   }

@@ -11,6 +11,8 @@
 #include "core/cage_import.h"
 #include "core/demo_character.h"
 #include "core/rig.h"
+#include "core/cage_attachment.h"
+#include "core/skinning.h"
 #include "tests/rig_fixtures.h"
 
 namespace cagewrap {
@@ -311,6 +313,62 @@ TEST(Rig, CreateNamesWhatFailed) {
   ASSERT_FALSE(r.ok());
   EXPECT_EQ(r.error().message,
             "attachment: cage vertex 7 is assigned to node 'body', which is not a joint of skin 'rig'");
+}
+
+// Moving rest cage vertices of the demo (skin-weights attachment, automatic separation on) and
+// rebinding through rebind_document gives what a full bind_document gives, bit for bit, having
+// registered only part of the skin; with a scale of 0 it binds in full.
+TEST(Rig, RestEditRegistersOnlyNearbyPointsAndEqualsAFullBind) {
+  Document doc = test::demo_document();
+  const Character& ch = *doc.character;
+  const std::vector<glm::vec3> skin = skin_character(ch, ch.skeleton.rest_pose());
+  auto attach = [&](const Document& d) {
+    auto a = attach_cage(ch, d.cage_positions(), d.attachment);
+    EXPECT_TRUE(a.ok()) << (a.ok() ? "" : a.error().message);
+    return std::move(a).value();
+  };
+  CageAttachment before_att = attach(doc);
+  ASSERT_TRUE(doc.params.separate);
+  ASSERT_EQ(doc.params.scale, 0.0);
+  // bound as the editor binds it (h from the mean edge length); the edit fixes the scale to that h
+  auto previous = bind_document(doc, skin, &before_att);
+  ASSERT_TRUE(previous.ok()) << previous.error().message;
+  BindParams fixed = doc.params;
+  fixed.scale = previous->h;
+  doc = with_params(doc, fixed);
+
+  // three neighbouring vertices of the belly move out by a few cm
+  std::vector<glm::vec3> rest(doc.cage_positions().begin(), doc.cage_positions().end());
+  const Tri moved = doc.cage->elements[doc.cage->num_elements() / 2];
+  for (uint32_t v : moved) rest[v] += glm::vec3(0.02f, -0.01f, 0.03f);
+  const Document edited = with_cage_positions(doc, rest);
+  CageAttachment after_att = attach(edited);
+
+  RestRebindReport report;
+  auto incremental = rebind_document(edited, skin, &after_att, *previous, &before_att, {}, &report);
+  ASSERT_TRUE(incremental.ok()) << incremental.error().message;
+  auto full = bind_document(edited, skin, &after_att);
+  ASSERT_TRUE(full.ok()) << full.error().message;
+  EXPECT_GE(report.moved_vertices, 3u);
+  EXPECT_GT(report.points, 0u);
+  EXPECT_LT(report.points, skin.size() / 4) << "a local edit registers a small part of the skin";
+  EXPECT_EQ(incremental->offsets, full->offsets);
+  EXPECT_EQ(incremental->ids, full->ids);
+  EXPECT_EQ(incremental->weights, full->weights);
+  EXPECT_EQ(incremental->set_ids, full->set_ids);
+  EXPECT_EQ(incremental->set_weights, full->set_weights);
+  EXPECT_EQ(incremental->rigid_points, full->rigid_points);
+  EXPECT_EQ(incremental->separated, full->separated);
+  EXPECT_EQ(incremental->reach, full->reach);
+  EXPECT_EQ(incremental->rest_cage, full->rest_cage);
+  EXPECT_NE(incremental->weights, previous->weights) << "the edit changed the registration";
+
+  // a scale of 0 now: h follows the mean edge length, so everything is registered again
+  BindParams automatic = edited.params;
+  automatic.scale = 0;
+  auto whole = rebind_document(with_params(edited, automatic), skin, &after_att, *previous, &before_att, {}, &report);
+  ASSERT_TRUE(whole.ok()) << whole.error().message;
+  EXPECT_EQ(report.points, skin.size());
 }
 
 }  // namespace
