@@ -44,12 +44,12 @@ TEST(EditorGui, DemoCharacterIsVisibleFramedAndAnimates) {
 TEST(EditorGui, BadFileKeepsRunningAndSaysWhy) {
   std::string why;
   if (!gui_available(why)) GTEST_SKIP() << why;
-  fs::path bad = fs::temp_directory_path() / "cagewrap_gui_test" / "not_a_character.glb";
+  fs::path bad = gui_test_dir() / "not_a_character.glb";
   fs::create_directories(bad.parent_path());
   { std::ofstream(bad) << "this is not glTF"; }
   Image img = screenshot(bad.string() + " --frames 2", "bad_file");
   EXPECT_EQ(img.w, 1280);  // the editor still ran and rendered: no crash
-  std::ifstream log((fs::temp_directory_path() / "cagewrap_gui_test" / "bad_file.log").string());
+  std::ifstream log((gui_test_dir() / "bad_file.log").string());
   std::string text((std::istreambuf_iterator<char>(log)), std::istreambuf_iterator<char>());
   EXPECT_NE(text.find("not_a_character.glb"), std::string::npos) << text;
 }
@@ -61,7 +61,7 @@ TEST(EditorGui, MannequinDeformsThroughItsCage) {
   std::string args = assets + "/mannequiny.glb --cage " + assets + "/bench/mannequiny/cage.obj";
   Image img = screenshot(args + " --frames 20 --play", "mannequin");
   EXPECT_GT(skin_share(img), 0.01);
-  std::ifstream log((fs::temp_directory_path() / "cagewrap_gui_test" / "mannequin.log").string());
+  std::ifstream log((gui_test_dir() / "mannequin.log").string());
   std::string text((std::istreambuf_iterator<char>(log)), std::istreambuf_iterator<char>());
   EXPECT_NE(text.find("bound 10366 points to 2000 elements"), std::string::npos) << text;
 }
@@ -72,7 +72,7 @@ TEST(EditorGui, MannequinDeformsThroughItsCage) {
 TEST(EditorGui, MoveCageVerticesUndoRedoSave) {
   std::string why;
   if (!gui_available(why)) GTEST_SKIP() << why;
-  fs::path dir = fs::temp_directory_path() / "cagewrap_gui_test";
+  fs::path dir = gui_test_dir();
   fs::create_directories(dir);
   auto shot = [&](const char* n) { return (dir / (std::string("script_") + n + ".png")).string(); };
   fs::path project = dir / "script_project.cagewrap";

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <functional>
 #include <fstream>
 #include <iterator>
 #include <string>
@@ -84,10 +85,18 @@ inline EditorRun run_editor_script(const std::filesystem::path& dir, const std::
   return run;
 }
 
+// A scratch folder for GUI test files, one per build of the editor (two checkouts running their GUI
+// tests at once never share files).
+inline std::filesystem::path gui_test_dir() {
+  std::filesystem::path dir = std::filesystem::temp_directory_path() /
+                              ("cagewrap_gui_test_" + std::to_string(std::hash<std::string>{}(CAGEWRAP_BINARY) % 1000000007));
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
 // Runs the editor and returns the screenshot (asserting exit status 0); its log is NAME.log.
 inline Image screenshot(const std::string& args, const std::string& name) {
-  std::filesystem::path dir = std::filesystem::temp_directory_path() / "cagewrap_gui_test";
-  std::filesystem::create_directories(dir);
+  std::filesystem::path dir = gui_test_dir();
   std::filesystem::path png = dir / (name + ".png");
   std::filesystem::remove(png);
   std::string cmd = editor_command("--width 1280 --height 720 --screenshot " + png.string() + " " + args,
@@ -133,13 +142,6 @@ inline double skin_share(const Image& img) {
       if (p[0] > 90 && p[0] > p[2] + 30) ++skin;
     }
   return total ? double(skin) / total : 0.0;
-}
-
-// A scratch folder for GUI test files.
-inline std::filesystem::path gui_test_dir() {
-  std::filesystem::path dir = std::filesystem::temp_directory_path() / "cagewrap_gui_test";
-  std::filesystem::create_directories(dir);
-  return dir;
 }
 
 }  // namespace cagewrap::test
