@@ -108,11 +108,12 @@ void ClipSimulation::apply(double t, PosedCage& cage) {
   const size_t f0 = static_cast<size_t>(std::floor(f));
   const size_t f1 = std::min(f0 + 1, frames_total() - 1);
   const float s = static_cast<float>(f - static_cast<double>(f0));
-  const auto a = offsets_[f0], b = offsets_[f1];
+  const std::span<const glm::vec3> a = offsets_[f0];
   const size_t nv = cage.positions.size();
-  if (s == 0.0f) {
+  if (s == 0.0f || f1 == f0) {  // on a frame: frame f0 + 1 may not be simulated yet
     for (size_t v = 0; v < nv; ++v) cage.positions[v] += a[v];
   } else {
+    const std::span<const glm::vec3> b = offsets_[f1];
     for (size_t v = 0; v < nv; ++v) cage.positions[v] += a[v] + (b[v] - a[v]) * s;
   }
   if (sim_->num_free() == 0 || !cage.attached) return;

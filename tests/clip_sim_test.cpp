@@ -118,16 +118,16 @@ TEST(ClipSim, CacheReplayEqualsAFreshRunBitForBit) {
 TEST(ClipSim, CacheIsDroppedWhenWhatItDependsOnChanges) {
   Demo& d = demo();
   SimCache cache;
-  ClipSimulation* a = *cache.get(d.belly, d.rig->attachment(), d.walk);
+  ClipSimulation* a = cache.get(d.belly, d.rig->attachment(), d.walk).value();
   a->advance(5);
   // binding parameters do not move the cage: kept
   BindParams p = d.belly.params;
   p.epsilon = 0.2;
-  EXPECT_EQ(*cache.get(with_params(d.belly, p), d.rig->attachment(), d.walk), a);
+  EXPECT_EQ(cache.get(with_params(d.belly, p), d.rig->attachment(), d.walk).value(), a);
   EXPECT_EQ(a->frames_done(), 5u);
   SimSettings s = d.belly.sim;
   s.params.damping = 5.0;
-  ClipSimulation* b = *cache.get(with_sim(d.belly, s), d.rig->attachment(), d.walk);
+  ClipSimulation* b = cache.get(with_sim(d.belly, s), d.rig->attachment(), d.walk).value();
   EXPECT_EQ(b->frames_done(), 0u);
   s.vertices[0].mass = -2.0f;
   EXPECT_TRUE(Fails(cache.get(with_sim(d.belly, s), d.rig->attachment(), d.walk), ErrorCode::kInvalidArgument,
