@@ -69,8 +69,9 @@ run simulate --project "$T/plain.cagewrap" --enable --clip walk --every 0
 check "--enable runs it (every vertex pinned: nothing moves)" has "$T/out" "(0 free)"
 
 # bad settings in the file are named
-sed 's/"mass": \[1, /"mass": [-1, /' "$B" >"$T/bad.cagewrap"
-check "the bad file differs" ! cmp -s "$B" "$T/bad.cagewrap"
+sed 's/"mass": \[1\(\.0\)\{0,1\}, /"mass": [-1, /' "$B" >"$T/bad.cagewrap"
+differs() { ! cmp -s "$1" "$2"; }
+check "the bad file differs" differs "$B" "$T/bad.cagewrap"
 run simulate --project "$T/bad.cagewrap"
 check "a negative mass is refused" [ "$rc" -ne 0 ]
 check "naming the vertex" has "$T/err" "cage vertex 0 has mass -1"
@@ -85,7 +86,7 @@ check "demo-sim cape exits 0" [ "$rc" -eq 0 ]
 check "the cape character is written beside the project" [ -s "$T/cape.glb" ]
 run simulate --project "$C" --clip walk --every 0
 check "simulate the cape exits 0" [ "$rc" -eq 0 ]
-check "the cape's sheet is free below its top row" has "$T/out" "(60 free)"
+check "the cape's sheet is free below its top row" has "$T/out" "(70 free)"
 check "the cape drapes (moves well off its modelled shape)" number_above "$T/out" "largest displacement" 0.05
 
 finish
