@@ -92,8 +92,9 @@ std::vector<glm::vec4> SimPanel::vertex_colors(const SimSettings& sim, size_t nu
 
 void SimPanel::draw(Scene& scene, std::span<const std::pair<uint32_t, float>> weights, const EditorHooks& hooks) {
   if (!visible_) return;
-  ImGui::SetNextWindowPos(ImVec2(280, 140), ImGuiCond_FirstUseEver);
-  ImGui::SetNextWindowSize(ImVec2(390, 520), ImGuiCond_FirstUseEver);
+  // over the view's right edge, so the character in the middle stays visible
+  ImGui::SetNextWindowPos(ImVec2(668, 90), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowSize(ImVec2(310, 455), ImGuiCond_FirstUseEver);
   if (!ImGui::Begin("Simulation", &visible_)) {
     ImGui::End();
     return;
@@ -133,7 +134,7 @@ void SimPanel::draw(Scene& scene, std::span<const std::pair<uint32_t, float>> we
           damping = static_cast<float>(p.damping), freq = static_cast<float>(p.goal_frequency),
           compliance = static_cast<float>(p.edge_compliance), margin = static_cast<float>(p.collision_margin),
           scale = static_cast<float>(p.skeleton_radius_scale), preroll = static_cast<float>(p.preroll);
-    ImGui::PushItemWidth(150);
+    ImGui::PushItemWidth(110);
     ImGui::DragFloat("frames per second", &fr, 1.0f, 1.0f, 240.0f, "%.0f");
     edited();
     ImGui::DragInt("substeps", &p.substeps, 0.2f, 1, 100);
@@ -174,7 +175,7 @@ void SimPanel::draw(Scene& scene, std::span<const std::pair<uint32_t, float>> we
     size_t free = 0;
     for (const SimVertex& w : doc.sim.vertices) free += !w.pinned && w.stiffness < 1.0f;
     ImGui::TextDisabled("%zu of %zu cage vertices simulated; %zu selected", free, doc.cage->num_vertices(), weights.size());
-    ImGui::PushItemWidth(120);
+    ImGui::PushItemWidth(70);
     ImGui::DragFloat("mass", &mass_, 0.01f, 0.01f, 100.0f, "%.2f");
     ImGui::SameLine();
     ImGui::DragFloat("stiffness", &stiffness_, 0.01f, 0.0f, 1.0f, "%.2f");

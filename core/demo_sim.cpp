@@ -55,8 +55,10 @@ Result<DemoCape> make_demo_cape(const Character& demo, const PolyMesh& body_cage
   out.character.source = "demo character with a cape (generated)";
   const PolyMesh skin = grid_sheet(origin, right, down, 40, 80);
   Primitive cape;
-  cape.mesh_name = "cape";
-  cape.mesh = 1;
+  // a second primitive of the body's mesh (a glTF node holds one mesh)
+  cape.mesh_name = demo.primitives[0].mesh_name;
+  cape.mesh = demo.primitives[0].mesh;
+  cape.primitive = static_cast<uint32_t>(demo.primitives.size());
   cape.node = demo.primitives[0].node;
   cape.skin = 0;
   cape.positions = skin.positions;

@@ -32,7 +32,7 @@ PolyMesh grid_sheet(const glm::dvec3& origin, const glm::dvec3& right, const glm
 SimSettings demo_belly_sim(std::span<const glm::vec3> cage_rest);
 
 struct DemoCape {
-  Character character;      // the demo character plus a primitive "cape" skinned to its chest
+  Character character;      // the demo character plus a second primitive (the cape) skinned to its chest
   PolyMesh cage;            // the body cage's faces, then the cape sheet's
   uint32_t first_cape_vertex = 0;
   BindParams params;        // a distance unit small enough that the body and the cape stay apart
