@@ -11,15 +11,6 @@ DEMO="$ROOT/assets/demo_character.glb"
 CAGE="$ROOT/assets/demo_cage.obj"
 [ -f "$DEMO" ] && [ -f "$CAGE" ] || { echo "skipped: $DEMO or $CAGE not found"; exit 77; }
 
-# maxdiff A.obj B.obj: the largest coordinate difference between their vertices
-maxdiff() {
-  awk 'function abs(x) { return x < 0 ? -x : x }
-    FNR == NR { if ($1 == "v") { n++; x[n] = $2; y[n] = $3; z[n] = $4 } next }
-    $1 == "v" { m++; d = abs($2 - x[m]); if (abs($3 - y[m]) > d) d = abs($3 - y[m]); if (abs($4 - z[m]) > d) d = abs($4 - z[m])
-      if (d > worst) worst = d }
-    END { if (m != n) { print "count " m " != " n; exit 1 } printf "%.9g\n", worst }' "$1" "$2"
-}
-above() { local d; d=$(maxdiff "$2" "$3") || { echo "$d"; return 1; }; awk -v d="$d" -v l="$1" 'BEGIN { exit !(d > l) }' || { echo "max difference $d, want > $1"; return 1; }; }
 # number_above FILE REGEX LIMIT: the first number after REGEX in FILE is above LIMIT
 number_above() { local v; v=$(grep -o -- "$2 [0-9.e+-]*" "$1" | head -1 | awk '{print $NF}'); awk -v v="$v" -v l="$3" 'BEGIN { exit !(v + 0 > l) }' || { echo "'$2' is '$v', want > $3"; return 1; }; }
 
