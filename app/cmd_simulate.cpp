@@ -1,7 +1,7 @@
 // cagewrap simulate --project P [--clip NAME|INDEX|all] [--enable] [--every n] [--json]
 // Runs the project's cage simulation (core/clip_sim.h) over clips, as the editor's playback and the
 // baked-animation export do, and prints per-frame figures (solve time, largest displacement from
-// the skinned cage, energy) and a summary with the milliseconds per frame.
+// the skinned cage, energy, largest edge stretch) and a summary with the milliseconds per frame.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -85,10 +85,11 @@ void add_simulate_command(CLI::App& app, int& exit_code) {
       const double total_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
       const auto stats = sim->stats();
       std::vector<double> ms;
-      double largest = 0.0;
+      double largest = 0.0, strain = 0.0;
       for (const SimFrameStats& s : stats) {
         ms.push_back(s.ms);
         largest = std::max(largest, s.max_offset);
+        strain = std::max(strain, s.edge_strain);
       }
       std::vector<double> sorted = ms;
       std::sort(sorted.begin(), sorted.end());
@@ -100,7 +101,7 @@ void add_simulate_command(CLI::App& app, int& exit_code) {
         nlohmann::json frames = nlohmann::json::array();
         for (size_t f = 0; f < stats.size(); ++f)
           frames.push_back({{"time", sim->frame_time(f)}, {"ms", stats[f].ms}, {"max_offset", stats[f].max_offset},
-                            {"energy", stats[f].energy}});
+                            {"energy", stats[f].energy}, {"edge_strain", stats[f].edge_strain}});
         out.push_back({{"clip", name},
                        {"frames", stats.size()},
                        {"vertices", solver.num_vertices()},
@@ -112,6 +113,7 @@ void add_simulate_command(CLI::App& app, int& exit_code) {
                        {"ms_per_frame_max", worst},
                        {"total_ms_with_posing", total_ms},
                        {"max_offset", largest},
+                       {"max_edge_strain", strain},
                        {"per_frame", frames}});
         continue;
       }
@@ -119,14 +121,14 @@ void add_simulate_command(CLI::App& app, int& exit_code) {
                   name.c_str(), stats.size(), doc.sim.params.frame_rate, doc.sim.params.substeps, solver.dt(),
                   solver.num_vertices(), solver.num_free(), solver.num_edges());
       if (args->every > 0) {
-        std::printf("  frame   time s   solve ms   max offset m   energy\n");
+        std::printf("  frame   time s   solve ms   max offset m   edge stretch   energy\n");
         for (size_t f = 0; f < stats.size(); f += args->every)
-          std::printf("  %5zu  %7.3f  %9.3f  %13.5f  %.4g\n", f, sim->frame_time(f), stats[f].ms, stats[f].max_offset,
-                      stats[f].energy);
+          std::printf("  %5zu  %7.3f  %9.3f  %13.5f  %12.4f%%  %.4g\n", f, sim->frame_time(f), stats[f].ms,
+                      stats[f].max_offset, 100.0 * stats[f].edge_strain, stats[f].energy);
       }
       std::printf("  solve ms/frame: median %.3f, mean %.3f, max %.3f (one thread); %.1f ms in all with posing; "
-                  "largest displacement %.4f m\n",
-                  median, mean, worst, total_ms, largest);
+                  "largest displacement %.4f m; largest edge stretch %.2f%%\n",
+                  median, mean, worst, total_ms, largest, 100.0 * strain);
     }
     if (args->json) std::printf("%s\n", out.dump(2).c_str());
     exit_code = 0;

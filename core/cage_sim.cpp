@@ -303,4 +303,11 @@ double CageSim::energy() const {
   return e;
 }
 
+double CageSim::max_edge_strain() const {
+  double worst = 0.0;
+  for (const Edge& e : edge_)
+    if (e.rest > 0.0) worst = std::max(worst, std::abs(glm::length(x_[e.a] - x_[e.b]) - e.rest) / e.rest);
+  return worst;
+}
+
 }  // namespace cagewrap

@@ -147,6 +147,9 @@ class CageSim {
   // Kinetic energy sum 1/2 m |v|^2 plus the goal springs' energy sum 1/2 k |x - target|^2 of the free
   // vertices (targets of the last frame).
   double energy() const;
+  // The largest relative change of an edge's length from its rest length, |l - l0| / l0, over the
+  // edges the solver keeps (0 without edges): how far the cloth stretches.
+  double max_edge_strain() const;
 
  private:
   CageSim() = default;

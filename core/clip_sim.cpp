@@ -88,6 +88,7 @@ size_t ClipSimulation::advance(size_t max_frames, double budget_ms) {
       st.max_offset = std::max(st.max_offset, static_cast<double>(glm::length(off[v])));
     }
     st.energy = sim_->energy();
+    st.edge_strain = sim_->max_edge_strain();
     offsets_.push_back(std::move(off));
     stats_.push_back(st);
     ++made;

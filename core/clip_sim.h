@@ -38,6 +38,7 @@ struct SimFrameStats {
   double ms = 0.0;             // wall time of the frame's solve (the substeps only, not the posing)
   double max_offset = 0.0;     // largest |displacement| from the skinned position (m)
   double energy = 0.0;         // CageSim::energy after the frame
+  double edge_strain = 0.0;    // CageSim::max_edge_strain after the frame
 };
 
 class ClipSimulation {

@@ -11,7 +11,8 @@ DEMO="$ROOT/assets/demo_character.glb"
 CAGE="$ROOT/assets/demo_cage.obj"
 [ -f "$DEMO" ] && [ -f "$CAGE" ] || { echo "skipped: $DEMO or $CAGE not found"; exit 77; }
 
-# number_above FILE REGEX LIMIT: the first number after REGEX in FILE is above LIMIT
+# number_above / number_below FILE REGEX LIMIT: the first number after REGEX in FILE is above / below LIMIT
+number_below() { local v; v=$(grep -o -- "$2 [0-9.e+-]*" "$1" | head -1 | awk '{print $NF}'); awk -v v="$v" -v l="$3" 'BEGIN { exit !(v != "" && v + 0 < l) }' || { echo "'$2' is '$v', want < $3"; return 1; }; }
 number_above() { local v; v=$(grep -o -- "$2 [0-9.e+-]*" "$1" | head -1 | awk '{print $NF}'); awk -v v="$v" -v l="$3" 'BEGIN { exit !(v + 0 > l) }' || { echo "'$2' is '$v', want > $3"; return 1; }; }
 
 # ------------------------------------------------------------------------------------ belly
@@ -79,5 +80,6 @@ run simulate --project "$C" --clip walk --every 0
 check "simulate the cape exits 0" [ "$rc" -eq 0 ]
 check "the cape's sheet is free below its top row" has "$T/out" "(70 free)"
 check "the cape drapes (moves well off its modelled shape)" number_above "$T/out" "largest displacement" 0.05
+check "the cloth keeps its edge lengths within 10%" number_below "$T/out" "largest edge stretch" 10
 
 finish
