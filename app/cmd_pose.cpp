@@ -115,10 +115,13 @@ void add_pose_command(CLI::App& app, int& exit_code) {
     }
     auto rig = rig_of_project(doc, P);
     if (!rig) return;
-    Pose pose = compose_pose(ch, clip, args->time, args->loop, overrides);
     PosedCage posed;
     std::vector<glm::vec3> skin(rig->num_skin_points());
-    if (auto s = rig->pose(doc, pose, posed, skin); !s) {
+    // a clip plays: through pose_clip, which applies the cage's simulation when the project has one
+    auto s = clip < 0 ? rig->pose(doc, compose_pose(ch, clip, args->time, args->loop, overrides), posed, skin)
+                      : rig->pose_clip(doc, clip, clip_time(args->time, ch.clips[clip].duration, args->loop),
+                                       overrides, posed, skin);
+    if (!s) {
       report_error(
           {s.error().code, P + (clip >= 0 ? " (clip '" + ch.clips[clip].name + "')" : std::string()) + ": " +
                                s.error().message});
@@ -143,9 +146,10 @@ void add_pose_command(CLI::App& app, int& exit_code) {
       when = "clip '" + ch.clips[clip].name + "' t=" + t + " s";
     }
     std::printf(
-        "posed %zu skin vertices of %s at %s%s (%s attachment, %zu of %zu keypose sets active), wrote %s\n",
+        "posed %zu skin vertices of %s at %s%s (%s attachment, %zu of %zu keypose sets active%s), wrote %s\n",
         skin.size(), P.c_str(), when.c_str(), args->pose.empty() ? "" : " with --pose overrides",
-        attachment_mode_name(doc.attachment.mode), active, doc.keyposes.size(), args->out.c_str());
+        attachment_mode_name(doc.attachment.mode), active, doc.keyposes.size(),
+        doc.sim.enabled && clip >= 0 ? ", cage simulated" : "", args->out.c_str());
     exit_code = 0;
   });
 }

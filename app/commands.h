@@ -19,5 +19,7 @@ void add_cage_edit_command(CLI::App& app, int& exit_code);
 void add_pose_command(CLI::App& app, int& exit_code);
 void add_export_command(CLI::App& app, int& exit_code);
 void add_project_command(CLI::App& app, int& exit_code);
+void add_simulate_command(CLI::App& app, int& exit_code);
+void add_demo_sim_command(CLI::App& app, int& exit_code);
 
 }  // namespace cagewrap::app

@@ -27,6 +27,7 @@
 #include "app/export_panel.h"
 #include "app/rig_panel.h"
 #include "app/sets_panel.h"
+#include "app/sim_panel.h"
 #include "app/skin_display.h"
 #include "app/editor_files.h"
 #include "app/editor_scene.h"
@@ -86,6 +87,8 @@ class Editor {
   double rig_mirror_tolerance() const;
   IndexSet move_set() const;
   Result<MoveWeights> move_weights_now() const;
+  // The selected cage vertices with their soft-selection shares, for the Simulation window.
+  std::vector<std::pair<uint32_t, float>> sim_paint_weights() const;
   std::optional<glm::dvec3> selection_centre() const;
   GizmoLayout gizmo() const;
   void apply_move(const glm::dvec3& total);
@@ -203,6 +206,7 @@ class Editor {
   SkinDisplay skin_display_;  // the skin on the GPU or the CPU, and the frame-time split
   RigPanel rig_panel_;
   SetsPanel sets_panel_;
+  SimPanel sim_panel_;
   bool painting_ = false;  // a set-edit brush stroke in progress
   bool skin_colored_ = false;
   EditorHooks hooks_;
@@ -330,6 +334,7 @@ void Editor::update_selection_display() {
     key += std::to_string(set->size()) + ":";
     for (uint32_t i : *set) key += std::to_string(i) + ",";
   }
+  if (sim_panel_.visible()) key += "/sim" + std::to_string(scene_->doc().revision);
   key += "/bones" + std::to_string(color_by_bone_) + std::to_string(reinterpret_cast<uintptr_t>(scene_->attachment ? scene_->attachment->joint.data() : nullptr));
   if (key == display_key_) return;
   display_key_ = std::move(key);
@@ -349,6 +354,7 @@ void Editor::update_selection_display() {
         bone_colors_[v] = glm::vec4(0.25f + 0.7f * rgb, 1.0f);
       }
     }
+    if (sim_panel_.visible()) bone_colors_ = SimPanel::vertex_colors(scene_->doc().sim, cage->num_vertices());
     if (mode_ == SelectMode::kJoints && !selection_.joints.empty()) {
       cage_weights_.assign(cage->num_vertices(), 0.0f);
       for (size_t v = 0; v < cage_weights_.size(); ++v) {
@@ -489,6 +495,16 @@ Result<MoveWeights> Editor::move_weights_now() const {
   MirrorParams mirror = mirror_;
   mirror.tolerance = mirror_tolerance();
   return move_weights(move_set(), cage.polygons.positions, cage.polygons, soft_, mirror);
+}
+
+std::vector<std::pair<uint32_t, float>> Editor::sim_paint_weights() const {
+  std::vector<std::pair<uint32_t, float>> out;
+  if (!scene_ || !scene_->doc().cage || move_set().empty()) return out;
+  auto w = move_weights_now();
+  if (!w) return out;
+  for (size_t i = 0; i < w->vertices.size(); ++i)
+    out.emplace_back(w->vertices[i], std::max(w->direct[i], w->mirrored[i]));
+  return out;
 }
 
 std::optional<glm::dvec3> Editor::selection_centre() const {
@@ -1029,6 +1045,7 @@ void Editor::draw_menu() {
   if (ImGui::BeginMenu("Rig", scene_ != nullptr)) {
     ImGui::MenuItem("Attachment and keyposes...", "K", &rig_panel_.visible());
     ImGui::MenuItem("Contributing sets...", "J", &sets_panel_.visible());
+    ImGui::MenuItem("Simulation...", nullptr, &sim_panel_.visible());
     if (ImGui::MenuItem("Reset pose")) scene_->pose_override.clear();
     ImGui::MenuItem("Show the file's own skinning", "L", &scene_->show_file_skinning);
     ImGui::EndMenu();
@@ -1532,6 +1549,9 @@ void Editor::guard_unsaved(std::function<void()> action) {
 //   open_asking PATH | answer save|discard|cancel | import_cage PATH | pose NODE X Y Z | reset_pose | compare on|off
 //   rotate_drag x|y|z|view DEGREES | attach rigid|smooth [W]|skin_weights|joint|auto | keyset x|y|z | key
 //   mirror_keyset | rig_panel | sets_panel [MAP] | set_edit remove|add|only|reset [mirror]
+//   sim_panel | sim on|off | sim_weights pin|free [MASS STIFFNESS] (the selected cage vertices) |
+//   sim_param gravity|damping|goal_frequency|iterations|substeps|preroll|margin|skeleton|edges VALUE |
+//   sim_collider plane|sphere|capsule AX AY AZ BX BY BZ R | sim_remove_collider I (the Simulation window)
 //   paint_at_skin_vertex I [RADIUS] | select_limb_faces | export_window | export_cancel
 //   export_browse | export_press (the window's Browse... and Export buttons)
 //   bind_param local|epsilon|max_elements|scale|max_distance|separation_steps|variant VALUE (the
@@ -1713,6 +1733,43 @@ void Editor::run_script_step() {
       rig_panel_.key(*scene_, hooks_);
     } else if (cmd == "mirror_keyset") {
       rig_panel_.mirror_set(*scene_, rig_mirror_tolerance(), hooks_);
+    } else if (cmd == "sim_panel") {
+      sim_panel_.visible() = true;
+    } else if (cmd == "sim") {
+      std::string what;
+      in >> what;
+      sim_panel_.set_enabled(*scene_, what != "off", hooks_);
+    } else if (cmd == "sim_weights") {
+      std::string what;
+      float mass = 1.0f, stiffness = 0.3f;
+      in >> what >> mass >> stiffness;
+      sim_panel_.set_weights(*scene_, sim_paint_weights(), what == "pin", mass, stiffness, hooks_);
+    } else if (cmd == "sim_param") {
+      std::string name;
+      double value = 0.0;
+      in >> name >> value;
+      SimParams p = scene_->doc().sim.params;
+      if (name == "gravity") p.gravity.y = value;
+      else if (name == "damping") p.damping = value;
+      else if (name == "goal_frequency") p.goal_frequency = value;
+      else if (name == "iterations") p.iterations = static_cast<int>(value);
+      else if (name == "substeps") p.substeps = static_cast<int>(value);
+      else if (name == "preroll") p.preroll = value;
+      else if (name == "margin") p.collision_margin = value;
+      else if (name == "skeleton") p.skeleton_colliders = value != 0.0;
+      else if (name == "edges") p.edges = value != 0.0;
+      else log("error: script: unknown simulation parameter '" + name + "'", true);
+      sim_panel_.set_params(*scene_, p, hooks_);
+    } else if (cmd == "sim_collider") {
+      std::string kind;
+      Collider c;
+      in >> kind >> c.a.x >> c.a.y >> c.a.z >> c.b.x >> c.b.y >> c.b.z >> c.radius;
+      if (!parse_collider_kind(kind, c.kind)) log("error: script: unknown collider kind '" + kind + "'", true);
+      else sim_panel_.add_collider(*scene_, c, hooks_);
+    } else if (cmd == "sim_remove_collider") {
+      size_t i = 0;
+      in >> i;
+      sim_panel_.remove_collider(*scene_, i, hooks_);
     } else if (cmd == "rig_panel") {
       rig_panel_.visible() = true;
     } else if (cmd == "sets_panel") {  // [none|influence|size|flags|separated]: opens it with that map
@@ -1960,6 +2017,7 @@ void Editor::draw_panels() {
   if (scene_) export_panel_.draw(*scene_, hooks_);
   if (scene_) rig_panel_.draw(*scene_, selection_, mirror_.enabled, rig_mirror_tolerance(), hooks_);
   if (scene_) sets_panel_.draw(*scene_, selection_, hooks_);
+  if (scene_ && sim_panel_.visible()) sim_panel_.draw(*scene_, sim_paint_weights(), hooks_);
   draw_help();
   // last: a window appearing after a modal's first Begin in the same frame trips an assertion in
   // Dear ImGui 1.86 (FindBlockingModal), and at start-up every panel appears with the prompt
@@ -2087,6 +2145,8 @@ int Editor::run() {
       }
       // scripted runs advance a fixed 1/30 s per frame so they are reproducible
       scene_->player.advance(scripted ? 1.0 / 30.0 : dt);
+      // the cage simulation fills a few milliseconds a frame; a script waits for all of it
+      scene_->fill_simulation(scripted ? 0.0 : 6.0);
       skin_display_.before_pose(*scene_);
       scene_->update_pose();
       if (topology_dirty_) upload_topology();

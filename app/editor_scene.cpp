@@ -224,6 +224,14 @@ void Scene::update_pose() {
   if (cage) {
     // the driver: rest cage + the artist's offsets + keyposes, carried by the skeleton (core/rig.h)
     pose_document_cage(doc(), attachment ? &*attachment : nullptr, pose, posed);
+    sim_shown = false;
+    if (ClipSimulation* sim = simulation()) {
+      const double t = player.time();
+      if (sim->frames_done() >= sim->frames_needed(t)) {
+        sim->apply(t, posed);
+        sim_shown = true;
+      }
+    }
     cage_posed = posed.positions;
     cage_linear = posed.linear;
     cage_skinning = posed.skinning;
@@ -239,6 +247,23 @@ void Scene::update_pose() {
   if (show_file_skinning) skin_from_cage = false;
   skin_stale_ = skin_from_cage && skin_on_gpu;
   if (!skin_from_cage) skin_posed_ = skin_character(ch, pose);
+}
+
+ClipSimulation* Scene::simulation() {
+  sim_error.clear();
+  if (!doc().sim.enabled || clip < 0 || !doc().cage) return nullptr;
+  auto sim = sim_cache.get(doc(), attachment ? &*attachment : nullptr, clip);
+  if (!sim) {
+    sim_error = sim.error().message;
+    return nullptr;
+  }
+  return *sim;
+}
+
+void Scene::fill_simulation(double budget_ms) {
+  ClipSimulation* sim = simulation();
+  if (!sim || sim->done()) return;
+  sim->advance(sim->frames_total(), budget_ms);
 }
 
 const std::vector<glm::vec3>& Scene::skin_posed() {

@@ -17,6 +17,7 @@
 #include "core/cage.h"
 #include "core/cage_attachment.h"
 #include "core/character.h"
+#include "core/clip_sim.h"
 #include "core/deformer.h"
 #include "core/document.h"
 #include "core/project_io.h"
@@ -84,6 +85,18 @@ struct Scene {
   const std::vector<glm::vec3>& skin_posed();
   // The skin's triangles (skin_topology, whose faces are all triangles).
   std::span<const Tri> skin_triangles() const;
+
+  // The cage simulation (core/clip_sim.h) of the current clip, when the document has it on: its
+  // frames are filled a little each UI frame (fill_simulation) and update_pose shows them once the
+  // frames around the player's time are there (the plain skinned cage until then).
+  SimCache sim_cache;
+  bool sim_shown = false;  // this frame's cage has the simulation applied
+  std::string sim_error;   // why the simulation cannot run ("" = it can, or it is off)
+  // The current clip's simulation (made when needed), or null when it is off, no clip plays or the
+  // settings are invalid (sim_error says why).
+  ClipSimulation* simulation();
+  // Simulates more frames of the current clip for up to budget_ms of wall time (0: all of them).
+  void fill_simulation(double budget_ms);
 
   bool needs_rebind() const;
   // Takes a binding made earlier for the document as it is (a project's cache: the caller checked

@@ -62,6 +62,7 @@ Document with_cage(const Document& doc, std::shared_ptr<const Cage> cage) {
   if (before != after) {
     out.attachment.overrides.clear();
     clear_vertex_data(out.keyposes);
+    out.sim.vertices.clear();
   }
   out.revision = next_revision();
   return out;
@@ -98,6 +99,13 @@ Document with_attachment(const Document& doc, AttachmentSettings attachment) {
 Document with_keyposes(const Document& doc, std::vector<KeyposeSet> keyposes) {
   Document out = doc;
   out.keyposes = std::move(keyposes);
+  out.revision = next_revision();
+  return out;
+}
+
+Document with_sim(const Document& doc, SimSettings sim) {
+  Document out = doc;
+  out.sim = std::move(sim);
   out.revision = next_revision();
   return out;
 }
@@ -167,7 +175,14 @@ bool same_content(const Document& a, const Document& b) {
          a.cache_binding == b.cache_binding && same_cage(a.cage.get(), b.cage.get()) &&
          same_offsets(a.cage_offsets, b.cage_offsets) && same_params(a.params, b.params) &&
          same_set_edits(a.set_edits, b.set_edits) && a.attachment == b.attachment &&
-         a.keyposes == b.keyposes && a.preserved_fields == b.preserved_fields;
+         a.keyposes == b.keyposes && a.sim == b.sim && a.preserved_fields == b.preserved_fields;
+}
+
+bool same_cage_motion(const Document& a, const Document& b) {
+  const bool same_character =
+      a.character == b.character || (!a.character_hash.empty() && a.character_hash == b.character_hash);
+  return same_character && same_cage(a.cage.get(), b.cage.get()) && same_offsets(a.cage_offsets, b.cage_offsets) && a.attachment == b.attachment && a.keyposes == b.keyposes &&
+         a.sim == b.sim;
 }
 
 size_t estimated_bytes(const Character& c) {
@@ -197,6 +212,8 @@ size_t estimated_own_bytes(const Document& doc) {
              doc.preserved_fields.size() + doc.project_path.size() + vector_bytes(doc.set_edits);
   for (const SetEdit& e : doc.set_edits) n += vector_bytes(e.exclude) + vector_bytes(e.include);
   n += vector_bytes(doc.cage_offsets) + vector_bytes(doc.attachment.overrides) + vector_bytes(doc.keyposes);
+  n += vector_bytes(doc.sim.vertices) + vector_bytes(doc.sim.colliders);
+  for (const Collider& c : doc.sim.colliders) n += c.name.size();
   for (const KeyposeSet& s : doc.keyposes) {
     n += s.name.size() + vector_bytes(s.drivers) + vector_bytes(s.keys);
     for (const KeyposeKey& k : s.keys)

@@ -16,6 +16,7 @@
 #include "core/binding.h"
 #include "core/cage.h"
 #include "core/cage_attachment.h"
+#include "core/cage_sim.h"
 #include "core/character.h"
 #include "core/keyposes.h"
 #include "core/result.h"
@@ -64,6 +65,9 @@ struct Document {
   // Cage vertex offsets keyed against joint angles (core/keyposes.h), added to cage_offsets at
   // each pose before the cage is posed (core/rig.h).
   std::vector<KeyposeSet> keyposes;
+  // Secondary motion of the cage (core/cage_sim.h): on or off, parameters, per-vertex weights
+  // (#Vc or empty) and colliders; applied per clip by core/clip_sim.h.
+  SimSettings sim;
   // A JSON object (text) of what the project file held that this build does not understand
   // ("extensions" and unknown top-level fields), written back unchanged on save. "" = nothing.
   std::string preserved_fields;
@@ -106,6 +110,7 @@ Document with_params(const Document& doc, const BindParams& params);
 Document with_set_edits(const Document& doc, std::vector<SetEdit> edits);
 Document with_attachment(const Document& doc, AttachmentSettings attachment);
 Document with_keyposes(const Document& doc, std::vector<KeyposeSet> keyposes);
+Document with_sim(const Document& doc, SimSettings sim);
 // The character file moved (or was replaced): new path, hash and data.
 Document with_character(const Document& doc, std::shared_ptr<const Character> character, std::string path,
                         std::string hash);
@@ -119,6 +124,9 @@ Document with_cache_binding(const Document& doc, bool cache);
 // revisions are not compared.
 bool same_content(const Document& a, const Document& b);
 bool same_params(const BindParams& a, const BindParams& b);
+// True when the driver cage moves the same at every pose: same character hash, cage, cage offsets,
+// attachment settings, keyposes and simulation settings (what a cached simulation depends on).
+bool same_cage_motion(const Document& a, const Document& b);
 bool same_set_edits(std::span<const SetEdit> a, std::span<const SetEdit> b);
 
 // Estimated heap bytes, for the undo memory cap (History counts shared data once).

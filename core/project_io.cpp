@@ -26,7 +26,7 @@ namespace {
 
 const char* const kKnownFields[] = {"format",     "version",  "recovery",      "character",
                                     "cage",       "binding",  "set_edits",     "attachment",
-                                    "keyposes",   "extensions", "binding_cache"};
+                                    "keyposes",   "extensions", "binding_cache", "simulation"};
 
 // The members of "binding_cache.inputs", in the order they are written.
 const std::pair<const char*, std::string BindingInputs::*> kInputFields[] = {
@@ -130,6 +130,51 @@ std::string keyposes_text(const Document& doc) {
   return s;
 }
 
+// "simulation" (only when the settings differ from the defaults, so older files stay as they were).
+std::string simulation_text(const Document& doc) {
+  const SimSettings& sim = doc.sim;
+  if (sim == SimSettings{}) return "";
+  const SimParams& p = sim.params;
+  Json params = {{"enabled", sim.enabled},
+                 {"frame_rate", p.frame_rate},
+                 {"substeps", p.substeps},
+                 {"iterations", p.iterations},
+                 {"gravity", {p.gravity.x, p.gravity.y, p.gravity.z}},
+                 {"damping", p.damping},
+                 {"goal_frequency", p.goal_frequency},
+                 {"edges", p.edges},
+                 {"edge_compliance", p.edge_compliance},
+                 {"collision_margin", p.collision_margin},
+                 {"skeleton_colliders", p.skeleton_colliders},
+                 {"skeleton_radius_scale", p.skeleton_radius_scale},
+                 {"preroll", p.preroll}};
+  std::string s = "  \"simulation\": " + one_line(params);
+  s.pop_back();  // the closing brace: the per-vertex weights and colliders follow
+  if (!sim.vertices.empty()) {
+    std::string pinned, mass, stiffness;
+    for (size_t v = 0; v < sim.vertices.size(); ++v) {
+      const char* sep = v ? ", " : "";
+      pinned += sep + std::string(sim.vertices[v].pinned ? "1" : "0");
+      mass += sep + number(short_float(sim.vertices[v].mass));
+      stiffness += sep + number(short_float(sim.vertices[v].stiffness));
+    }
+    s += ",\n    \"pinned\": [" + pinned + "],\n    \"mass\": [" + mass + "],\n    \"stiffness\": [" + stiffness + "]";
+  }
+  s += ",\n    \"colliders\": [";
+  for (size_t c = 0; c < sim.colliders.size(); ++c) {
+    const Collider& k = sim.colliders[c];
+    Json j = {{"name", k.name},
+              {"kind", collider_kind_name(k.kind)},
+              {"a", {k.a.x, k.a.y, k.a.z}},
+              {"b", {k.b.x, k.b.y, k.b.z}},
+              {"radius", k.radius}};
+    if (k.node >= 0) j["node"] = node_ref(doc, static_cast<uint32_t>(k.node));
+    s += std::string(c ? "," : "") + "\n      " + one_line(j);
+  }
+  s += sim.colliders.empty() ? "]},\n" : "\n    ]},\n";
+  return s;
+}
+
 // "binding_cache": the record (its file relative to the project's folder), or {} when caching is on
 // and nothing is cached.
 std::string binding_cache_text(const std::string& path, const BindingCacheRecord& record) {
@@ -206,6 +251,9 @@ Result<std::string> project_text(const std::string& path, const Document& doc, c
   s += doc.set_edits.empty() ? "],\n" : "\n  ],\n";
   s += attachment_text(doc);
   s += keyposes_text(doc);
+  if (auto v = validate_sim_settings(doc.sim, positions.size(), num_nodes); !v)
+    return make_error(v.error().code, path + ": not saved: " + v.error().message);
+  s += simulation_text(doc);
   if (cache) s += binding_cache_text(path, *cache);
   s += "  \"extensions\": " + (preserved.contains("extensions") ? preserved["extensions"] : Json::object()).dump();
   for (const auto& [key, value] : preserved.items())
@@ -363,6 +411,86 @@ AttachmentSettings read_attachment(const Reader& r, const Json& a, const Charact
     out = with_overrides_per_vertex(out, per_vertex);
   }
   warn_unknown(a, "attachment", {"mode", "smooth_width", "overrides"}, warnings, file);
+  return out;
+}
+
+glm::dvec3 read_dvec3(const Reader& r, const Json& j, const std::string& path) {
+  if (!j.is_array() || j.size() != 3)
+    r.fail(ErrorCode::kParse, path + " should be [x, y, z], not " + Reader::show(j));
+  return {r.number(j[0], path + "[0]"), r.number(j[1], path + "[1]"), r.number(j[2], path + "[2]")};
+}
+
+// "simulation": every field optional (the default when absent); checked by validate_sim_settings.
+SimSettings read_simulation(const Reader& r, const Json& j, const Character& character, size_t num_vertices,
+                            std::vector<std::string>& warnings, const std::string& file) {
+  if (!j.is_object()) r.fail(ErrorCode::kParse, "simulation should be an object, not " + Reader::show(j));
+  SimSettings out;
+  SimParams& p = out.params;
+  auto number = [&](const char* key, double& x) {
+    if (j.contains(key)) x = r.number(j[key], Reader::join("simulation", key));
+  };
+  auto whole = [&](const char* key, int& x) {
+    if (j.contains(key)) x = static_cast<int>(std::min<uint32_t>(r.index(j[key], Reader::join("simulation", key)), 1000000));
+  };
+  auto flag = [&](const char* key, bool& x) {
+    if (j.contains(key)) x = r.boolean(j[key], Reader::join("simulation", key));
+  };
+  flag("enabled", out.enabled);
+  number("frame_rate", p.frame_rate);
+  whole("substeps", p.substeps);
+  whole("iterations", p.iterations);
+  if (j.contains("gravity")) p.gravity = read_dvec3(r, j["gravity"], "simulation.gravity");
+  number("damping", p.damping);
+  number("goal_frequency", p.goal_frequency);
+  flag("edges", p.edges);
+  number("edge_compliance", p.edge_compliance);
+  number("collision_margin", p.collision_margin);
+  flag("skeleton_colliders", p.skeleton_colliders);
+  number("skeleton_radius_scale", p.skeleton_radius_scale);
+  number("preroll", p.preroll);
+  if (j.contains("pinned") || j.contains("mass") || j.contains("stiffness")) {
+    const Json& pinned = r.array(r.field(j, "simulation", "pinned"), "simulation.pinned");
+    const Json& mass = r.array(r.field(j, "simulation", "mass"), "simulation.mass");
+    const Json& stiffness = r.array(r.field(j, "simulation", "stiffness"), "simulation.stiffness");
+    for (const auto& [name, list] : {std::pair{"pinned", &pinned}, {"mass", &mass}, {"stiffness", &stiffness}})
+      if (list->size() != num_vertices)
+        r.fail(ErrorCode::kTopologyMismatch, std::string("simulation.") + name + " has " + std::to_string(list->size()) +
+                                                 " entries but the cage has " + std::to_string(num_vertices) +
+                                                 " vertices");
+    out.vertices.resize(num_vertices);
+    for (size_t v = 0; v < num_vertices; ++v) {
+      const uint32_t pin = r.index(pinned[v], Reader::at("simulation.pinned", v));
+      if (pin > 1) r.fail(ErrorCode::kParse, Reader::at("simulation.pinned", v) + " should be 0 or 1");
+      out.vertices[v] = {pin == 1, r.finite_float(mass[v], Reader::at("simulation.mass", v)),
+                         r.finite_float(stiffness[v], Reader::at("simulation.stiffness", v))};
+    }
+  }
+  if (j.contains("colliders")) {
+    const Json& list = r.array(j["colliders"], "simulation.colliders");
+    for (size_t c = 0; c < list.size(); ++c) {
+      const std::string path = Reader::at("simulation.colliders", c);
+      const Json& k = list[c];
+      if (!k.is_object()) r.fail(ErrorCode::kParse, path + " should be an object, not " + Reader::show(k));
+      Collider col;
+      if (k.contains("name")) col.name = r.string(k["name"], Reader::join(path, "name"));
+      const std::string kind = r.string(r.field(k, path, "kind"), Reader::join(path, "kind"));
+      if (!parse_collider_kind(kind, col.kind))
+        r.fail(ErrorCode::kParse, Reader::join(path, "kind") + " is '" + kind + "'; expected plane, sphere or capsule");
+      col.a = read_dvec3(r, r.field(k, path, "a"), Reader::join(path, "a"));
+      if (k.contains("b")) col.b = read_dvec3(r, k["b"], Reader::join(path, "b"));
+      if (k.contains("radius")) col.radius = r.number(k["radius"], Reader::join(path, "radius"));
+      if (k.contains("node")) col.node = static_cast<int32_t>(read_node(r, k["node"], Reader::join(path, "node"), character.skeleton));
+      warn_unknown(k, path, {"name", "kind", "a", "b", "radius", "node"}, warnings, file);
+      out.colliders.push_back(std::move(col));
+    }
+  }
+  warn_unknown(j, "simulation",
+               {"enabled", "frame_rate", "substeps", "iterations", "gravity", "damping", "goal_frequency", "edges",
+                "edge_compliance", "collision_margin", "skeleton_colliders", "skeleton_radius_scale", "preroll",
+                "pinned", "mass", "stiffness", "colliders"},
+               warnings, file);
+  if (auto v = validate_sim_settings(out, num_vertices, character.skeleton.size()); !v)
+    r.fail(v.error().code, v.error().message);
   return out;
 }
 
@@ -619,6 +747,8 @@ Result<ProjectLoad> load(const std::string& path, const std::string& character_o
     doc.attachment = read_attachment(r, root["attachment"], *loaded, num_cage_vertices, out.warnings, path);
   if (root.contains("keyposes"))
     doc.keyposes = read_keyposes(r, root["keyposes"], *loaded, num_cage_vertices, out.warnings, path);
+  if (root.contains("simulation"))
+    doc.sim = read_simulation(r, root["simulation"], *loaded, num_cage_vertices, out.warnings, path);
   doc.character = std::make_shared<const Character>(std::move(loaded).value());
   doc.character_path = character_path;
   doc.character_hash = std::move(hash);

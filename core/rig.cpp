@@ -2,6 +2,7 @@
 
 #include <optional>
 
+#include "core/clip_sim.h"
 #include "core/part_labels.h"
 
 #include <chrono>
@@ -76,6 +77,7 @@ struct Rig::State {
   std::optional<CageAttachment> attachment;
   Binding binding;
   std::optional<Deformer> deformer;  // refers to binding and skin_rest: State never moves
+  SimCache sims;                     // the simulated clips (pose_clip)
 };
 
 Rig::Rig() = default;
@@ -184,6 +186,20 @@ Status Rig::pose(const Document& doc, const Pose& pose, PosedCage& cage, std::sp
                  "Rig::pose: the document has another cage, binding parameters or attachment than the rig");
   CAGEWRAP_CHECK(skin_out.size() == state_->skin_rest.size(), "one output position per skin point");
   pose_document_cage(doc, state_->attachment ? &*state_->attachment : nullptr, pose, cage);
+  return deform_through_cage(*state_->deformer, cage, skin_out);
+}
+
+Status Rig::pose_clip(const Document& doc, int32_t clip, double t, std::span<const glm::quat> overrides,
+                      PosedCage& cage, std::span<glm::vec3> skin_out) {
+  CAGEWRAP_CHECK(fits(doc),
+                 "Rig::pose_clip: the document has another cage, binding parameters or attachment than the rig");
+  CAGEWRAP_CHECK(skin_out.size() == state_->skin_rest.size(), "one output position per skin point");
+  const Character& ch = *doc.character;
+  if (clip >= 0) t = clip_time(t, ch.clips[static_cast<size_t>(clip)].duration, false);
+  if (auto s = pose_simulated_cage(state_->sims, doc, attachment(), clip, t, compose_pose(ch, clip, t, false, overrides),
+                                   cage);
+      !s)
+    return s;
   return deform_through_cage(*state_->deformer, cage, skin_out);
 }
 

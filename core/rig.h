@@ -95,6 +95,12 @@ class Rig {
   // Poses `doc` (fits(doc) must hold: checked): the posed cage into `cage`, the skin into
   // skin_out (#P, num_skin_points()).
   Status pose(const Document& doc, const Pose& pose, PosedCage& cage, std::span<glm::vec3> skin_out);
+  // The same at time t of clip `clip` (-1: the rest pose; t clamped to the clip) with per-node
+  // rotation overrides (compose_pose), and, when doc.sim is enabled and a clip plays, the cage's
+  // simulation applied (core/clip_sim.h: the rig caches each clip's simulated frames). Fails with
+  // the simulation's message when its settings are invalid.
+  Status pose_clip(const Document& doc, int32_t clip, double t, std::span<const glm::quat> overrides, PosedCage& cage,
+                   std::span<glm::vec3> skin_out);
 
   size_t num_skin_points() const;
   std::span<const glm::vec3> skin_rest() const;

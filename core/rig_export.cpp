@@ -394,7 +394,7 @@ Result<ObjSequence> export_obj_sequence(const Document& doc, Rig& rig, const Exp
   for (const ExportClipFrames& cf : frames)
     for (size_t k = 0; k < cf.times.size(); ++k) {
       const size_t f = cf.first + k;
-      if (auto s = rig.pose(doc, compose_pose(ch, cf.clip, cf.times[k], false), posed, skin); !s)
+      if (auto s = rig.pose_clip(doc, cf.clip, cf.times[k], {}, posed, skin); !s)
         return fail(f, s.error());
       const std::string& path = r.files[f];
       if (auto s = save_obj(
@@ -465,8 +465,10 @@ Result<ExportResult> export_rig(const Document& doc, Rig& rig, const ExportOptio
   std::vector<std::vector<glm::mat4>> joints(posed_count);
   {
     PosedCage posed;
-    auto pose_rig = [&](const Pose& pose, size_t f) -> Status {
-      if (auto s = rig.pose(doc, pose, posed, skins[f]); !s) return s.error();
+    // a clip frame (clip >= 0: with the cage's simulation when it is on) or a keypose pose
+    auto pose_rig = [&](int32_t clip, double t, const Pose* pose, size_t f) -> Status {
+      if (auto s = pose ? rig.pose(doc, *pose, posed, skins[f]) : rig.pose_clip(doc, clip, t, {}, posed, skins[f]); !s)
+        return s.error();
       cages[f] = posed.positions;
       if (att) {
         joints[f].resize(ch.skins[att->skin].joints.size());
@@ -477,14 +479,14 @@ Result<ExportResult> export_rig(const Document& doc, Rig& rig, const ExportOptio
     stage.begin("posing", 0.0, posed_until * double(r.frames) / double(std::max<size_t>(1, posed_count)));
     for (const ExportClipFrames& cf : frames)
       for (size_t k = 0; k < cf.times.size(); ++k) {
-        if (auto s = pose_rig(compose_pose(ch, cf.clip, cf.times[k], false), cf.first + k); !s)
+        if (auto s = pose_rig(cf.clip, cf.times[k], nullptr, cf.first + k); !s)
           return s.error();
         if (!stage.step(cf.first + k + 1, r.frames)) return cancelled();
       }
     stage.begin("keyposes", posed_until * double(r.frames) / double(std::max<size_t>(1, posed_count)),
                 posed_until);
     for (size_t k = 0; k < keypose_poses.size(); ++k) {
-      if (auto s = pose_rig(keypose_poses[k], r.frames + k); !s) return s.error();
+      if (auto s = pose_rig(-1, 0.0, &keypose_poses[k], r.frames + k); !s) return s.error();
       if (!stage.step(k + 1, keypose_poses.size())) return cancelled();
     }
   }
@@ -642,7 +644,7 @@ Result<ExportResult> export_rig(const Document& doc, Rig& rig, const ExportOptio
       }
       if (k + 1 < cf.times.size()) {
         const double mid = 0.5 * (cf.times[k] + cf.times[k + 1]);
-        if (auto s = rig.pose(doc, compose_pose(ch, cf.clip, mid, false), posed, live); !s) return s.error();
+        if (auto s = rig.pose_clip(doc, cf.clip, mid, {}, posed, live); !s) return s.error();
         accumulate(r.between_frames, skin_character(out, sample_pose(out, static_cast<int32_t>(c), mid)),
                    live);
       }

@@ -323,6 +323,22 @@ Result<Document> apply_topology_change(const Document& doc, const CageEdit& edit
     for (size_t v = 0; v < carried.size(); ++v) per_vertex[v] = carried[v] == kAutomaticLabel ? -1 : static_cast<int32_t>(carried[v]);
     out.attachment = with_overrides_per_vertex(doc.attachment, per_vertex);
   }
+  // simulation weights: mass and stiffness interpolated from the parents, the pin from the dominant one
+  out.sim.vertices.clear();
+  if (doc.sim.vertices.size() == doc.cage->num_vertices()) {
+    std::vector<double> mass, stiffness;
+    std::vector<uint32_t> pinned;
+    for (const SimVertex& w : doc.sim.vertices) {
+      mass.push_back(w.mass);
+      stiffness.push_back(w.stiffness);
+      pinned.push_back(w.pinned ? 1u : 0u);
+    }
+    const auto m = interpolate_vertex_attribute(edit.change, std::span<const double>(mass));
+    const auto k = interpolate_vertex_attribute(edit.change, std::span<const double>(stiffness));
+    const auto p = carry_vertex_labels(edit.change, pinned);
+    for (size_t v = 0; v < m.size(); ++v)
+      out.sim.vertices.push_back({p[v] != 0, static_cast<float>(m[v]), static_cast<float>(k[v])});
+  }
   // keypose offsets: interpolated from the parents like the driver offsets
   for (KeyposeSet& set : out.keyposes)
     for (KeyposeKey& key : set.keys) {

@@ -107,7 +107,8 @@ Result<std::vector<SetEdit>> carry_set_edits(const CageTopologyChange& change,
 // The document with `edit.cage` as its rest cage, its driver offsets and keypose offsets
 // interpolated (they live in joint bind space: interpolating them is exact when the parents follow
 // the same joint, an approximation otherwise), its set edits carried, and its attachment overrides
-// passed to each new vertex from its dominant parent. Errors: no cage in the document, or a change that does not
+// passed to each new vertex from its dominant parent (so are the simulation's pins; its masses and
+// stiffnesses are interpolated). Errors: no cage in the document, or a change that does not
 // start from the document's cage or end at edit.cage (kTopologyMismatch).
 Result<Document> apply_topology_change(const Document& doc, const CageEdit& edit);
 

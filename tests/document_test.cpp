@@ -237,18 +237,27 @@ TEST_F(DocumentTest, ANewVertexCountDropsPerVertexData) {
   set.drivers = {JointDriver{0, DriverKind::kRotation, {1, 0, 0}}};
   set_key(set, KeyposeKey{{120}, {2}, {{0, 1, 0}}});
   a = with_keyposes(with_attachment(a, assign_vertices({}, std::vector<uint32_t>{3}, 0u)), {set});
+  SimSettings sim;
+  sim.enabled = true;
+  sim.vertices.assign(a.cage->num_vertices(), SimVertex{false, 2.0f, 0.5f});
+  a = with_sim(a, sim);
+  EXPECT_FALSE(same_content(a, with_sim(a, SimSettings{})));  // the simulation is content
   // same topology (new positions): everything stays
   std::vector<glm::vec3> p(a.cage_positions().begin(), a.cage_positions().end());
   p[0].x += 0.1f;
   Document moved = with_cage_positions(a, p);
   EXPECT_EQ(moved.attachment, a.attachment);
   EXPECT_EQ(moved.keyposes, a.keyposes);
-  // another vertex count: the overrides and the keyed vertices go, the drivers and keys stay
+  EXPECT_EQ(moved.sim, a.sim);
+  // another vertex count: the overrides, the keyed vertices and the simulation weights go, the
+  // drivers, keys and simulation parameters stay
   Document other = with_cage(a, std::make_shared<const Cage>(fixtures::box_cage(2.0, 3)));
   EXPECT_TRUE(other.attachment.overrides.empty());
   ASSERT_EQ(other.keyposes.size(), 1u);
   EXPECT_EQ(other.keyposes[0].keys[0].values, std::vector<double>{120});
   EXPECT_TRUE(other.keyposes[0].keys[0].vertices.empty());
+  EXPECT_TRUE(other.sim.vertices.empty());
+  EXPECT_TRUE(other.sim.enabled);
 }
 
 TEST_F(DocumentTest, ByteEstimatesCountKeyposes) {

@@ -23,6 +23,7 @@
 #include "core/file_hash.h"
 #include "core/project_io.h"
 #include "tests/document_fixtures.h"
+#include "tests/expect_error.h"
 
 namespace cagewrap {
 namespace {
@@ -97,6 +98,51 @@ TEST_F(ProjectIoTest, SaveThenLoadGivesTheSameDocument) {
   // saving what was loaded writes the same bytes
   ASSERT_TRUE(save_project(path("again.cagewrap"), back).ok());
   EXPECT_EQ(read_text(path("again.cagewrap")), read_text(project));
+}
+
+TEST_F(ProjectIoTest, SimulationRoundTripsAndBadSettingsAreNamed) {
+  Document doc = make_doc();
+  ASSERT_TRUE(save_project(path("plain.cagewrap"), doc).ok());
+  EXPECT_EQ(read_text(path("plain.cagewrap")).find("\"simulation\""), std::string::npos);  // files without it stay as they were
+  SimSettings s;
+  s.enabled = true;
+  s.params.damping = 1.25;
+  s.params.gravity = {0.5, -9.0, 0.25};
+  s.params.preroll = 0.5;
+  s.params.iterations = 3;
+  s.params.skeleton_colliders = true;
+  s.vertices.assign(doc.cage->num_vertices(), SimVertex{});
+  s.vertices[3] = {false, 2.5f, 0.125f};
+  s.vertices[5] = {false, 0.1f, 0.0f};
+  s.colliders.push_back({"table", ColliderKind::kCapsule, {0.1, 0.2, 0.3}, {1, 2, 3}, 0.05, -1});
+  s.colliders.push_back({"", ColliderKind::kPlane, {0, 0, 0}, {0, 1, 0}, 0.1, -1});
+  doc = with_sim(doc, s);
+  const std::string project = path("sim.cagewrap");
+  ASSERT_TRUE(save_project(project, doc).ok());
+  ProjectLoad loaded = load_ok(project);
+  EXPECT_TRUE(loaded.warnings.empty());
+  EXPECT_EQ(loaded.document.sim, s);
+  EXPECT_TRUE(same_content(doc, loaded.document));
+  ASSERT_TRUE(save_project(path("again.cagewrap"), loaded.document).ok());
+  EXPECT_EQ(read_text(path("again.cagewrap")), read_text(project));
+
+  Error e = error_after([](Json& j) { j["simulation"] = {{"pinned", {1}}, {"mass", {1}}, {"stiffness", {0.5}}}; });
+  EXPECT_EQ(e.code, ErrorCode::kTopologyMismatch);
+  EXPECT_CONTAINS(e.message, "simulation.pinned has 1 entries");
+  e = error_after([](Json& j) { j["simulation"] = {{"colliders", {{{"kind", "cone"}, {"a", {0, 0, 0}}}}}}; });
+  EXPECT_CONTAINS(e.message, "simulation.colliders[0].kind is 'cone'");
+  e = error_after([&](Json& j) {
+    Json sim = Json::parse(read_text(project))["simulation"];
+    sim["mass"][2] = -1;
+    j["simulation"] = sim;
+  });
+  EXPECT_EQ(e.code, ErrorCode::kInvalidArgument);
+  EXPECT_CONTAINS(e.message, "cage vertex 2 has mass -1");
+  // and a document with bad settings is not saved
+  s.vertices[4].stiffness = 2.0f;
+  EXPECT_TRUE(Fails(save_project(path("bad.cagewrap"), with_sim(doc, s)), ErrorCode::kInvalidArgument,
+                    {"not saved", "cage vertex 4"}));
+  EXPECT_FALSE(fs::exists(path("bad.cagewrap")));
 }
 
 TEST_F(ProjectIoTest, CagePositionsRoundTripBitForBit) {

@@ -195,6 +195,30 @@ TEST(ApplyTopologyChange, CarriesAttachmentOverridesAndKeyposeOffsets) {
     EXPECT_LT(glm::length(carried[v] - field(out->cage->polygons.positions[v])), 1e-6f) << "vertex " << v;
 }
 
+// Simulation weights: mass and stiffness interpolated (an affine field stays exact), the pin from
+// the dominant parent; a document without weights keeps none.
+TEST(ApplyTopologyChange, CarriesSimulationWeights) {
+  const Cage oct = test::octahedron_cage();
+  Document doc = document_with(oct);
+  for (const auto& p : oct.polygons.positions)
+    doc.sim.vertices.push_back({p.y > 0.5f, 1.0f + 0.25f * p.x, 0.5f + 0.2f * p.z});
+  auto edit = subdivide_linear(oct);
+  ASSERT_TRUE(edit.ok());
+  auto out = apply_topology_change(doc, *edit);
+  ASSERT_TRUE(out.ok()) << out.error().message;
+  const size_t n = out->cage->num_vertices();
+  ASSERT_EQ(out->sim.vertices.size(), n);
+  for (size_t v = 0; v < n; ++v) {
+    const glm::vec3 p = out->cage->polygons.positions[v];
+    EXPECT_NEAR(out->sim.vertices[v].mass, 1.0f + 0.25f * p.x, 1e-6f) << "vertex " << v;
+    EXPECT_NEAR(out->sim.vertices[v].stiffness, 0.5f + 0.2f * p.z, 1e-6f) << "vertex " << v;
+    EXPECT_EQ(out->sim.vertices[v].pinned, doc.sim.vertices[dominant_parent(edit->change, v)].pinned) << "vertex " << v;
+  }
+  auto plain = apply_topology_change(document_with(oct), *edit);
+  ASSERT_TRUE(plain.ok());
+  EXPECT_TRUE(plain->sim.vertices.empty());
+}
+
 // ------------------------------------------------------------------------------------------ the key test
 
 // The cylinder arm bound to its octagonal cage, with the points under face 17 (a quad in the middle of

@@ -81,3 +81,20 @@ f 3 4 8 7
 f 4 1 5 8
 EOF2
 }
+
+# maxdiff A.obj B.obj [x-filter]: the largest coordinate difference between their vertices (same count
+# required); with "left" or "right" only vertices of A with x > 0.1 or x < -0.1 count
+maxdiff() {
+  awk -v side="${3:-all}" '
+    function abs(x) { return x < 0 ? -x : x }
+    FNR == NR { if ($1 == "v") { n++; x[n] = $2; y[n] = $3; z[n] = $4 } next }
+    $1 == "v" { m++
+      if (side == "left" && x[m] <= 0.1) next
+      if (side == "right" && x[m] >= -0.1) next
+      d = abs($2 - x[m]); if (abs($3 - y[m]) > d) d = abs($3 - y[m]); if (abs($4 - z[m]) > d) d = abs($4 - z[m])
+      if (d > worst) worst = d }
+    END { if (m != n) { print "count " m " != " n; exit 1 } printf "%.9g\n", worst }' "$1" "$2"
+}
+# below LIMIT A B [side] / above LIMIT A B [side]
+below() { local d; d=$(maxdiff "$2" "$3" "${4:-all}") || { echo "$d"; return 1; }; awk -v d="$d" -v l="$1" 'BEGIN { exit !(d < l) }' || { echo "max difference $d, want < $1"; return 1; }; }
+above() { local d; d=$(maxdiff "$2" "$3" "${4:-all}") || { echo "$d"; return 1; }; awk -v d="$d" -v l="$1" 'BEGIN { exit !(d > l) }' || { echo "max difference $d, want > $1"; return 1; }; }
