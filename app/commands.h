@@ -19,5 +19,6 @@ void add_cage_edit_command(CLI::App& app, int& exit_code);
 void add_pose_command(CLI::App& app, int& exit_code);
 void add_export_command(CLI::App& app, int& exit_code);
 void add_project_command(CLI::App& app, int& exit_code);
+void add_patch_command(CLI::App& app, int& exit_code);  // parametric drivers (cmd_patch.cpp)
 
 }  // namespace cagewrap::app
