@@ -104,7 +104,8 @@ Result<PatchSurface> patch_surface_from_json(const Json& j, const std::string& f
 Status save_patch(const std::string& path, const PatchSurface& surface) {
   if (auto s = validate_patch_surface(surface, path); !s) return s;
   Json j{{"format", kPatchFormat}};
-  for (auto& [k, v] : patch_surface_json(surface).items()) j[k] = v;
+  const Json body = patch_surface_json(surface);
+  for (const auto& [k, v] : body.items()) j[k] = v;
   return write_file_atomic(path, json_layout(j) + "\n");
 }
 
