@@ -3,7 +3,6 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
-
 #include <glm/common.hpp>
 #include <nlohmann/json.hpp>
 
@@ -30,12 +29,15 @@ std::optional<PatchSurface> load_patch_or_report(const std::string& path) {
   return std::move(p).value();
 }
 
-// Binding options without --variant (a parametric driver is always the basic variant).
-void add_patch_bind_options(CLI::App& cmd, BindOptions& opts, uint32_t& density) {
+// Binding options without --variant (a parametric driver is always the basic variant), and
+// --density when `density` is given.
+void add_patch_bind_options(CLI::App& cmd, BindOptions& opts, uint32_t* density) {
   add_bind_options(cmd, opts);
   cmd.remove_option(cmd.get_option("--variant"));
   opts.variant = "basic";
-  cmd.add_option("--density", density, "samples per knot span along u and v (1 = the knot values)")->capture_default_str();
+  if (density)
+    cmd.add_option("--density", *density, "samples per knot span along u and v (1 = the knot values)")
+        ->capture_default_str();
 }
 
 std::vector<uint32_t> parse_list(const std::string& s, const char* what, bool& ok) {
@@ -70,7 +72,8 @@ void add_fit(CLI::App& parent, int& exit_code) {
   cmd->add_option("--faces", args->faces, "the faces, as polygon indices from 0: 3,4,5,...")->required();
   cmd->add_option("--rows", args->fit.rows, "control points along v (0: one per vertex line, at least 4)");
   cmd->add_option("--cols", args->fit.cols, "control points along u (0: one per vertex line, at least 4)");
-  cmd->add_option("--smoothing", args->fit.smoothing, "weight of the control points' second differences")->capture_default_str();
+  cmd->add_option("--smoothing", args->fit.smoothing, "weight of the control points' second differences")
+      ->capture_default_str();
   cmd->add_option("--out", args->out, "driver: .cwpatch, .gltf or .glb")->required();
   cmd->callback([args, &exit_code] {
     exit_code = 1;
@@ -88,8 +91,8 @@ void add_fit(CLI::App& parent, int& exit_code) {
       report_error(s.error());
       return;
     }
-    std::printf("fitted a %u x %u control-point B-spline grid to %zu faces of %s, wrote %s\n", grid->rows, grid->cols,
-                faces.size(), args->cage.c_str(), args->out.c_str());
+    std::printf("fitted a %u x %u control-point B-spline grid to %zu faces of %s, wrote %s\n", grid->rows,
+                grid->cols, faces.size(), args->cage.c_str(), args->out.c_str());
     exit_code = 0;
   });
 }
@@ -101,12 +104,13 @@ void add_deform(CLI::App& parent, int& exit_code) {
     uint32_t density = 2;
   };
   auto args = std::make_shared<Args>();
-  auto* cmd = parent.add_subcommand("deform", "bind a skin to a patch driver and deform it by the posed driver");
+  auto* cmd =
+      parent.add_subcommand("deform", "bind a skin to a patch driver and deform it by the posed driver");
   cmd->add_option("--mesh", args->mesh, "skin mesh at rest")->required();
   cmd->add_option("--patch", args->patch, "driver at rest (.cwpatch, .gltf, .glb)")->required();
   cmd->add_option("--posed-patch", args->posed, "the same driver, control points moved")->required();
   cmd->add_option("--out", args->out, "deformed skin: .obj, or .bin (raw float32 N x 3)")->required();
-  add_patch_bind_options(*cmd, args->bind, args->density);
+  add_patch_bind_options(*cmd, args->bind, &args->density);
   cmd->callback([args, &exit_code] {
     exit_code = 1;
     if (!finish_bind_options(args->bind)) return;
@@ -117,7 +121,8 @@ void add_deform(CLI::App& parent, int& exit_code) {
     if (!rest) return;
     auto posed = load_patch_or_report(args->posed);
     if (!posed) return;
-    auto b = bind_skin_to_patches(mesh->positions, *rest, args->density, args->bind.params, terminal_progress("bind"));
+    auto b = bind_skin_to_patches(mesh->positions, *rest, args->density, args->bind.params,
+                                  terminal_progress("bind"));
     if (!b) {
       report_error({b.error().code, args->patch + ": " + b.error().message});
       return;
@@ -136,9 +141,10 @@ void add_deform(CLI::App& parent, int& exit_code) {
       report_error(s.error());
       return;
     }
-    std::printf("bound %u points to %u samples (density %u, %zu degenerate) in %.3f s: mean set %.2f, max %u\n",
-                b->num_points, b->num_samples, args->density, b->invalid_elements.size(), b->seconds,
-                double(b->total_set_size) / b->num_points, b->max_set_size);
+    std::printf(
+        "bound %u points to %u samples (density %u, %zu degenerate) in %.3f s: mean set %.2f, max %u\n",
+        b->num_points, b->num_samples, args->density, b->invalid_elements.size(), b->seconds,
+        double(b->total_set_size) / b->num_points, b->max_set_size);
     std::printf("deformed %zu points, wrote %s\n", out.size(), args->out.c_str());
     exit_code = 0;
   });
@@ -150,8 +156,11 @@ void add_demo(CLI::App& parent, int& exit_code) {
     uint32_t resolution = 8;
   };
   auto args = std::make_shared<Args>();
-  auto* cmd = parent.add_subcommand("demo", "write the generated patch test case: skin, driver, twisted driver, twist");
-  cmd->add_option("--out-dir", args->dir, "folder to write mesh.obj, driver.cwpatch, driver_posed.cwpatch, inputs.json")->required();
+  auto* cmd = parent.add_subcommand(
+      "demo", "write the generated patch test case: skin, driver, twisted driver, twist");
+  cmd->add_option("--out-dir", args->dir,
+                  "folder to write mesh.obj, driver.cwpatch, driver_posed.cwpatch, inputs.json")
+      ->required();
   cmd->add_option("--resolution", args->resolution, "skin vertices per unit length")->capture_default_str();
   cmd->callback([args, &exit_code] {
     exit_code = 1;
@@ -160,8 +169,12 @@ void add_demo(CLI::App& parent, int& exit_code) {
     const PatchDemo demo = make_patch_demo(args->resolution);
     const std::string dir = args->dir + "/";
     nlohmann::json inputs{{"source", "cagewrap patch demo"},
-                          {"twist", {{"axis", demo.twist.axis}, {"center", {demo.twist.center.x, demo.twist.center.y, demo.twist.center.z}},
-                                     {"lo", demo.twist.lo}, {"hi", demo.twist.hi}, {"twist_deg", demo.twist.degrees}}}};
+                          {"twist",
+                           {{"axis", demo.twist.axis},
+                            {"center", {demo.twist.center.x, demo.twist.center.y, demo.twist.center.z}},
+                            {"lo", demo.twist.lo},
+                            {"hi", demo.twist.hi},
+                            {"twist_deg", demo.twist.degrees}}}};
     for (const Status& s : {save_obj(dir + "mesh.obj", demo.skin.positions, demo.skin),
                             save_patch(dir + "driver.cwpatch", demo.driver),
                             save_patch(dir + "driver_posed.cwpatch", twisted(demo.driver, demo.twist)),
@@ -170,8 +183,8 @@ void add_demo(CLI::App& parent, int& exit_code) {
         report_error(s.error());
         return;
       }
-    std::printf("wrote %smesh.obj (%zu vertices), driver.cwpatch, driver_posed.cwpatch, inputs.json\n", dir.c_str(),
-                demo.skin.num_vertices());
+    std::printf("wrote %smesh.obj (%zu vertices), driver.cwpatch, driver_posed.cwpatch, inputs.json\n",
+                dir.c_str(), demo.skin.num_vertices());
     exit_code = 0;
   });
 }
@@ -190,20 +203,23 @@ void add_bench(CLI::App& parent, int& exit_code) {
     BindOptions bind;
   };
   auto args = std::make_shared<Args>();
-  auto* cmd = parent.add_subcommand(
-      "bench", "the sampling density's speed/fidelity trade-off: bind s, deform ms, twist fidelity, distance to a dense reference");
-  cmd->add_option("--demo", args->demo, "use the generated case (`patch demo`) at this resolution instead of files");
+  auto* cmd = parent.add_subcommand("bench",
+                                    "the sampling density's speed/fidelity trade-off: bind s, deform ms, "
+                                    "twist fidelity, distance to a dense reference");
+  cmd->add_option("--demo", args->demo,
+                  "use the generated case (`patch demo`) at this resolution instead of files");
   cmd->add_option("--mesh", args->mesh, "skin mesh at rest");
   cmd->add_option("--patch", args->patch, "driver at rest");
-  cmd->add_option("--twist", args->twist, "inputs.json whose analytic twist poses the driver's control points");
+  cmd->add_option("--twist", args->twist,
+                  "inputs.json whose analytic twist poses the driver's control points");
   cmd->add_option("--subdivide", args->subdivide, "cut every skin edge n times first");
-  cmd->add_option("--densities", args->densities, "densities to time, comma-separated")->capture_default_str();
-  cmd->add_option("--reference", args->reference, "density of the reference the others are measured against")->capture_default_str();
+  cmd->add_option("--densities", args->densities, "densities to time, comma-separated")
+      ->capture_default_str();
+  cmd->add_option("--reference", args->reference, "density of the reference the others are measured against")
+      ->capture_default_str();
   cmd->add_option("--changes", args->changes, "driver changes to time (>= 20)")->capture_default_str();
   cmd->add_flag("--json", args->json, "print one JSON object instead of a table");
-  uint32_t unused_density = 0;
-  add_patch_bind_options(*cmd, args->bind, unused_density);
-  cmd->remove_option(cmd->get_option("--density"));
+  add_patch_bind_options(*cmd, args->bind, nullptr);
   cmd->callback([args, &exit_code] {
     exit_code = 1;
     if (!finish_bind_options(args->bind)) return;
@@ -256,16 +272,26 @@ void add_bench(CLI::App& parent, int& exit_code) {
     }
     auto run = [&](uint32_t density, DensityFigures& f, std::vector<glm::vec3>& out) -> bool {
       auto b = bind_skin_to_patches(skin, rest, density, args->bind.params, terminal_progress("bind"));
-      if (!b) return report_error(b.error()), false;
+      if (!b) {
+        report_error(b.error());
+        return false;
+      }
       auto d = PatchDeformer::create(*b, skin, rest, density);
-      if (!d) return report_error(d.error()), false;
+      if (!d) {
+        report_error(d.error());
+        return false;
+      }
       out.assign(skin.size(), glm::vec3(0.f));
       (void)d->deform(states[0], out);  // warm-up
       std::vector<double> ms;
       for (const PatchSurface& s : states) {
         const auto t0 = std::chrono::steady_clock::now();
-        if (auto st = d->deform(s, out); !st) return report_error(st.error()), false;
-        ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+        if (auto st = d->deform(s, out); !st) {
+          report_error(st.error());
+          return false;
+        }
+        ms.push_back(
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
       }
       std::sort(ms.begin(), ms.end());
       f.density = density;
@@ -289,23 +315,32 @@ void add_bench(CLI::App& parent, int& exit_code) {
       rows.push_back(f);
     }
     if (args->json) {
-      nlohmann::json j{{"points", skin.size()}, {"control_points", rest.num_control_points()},
-                       {"reference_density", args->reference}, {"rows", nlohmann::json::array()}};
+      nlohmann::json j{{"points", skin.size()},
+                       {"control_points", rest.num_control_points()},
+                       {"reference_density", args->reference},
+                       {"rows", nlohmann::json::array()}};
       for (const DensityFigures& f : rows)
-        j["rows"].push_back({{"density", f.density}, {"samples", f.samples}, {"bind_s", f.bind_s},
-                             {"deform_median_ms", f.median_ms}, {"deform_min_ms", f.min_ms}, {"mean_set", f.mean_set},
+        j["rows"].push_back({{"density", f.density},
+                             {"samples", f.samples},
+                             {"bind_s", f.bind_s},
+                             {"deform_median_ms", f.median_ms},
+                             {"deform_min_ms", f.min_ms},
+                             {"mean_set", f.mean_set},
                              {"twist", {{"rms", f.twist.rms}, {"max", f.twist.max}}},
                              {"reference", {{"rms", f.reference.rms}, {"max", f.reference.max}}}});
       std::printf("%s\n", j.dump(1).c_str());
     } else {
-      std::printf("%zu skin points, %zu control points; distances relative to the skin's diagonal; reference: density %u "
-                  "(%u samples, twist rms %.2e)\n",
-                  skin.size(), rest.num_control_points(), args->reference, ref_fig.samples, ref_fig.twist.rms);
-      std::printf("%8s %8s %8s %10s %10s %6s %10s %10s %10s %10s\n", "density", "samples", "bind s", "median ms",
-                  "min ms", "set", "twist rms", "twist max", "ref rms", "ref max");
+      std::printf(
+          "%zu skin points, %zu control points; distances relative to the skin's diagonal; reference: "
+          "density %u "
+          "(%u samples, twist rms %.2e)\n",
+          skin.size(), rest.num_control_points(), args->reference, ref_fig.samples, ref_fig.twist.rms);
+      std::printf("%8s %8s %8s %10s %10s %6s %10s %10s %10s %10s\n", "density", "samples", "bind s",
+                  "median ms", "min ms", "set", "twist rms", "twist max", "ref rms", "ref max");
       for (const DensityFigures& f : rows)
-        std::printf("%8u %8u %8.3f %10.3f %10.3f %6.2f %10.2e %10.2e %10.2e %10.2e\n", f.density, f.samples, f.bind_s,
-                    f.median_ms, f.min_ms, f.mean_set, f.twist.rms, f.twist.max, f.reference.rms, f.reference.max);
+        std::printf("%8u %8u %8.3f %10.3f %10.3f %6.2f %10.2e %10.2e %10.2e %10.2e\n", f.density, f.samples,
+                    f.bind_s, f.median_ms, f.min_ms, f.mean_set, f.twist.rms, f.twist.max, f.reference.rms,
+                    f.reference.max);
     }
     exit_code = 0;
   });
@@ -314,7 +349,8 @@ void add_bench(CLI::App& parent, int& exit_code) {
 }  // namespace
 
 void add_patch_command(CLI::App& app, int& exit_code) {
-  auto* cmd = app.add_subcommand("patch", "parametric drivers: fit one to cage faces, deform a skin by one, benchmark");
+  auto* cmd = app.add_subcommand(
+      "patch", "parametric drivers: fit one to cage faces, deform a skin by one, benchmark");
   cmd->require_subcommand(1);
   add_fit(*cmd, exit_code);
   add_deform(*cmd, exit_code);

@@ -1,13 +1,13 @@
 #include "core/patch_binding.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
-
 #include <glm/geometric.hpp>
 #include <glm/matrix.hpp>
-#include <tbb/parallel_for.h>
 
 #include "core/cage.h"
 #include "core/point_grid.h"
@@ -38,8 +38,9 @@ std::vector<glm::vec3> sample_positions(const PatchSurface& surface, std::span<c
   return out;
 }
 
-Result<Binding> bind_skin_to_patches(std::span<const glm::vec3> skin, const PatchSurface& rest, uint32_t density,
-                                     const BindParams& params_in, const BindProgress& progress) {
+Result<Binding> bind_skin_to_patches(std::span<const glm::vec3> skin, const PatchSurface& rest,
+                                     uint32_t density, const BindParams& params_in,
+                                     const BindProgress& progress) {
   const auto start = std::chrono::steady_clock::now();
   BindParams params = params_in;
   params.variant = Variant::kBasic;
@@ -51,10 +52,12 @@ Result<Binding> bind_skin_to_patches(std::span<const glm::vec3> skin, const Patc
   if (skin.empty()) return make_error(ErrorCode::kEmpty, "the skin has no vertices");
   for (size_t i = 0; i < skin.size(); ++i)
     if (!std::isfinite(skin[i].x) || !std::isfinite(skin[i].y) || !std::isfinite(skin[i].z))
-      return make_error(ErrorCode::kNonFinite, "skin vertex " + std::to_string(i) + " has a non-finite coordinate");
+      return make_error(ErrorCode::kNonFinite,
+                        "skin vertex " + std::to_string(i) + " has a non-finite coordinate");
   const double h = params.scale > 0 ? params.scale : mean_control_edge_length(rest);
   if (!(h > 0) || !std::isfinite(h))
-    return make_error(ErrorCode::kInvalidArgument, "the patch driver's control net has zero mean edge length; give a scale h");
+    return make_error(ErrorCode::kInvalidArgument,
+                      "the patch driver's control net has zero mean edge length; give a scale h");
 
   Binding b;
   b.params = params;
@@ -141,7 +144,8 @@ Result<Binding> bind_skin_to_patches(std::span<const glm::vec3> skin, const Patc
         o.count.push_back(m);
       }
       const size_t d = done.fetch_add(1) + 1;
-      if (progress.on_progress && (d % report_every == 0 || d == blocks)) progress.on_progress(double(d) / blocks);
+      if (progress.on_progress && (d % report_every == 0 || d == blocks))
+        progress.on_progress(double(d) / blocks);
     }
   });
   if (cancelled) return make_error(ErrorCode::kCancelled, "binding to the patch driver was cancelled");
@@ -188,8 +192,8 @@ Result<PatchDeformer> PatchDeformer::create(const Binding& binding, std::span<co
   if (binding.num_samples != sampled->size())
     return make_error(ErrorCode::kTopologyMismatch,
                       "the binding was made for " + std::to_string(binding.num_samples) +
-                          " driver samples but the patch driver at density " + std::to_string(density) + " has " +
-                          std::to_string(sampled->size()));
+                          " driver samples but the patch driver at density " + std::to_string(density) +
+                          " has " + std::to_string(sampled->size()));
   auto d = Deformer::create(binding, skin_rest);
   if (!d) return d.error();
   PatchDeformer pd(std::move(*d));
@@ -215,22 +219,24 @@ Result<PatchDeformer> PatchDeformer::create(const Binding& binding, std::span<co
 
 Status PatchDeformer::update_maps(const PatchSurface& posed) {
   if (shape_of(posed) != shape_)
-    return make_error(ErrorCode::kTopologyMismatch,
-                      "the posed patch driver's grids (count, sizes or basis) differ from the bound driver's");
+    return make_error(
+        ErrorCode::kTopologyMismatch,
+        "the posed patch driver's grids (count, sizes or basis) differ from the bound driver's");
   if (auto s = validate_patch_surface(posed, "the posed patch driver"); !s) return s;
   const glm::dvec3 origin = deformer_.binding().origin;
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, samples_.size(), 256), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t k = r.begin(); k != r.end(); ++k) {
-      if (!valid_[k]) {
-        maps_[k] = make_affine(glm::dmat3(1.0), glm::dvec3(0.0));
-        continue;
-      }
-      const SampleFrame f = sample_frame(posed, samples_[k]);
-      const glm::dvec3 n = unit_normal(f.du, f.dv, rest_normal_[k]);
-      const glm::dmat3 m = glm::dmat3(f.du, f.dv, n) * rest_inv_[k];
-      maps_[k] = make_affine(m, (f.position - origin) - m * rest_point_[k]);
-    }
-  });
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, samples_.size(), 256),
+                    [&](const tbb::blocked_range<size_t>& r) {
+                      for (size_t k = r.begin(); k != r.end(); ++k) {
+                        if (!valid_[k]) {
+                          maps_[k] = make_affine(glm::dmat3(1.0), glm::dvec3(0.0));
+                          continue;
+                        }
+                        const SampleFrame f = sample_frame(posed, samples_[k]);
+                        const glm::dvec3 n = unit_normal(f.du, f.dv, rest_normal_[k]);
+                        const glm::dmat3 m = glm::dmat3(f.du, f.dv, n) * rest_inv_[k];
+                        maps_[k] = make_affine(m, (f.position - origin) - m * rest_point_[k]);
+                      }
+                    });
   return Ok{};
 }
 

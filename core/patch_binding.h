@@ -34,8 +34,9 @@ bool degenerate_frame(const glm::dvec3& du, const glm::dvec3& dv);
 // A point that no sample reaches (max_distance) follows its nearest valid sample alone. Errors: bad
 // parameters or density, a surface validate_patch_surface refuses, an empty or non-finite skin,
 // no valid sample, a zero control-net scale, cancellation. Reports progress like bind_skin.
-Result<Binding> bind_skin_to_patches(std::span<const glm::vec3> skin, const PatchSurface& rest, uint32_t density,
-                                     const BindParams& params, const BindProgress& progress = {});
+Result<Binding> bind_skin_to_patches(std::span<const glm::vec3> skin, const PatchSurface& rest,
+                                     uint32_t density, const BindParams& params,
+                                     const BindProgress& progress = {});
 
 // Deforms a skin bound by bind_skin_to_patches. Keeps references to `binding` and `skin_rest` (both
 // must outlive it); copies what it needs of the rest surface.

@@ -6,7 +6,9 @@
 namespace cagewrap {
 
 namespace {
-double wave(double x, double z) { return 0.35 * std::sin(0.7 * x) * std::cos(0.9 * z); }
+double wave(double x, double z) {
+  return 0.35 * std::sin(0.7 * x) * std::cos(0.9 * z);
+}
 }  // namespace
 
 PatchDemo make_patch_demo(uint32_t resolution) {

@@ -1,17 +1,20 @@
 #include "core/patch_fit.h"
 
+#include <Eigen/Dense>
 #include <algorithm>
 #include <map>
 #include <set>
-
-#include <Eigen/Dense>
 
 namespace cagewrap {
 
 namespace {
 
-Error bad(const std::string& m) { return make_error(ErrorCode::kInvalidArgument, m); }
-std::string face_name(uint32_t f) { return "cage face " + std::to_string(f); }
+Error bad(const std::string& m) {
+  return make_error(ErrorCode::kInvalidArgument, m);
+}
+std::string face_name(uint32_t f) {
+  return "cage face " + std::to_string(f);
+}
 
 // In quad `q` (4 corners in ring order) holding the edge x-y: the corner next to x that is not y.
 uint32_t across(std::span<const uint32_t> q, uint32_t x, uint32_t y) {
@@ -26,12 +29,14 @@ Result<QuadGrid> quad_grid_of_faces(const PolyMesh& cage, std::span<const uint32
   std::vector<uint32_t> faces(faces_in.begin(), faces_in.end());
   std::sort(faces.begin(), faces.end());
   faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
-  if (faces.empty()) return bad("no cage faces are selected; select a rectangle of quads to fit a patch grid to");
+  if (faces.empty())
+    return bad("no cage faces are selected; select a rectangle of quads to fit a patch grid to");
   std::map<std::pair<uint32_t, uint32_t>, std::vector<uint32_t>> edge_faces;
   std::map<uint32_t, uint32_t> valence;  // selected faces at each vertex
   for (uint32_t f : faces) {
     if (f >= cage.num_faces())
-      return bad(face_name(f) + " does not exist (the cage has " + std::to_string(cage.num_faces()) + " faces)");
+      return bad(face_name(f) + " does not exist (the cage has " + std::to_string(cage.num_faces()) +
+                 " faces)");
     auto q = cage.face(f);
     if (q.size() != 4)
       return bad(face_name(f) + " has " + std::to_string(q.size()) +
@@ -44,8 +49,9 @@ Result<QuadGrid> quad_grid_of_faces(const PolyMesh& cage, std::span<const uint32
   }
   for (const auto& [e, fs] : edge_faces)
     if (fs.size() > 2)
-      return bad("the edge between cage vertices " + std::to_string(e.first) + " and " + std::to_string(e.second) +
-                 " is shared by " + std::to_string(fs.size()) + " selected faces; select a rectangle of quads");
+      return bad("the edge between cage vertices " + std::to_string(e.first) + " and " +
+                 std::to_string(e.second) + " is shared by " + std::to_string(fs.size()) +
+                 " selected faces; select a rectangle of quads");
   auto other_face = [&](uint32_t x, uint32_t y, uint32_t not_this) -> uint32_t {
     const auto& fs = edge_faces[{std::min(x, y), std::max(x, y)}];
     for (uint32_t f : fs)
@@ -61,8 +67,9 @@ Result<QuadGrid> quad_grid_of_faces(const PolyMesh& cage, std::span<const uint32
     if (f0 != UINT32_MAX) break;
   }
   if (f0 == UINT32_MAX)
-    return bad("the selected faces have no corner (a vertex of only one selected face): they close into a ring or "
-               "a tube; select an open rectangle of quads");
+    return bad(
+        "the selected faces have no corner (a vertex of only one selected face): they close into a ring or "
+        "a tube; select an open rectangle of quads");
   auto q0 = cage.face(f0);
   QuadGrid g;
   // rows of vertices grow as the walk goes; V[i] has cols + 1 entries once row 0 is known
@@ -78,7 +85,8 @@ Result<QuadGrid> quad_grid_of_faces(const PolyMesh& cage, std::span<const uint32
     const uint32_t f = other_face(x, y, F[0].back());
     if (f == UINT32_MAX) break;
     if (!used.insert(f).second)
-      return bad("the selected faces close into a ring at " + face_name(f) + "; select an open rectangle of quads");
+      return bad("the selected faces close into a ring at " + face_name(f) +
+                 "; select an open rectangle of quads");
     auto q = cage.face(f);
     V[0].push_back(across(q, x, y));
     V[1].push_back(across(q, y, x));
@@ -93,11 +101,13 @@ Result<QuadGrid> quad_grid_of_faces(const PolyMesh& cage, std::span<const uint32
       const uint32_t f = other_face(x, y, F[i - 1][j]);
       if (f == UINT32_MAX) {
         if (j == 0) break;
-        return bad("the selected faces are not a rectangle: row " + std::to_string(i) + " of the grid ends after " +
-                   std::to_string(j) + " of " + std::to_string(cols) + " faces (next to " + face_name(F[i - 1][j]) + ")");
+        return bad("the selected faces are not a rectangle: row " + std::to_string(i) +
+                   " of the grid ends after " + std::to_string(j) + " of " + std::to_string(cols) +
+                   " faces (next to " + face_name(F[i - 1][j]) + ")");
       }
       if (!used.insert(f).second)
-        return bad("the selected faces close into a ring at " + face_name(f) + "; select an open rectangle of quads");
+        return bad("the selected faces close into a ring at " + face_name(f) +
+                   "; select an open rectangle of quads");
       auto q = cage.face(f);
       const uint32_t a = across(q, x, y), b = across(q, y, x);
       if ((next[j] != UINT32_MAX && next[j] != a))
@@ -160,15 +170,18 @@ Result<PatchGrid> fit_patch_to_faces(const PolyMesh& cage, std::span<const glm::
     return bad("the cage has " + std::to_string(cage.num_vertices()) + " vertices but " +
                std::to_string(positions.size()) + " positions were given");
   for (uint32_t n : {options.rows, options.cols})
-    if (n != 0 && (n < 4 || n > 256)) return bad("a fitted grid needs 4 to 256 control points a side (asked for " + std::to_string(n) + ")");
-  if (!(options.smoothing > 0 && options.smoothing < 1e6)) return bad("the fit's smoothing must be a positive number");
+    if (n != 0 && (n < 4 || n > 256))
+      return bad("a fitted grid needs 4 to 256 control points a side (asked for " + std::to_string(n) + ")");
+  if (!(options.smoothing > 0 && options.smoothing < 1e6))
+    return bad("the fit's smoothing must be a positive number");
   auto grid = quad_grid_of_faces(cage, faces);
   if (!grid) return grid.error();
   const uint32_t mr = grid->rows + 1, mc = grid->cols + 1;  // data lines
   for (uint32_t v : grid->vertices) {
     const glm::vec3& p = positions[v];
     if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
-      return make_error(ErrorCode::kNonFinite, "cage vertex " + std::to_string(v) + " has a non-finite coordinate");
+      return make_error(ErrorCode::kNonFinite,
+                        "cage vertex " + std::to_string(v) + " has a non-finite coordinate");
   }
   PatchGrid out;
   out.basis = PatchBasis::kBSpline;

@@ -19,9 +19,9 @@ namespace cagewrap {
 
 // The selected quads as a grid: vertex (i, j) for i in [0, rows], j in [0, cols].
 struct QuadGrid {
-  uint32_t rows = 0, cols = 0;          // faces along v, along u
-  std::vector<uint32_t> vertices;       // (rows + 1) x (cols + 1) cage vertex ids, row-major
-  std::vector<uint32_t> faces;          // rows x cols cage face ids, row-major
+  uint32_t rows = 0, cols = 0;     // faces along v, along u
+  std::vector<uint32_t> vertices;  // (rows + 1) x (cols + 1) cage vertex ids, row-major
+  std::vector<uint32_t> faces;     // rows x cols cage face ids, row-major
 };
 // Errors (kInvalidArgument), naming the face: an empty selection, a face out of range, a face that
 // is not a quad, faces that do not form one rectangle of quads (a hole, an L shape, a ring, a face

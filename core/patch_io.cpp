@@ -22,7 +22,9 @@ Json patch_surface_json(const PatchSurface& surface) {
       }
       rows.push_back(std::move(row));
     }
-    grids.push_back(Json{{"basis", patch_basis_name(g.basis)}, {"rows", g.rows}, {"cols", g.cols},
+    grids.push_back(Json{{"basis", patch_basis_name(g.basis)},
+                         {"rows", g.rows},
+                         {"cols", g.cols},
                          {"points", std::move(rows)}});
   }
   return Json{{"version", kPatchFormatVersion}, {"grids", std::move(grids)}};
@@ -35,7 +37,8 @@ PatchSurface read_surface(const JsonReader& rd, const Json& j, const std::string
   if (j.contains("version")) {
     const uint32_t v = rd.index(j["version"], JsonReader::join(path, "version"));
     if (v > uint32_t(kPatchFormatVersion))
-      rd.fail(ErrorCode::kVersion, "patch driver format version " + std::to_string(v) + " is newer than this build reads (" +
+      rd.fail(ErrorCode::kVersion, "patch driver format version " + std::to_string(v) +
+                                       " is newer than this build reads (" +
                                        std::to_string(kPatchFormatVersion) + ")");
   }
   const std::string gp = JsonReader::join(path, "grids");
@@ -50,7 +53,8 @@ PatchSurface read_surface(const JsonReader& rd, const Json& j, const std::string
     if (jg.contains("basis")) {
       const std::string basis = rd.string(jg["basis"], JsonReader::join(p, "basis"));
       if (!parse_patch_basis(basis, g.basis))
-        rd.fail(ErrorCode::kParse, JsonReader::join(p, "basis") + " is \"" + basis + "\"; use \"bspline\" or \"bezier\"");
+        rd.fail(ErrorCode::kParse,
+                JsonReader::join(p, "basis") + " is \"" + basis + "\"; use \"bspline\" or \"bezier\"");
     }
     g.rows = rd.index(rd.field(jg, p, "rows"), JsonReader::join(p, "rows"));
     g.cols = rd.index(rd.field(jg, p, "cols"), JsonReader::join(p, "cols"));
@@ -58,27 +62,32 @@ PatchSurface read_surface(const JsonReader& rd, const Json& j, const std::string
     const Json& rows = rd.array(rd.field(jg, p, "points"), pp);
     if (rows.size() != g.rows)
       rd.fail(ErrorCode::kTopologyMismatch, pp + " has " + std::to_string(rows.size()) + " rows but " +
-                                                JsonReader::join(p, "rows") + " is " + std::to_string(g.rows));
+                                                JsonReader::join(p, "rows") + " is " +
+                                                std::to_string(g.rows));
     for (uint32_t r = 0; r < g.rows; ++r) {
       const std::string rp = JsonReader::at(pp, r);
       const Json& row = rd.array(rows[r], rp);
       if (row.size() != g.cols)
-        rd.fail(ErrorCode::kTopologyMismatch, "grid " + std::to_string(gi) + " row " + std::to_string(r) + " (" + rp +
-                                                  ") has " + std::to_string(row.size()) + " control points but " +
-                                                  JsonReader::join(p, "cols") + " is " + std::to_string(g.cols));
+        rd.fail(ErrorCode::kTopologyMismatch, "grid " + std::to_string(gi) + " row " + std::to_string(r) +
+                                                  " (" + rp + ") has " + std::to_string(row.size()) +
+                                                  " control points but " + JsonReader::join(p, "cols") +
+                                                  " is " + std::to_string(g.cols));
       for (uint32_t c = 0; c < g.cols; ++c) {
         const std::string cp = JsonReader::at(rp, c);
-        const std::string who = "grid " + std::to_string(gi) + " control point row " + std::to_string(r) + " column " +
-                                std::to_string(c) + " (" + cp + ")";
+        const std::string who = "grid " + std::to_string(gi) + " control point row " + std::to_string(r) +
+                                " column " + std::to_string(c) + " (" + cp + ")";
         const Json& xyz = row[c];
-        if (!xyz.is_array() || xyz.size() != 3) rd.fail(ErrorCode::kParse, who + " should be [x, y, z], not " + JsonReader::show(xyz));
+        if (!xyz.is_array() || xyz.size() != 3)
+          rd.fail(ErrorCode::kParse, who + " should be [x, y, z], not " + JsonReader::show(xyz));
         glm::dvec3 q;
         for (int k = 0; k < 3; ++k) {
           const Json& v = xyz[size_t(k)];
           if (v.is_null() || (v.is_number() && !std::isfinite(v.get<double>())))
-            rd.fail(ErrorCode::kNonFinite, who + " has a non-finite coordinate " + "xyz"[k] +
-                                               " (a NaN or infinity was saved?)");
-          if (!v.is_number()) rd.fail(ErrorCode::kParse, who + " coordinate " + "xyz"[k] + " should be a number, not " + JsonReader::show(v));
+            rd.fail(ErrorCode::kNonFinite,
+                    who + " has a non-finite coordinate " + "xyz"[k] + " (a NaN or infinity was saved?)");
+          if (!v.is_number())
+            rd.fail(ErrorCode::kParse,
+                    who + " coordinate " + "xyz"[k] + " should be a number, not " + JsonReader::show(v));
           q[k] = v.get<double>();
         }
         g.points.push_back(q);
@@ -87,13 +96,15 @@ PatchSurface read_surface(const JsonReader& rd, const Json& j, const std::string
     s.grids.push_back(std::move(g));
   }
   // sizes (>= 4, Bezier 3m + 1) with the file's name
-  if (auto st = validate_patch_surface(s, path.empty() ? "the patch driver" : path); !st) rd.fail(st.error().code, st.error().message);
+  if (auto st = validate_patch_surface(s, path.empty() ? "the patch driver" : path); !st)
+    rd.fail(st.error().code, st.error().message);
   return s;
 }
 
 }  // namespace
 
-Result<PatchSurface> patch_surface_from_json(const Json& j, const std::string& file, const std::string& path) {
+Result<PatchSurface> patch_surface_from_json(const Json& j, const std::string& file,
+                                             const std::string& path) {
   try {
     return read_surface(JsonReader(file), j, path);
   } catch (const JsonLoadFailure& f) {
@@ -114,7 +125,8 @@ Result<PatchSurface> load_patch(const std::string& path) {
   if (!root) return root.error();
   if (!root->is_object() || !root->contains("format") || (*root)["format"] != kPatchFormat)
     return make_error(ErrorCode::kUnsupportedFormat,
-                      path + ": not a patch driver file (it should be a JSON object with \"format\": \"" + kPatchFormat + "\")");
+                      path + ": not a patch driver file (it should be a JSON object with \"format\": \"" +
+                          kPatchFormat + "\")");
   return patch_surface_from_json(*root, path);
 }
 
@@ -123,7 +135,8 @@ Status write_patch_gltf(const std::string& path, const PatchSurface& surface) {
   Json doc{{"asset", {{"version", "2.0"}, {"generator", "cagewrap"}}},
            {"scene", 0},
            {"scenes", Json::array({Json{{"nodes", Json::array({0})}}})},
-           {"nodes", Json::array({Json{{"name", "patch driver"}, {"extras", Json{{kPatchGltfKey, patch_surface_json(surface)}}}}})}};
+           {"nodes", Json::array({Json{{"name", "patch driver"},
+                                       {"extras", Json{{kPatchGltfKey, patch_surface_json(surface)}}}}})}};
   std::string text = doc.dump();
   const bool binary = path.size() >= 4 && path.compare(path.size() - 4, 4, ".glb") == 0;
   if (!binary) return write_file_atomic(path, text + "\n");
@@ -156,8 +169,8 @@ Result<PatchSurface> load_patch_gltf(const std::string& path) {
       return patch_surface_from_json(item["extras"][kPatchGltfKey], path, where);
     }
   }
-  return make_error(ErrorCode::kEmpty, path + ": no node or mesh holds a patch driver (extras." + kPatchGltfKey +
-                                           ", docs/patch-format.md)");
+  return make_error(ErrorCode::kEmpty, path + ": no node or mesh holds a patch driver (extras." +
+                                           kPatchGltfKey + ", docs/patch-format.md)");
 }
 
 namespace {

@@ -21,7 +21,8 @@ inline constexpr const char* kPatchGltfKey = "cagewrap_patch";
 // The driver as the JSON object of the formats (without "format"; control points as doubles).
 Json patch_surface_json(const PatchSurface& surface);
 // Reads that object; `file` names the source in messages, `path` is the object's JSON path.
-Result<PatchSurface> patch_surface_from_json(const Json& j, const std::string& file, const std::string& path = "");
+Result<PatchSurface> patch_surface_from_json(const Json& j, const std::string& file,
+                                             const std::string& path = "");
 
 // .cwpatch, written atomically.
 Status save_patch(const std::string& path, const PatchSurface& surface);

@@ -7,12 +7,17 @@
 
 namespace cagewrap {
 
-const char* patch_basis_name(PatchBasis b) { return b == PatchBasis::kBezier ? "bezier" : "bspline"; }
+const char* patch_basis_name(PatchBasis b) {
+  return b == PatchBasis::kBezier ? "bezier" : "bspline";
+}
 
 bool parse_patch_basis(const std::string& s, PatchBasis& out) {
-  if (s == "bspline") out = PatchBasis::kBSpline;
-  else if (s == "bezier") out = PatchBasis::kBezier;
-  else return false;
+  if (s == "bspline")
+    out = PatchBasis::kBSpline;
+  else if (s == "bezier")
+    out = PatchBasis::kBezier;
+  else
+    return false;
   return true;
 }
 
@@ -47,25 +52,27 @@ Status validate_patch_surface(const PatchSurface& s, const std::string& what) {
     const PatchGrid& g = s.grids[gi];
     const std::string grid = what + ": grid " + std::to_string(gi);
     if (g.rows < 4 || g.cols < 4)
-      return make_error(ErrorCode::kInvalidArgument, grid + " has " + std::to_string(g.rows) + " x " +
-                                                         std::to_string(g.cols) +
-                                                         " control points; a bicubic grid needs at least 4 x 4");
+      return make_error(ErrorCode::kInvalidArgument,
+                        grid + " has " + std::to_string(g.rows) + " x " + std::to_string(g.cols) +
+                            " control points; a bicubic grid needs at least 4 x 4");
     if (g.basis == PatchBasis::kBezier)
       for (uint32_t n : {g.rows, g.cols})
         if ((n - 1) % 3 != 0)
           return make_error(ErrorCode::kInvalidArgument,
-                            grid + " is a Bezier grid of " + std::to_string(g.rows) + " x " + std::to_string(g.cols) +
+                            grid + " is a Bezier grid of " + std::to_string(g.rows) + " x " +
+                                std::to_string(g.cols) +
                                 " control points; each side must be 3 m + 1 (4, 7, 10, ...)");
     if (g.points.size() != size_t(g.rows) * g.cols)
-      return make_error(ErrorCode::kTopologyMismatch, grid + " declares " + std::to_string(g.rows) + " x " +
-                                                          std::to_string(g.cols) + " control points but holds " +
-                                                          std::to_string(g.points.size()));
+      return make_error(ErrorCode::kTopologyMismatch,
+                        grid + " declares " + std::to_string(g.rows) + " x " + std::to_string(g.cols) +
+                            " control points but holds " + std::to_string(g.points.size()));
     for (uint32_t r = 0; r < g.rows; ++r)
       for (uint32_t c = 0; c < g.cols; ++c) {
         const glm::dvec3& p = g.at(r, c);
         if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
-          return make_error(ErrorCode::kNonFinite, grid + ", control point row " + std::to_string(r) + " column " +
-                                                       std::to_string(c) + " has a non-finite coordinate");
+          return make_error(ErrorCode::kNonFinite, grid + ", control point row " + std::to_string(r) +
+                                                       " column " + std::to_string(c) +
+                                                       " has a non-finite coordinate");
       }
   }
   return Ok{};
@@ -180,8 +187,9 @@ PatchPoint evaluate(const PatchGrid& grid, double u, double v) {
 
 Result<std::vector<PatchSample>> sample_patch_surface(const PatchSurface& surface, uint32_t density) {
   if (density == 0 || density > 1024)
-    return make_error(ErrorCode::kInvalidArgument, "the sampling density must be between 1 and 1024 samples per span (got " +
-                                                       std::to_string(density) + ")");
+    return make_error(ErrorCode::kInvalidArgument,
+                      "the sampling density must be between 1 and 1024 samples per span (got " +
+                          std::to_string(density) + ")");
   if (auto s = validate_patch_surface(surface, "the patch driver"); !s) return s.error();
   std::vector<PatchSample> out;
   for (size_t gi = 0; gi < surface.grids.size(); ++gi) {

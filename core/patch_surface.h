@@ -18,11 +18,10 @@
 #pragma once
 
 #include <cstdint>
+#include <glm/vec3.hpp>
 #include <span>
 #include <string>
 #include <vector>
-
-#include <glm/vec3.hpp>
 
 #include "core/result.h"
 
@@ -34,9 +33,9 @@ bool parse_patch_basis(const std::string& s, PatchBasis& out);
 
 struct PatchGrid {
   PatchBasis basis = PatchBasis::kBSpline;
-  uint32_t rows = 0;                // control points along v
-  uint32_t cols = 0;                // control points along u
-  std::vector<glm::dvec3> points;   // rows x cols, row-major: points[r * cols + c]
+  uint32_t rows = 0;               // control points along v
+  uint32_t cols = 0;               // control points along u
+  std::vector<glm::dvec3> points;  // rows x cols, row-major: points[r * cols + c]
 
   const glm::dvec3& at(uint32_t r, uint32_t c) const { return points[size_t(r) * cols + c]; }
   bool operator==(const PatchGrid&) const = default;

@@ -1,22 +1,24 @@
 // Binding a skin to a parametric driver and deforming it (core/patch_binding.h): the properties of
 // algorithm.md section 4.1 for sample elements, locality and smoothness of a control point's pull,
 // and the sample count set by the density.
+#include "core/patch_binding.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
-
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "core/binding_io.h"
-#include "core/patch_binding.h"
 #include "tests/expect_error.h"
 #include "tests/patch_fixtures.h"
 
 namespace cagewrap {
 namespace {
 
-double diagonal(std::span<const glm::vec3> pts) { return bounding_box(pts).diagonal(); }
+double diagonal(std::span<const glm::vec3> pts) {
+  return bounding_box(pts).diagonal();
+}
 
 double max_distance(std::span<const glm::vec3> a, std::span<const glm::vec3> b) {
   double worst = 0;
@@ -116,7 +118,8 @@ TEST(PatchBinding, RigidMotionOfTheControlPointsMovesTheSkinRigidly) {
   for (glm::dvec3& p : posed.grids[0].points) p = glm::dvec3(m * glm::dvec4(p, 1.0));
   const auto out = b.deform(posed);
   std::vector<glm::vec3> expected(b.skin.size());
-  for (size_t i = 0; i < b.skin.size(); ++i) expected[i] = glm::vec3(m * glm::dvec4(glm::dvec3(b.skin[i]), 1.0));
+  for (size_t i = 0; i < b.skin.size(); ++i)
+    expected[i] = glm::vec3(m * glm::dvec4(glm::dvec3(b.skin[i]), 1.0));
   // float maps and positions: a few float ulps of the coordinates
   EXPECT_LT(max_distance(out, expected), 2e-6 * diagonal(b.skin));
 }
@@ -168,7 +171,8 @@ TEST(PatchBinding, OneControlPointMovesNearbySkinSmoothly) {
   };
   const double coarse = largest_step(1001), fine = largest_step(2001);
   EXPECT_LT(coarse, 0.02 * glm::length(move));  // 5 mm spacing: no step beyond 2 % of the pull
-  EXPECT_LT(fine, 0.6 * coarse) << "coarse " << coarse << " fine " << fine;  // continuous: halves with the spacing
+  EXPECT_LT(fine, 0.6 * coarse) << "coarse " << coarse << " fine "
+                                << fine;  // continuous: halves with the spacing
 }
 
 TEST(PatchBinding, DegenerateSamplesAreReportedAndSkipped) {
@@ -207,7 +211,8 @@ TEST(PatchBinding, BadInputsAreRefused) {
   nan.grids[0].points[9].x = std::nan("");
   EXPECT_TRUE(Fails(d->deform(nan, out), ErrorCode::kNonFinite, {"row 1 column 1"}));
   // the cage paths refuse a sample binding instead of reading past its tables
-  EXPECT_TRUE(Fails(save_binding("/tmp/never-written.cwb", *b), ErrorCode::kInvalidArgument, {"parametric driver"}));
+  EXPECT_TRUE(
+      Fails(save_binding("/tmp/never-written.cwb", *b), ErrorCode::kInvalidArgument, {"parametric driver"}));
   auto cage_deformer = Deformer::create(*b, skin);
   ASSERT_TRUE(cage_deformer.ok());
   std::vector<glm::vec3> cage(4, glm::vec3(0.f));

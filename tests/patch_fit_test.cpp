@@ -1,13 +1,13 @@
 // Fitting a patch grid to selected cage faces (core/patch_fit.h): the rectangle of quads is found
 // in any orientation, the fit follows the faces, and selections that are no rectangle are refused
 // naming a face.
+#include "core/patch_fit.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
-
 #include <glm/geometric.hpp>
 
-#include "core/patch_fit.h"
 #include "tests/expect_error.h"
 
 namespace cagewrap {
@@ -26,8 +26,12 @@ PolyMesh sheet(uint32_t nx, uint32_t nz, double (*height)(double, double)) {
   m.add_face({v(0, 0), v(1, 0), uint32_t(m.positions.size() - 1)});
   return m;
 }
-double flat(double, double) { return 0.0; }
-double bump(double x, double z) { return 0.3 * std::sin(0.8 * x) * std::cos(0.6 * z); }
+double flat(double, double) {
+  return 0.0;
+}
+double bump(double x, double z) {
+  return 0.3 * std::sin(0.8 * x) * std::cos(0.6 * z);
+}
 
 std::vector<uint32_t> block(uint32_t nx, uint32_t i0, uint32_t i1, uint32_t j0, uint32_t j1) {
   std::vector<uint32_t> out;
@@ -105,15 +109,19 @@ TEST(PatchFit, SelectionsThatAreNoRectangleAreRefused) {
   const uint32_t tri = 6 * 5;
   std::vector<uint32_t> with_tri = block(6, 0, 2, 0, 2);
   with_tri.push_back(tri);
-  EXPECT_TRUE(Fails(quad_grid_of_faces(m, with_tri), ErrorCode::kInvalidArgument, {"cage face 30", "3 corners"}));
+  EXPECT_TRUE(
+      Fails(quad_grid_of_faces(m, with_tri), ErrorCode::kInvalidArgument, {"cage face 30", "3 corners"}));
   std::vector<uint32_t> ell = block(6, 0, 2, 0, 3);  // 2 x 3 ...
-  ell.push_back(2 * 6 + 0);                           // ... plus one face below its first column
-  EXPECT_TRUE(Fails(quad_grid_of_faces(m, ell), ErrorCode::kInvalidArgument, {"not", "rectangle", "cage face"}));
+  ell.push_back(2 * 6 + 0);                          // ... plus one face below its first column
+  EXPECT_TRUE(
+      Fails(quad_grid_of_faces(m, ell), ErrorCode::kInvalidArgument, {"not", "rectangle", "cage face"}));
   std::vector<uint32_t> apart = {0, 3};
-  EXPECT_TRUE(Fails(quad_grid_of_faces(m, apart), ErrorCode::kInvalidArgument, {"cage face 3", "not in the"}));
+  EXPECT_TRUE(
+      Fails(quad_grid_of_faces(m, apart), ErrorCode::kInvalidArgument, {"cage face 3", "not in the"}));
   EXPECT_TRUE(Fails(quad_grid_of_faces(m, {}), ErrorCode::kInvalidArgument, {"no cage faces"}));
   std::vector<uint32_t> missing = {0, 99};
-  EXPECT_TRUE(Fails(quad_grid_of_faces(m, missing), ErrorCode::kInvalidArgument, {"cage face 99", "does not exist"}));
+  EXPECT_TRUE(
+      Fails(quad_grid_of_faces(m, missing), ErrorCode::kInvalidArgument, {"cage face 99", "does not exist"}));
   // a tube (the sheet's columns wrapped round): no corner
   PolyMesh tube;
   const uint32_t n = 6;
@@ -126,8 +134,8 @@ TEST(PatchFit, SelectionsThatAreNoRectangleAreRefused) {
   std::vector<uint32_t> all(2 * n);
   for (uint32_t f = 0; f < all.size(); ++f) all[f] = f;
   EXPECT_TRUE(Fails(quad_grid_of_faces(tube, all), ErrorCode::kInvalidArgument, {"ring"}));
-  EXPECT_TRUE(Fails(fit_patch_to_faces(m, m.positions, block(6, 0, 2, 0, 2), {.rows = 3}), ErrorCode::kInvalidArgument,
-                    {"4 to 256"}));
+  EXPECT_TRUE(Fails(fit_patch_to_faces(m, m.positions, block(6, 0, 2, 0, 2), {.rows = 3}),
+                    ErrorCode::kInvalidArgument, {"4 to 256"}));
 }
 
 }  // namespace

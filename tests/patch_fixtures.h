@@ -2,10 +2,9 @@
 #pragma once
 
 #include <cmath>
+#include <glm/vec3.hpp>
 #include <random>
 #include <vector>
-
-#include <glm/vec3.hpp>
 
 #include "core/patch_surface.h"
 
@@ -24,13 +23,16 @@ inline PatchGrid wavy_grid(uint32_t rows = 7, uint32_t cols = 8, PatchBasis basi
   return g;
 }
 
-inline PatchSurface wavy_surface(uint32_t rows = 7, uint32_t cols = 8) { return PatchSurface{{wavy_grid(rows, cols)}}; }
+inline PatchSurface wavy_surface(uint32_t rows = 7, uint32_t cols = 8) {
+  return PatchSurface{{wavy_grid(rows, cols)}};
+}
 
 // `n` points in a slab around the sheet of wavy_grid(rows, cols): x, z inside the grid's extent (a
 // margin of 0.5 in), y in [-0.6, 0.6] about the bump.
 inline std::vector<glm::vec3> slab_skin(size_t n, uint32_t rows = 7, uint32_t cols = 8, unsigned seed = 7) {
   std::mt19937 rng(seed);
-  std::uniform_real_distribution<float> ux(0.5f, float(cols) - 1.5f), uz(0.5f, float(rows) - 1.5f), uy(-0.6f, 0.6f);
+  std::uniform_real_distribution<float> ux(0.5f, float(cols) - 1.5f), uz(0.5f, float(rows) - 1.5f),
+      uy(-0.6f, 0.6f);
   std::vector<glm::vec3> out(n);
   for (auto& p : out) p = {ux(rng), uy(rng), uz(rng)};
   return out;

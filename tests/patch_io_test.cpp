@@ -1,13 +1,13 @@
 // Patch driver files (core/patch_io.h): .cwpatch and glTF extras round trips, and bad files refused
 // with messages naming the file and the control point.
-#include <gtest/gtest.h>
+#include "core/patch_io.h"
 
+#include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
 
-#include "core/patch_io.h"
 #include "tests/expect_error.h"
 #include "tests/gltf_validator.h"
 #include "tests/patch_fixtures.h"
@@ -21,7 +21,8 @@ class PatchIo : public ::testing::Test {
  protected:
   void SetUp() override {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() / ("cagewrap-patch_io-" + std::to_string(::getpid()) + "-" + info->name());
+    dir_ =
+        fs::temp_directory_path() / ("cagewrap-patch_io-" + std::to_string(::getpid()) + "-" + info->name());
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
@@ -71,7 +72,8 @@ TEST_F(PatchIo, GltfDriverOnAMeshOfAnotherToolsFileIsFound) {
   Json grid = patch_surface_json(PatchSurface{{test::wavy_grid(4, 4)}});
   Json doc{{"asset", {{"version", "2.0"}}},
            {"nodes", Json::array({Json{{"name", "x"}, {"extras", {{"other", 1}}}}})},
-           {"meshes", Json::array({Json{{"primitives", Json::array()}}, Json{{"extras", {{kPatchGltfKey, grid}}}}})}};
+           {"meshes",
+            Json::array({Json{{"primitives", Json::array()}}, Json{{"extras", {{kPatchGltfKey, grid}}}}})}};
   const std::string p = write("tool.gltf", doc.dump());
   auto back = load_patch_gltf(p);
   ASSERT_TRUE(back.ok()) << back.error().message;
@@ -86,19 +88,23 @@ TEST_F(PatchIo, GltfDriverOnAMeshOfAnotherToolsFileIsFound) {
 
 TEST_F(PatchIo, BadFilesAreRefusedNamingFileAndControlPoint) {
   auto grid_text = [](const std::string& rows_json, const std::string& extra = "") {
-    return R"({"format": "cagewrap-patch", "version": 1, "grids": [{"basis": "bspline", )" + extra + rows_json + "}]}";
+    return R"({"format": "cagewrap-patch", "version": 1, "grids": [{"basis": "bspline", )" + extra +
+           rows_json + "}]}";
   };
   auto row = [](int n, double y = 0) {
     std::string r = "[";
-    for (int c = 0; c < n; ++c) r += (c ? ", " : "") + std::string("[") + std::to_string(c) + ", " + std::to_string(y) + ", 0]";
+    for (int c = 0; c < n; ++c)
+      r += (c ? ", " : "") + std::string("[") + std::to_string(c) + ", " + std::to_string(y) + ", 0]";
     return r + "]";
   };
   // a row shorter than cols
-  std::string rows = "\"rows\": 4, \"cols\": 4, \"points\": [" + row(4) + ", " + row(4) + ", " + row(3) + ", " + row(4) + "]";
+  std::string rows = "\"rows\": 4, \"cols\": 4, \"points\": [" + row(4) + ", " + row(4) + ", " + row(3) +
+                     ", " + row(4) + "]";
   EXPECT_TRUE(Fails(load_patch(write("short.cwpatch", grid_text(rows))), ErrorCode::kTopologyMismatch,
                     {"short.cwpatch", "grid 0 row 2", "3 control points", "cols is 4"}));
   // fewer rows than declared
-  rows = "\"rows\": 5, \"cols\": 4, \"points\": [" + row(4) + ", " + row(4) + ", " + row(4) + ", " + row(4) + "]";
+  rows = "\"rows\": 5, \"cols\": 4, \"points\": [" + row(4) + ", " + row(4) + ", " + row(4) + ", " + row(4) +
+         "]";
   EXPECT_TRUE(Fails(load_patch(write("rows.cwpatch", grid_text(rows))), ErrorCode::kTopologyMismatch,
                     {"rows.cwpatch", "4 rows", "rows is 5"}));
   // a grid too small for a bicubic
@@ -106,23 +112,30 @@ TEST_F(PatchIo, BadFilesAreRefusedNamingFileAndControlPoint) {
   EXPECT_TRUE(Fails(load_patch(write("small.cwpatch", grid_text(rows))), ErrorCode::kInvalidArgument,
                     {"small.cwpatch", "3 x 4", "at least 4 x 4"}));
   // a non-finite control point (JSON writers put null for NaN)
-  rows = "\"rows\": 4, \"cols\": 4, \"points\": [" + row(4) + ", [[0, 0, 0], [1, 0, 0], [2, 0, 0], [3, null, 0]], " +
-         row(4) + ", " + row(4) + "]";
+  rows = "\"rows\": 4, \"cols\": 4, \"points\": [" + row(4) +
+         ", [[0, 0, 0], [1, 0, 0], [2, 0, 0], [3, null, 0]], " + row(4) + ", " + row(4) + "]";
   EXPECT_TRUE(Fails(load_patch(write("nan.cwpatch", grid_text(rows))), ErrorCode::kNonFinite,
                     {"nan.cwpatch", "row 1 column 3", "coordinate y"}));
   // an unknown basis, a Bezier grid of the wrong size
-  rows = "\"rows\": 4, \"cols\": 4, \"points\": [" + row(4) + ", " + row(4) + ", " + row(4) + ", " + row(4) + "]";
-  EXPECT_TRUE(Fails(load_patch(write("basis.cwpatch", R"({"format": "cagewrap-patch", "grids": [{"basis": "nurbs", )" + rows + "}]}")),
-                    ErrorCode::kParse, {"basis.cwpatch", "grids[0].basis", "nurbs"}));
-  rows = "\"rows\": 5, \"cols\": 4, \"points\": [" + row(4) + ", " + row(4) + ", " + row(4) + ", " + row(4) + ", " + row(4) + "]";
-  EXPECT_TRUE(Fails(load_patch(write("bez.cwpatch", R"({"format": "cagewrap-patch", "grids": [{"basis": "bezier", )" + rows + "}]}")),
-                    ErrorCode::kInvalidArgument, {"bez.cwpatch", "3 m + 1"}));
+  rows = "\"rows\": 4, \"cols\": 4, \"points\": [" + row(4) + ", " + row(4) + ", " + row(4) + ", " + row(4) +
+         "]";
+  EXPECT_TRUE(
+      Fails(load_patch(write("basis.cwpatch",
+                             R"({"format": "cagewrap-patch", "grids": [{"basis": "nurbs", )" + rows + "}]}")),
+            ErrorCode::kParse, {"basis.cwpatch", "grids[0].basis", "nurbs"}));
+  rows = "\"rows\": 5, \"cols\": 4, \"points\": [" + row(4) + ", " + row(4) + ", " + row(4) + ", " + row(4) +
+         ", " + row(4) + "]";
+  EXPECT_TRUE(Fails(
+      load_patch(write("bez.cwpatch",
+                       R"({"format": "cagewrap-patch", "grids": [{"basis": "bezier", )" + rows + "}]}")),
+      ErrorCode::kInvalidArgument, {"bez.cwpatch", "3 m + 1"}));
   // not a patch file, not JSON, a newer version, missing file
   EXPECT_TRUE(Fails(load_patch(write("other.cwpatch", "{\"grids\": []}")), ErrorCode::kUnsupportedFormat,
                     {"other.cwpatch", "cagewrap-patch"}));
   EXPECT_TRUE(Fails(load_patch(write("text.cwpatch", "grids")), ErrorCode::kParse, {"text.cwpatch"}));
-  EXPECT_TRUE(Fails(load_patch(write("new.cwpatch", R"({"format": "cagewrap-patch", "version": 9, "grids": []})")),
-                    ErrorCode::kVersion, {"new.cwpatch", "version 9"}));
+  EXPECT_TRUE(
+      Fails(load_patch(write("new.cwpatch", R"({"format": "cagewrap-patch", "version": 9, "grids": []})")),
+            ErrorCode::kVersion, {"new.cwpatch", "version 9"}));
   EXPECT_TRUE(Fails(load_patch(path("missing.cwpatch")), ErrorCode::kFileNotFound, {"missing.cwpatch"}));
   // a glTF file without a driver, a truncated .glb
   EXPECT_TRUE(Fails(load_patch_gltf(write("plain.gltf", R"({"asset": {"version": "2.0"}, "nodes": [{}]})")),
@@ -133,7 +146,8 @@ TEST_F(PatchIo, BadFilesAreRefusedNamingFileAndControlPoint) {
   // saving refuses what it could not load back
   PatchSurface nan = surface();
   nan.grids[1].points[3].z = std::nan("");
-  EXPECT_TRUE(Fails(save_patch(path("x.cwpatch"), nan), ErrorCode::kNonFinite, {"x.cwpatch", "grid 1", "row 0 column 3"}));
+  EXPECT_TRUE(Fails(save_patch(path("x.cwpatch"), nan), ErrorCode::kNonFinite,
+                    {"x.cwpatch", "grid 1", "row 0 column 3"}));
   EXPECT_FALSE(fs::exists(path("x.cwpatch")));
 }
 

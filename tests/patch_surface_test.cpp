@@ -1,19 +1,21 @@
 // Bicubic patch grids (core/patch_surface.h): basis functions, evaluation, sampling, validation.
+#include "core/patch_surface.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <glm/geometric.hpp>
 #include <limits>
 
-#include <glm/geometric.hpp>
-
-#include "core/patch_surface.h"
 #include "tests/expect_error.h"
 #include "tests/patch_fixtures.h"
 
 namespace cagewrap {
 namespace {
 
-double dist(const glm::dvec3& a, const glm::dvec3& b) { return glm::length(a - b); }
+double dist(const glm::dvec3& a, const glm::dvec3& b) {
+  return glm::length(a - b);
+}
 
 TEST(PatchSurface, BasisIsAPartitionOfUnityWithZeroSumDerivatives) {
   for (PatchBasis basis : {PatchBasis::kBSpline, PatchBasis::kBezier})
@@ -46,8 +48,10 @@ TEST(PatchSurface, TangentsMatchFiniteDifferences) {
     for (double u : {0.3, 0.5 * su + 0.25, su - 0.4, 1.0 + 1e-4, su - 1e-4})
       for (double v : {0.2, 0.5 * sv + 0.25, sv - 0.3, 2.0 - 1e-4}) {
         const PatchPoint p = evaluate(g, u, v);
-        const glm::dvec3 fu = (evaluate(g, u + step, v).position - evaluate(g, u - step, v).position) / (2 * step);
-        const glm::dvec3 fv = (evaluate(g, u, v + step).position - evaluate(g, u, v - step).position) / (2 * step);
+        const glm::dvec3 fu =
+            (evaluate(g, u + step, v).position - evaluate(g, u - step, v).position) / (2 * step);
+        const glm::dvec3 fv =
+            (evaluate(g, u, v + step).position - evaluate(g, u, v - step).position) / (2 * step);
         worst = std::max({worst, dist(p.du, fu), dist(p.dv, fv)});
         EXPECT_GT(glm::length(p.du), 0.1);
       }
@@ -123,16 +127,19 @@ TEST(PatchSurface, BadGridsAndDensitiesAreRefusedByName) {
   EXPECT_TRUE(Fails(validate_patch_surface(small, "a.cwpatch"), ErrorCode::kInvalidArgument,
                     {"a.cwpatch", "grid 0", "3 x 5", "at least 4 x 4"}));
   PatchSurface bezier{{test::wavy_grid(5, 4, PatchBasis::kBezier)}};
-  EXPECT_TRUE(Fails(validate_patch_surface(bezier, "b.cwpatch"), ErrorCode::kInvalidArgument, {"b.cwpatch", "3 m + 1"}));
+  EXPECT_TRUE(Fails(validate_patch_surface(bezier, "b.cwpatch"), ErrorCode::kInvalidArgument,
+                    {"b.cwpatch", "3 m + 1"}));
   PatchSurface nan{{test::wavy_grid(), test::wavy_grid()}};
   nan.grids[1].points[2 * 8 + 5].y = std::numeric_limits<double>::quiet_NaN();
   EXPECT_TRUE(Fails(validate_patch_surface(nan, "c.cwpatch"), ErrorCode::kNonFinite,
                     {"c.cwpatch", "grid 1", "row 2 column 5"}));
   PatchSurface ragged{{test::wavy_grid()}};
   ragged.grids[0].points.pop_back();
-  EXPECT_TRUE(Fails(validate_patch_surface(ragged, "d"), ErrorCode::kTopologyMismatch, {"7 x 8", "holds 55"}));
+  EXPECT_TRUE(
+      Fails(validate_patch_surface(ragged, "d"), ErrorCode::kTopologyMismatch, {"7 x 8", "holds 55"}));
   EXPECT_TRUE(Fails(validate_patch_surface(PatchSurface{}, "e"), ErrorCode::kEmpty, {"no grid"}));
-  EXPECT_TRUE(Fails(sample_patch_surface(test::wavy_surface(), 0), ErrorCode::kInvalidArgument, {"density", "got 0"}));
+  EXPECT_TRUE(Fails(sample_patch_surface(test::wavy_surface(), 0), ErrorCode::kInvalidArgument,
+                    {"density", "got 0"}));
   EXPECT_TRUE(Fails(sample_patch_surface(nan, 2), ErrorCode::kNonFinite, {"row 2 column 5"}));
 }
 

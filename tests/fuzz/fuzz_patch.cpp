@@ -15,7 +15,7 @@ void exercise(const cagewrap::Result<cagewrap::PatchSurface>& p, const std::stri
     if (p.error().message.find(path) == std::string::npos) std::abort();  // errors name the file
     return;
   }
-  if (p->num_control_points() > 4096) return;  // keep each input fast
+  if (p->num_control_points() > 4096) return;      // keep each input fast
   for (const glm::dvec3& q : p->control_points())  // the maps are floats: scene-sized coordinates only
     if (std::abs(q.x) > 1e6 || std::abs(q.y) > 1e6 || std::abs(q.z) > 1e6) return;
   static const std::vector<glm::vec3> skin = {{0.1f, 0, 0}, {-0.1f, 0.5f, 0}, {0, 0.2f, 1}, {2, 0, 0.3f}};
