@@ -41,6 +41,19 @@ void PatchSurface::set_control_points(std::span<const glm::dvec3> points) {
     for (glm::dvec3& p : g.points) p = points[k++];
 }
 
+std::vector<std::array<uint32_t, 2>> control_net_edges(const PatchSurface& surface) {
+  std::vector<std::array<uint32_t, 2>> out;
+  uint32_t base = 0;
+  for (const PatchGrid& g : surface.grids) {
+    for (uint32_t r = 0; r < g.rows; ++r)
+      for (uint32_t c = 0; c + 1 < g.cols; ++c) out.push_back({base + r * g.cols + c, base + r * g.cols + c + 1});
+    for (uint32_t r = 0; r + 1 < g.rows; ++r)
+      for (uint32_t c = 0; c < g.cols; ++c) out.push_back({base + r * g.cols + c, base + (r + 1) * g.cols + c});
+    base += static_cast<uint32_t>(g.points.size());
+  }
+  return out;
+}
+
 uint32_t patch_spans(PatchBasis basis, uint32_t n) {
   if (n < 4) return 0;
   return basis == PatchBasis::kBezier ? (n - 1) / 3 : n - 3;

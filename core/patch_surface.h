@@ -17,6 +17,7 @@
 // u runs along a row (the column index c), v down the columns (the row index r).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <glm/vec3.hpp>
 #include <span>
@@ -51,6 +52,10 @@ struct PatchSurface {
   void set_control_points(std::span<const glm::dvec3> points);  // #C; checked
   bool operator==(const PatchSurface&) const = default;
 };
+
+// The control net's edges as pairs of global control point indices (rows, then columns, grid by
+// grid), for display.
+std::vector<std::array<uint32_t, 2>> control_net_edges(const PatchSurface& surface);
 
 // Spans along a direction with n control points (B-spline: n - 3; Bezier: (n - 1) / 3).
 uint32_t patch_spans(PatchBasis basis, uint32_t n);

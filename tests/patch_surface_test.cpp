@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <glm/geometric.hpp>
+#include <glm/vec2.hpp>
 #include <limits>
 
 #include "tests/expect_error.h"
@@ -120,6 +121,16 @@ TEST(PatchSurface, DensityCutsEverySpanIntoEqualSteps) {
         EXPECT_LT(dist(f.dv, p.dv), 1e-13);
       }
   }
+}
+
+TEST(PatchSurface, ControlNetEdgesJoinRowAndColumnNeighboursGridByGrid) {
+  PatchSurface s{{test::wavy_grid(4, 5), test::wavy_grid(4, 4)}};
+  const auto edges = control_net_edges(s);
+  // grid 0: 4 rows of 4 edges + 3 x 5 column edges; grid 1: 4 x 3 + 3 x 4
+  ASSERT_EQ(edges.size(), size_t(16 + 15 + 12 + 12));
+  const auto points = s.control_points();
+  for (const auto& [a, b] : edges) EXPECT_NEAR(glm::length(glm::dvec2(points[a].x - points[b].x, points[a].z - points[b].z)), 1.0, 1e-12);
+  EXPECT_EQ(edges[16 + 15][0], 20u);  // the second grid's first edge starts at its first point
 }
 
 TEST(PatchSurface, BadGridsAndDensitiesAreRefusedByName) {
