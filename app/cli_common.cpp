@@ -64,6 +64,12 @@ std::string bind_options_differing(const BindOptions& o, const BindParams& bound
   return out;
 }
 
+bool positions_output_or_report(const std::string& path) {
+  if (has_extension(path, ".obj") || has_extension(path, ".bin")) return true;
+  std::fprintf(stderr, "error: %s: output must end in .obj or .bin\n", path.c_str());
+  return false;
+}
+
 int report_error(const Error& e) {
   std::fprintf(stderr, "error: %s\n", e.message.c_str());
   return 1;

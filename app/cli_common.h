@@ -42,6 +42,8 @@ std::optional<Cage> load_cage_or_report(const std::string& path);
 std::optional<ProjectLoad> load_project_or_report(const std::string& path);
 
 int report_error(const Error& e);  // prints to stderr, returns the exit code (1)
+// Whether `path` names a positions output (.obj or .bin); prints the error when not.
+bool positions_output_or_report(const std::string& path);
 
 // One line per fact: points, elements (and the `num_polygons` cage polygons they triangulate), set
 // sizes, affected elements and points, quality, seconds.

@@ -25,10 +25,7 @@ void add_deform_command(CLI::App& app, int& exit_code) {
   cmd->callback([args, &exit_code] {
     exit_code = 1;
     if (!finish_bind_options(args->bind)) return;
-    if (!has_extension(args->out, ".obj") && !has_extension(args->out, ".bin")) {
-      std::fprintf(stderr, "error: %s: output must end in .obj or .bin\n", args->out.c_str());
-      return;
-    }
+    if (!positions_output_or_report(args->out)) return;
     auto mesh = load_mesh_or_report(args->mesh);
     if (!mesh) return;
     auto cage = load_cage_or_report(args->cage);

@@ -76,10 +76,7 @@ void add_pose_command(CLI::App& app, int& exit_code) {
   cmd->callback([args, &exit_code] {
     exit_code = 1;
     const std::string& P = args->project;
-    if (!has_extension(args->out, ".obj") && !has_extension(args->out, ".bin")) {
-      std::fprintf(stderr, "error: %s: output must end in .obj or .bin\n", args->out.c_str());
-      return;
-    }
+    if (!positions_output_or_report(args->out)) return;
     if (!std::isfinite(args->time)) {
       std::fprintf(stderr, "error: --time must be a finite number of seconds\n");
       return;

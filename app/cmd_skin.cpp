@@ -25,10 +25,7 @@ void add_skin_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--out", args->out, "skinned positions: .obj (with triangles), or .bin (raw float32 N x 3)")->required();
   cmd->callback([args, &exit_code] {
     exit_code = 1;
-    if (!has_extension(args->out, ".obj") && !has_extension(args->out, ".bin")) {
-      std::fprintf(stderr, "error: %s: output must end in .obj or .bin\n", args->out.c_str());
-      return;
-    }
+    if (!positions_output_or_report(args->out)) return;
     auto c = load_character(args->character);
     if (!c) {
       report_error(c.error());

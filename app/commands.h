@@ -21,5 +21,6 @@ void add_export_command(CLI::App& app, int& exit_code);
 void add_project_command(CLI::App& app, int& exit_code);
 void add_simulate_command(CLI::App& app, int& exit_code);
 void add_demo_sim_command(CLI::App& app, int& exit_code);
+void add_patch_command(CLI::App& app, int& exit_code);  // parametric drivers (cmd_patch.cpp)
 
 }  // namespace cagewrap::app

@@ -25,6 +25,7 @@
 
 #include "app/cage_tools.h"
 #include "app/export_panel.h"
+#include "app/patch_panel.h"
 #include "app/rig_panel.h"
 #include "app/sets_panel.h"
 #include "app/sim_panel.h"
@@ -207,6 +208,7 @@ class Editor {
   RigPanel rig_panel_;
   SetsPanel sets_panel_;
   SimPanel sim_panel_;
+  PatchPanel patch_panel_;
   bool painting_ = false;  // a set-edit brush stroke in progress
   bool skin_colored_ = false;
   EditorHooks hooks_;
@@ -1046,6 +1048,7 @@ void Editor::draw_menu() {
     ImGui::MenuItem("Attachment and keyposes...", "K", &rig_panel_.visible());
     ImGui::MenuItem("Contributing sets...", "J", &sets_panel_.visible());
     ImGui::MenuItem("Simulation...", nullptr, &sim_panel_.visible());
+    ImGui::MenuItem("Parametric driver...", nullptr, &patch_panel_.visible());
     if (ImGui::MenuItem("Reset pose")) scene_->pose_override.clear();
     ImGui::MenuItem("Show the file's own skinning", "L", &scene_->show_file_skinning);
     ImGui::EndMenu();
@@ -1850,6 +1853,8 @@ void Editor::run_script_step() {
       double t;
       in >> t;
       scene_->player.scrub(t);
+    } else if (patch_panel_.script_command(cmd, in, *scene_, selection_, hooks_)) {
+      script_wait_ = 1;  // drawn before the next step
     } else if (!run_file_script_command(cmd, in))
       log("error: script line " + std::to_string(script_pos_) + ": unknown command '" + cmd + "'", true);
   }
@@ -2018,6 +2023,7 @@ void Editor::draw_panels() {
   if (scene_) rig_panel_.draw(*scene_, selection_, mirror_.enabled, rig_mirror_tolerance(), hooks_);
   if (scene_) sets_panel_.draw(*scene_, selection_, hooks_);
   if (scene_ && sim_panel_.visible()) sim_panel_.draw(*scene_, sim_paint_weights(), hooks_);
+  if (scene_) patch_panel_.draw(*scene_, selection_, hooks_);
   draw_help();
   // last: a window appearing after a modal's first Begin in the same frame trips an assertion in
   // Dear ImGui 1.86 (FindBlockingModal), and at start-up every panel appears with the prompt
@@ -2151,6 +2157,7 @@ int Editor::run() {
       scene_->update_pose();
       if (topology_dirty_) upload_topology();
       if (auto e = skin_display_.update(*scene_, *renderer_); !e.empty()) log(e);
+      patch_panel_.update_display(*scene_, *renderer_);  // a parametric driver's skin and control net
       update_selection_display();
       {
         const auto& colors = sets_panel_.colors(*scene_, selection_);

@@ -76,6 +76,10 @@ struct Binding {
   glm::dvec3 origin{0.0};        // all maps are expressed relative to this point (float precision)
   uint32_t num_points = 0;
   uint32_t num_cage_vertices = 0;
+  // A sample-driven binding (a parametric driver, core/patch_binding.h) when > 0: the stencil's ids
+  // name these driver samples, the variant is basic, and there is no cage (no rest_cage, elements
+  // or fallback points); the maps come from the driver (Deformer::deform_with_maps).
+  uint32_t num_samples = 0;
   std::vector<glm::vec3> rest_cage;  // #Vc x 3 reference cage R
   std::vector<Tri> elements;         // #E control elements of R
   std::vector<ElementStatus> element_status;  // #E

@@ -100,13 +100,18 @@ Status validate_binding(const Binding& b) {
         return out_of_range("the binding's element " + n(e) + " has corner " + n(k) + " at cage vertex " +
                             n(b.elements[e][k]) + " but the cage has " + n(b.num_cage_vertices) + " vertices");
   const bool extended = b.params.variant == Variant::kExtended;
-  const size_t id_limit = extended ? b.num_cage_vertices : b.elements.size();
+  const bool samples = b.num_samples > 0;
+  if (samples && (b.params.variant != Variant::kBasic || !b.elements.empty() || !b.rigid_points.empty()))
+    return parse_error("a sample-driven binding must be of the basic variant, with no cage elements or fallback points");
+  const size_t id_limit = samples ? b.num_samples : extended ? b.num_cage_vertices : b.elements.size();
+  const char* id_name = samples ? "sample " : extended ? "cage vertex " : "element ";
+  const char* limit_name = samples ? " samples" : extended ? " vertices" : " elements";
   for (size_t p = 0; p < b.num_points; ++p)
     for (size_t i = b.offsets[p]; i < b.offsets[p + 1]; ++i)
       if (b.ids[i] >= id_limit)
-        return out_of_range("the binding's entry " + n(i) + " (of skin point " + n(p) + ") names " +
-                            (extended ? "cage vertex " : "element ") + n(b.ids[i]) + " but the cage has " +
-                            n(id_limit) + (extended ? " vertices" : " elements"));
+        return out_of_range("the binding's entry " + n(i) + " (of skin point " + n(p) + ") names " + id_name +
+                            n(b.ids[i]) + " but the " + (samples ? "driver" : "cage") + " has " + n(id_limit) +
+                            limit_name);
   // the contributing sets kept beside the extended stencil (absent in version 1 files)
   if (!b.set_offsets.empty() || !b.set_ids.empty() || !b.set_weights.empty()) {
     if (!extended) return parse_error("the binding holds a separate set table, which only the extended variant has");
@@ -180,6 +185,9 @@ std::string binding_bytes(const Binding& b) {
 }
 
 Status save_binding(const std::string& path, const Binding& binding) {
+  if (binding.num_samples > 0)
+    return make_error(ErrorCode::kInvalidArgument, path + ": a binding to a parametric driver's samples is not saved as a "
+                                                          ".cwb file; it is rebuilt from the driver (docs/parametric-drivers.md)");
   // write beside, fsync, rename: a failed or killed write never leaves half a file under the real name
   return write_file_atomic(path, binding_bytes(binding));
 }

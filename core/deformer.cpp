@@ -35,7 +35,12 @@ glm::dvec3 unit_normal(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec
   return len > 0 && std::isfinite(len) ? n / len : fallback;
 }
 
-void store(Affine& out, const glm::dmat3& m, const glm::dvec3& t) {
+void store(Affine& out, const glm::dmat3& m, const glm::dvec3& t) { out = make_affine(m, t); }
+
+}  // namespace
+
+Affine make_affine(const glm::dmat3& m, const glm::dvec3& t) {
+  Affine out;
   for (int r = 0; r < 3; ++r) {
     out.m[4 * r + 0] = static_cast<float>(m[0][r]);
     out.m[4 * r + 1] = static_cast<float>(m[1][r]);
@@ -43,9 +48,8 @@ void store(Affine& out, const glm::dmat3& m, const glm::dvec3& t) {
     out.m[4 * r + 3] = static_cast<float>(t[r]);
   }
   out.m[12] = out.m[13] = out.m[14] = out.m[15] = 0.f;
+  return out;
 }
-
-}  // namespace
 
 Result<Deformer> Deformer::create(const Binding& b, std::span<const glm::vec3> skin_rest) {
   if (skin_rest.size() != b.num_points)
@@ -87,7 +91,7 @@ Result<Deformer> Deformer::create(const Binding& b, std::span<const glm::vec3> s
       if (b.element_status[e] == ElementStatus::kValid) valid.push_back(b.elements[e]);
     d.fit_ = std::make_unique<OneRingFit>(b.rest_cage, valid);
   } else {
-    d.maps_.resize(ne);
+    d.maps_.resize(b.num_samples > 0 ? b.num_samples : ne);
   }
   if (d.need_rigid_) d.rigid_maps_.resize(ne);
   return d;
@@ -180,6 +184,9 @@ inline void apply_rigid(const RigidMap& r, float b1, float b2, const float p[3],
 
 Status Deformer::update_maps(std::span<const glm::vec3> posed, std::span<const glm::dmat3> vertex_linear) {
   const Binding& b = *binding_;
+  if (b.num_samples > 0)
+    return make_error(ErrorCode::kInvalidArgument,
+                      "the binding drives the skin by a parametric driver's samples; deform it through the driver");
   if (auto s = check_cage(posed); !s) return s;
   const Variant variant = b.params.variant;
   if (!vertex_linear.empty() && (variant != Variant::kExtended || vertex_linear.size() != b.num_cage_vertices))
@@ -204,6 +211,28 @@ Status Deformer::deform(std::span<const glm::vec3> posed, std::span<glm::vec3> o
     return make_error(ErrorCode::kInvalidArgument, "output holds " + std::to_string(out.size()) +
                                                        " points but the skin has " + std::to_string(b.num_points));
   if (auto s = update_maps(posed, vertex_linear); !s) return s;
+  apply_table(out);
+  return Ok{};
+}
+
+Status Deformer::deform_with_maps(std::span<const Affine> maps, std::span<glm::vec3> out) {
+  const Binding& b = *binding_;
+  if (b.num_samples == 0)
+    return make_error(ErrorCode::kInvalidArgument, "the binding is to a cage, not to a parametric driver's samples");
+  if (maps.size() != b.num_samples)
+    return make_error(ErrorCode::kTopologyMismatch, "the driver gives " + std::to_string(maps.size()) +
+                                                        " sample maps but the binding has " +
+                                                        std::to_string(b.num_samples) + " samples");
+  if (out.size() != b.num_points)
+    return make_error(ErrorCode::kInvalidArgument, "output holds " + std::to_string(out.size()) +
+                                                       " points but the skin has " + std::to_string(b.num_points));
+  std::copy(maps.begin(), maps.end(), maps_.begin());
+  apply_table(out);
+  return Ok{};
+}
+
+void Deformer::apply_table(std::span<glm::vec3> out) const {
+  const Binding& b = *binding_;
   const Variant variant = b.params.variant;
 
   const glm::vec3 origin(b.origin);
@@ -257,7 +286,6 @@ Status Deformer::deform(std::span<const glm::vec3> posed, std::span<glm::vec3> o
     apply_rigid(rigid_maps_[b.rigid_element[k]], b.rigid_bary[2 * k], b.rigid_bary[2 * k + 1], p, y);
     dst[i] = glm::vec3(y[0], y[1], y[2]) + origin;
   }
-  return Ok{};
 }
 
 size_t Deformer::bytes_read_per_call() const {

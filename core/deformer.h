@@ -20,6 +20,8 @@ namespace cagewrap {
 struct alignas(64) Affine {
   float m[16];
 };
+// y = m x + t as an Affine (rounded to float).
+Affine make_affine(const glm::dmat3& m, const glm::dvec3& t);
 
 // The clamped variant's per-element map: rotation G (row-major) and the anchor terms
 // q_i = v'_i - G v_i, stored as q0, q1 - q0, q2 - q0 so that the anchor is q0 + b1 d1 + b2 d2.
@@ -42,6 +44,11 @@ class Deformer {
   // the manipulation at each cage vertex (#Vc); absent, it is fitted from the one-rings.
   Status deform(std::span<const glm::vec3> posed, std::span<glm::vec3> out,
                 std::span<const glm::dmat3> vertex_linear = {});
+
+  // A sample-driven binding (Binding::num_samples > 0, core/patch_binding.h): deforms into `out`
+  // (#P x 3) with one map per sample (#samples, relative to Binding::origin), built by the driver
+  // (PatchDeformer). The same kernel as deform(); affine_maps() returns these maps afterwards.
+  Status deform_with_maps(std::span<const Affine> maps, std::span<glm::vec3> out);
 
   // The first half of deform(): checks the posed cage and rebuilds the per-change maps from it
   // (cage-sized work), without applying them to the skin. A kernel elsewhere (the GPU deformer,
@@ -75,6 +82,9 @@ class Deformer {
   void build_element_maps(std::span<const glm::vec3> posed);
   void build_rigid_maps(std::span<const glm::vec3> posed);
   void build_vertex_maps(std::span<const glm::vec3> posed, std::span<const glm::dmat3> vertex_linear);
+  // The table applied to the skin with maps_ (basic, extended, sample-driven) or rigid_maps_
+  // (clamped), then the fallback points: the one kernel every deform path runs.
+  void apply_table(std::span<glm::vec3> out) const;
 
   const Binding* binding_ = nullptr;
   std::span<const glm::vec3> skin_;

@@ -224,14 +224,17 @@ std::vector<uint8_t> encode_glb(const Character& c, const std::string& generator
   b.doc["scene"] = 0;
   while (b.bin.size() % 4) b.bin.push_back(0);
   if (!b.bin.empty()) b.doc["buffers"] = json::array({{{"byteLength", b.bin.size()}}});
+  return glb_container(b.doc.dump(), std::move(b.bin));
+}
 
-  std::string text = b.doc.dump();
+std::vector<uint8_t> glb_container(std::string text, std::vector<uint8_t> bin) {
   while (text.size() % 4) text += ' ';
+  while (bin.size() % 4) bin.push_back(0);
   std::vector<uint8_t> out;
   auto u32 = [&](uint32_t v) {
     for (int k = 0; k < 4; ++k) out.push_back(static_cast<uint8_t>(v >> (8 * k)));
   };
-  uint32_t total = 12 + 8 + static_cast<uint32_t>(text.size()) + (b.bin.empty() ? 0 : 8 + static_cast<uint32_t>(b.bin.size()));
+  uint32_t total = 12 + 8 + static_cast<uint32_t>(text.size()) + (bin.empty() ? 0 : 8 + static_cast<uint32_t>(bin.size()));
   out.reserve(total);
   u32(0x46546C67);  // "glTF"
   u32(2);
@@ -239,12 +242,30 @@ std::vector<uint8_t> encode_glb(const Character& c, const std::string& generator
   u32(static_cast<uint32_t>(text.size()));
   u32(0x4E4F534A);  // "JSON"
   out.insert(out.end(), text.begin(), text.end());
-  if (!b.bin.empty()) {
-    u32(static_cast<uint32_t>(b.bin.size()));
+  if (!bin.empty()) {
+    u32(static_cast<uint32_t>(bin.size()));
     u32(0x004E4942);  // "BIN\0"
-    out.insert(out.end(), b.bin.begin(), b.bin.end());
+    out.insert(out.end(), bin.begin(), bin.end());
   }
   return out;
+}
+
+Result<std::string> glb_json_chunk(const std::string& bytes, const std::string& file) {
+  auto u32 = [&](size_t at) {
+    uint32_t v = 0;
+    for (int k = 0; k < 4; ++k) v |= uint32_t(static_cast<uint8_t>(bytes[at + k])) << (8 * k);
+    return v;
+  };
+  if (bytes.size() < 20 || u32(0) != 0x46546C67)
+    return make_error(ErrorCode::kParse, file + ": not a binary glTF file (the 12-byte header or the first chunk is missing)");
+  const uint32_t length = u32(12);
+  if (u32(16) != 0x4E4F534A)
+    return make_error(ErrorCode::kParse, file + ": the first chunk of the binary glTF file is not its JSON");
+  if (size_t(length) > bytes.size() - 20)
+    return make_error(ErrorCode::kParse, file + ": the binary glTF file's JSON chunk says " + std::to_string(length) +
+                                             " bytes but the file ends " + std::to_string(bytes.size() - 20) +
+                                             " bytes after its start");
+  return bytes.substr(20, length);
 }
 
 Status write_glb(const std::string& path, const Character& c, const std::string& generator) {

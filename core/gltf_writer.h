@@ -13,6 +13,13 @@
 
 namespace cagewrap {
 
+// GLB framing (glTF 2.0, section 4.4): the 12-byte header, the JSON chunk (padded with spaces) and,
+// when `bin` is not empty, the BIN chunk (padded with zeros).
+std::vector<uint8_t> glb_container(std::string json_text, std::vector<uint8_t> bin);
+// The JSON chunk's text of a .glb file's bytes; errors name `file` (a truncated header or chunk, a
+// first chunk that is not JSON).
+Result<std::string> glb_json_chunk(const std::string& bytes, const std::string& file);
+
 // The .glb bytes of a character; `generator` goes into asset.generator.
 std::vector<uint8_t> encode_glb(const Character& character, const std::string& generator = "cagewrap");
 

@@ -19,9 +19,18 @@ PointGrid::PointGrid(std::span<const glm::vec3> points, double points_per_cell) 
     hi = glm::max(hi, glm::dvec3(p));
   }
   const glm::dvec3 ext = glm::max(hi - lo, glm::dvec3(1e-12));
-  // cubic cells, about points_per_cell points each if the points filled the box
+  // cubic cells, about points_per_cell points each if the points filled the box; an axis thinner
+  // than a cell (a flat or straight set: a sheet of samples) counts as one cell, so the others
+  // share the cells instead of the cube root making them vanishingly small
   const double cells = std::max(1.0, double(points_.size()) / std::max(points_per_cell, 1.0));
   cell_ = std::cbrt(ext.x * ext.y * ext.z / cells);
+  for (int pass = 0; pass < 2; ++pass) {
+    double volume = 1.0;
+    int wide = 0;
+    for (int a = 0; a < 3; ++a)
+      if (ext[a] > cell_) volume *= ext[a], ++wide;
+    if (wide > 0 && wide < 3) cell_ = std::pow(volume / cells, 1.0 / wide);
+  }
   cell_ = std::max(cell_, std::max({ext.x, ext.y, ext.z}) / 1024.0);  // at most 1024 cells a side
   lo_ = lo;
   for (int a = 0; a < 3; ++a) dims_[a] = std::max(1, int(std::ceil(ext[a] / cell_)) + 1);

@@ -78,6 +78,30 @@ double power(double d, double local) {
 
 double falloff(double d, double local) { return 1.0 / (1.0 + power(d, local)); }
 
+double taper_cut(const BindParams& prm, double h, double nearest, double beyond) {
+  double cut = prm.epsilon * falloff(nearest, prm.local);
+  if (beyond >= 0.0) cut = std::max(cut, falloff(beyond, prm.local));
+  if (prm.max_distance > 0) cut = std::max(cut, falloff(prm.max_distance / h, prm.local));
+  return cut;
+}
+
+double tapered_weights(std::span<const double> dist, size_t automatic, double cut, double local, std::span<double> w) {
+  CAGEWRAP_CHECK(w.size() == dist.size(), "one weight per distance");
+  double sum = 0.0, raw_sum = 0.0;
+  for (size_t i = 0; i < dist.size(); ++i) {
+    const double raw = falloff(dist[i], local);
+    // user inclusions keep their own weight: they are outside the rule by the user's choice
+    w[i] = i < automatic ? std::max(raw - cut, 0.0) : raw;
+    sum += w[i];
+    raw_sum += raw;
+  }
+  if (!(sum > 1e-12 * raw_sum)) {  // every member sits at the cut (epsilon = 1, ties): no taper
+    for (size_t i = 0; i < dist.size(); ++i) w[i] = falloff(dist[i], local);
+    sum = raw_sum;
+  }
+  return sum;
+}
+
 double threshold_radius(double d_min, double local, double epsilon) {
   if (epsilon >= 1.0) return d_min;
   if (local <= 0.0) return 1e300;  // constant weights: every element passes
@@ -223,12 +247,9 @@ void finish_point(const Context& ctx, uint32_t point, const glm::dvec3& p, std::
   // every member's weight, so that elements enter and leave sets at zero weight and the map is
   // continuous in P. `cands` holds up to K + 1 elements: the (K+1)-th only sets the cut.
   double w_cut = 0.0;
-  if (!cands.empty()) {
-    w_cut = prm.epsilon * falloff(std::sqrt(cands.front().dist2) / ctx.h, prm.local);
-    if (cands.size() > prm.max_elements)
-      w_cut = std::max(w_cut, falloff(std::sqrt(cands[prm.max_elements].dist2) / ctx.h, prm.local));
-    if (prm.max_distance > 0) w_cut = std::max(w_cut, falloff(prm.max_distance / ctx.h, prm.local));
-  }
+  if (!cands.empty())
+    w_cut = taper_cut(prm, ctx.h, std::sqrt(cands.front().dist2) / ctx.h,
+                      cands.size() > prm.max_elements ? std::sqrt(cands[prm.max_elements].dist2) / ctx.h : -1.0);
   if (cands.size() > prm.max_elements) cands.resize(prm.max_elements);
   const size_t automatic = cands.size();  // members chosen by the rule; inclusions follow
   if (edit) {
@@ -268,21 +289,11 @@ void finish_point(const Context& ctx, uint32_t point, const glm::dvec3& p, std::
     return;
   }
 
-  double sum = 0.0, raw_sum = 0.0;
-  double w[128], raw[128];
+  double dist[128], w[128];
   const size_t n = std::min<size_t>(cands.size(), 128);
   cands.resize(n);
-  for (size_t i = 0; i < n; ++i) {
-    raw[i] = falloff(std::sqrt(cands[i].dist2) / ctx.h, prm.local);
-    // user inclusions keep their own weight: they are outside the rule by the user's choice
-    w[i] = i < automatic ? std::max(raw[i] - w_cut, 0.0) : raw[i];
-    sum += w[i];
-    raw_sum += raw[i];
-  }
-  if (!(sum > 1e-12 * raw_sum)) {  // every member sits at the cut (epsilon = 1, ties): no taper
-    for (size_t i = 0; i < n; ++i) w[i] = raw[i];
-    sum = raw_sum;
-  }
+  for (size_t i = 0; i < n; ++i) dist[i] = std::sqrt(cands[i].dist2) / ctx.h;
+  const double sum = tapered_weights(std::span(dist, n), automatic, w_cut, prm.local, std::span(w, n));
   // the set: members with a weight (an element at the cut contributes nothing and is left out)
   bool inside = false;
   uint32_t members = 0;

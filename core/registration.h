@@ -113,6 +113,17 @@ std::vector<uint32_t> morton_order(std::span<const glm::vec3> points);
 
 // Weight function of eq. 1 on a distance already divided by h.
 double falloff(double d, double local);
+// The taper (docs/algorithm-notes.md): the weight at which an element enters or leaves a point's set,
+// subtracted from every automatic member's weight so that sets change at zero weight. `nearest`: the
+// nearest candidate's distance, `beyond`: the (K+1)-th candidate's within the threshold radius (or
+// negative when there is none), both in units of h; the max distance counts too.
+double taper_cut(const BindParams& params, double h, double nearest, double beyond);
+// Eq. 1 weights of one point's candidates with the taper `cut`: `dist` in units of h, the first
+// `automatic` chosen by the rule (they lose the cut), the rest user inclusions (they keep their
+// weight); plain eq. 1 weights when every member sits at the cut. Writes the unnormalised weights
+// into `w` (#dist; 0 = at the cut, no member) and returns their sum. Polygon and sample elements
+// (core/patch_binding.h) share it.
+double tapered_weights(std::span<const double> dist, size_t automatic, double cut, double local, std::span<double> w);
 // Largest distance (in units of h) an element may have and still pass the relative threshold,
 // given the nearest distance d_min: w_k >= eps * w_max  <=>  d_k <= radius.
 double threshold_radius(double d_min, double local, double epsilon);

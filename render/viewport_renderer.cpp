@@ -22,6 +22,7 @@ glm::vec4 weight_color(float w, const glm::vec4& base) {
   return glm::mix(base, kSoftColor, 0.35f + 0.65f * w);
 }
 const glm::vec4 kBoneColor(0.95f, 0.95f, 0.35f, 1.0f);
+const glm::vec4 kNetColor(0.25f, 0.85f, 0.95f, 1.0f);  // a parametric driver's control net
 const glm::vec4 kJointColor(0.95f, 0.80f, 0.20f, 1.0f);
 }  // namespace
 
@@ -38,6 +39,8 @@ bool ViewportRenderer::init(std::string& log) {
   joints_ = std::make_unique<LineBuffer>();
   grid_ = std::make_unique<LineBuffer>();
   axes_ = std::make_unique<LineBuffer>();
+  net_edges_ = std::make_unique<LineBuffer>();
+  net_points_ = std::make_unique<LineBuffer>();
   return true;
 }
 
@@ -108,6 +111,21 @@ void ViewportRenderer::update_skin_points(std::span<const glm::vec3> skin_positi
       scratch_colors_.push_back(kSkinPointColor);
     }
   skin_points_->upload(scratch_positions_, scratch_colors_);
+}
+
+void ViewportRenderer::update_control_net(std::span<const glm::vec3> points,
+                                          std::span<const std::array<uint32_t, 2>> edges, int selected) {
+  scratch_positions_.clear();
+  scratch_colors_.clear();
+  for (const auto& [a, b] : edges)
+    if (a < points.size() && b < points.size()) {
+      scratch_positions_.insert(scratch_positions_.end(), {points[a], points[b]});
+      scratch_colors_.insert(scratch_colors_.end(), 2, kNetColor);
+    }
+  net_edges_->upload(scratch_positions_, scratch_colors_);
+  scratch_colors_.assign(points.size(), kNetColor);
+  if (selected >= 0 && size_t(selected) < points.size()) scratch_colors_[size_t(selected)] = kSelectedColor;
+  net_points_->upload(points, scratch_colors_);
 }
 
 void ViewportRenderer::update_skeleton(std::span<const glm::vec3> heads, std::span<const std::array<uint32_t, 2>> bones,
@@ -225,6 +243,16 @@ void ViewportRenderer::draw(const ViewParams& v, const ViewportStyle& style) {
     line_program_.set("u_point_size", 6.0f);
     line_program_.set("u_round_points", 1);
     skin_points_->draw(GL_POINTS);
+    line_program_.set("u_round_points", 0);
+  }
+  if (net_points_->size() > 0) {  // the control net is the driver: always on top, like the skeleton
+    line_program_.use();
+    line_program_.set("u_depth_bias", 1.0f);
+    glLineWidth(2.0f);
+    net_edges_->draw(GL_LINES);
+    line_program_.set("u_point_size", 8.0f);
+    line_program_.set("u_round_points", 1);
+    net_points_->draw(GL_POINTS);
     line_program_.set("u_round_points", 0);
   }
   if (style.show_skeleton) {

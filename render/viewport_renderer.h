@@ -58,6 +58,12 @@ class ViewportRenderer {
   void update_skin_points(std::span<const glm::vec3> skin_positions, std::span<const uint32_t> selected,
                           std::span<const uint32_t> flagged);
 
+  // A parametric driver's control net (core/patch_surface.h), drawn on top: `points` (#C control
+  // points), `edges` (pairs of control point indices), `selected` (a control point or -1)
+  // highlighted. Empty `points` hide it.
+  void update_control_net(std::span<const glm::vec3> points, std::span<const std::array<uint32_t, 2>> edges,
+                          int selected);
+
   // Joint heads (#J) and bones as joint index pairs; `selected` (#J mask, may be empty) highlighted.
   void update_skeleton(std::span<const glm::vec3> heads, std::span<const std::array<uint32_t, 2>> bones,
                        std::span<const uint8_t> selected);
@@ -71,6 +77,7 @@ class ViewportRenderer {
   GlProgram mesh_program_, line_program_;
   std::unique_ptr<TriangleBuffer> skin_, cage_faces_, cage_selected_faces_;
   std::unique_ptr<LineBuffer> cage_edges_, cage_points_, skin_points_, bones_, joints_, grid_, axes_;
+  std::unique_ptr<LineBuffer> net_edges_, net_points_;
   std::vector<Tri> cage_elements_, selected_elements_;
   std::vector<uint32_t> element_face_;
   std::vector<uint8_t> uploaded_face_mask_;

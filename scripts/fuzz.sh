@@ -27,7 +27,7 @@ cmake --build "$BUILD" --target fuzzers -j "$JOBS"
 rm -rf "$BUILD/seeds"
 "$BUILD/cagewrap_fuzz_seeds" "$BUILD/seeds"
 status=0
-for harness in gltf mesh project set_edits; do
+for harness in gltf mesh project set_edits patch; do
   corpus="$BUILD/corpus/$harness"
   artifacts="$BUILD/artifacts/$harness"
   mkdir -p "$corpus" "$artifacts"

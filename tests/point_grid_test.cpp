@@ -49,6 +49,9 @@ TEST(PointGrid, SameNeighboursAsBruteForce) {
   expect_same_as_brute_force(cloud, rng, 4.0);
   expect_same_as_brute_force(clusters, rng, 80.0);
   expect_same_as_brute_force(flat, rng, 3.0);
+  std::vector<glm::vec3> line;  // zero extent in y and z: its cells are shared along x alone
+  for (int i = 0; i < 500; ++i) line.push_back({n(rng), 0.f, 0.f});
+  expect_same_as_brute_force(line, rng, 3.0);
 }
 
 TEST(PointGrid, FewerPointsThanAskedAndEmpty) {

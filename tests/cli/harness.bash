@@ -98,3 +98,15 @@ maxdiff() {
 # below LIMIT A B [side] / above LIMIT A B [side]
 below() { local d; d=$(maxdiff "$2" "$3" "${4:-all}") || { echo "$d"; return 1; }; awk -v d="$d" -v l="$1" 'BEGIN { exit !(d < l) }' || { echo "max difference $d, want < $1"; return 1; }; }
 above() { local d; d=$(maxdiff "$2" "$3" "${4:-all}") || { echo "$d"; return 1; }; awk -v d="$d" -v l="$1" 'BEGIN { exit !(d > l) }' || { echo "max difference $d, want > $1"; return 1; }; }
+# same_after_shift SKIN.obj OUT.obj DX DY DZ: OUT's vertices are SKIN's moved by (DX,DY,DZ) within 1e-5,
+# same vertex count, and the face lines are unchanged
+same_after_shift() {
+  awk -v dx="$3" -v dy="$4" -v dz="$5" '
+    function abs(x) { return x < 0 ? -x : x }
+    FNR == NR { if ($1 == "v") { n++; x[n] = $2; y[n] = $3; z[n] = $4 } else if ($1 == "f") f[++nf] = $0; next }
+    $1 == "v" { m++; if (abs($2 - x[m] - dx) > 1e-5 || abs($3 - y[m] - dy) > 1e-5 || abs($4 - z[m] - dz) > 1e-5) {
+                  bad++; if (bad <= 3) printf "  vertex %d: (%s %s %s), want (%s %s %s) + (%s %s %s)\n", m, $2, $3, $4, x[m], y[m], z[m], dx, dy, dz } }
+    $1 == "f" { g++; if ($0 != f[g]) { bad++; print "  face line " g " changed: " $0 } }
+    END { if (m != n || g != nf) print "  counts: " m " vertices (want " n "), " g " faces (want " nf ")"
+          exit !(bad == 0 && m == n && n > 0 && g == nf) }' "$1" "$2"
+}

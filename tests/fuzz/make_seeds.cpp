@@ -10,6 +10,7 @@
 #include "core/mesh_io.h"
 #include "core/character_embedding.h"
 #include "core/project_io.h"
+#include "core/patch_io.h"
 #include "core/set_edits_io.h"
 #include "tests/fixtures.h"
 #include "tests/fuzz/seed_fixtures.h"
@@ -32,7 +33,7 @@ static void fail(const std::string& what) {
 int main(int argc, char** argv) {
   if (argc != 2) fail("usage: cagewrap_fuzz_seeds OUT");
   const fs::path out = argv[1];
-  for (const char* d : {"gltf", "mesh", "project", "set_edits", "scratch"}) fs::create_directories(out / d);
+  for (const char* d : {"gltf", "mesh", "project", "set_edits", "patch", "scratch"}) fs::create_directories(out / d);
   const std::string scratch = (out / "scratch").string();
 
   // glTF: embedded .gltf, .glb, and a skinned one with two joints
@@ -116,6 +117,19 @@ int main(int argc, char** argv) {
             R"({"format": "cagewrap-set-edits", "version": 1, "points": 4, "rules": [)"
             R"({"mode": "remove", "points": [0, 1], "faces": [0, 1], "mirror": 0.5}, {"mode": "only", "points": [2], "faces": [3]},)"
             R"({"mode": "add", "points": [3], "faces": [5]}, {"mode": "reset", "points": [1]}]})");
+  // patch drivers: a saved .cwpatch (a B-spline and a Bezier grid) and the same in glTF extras
+  PatchSurface driver;
+  for (PatchBasis basis : {PatchBasis::kBSpline, PatchBasis::kBezier}) {
+    PatchGrid g;
+    g.basis = basis;
+    g.rows = 4;
+    g.cols = basis == PatchBasis::kBezier ? 7 : 5;
+    for (uint32_t r = 0; r < g.rows; ++r)
+      for (uint32_t c = 0; c < g.cols; ++c) g.points.push_back({double(c), 0.1 * r * c, double(r)});
+    driver.grids.push_back(g);
+  }
+  if (auto s = save_patch((out / "patch" / "driver.cwpatch").string(), driver); !s.ok()) fail(s.error().message);
+  if (auto s = write_patch_gltf((out / "patch" / "driver.gltf").string(), driver); !s.ok()) fail(s.error().message);
   fs::remove_all(scratch);
   return 0;
 }
