@@ -8,6 +8,7 @@
 
 #include "app/cli_common.h"
 #include "app/commands.h"
+#include "app/editor_scene.h"
 #include "core/demo_sim.h"
 #include "core/gltf_loader.h"
 #include "core/gltf_writer.h"
@@ -18,18 +19,28 @@ namespace cagewrap::app {
 
 void add_demo_sim_command(CLI::App& app, int& exit_code) {
   struct Args {
-    std::string which, out, character = "assets/demo_character.glb", cage = "assets/demo_cage.obj";
+    std::string which, out, character, cage;
   };
   auto args = std::make_shared<Args>();
   auto* cmd = app.add_subcommand("demo-sim", "write a simulated-cage demo project (belly jiggle or cape)");
   cmd->add_option("which", args->which, "belly or cape")->required()->check(CLI::IsMember({"belly", "cape"}));
   cmd->add_option("--out", args->out, "project file to write (.cagewrap)")->required();
-  cmd->add_option("--character", args->character, "the demo character (.glb)")->capture_default_str();
-  cmd->add_option("--cage", args->cage, "the demo cage")->capture_default_str();
+  cmd->add_option("--character", args->character, "the demo character (.glb; default: the bundled one)");
+  cmd->add_option("--cage", args->cage, "the demo cage (default: the bundled one beside the character)");
   cmd->callback([args, &exit_code] {
     exit_code = 1;
     if (!has_extension(args->out, kProjectExtension)) {
       std::fprintf(stderr, "error: %s: output must end in %s\n", args->out.c_str(), kProjectExtension);
+      return;
+    }
+    if (args->character.empty()) args->character = demo_character_path();
+    if (args->character.empty()) {
+      std::fprintf(stderr, "error: the bundled demo character (assets/demo_character.glb) was not found; give --character\n");
+      return;
+    }
+    if (args->cage.empty()) args->cage = demo_cage_path(args->character);
+    if (args->cage.empty()) {
+      std::fprintf(stderr, "error: %s: no demo_cage.obj beside it; give --cage\n", args->character.c_str());
       return;
     }
     auto doc = document_from_files(args->character, args->cage);

@@ -21,6 +21,12 @@ run demo-sim belly --out "$B" --character "$DEMO" --cage "$CAGE"
 check "demo-sim belly exits 0" [ "$rc" -eq 0 ]
 check "demo-sim says how many vertices are simulated" has "$T/out" "^wrote .*belly.cagewrap: belly demo, cage of [0-9]* vertices, [1-9][0-9]* simulated"
 check "the project records the simulation" has "$B" '"simulation": {'
+# without --character / --cage, from another folder: the bundled demo is found
+cd "$T" || exit 1
+run demo-sim belly --out "$T/belly2.cagewrap"
+cd - >/dev/null || exit 1
+check "demo-sim finds the bundled demo from any folder" [ "$rc" -eq 0 ]
+check "...and writes the simulation into the project" has "$T/belly2.cagewrap" '"simulation": {'
 
 run simulate --project "$B" --clip walk --every 10
 check "simulate exits 0" [ "$rc" -eq 0 ]
