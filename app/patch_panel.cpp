@@ -298,8 +298,9 @@ bool PatchPanel::script_command(const std::string& cmd, std::istringstream& in, 
     in >> p;
     if (cmd == "patch_import") import(scene, p, hooks);
     else export_to(p, scene, hooks);
-  } else if (cmd == "patch_cancel") {
+  } else if (cmd == "patch_cancel") {  // and the script waits for the bind to stop
     if (job_) job_->cancel();
+    script_nowait_ = false;
   } else if (cmd == "patch_fit") {
     fit(scene, selection, hooks);
   } else if (cmd == "patch_density") {
