@@ -1,7 +1,7 @@
 // The editor's Parametric driver window (issue #11; docs/parametric-drivers.md): a patch driver
 // imported from a .cwpatch or glTF file or fitted to the selected cage quads, its control net drawn
-// over the view, a sampling density, and control points picked by index and moved, the skin
-// following. The driver acts on the rest skin, instead of the cage, while "Drive the skin" is on.
+// over the view, a sampling density, and control points picked (by index, or by a click in the
+// view) and moved (position fields, or the editor's move gizmo), the skin following. The driver acts on the rest skin, instead of the cage, while "Drive the skin" is on.
 // The driver is the document's (Document::patch_driver): saved with the project, and every change
 // (import, fit, density, a move, reset, drive on/off) is one undo step. Binding runs in the
 // background with progress and Cancel; a change that needs a new binding (import, fit, density)
