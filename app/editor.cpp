@@ -1558,6 +1558,7 @@ void Editor::guard_unsaved(std::function<void()> action) {
 //   save PATH | screenshot PATH | play | pause | time T
 //   mode cage_vertices|cage_faces|skin_vertices|joints | select_cage_face I [add]
 //   select_skin_vertex I [add] | select_joint I [add] | click_cage_vertex I | click_skin_vertex I
+//   click_patch_point I (the parametric driver's control point I; `move` then moves it)
 //   select all|none|invert|grow|shrink|mirror | soft on|off [R] [FALLOFF] [volume|surface]
 //   mirror on|off | view front|right|top | camera YAW PITCH DIST [TX TY TZ] | clip NAME|rest | gizmo_drag x|y|z|yz|xz|xy|screen DX DY
 //   auto_cage [FACES] | cage_op merge|weld D|flip|flip_all|linear [N]|loop [N]|refine|triangulate
