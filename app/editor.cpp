@@ -159,6 +159,7 @@ class Editor {
   GizmoHandle drag_handle_ = GizmoHandle::kNone;
   glm::dvec2 drag_from_{0.0};    // view pixels where it began
   glm::dvec3 drag_centre_{0.0};  // gizmo centre when it began
+  bool drag_patch_ = false;      // the drag moves the parametric driver's selected control point
   glm::dvec3 drag_total_{0.0};   // displacement so far (snapped)
   MoveWeights drag_weights_;
   Document drag_start_;
@@ -510,6 +511,7 @@ std::vector<std::pair<uint32_t, float>> Editor::sim_paint_weights() const {
 }
 
 std::optional<glm::dvec3> Editor::selection_centre() const {
+  if (auto p = patch_panel_.selected_position(*scene_)) return p;  // a parametric driver's control point
   IndexSet s = move_set();
   if (s.empty()) return std::nullopt;
   glm::dvec3 c(0.0);
@@ -528,20 +530,24 @@ GizmoLayout Editor::gizmo() const {
 // displacement each time, so nothing accumulates rounding and undo restores the start exactly.
 void Editor::apply_move(const glm::dvec3& total) {
   drag_total_ = ImGui::GetIO().KeyCtrl ? snap_displacement(total, grid_spacing()) : total;
-  scene_->live = move_rest_ ? scene_->moved_rest(drag_start_, drag_weights_, drag_total_)
-                            : scene_->moved(drag_start_, drag_weights_, drag_total_);
+  scene_->live = drag_patch_  ? patch_panel_.moved(drag_start_, drag_total_)
+                 : move_rest_ ? scene_->moved_rest(drag_start_, drag_weights_, drag_total_)
+                              : scene_->moved(drag_start_, drag_weights_, drag_total_);
 }
 
 bool Editor::begin_move(GizmoHandle handle, glm::dvec2 from) {
-  auto w = move_weights_now();
-  if (!w.ok()) {
-    log("error: " + w.error().message, true);
-    return false;
+  drag_patch_ = patch_panel_.selected_position(*scene_).has_value();  // moves a control point, not the cage
+  if (!drag_patch_) {
+    auto w = move_weights_now();
+    if (!w.ok()) {
+      log("error: " + w.error().message, true);
+      return false;
+    }
+    drag_weights_ = std::move(w).value();
+    if (!drag_weights_.unmatched.empty())
+      log("warning: X-mirror: " + std::to_string(drag_weights_.unmatched.size()) + " selected vertices have no counterpart (first: vertex " +
+          std::to_string(drag_weights_.unmatched.front()) + ")");
   }
-  drag_weights_ = std::move(w).value();
-  if (!drag_weights_.unmatched.empty())
-    log("warning: X-mirror: " + std::to_string(drag_weights_.unmatched.size()) + " selected vertices have no counterpart (first: vertex " +
-        std::to_string(drag_weights_.unmatched.front()) + ")");
   drag_start_ = scene_->doc();
   drag_total_ = glm::dvec3(0.0);
   drag_handle_ = handle;
@@ -553,7 +559,11 @@ bool Editor::begin_move(GizmoHandle handle, glm::dvec2 from) {
 
 void Editor::end_move() {
   const bool changed = scene_->live.has_value();
-  if (changed) scene_->history.commit(move_rest_ ? "Move rest cage vertices" : "Move cage vertices", *scene_->live);
+  if (changed)
+    scene_->history.commit(drag_patch_  ? "Move control point " + std::to_string(patch_panel_.selected())
+                           : move_rest_ ? "Move rest cage vertices"
+                                        : "Move cage vertices",
+                           *scene_->live);
   else scene_->history.cancel();
   scene_->live.reset();
   drag_handle_ = GizmoHandle::kNone;
@@ -580,6 +590,8 @@ void Editor::click_select(const ImVec2& mouse, bool add, bool remove) {
   Viewport vp{view_w_, view_h_};
   glm::dvec2 px = to_view(mouse);
   std::optional<uint32_t> hit;
+  if (patch_panel_.pick(*scene_, camera_, vp, px)) return;  // a parametric driver's control point, while its window is open
+  if (!add && !remove) patch_panel_.deselect();
   IndexSet* set = &active_set();
   switch (mode_) {
     case SelectMode::kCageVertices:
@@ -1546,6 +1558,7 @@ void Editor::guard_unsaved(std::function<void()> action) {
 //   save PATH | screenshot PATH | play | pause | time T
 //   mode cage_vertices|cage_faces|skin_vertices|joints | select_cage_face I [add]
 //   select_skin_vertex I [add] | select_joint I [add] | click_cage_vertex I | click_skin_vertex I
+//   click_patch_point I (the parametric driver's control point I; `move` then moves it)
 //   select all|none|invert|grow|shrink|mirror | soft on|off [R] [FALLOFF] [volume|surface]
 //   mirror on|off | view front|right|top | camera YAW PITCH DIST [TX TY TZ] | clip NAME|rest | gizmo_drag x|y|z|yz|xz|xy|screen DX DY
 //   auto_cage [FACES] | cage_op merge|weld D|flip|flip_all|linear [N]|loop [N]|refine|triangulate
@@ -1644,6 +1657,14 @@ void Editor::run_script_step() {
       const std::vector<glm::vec3>& points = skin ? scene_->skin_posed() : scene_->cage_posed;
       if (i < points.size()) {
         glm::dvec2 p = camera_.project(glm::dvec3(points[i]), view_w_, view_h_).pixel;
+        click_select(ImVec2(view_x_ + static_cast<float>(p.x), view_y_ + static_cast<float>(p.y)), false, false);
+      }
+    } else if (cmd == "click_patch_point") {  // I: a real click at the parametric driver's control point I
+      uint32_t i = 0;
+      in >> i;
+      const auto& driver = scene_->doc().patch_driver;
+      if (driver && i < driver->posed.num_control_points()) {
+        glm::dvec2 p = camera_.project(driver->posed.control_points()[i], view_w_, view_h_).pixel;
         click_select(ImVec2(view_x_ + static_cast<float>(p.x), view_y_ + static_cast<float>(p.y)), false, false);
       }
     } else if (cmd == "select") {
@@ -2125,7 +2146,7 @@ int Editor::run() {
     handle_input();
     // a scripted run waits for the first bind so that the steps act on the deformed skin
     const bool export_blocks = export_panel_.busy() && script_waits_for_export_;
-    if (!script_.empty() && !(scene_ && (scene_->job || cage_tools_.busy() || export_blocks))) run_script_step();
+    if (!script_.empty() && !(scene_ && (scene_->job || cage_tools_.busy() || patch_panel_.busy() || export_blocks))) run_script_step();
 
     if (scene_) {
       if (auto msg = scene_->poll_bind()) {
@@ -2134,6 +2155,7 @@ int Editor::run() {
           log("warning: " + std::to_string(scene_->binding->invalid_elements.size()) + " cage elements skipped (zero area, non-finite or duplicate)");
       }
       cage_tools_.poll(*scene_, hooks_);
+      patch_panel_.poll(*scene_, hooks_);
       export_panel_.poll(hooks_);
       if (sets_panel_.take_select_limb_request()) {
         selection_.cage_faces = SetsPanel::limb_faces(*scene_, selection_.joints);
@@ -2214,7 +2236,7 @@ int Editor::run() {
     }
     const bool script_done = script_pos_ >= script_.size() && script_wait_ == 0;
     if (!options_.screenshot.empty() && frame >= options_.frames && script_done &&
-        !(scene_ && (scene_->job || cage_tools_.busy() || export_panel_.busy()))) {
+        !(scene_ && (scene_->job || cage_tools_.busy() || patch_panel_.busy() || export_panel_.busy()))) {
       exit_code = save_screenshot(options_.screenshot) ? 0 : 1;
       break;
     }

@@ -1,6 +1,7 @@
 #include "app/patch_panel.h"
 
 #include <chrono>
+#include <utility>
 
 #include <imgui.h>
 
@@ -9,46 +10,97 @@
 
 namespace cagewrap::app {
 
-bool PatchPanel::bind(Scene& scene, uint32_t density, const EditorHooks& hooks) {
-  const auto t0 = std::chrono::steady_clock::now();
-  auto b = bind_skin_to_patches(scene.skin_rest, *rest_, density, scene.doc().params);
-  if (!b) {
-    hooks.show_error("parametric driver: " + b.error().message);
-    return false;
+namespace {
+std::vector<glm::vec3> float_points(const PatchSurface& surface) {
+  std::vector<glm::vec3> points;
+  for (const glm::dvec3& p : surface.control_points()) points.push_back(glm::vec3(p));
+  return points;
+}
+}  // namespace
+
+bool PatchPanel::bound_to(const Scene& scene) const {
+  const PatchDriver* want = scene.doc().patch_driver.get();
+  return want && deformer_ && bound_driver_ && bound_character_ == scene.doc().character &&
+         (bound_driver_.get() == want || (bound_driver_->density == want->density && bound_driver_->rest == want->rest));
+}
+
+void PatchPanel::start_bind(Scene& scene, std::shared_ptr<const PatchDriver> driver, std::string label) {
+  job_.reset();  // a bind still running is cancelled: the newer request wins
+  job_driver_ = driver;
+  job_character_ = scene.doc().character;
+  job_label_ = std::move(label);
+  script_nowait_ = false;
+  job_start_ = std::chrono::steady_clock::now();
+  job_ = std::make_unique<BackgroundTask<Binding>>(
+      "binding to the parametric driver",
+      [skin = scene.skin_rest, driver, params = scene.doc().params](const BackgroundTask<Binding>::Progress& progress,
+                                                                     const std::atomic<bool>& cancel) {
+        BindProgress p;
+        p.on_progress = [&progress](double f) { progress("bind", f); };
+        p.cancel = &cancel;
+        return bind_skin_to_patches(skin, driver->rest, driver->density, params, p);
+      });
+}
+
+void PatchPanel::poll(Scene& scene, const EditorHooks& hooks) {
+  if (job_ && job_->done()) {
+    auto job = std::move(job_);
+    auto driver = std::move(job_driver_);
+    const std::string label = std::move(job_label_);
+    if (std::exchange(job_character_, nullptr) != scene.doc().character) return;  // another character opened meanwhile
+    Result<Binding>& b = job->result();
+    if (!b) {
+      if (b.error().code == ErrorCode::kCancelled) {
+        hooks.log("parametric driver: bind cancelled" + std::string(label.empty() ? "" : "; the driver is unchanged"), false);
+      } else {
+        hooks.show_error("parametric driver: " + b.error().message);
+      }
+      if (label.empty()) failed_ = scene.doc().patch_driver;  // not retried until the driver changes
+      return;
+    }
+    auto binding = std::make_unique<Binding>(std::move(*b));
+    auto d = PatchDeformer::create(*binding, scene.skin_rest, driver->rest, driver->density);
+    if (!d) {
+      hooks.show_error("parametric driver: " + d.error().message);
+      if (label.empty()) failed_ = scene.doc().patch_driver;
+      return;
+    }
+    bind_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - job_start_).count();
+    deformer_.reset();
+    binding_ = std::move(binding);
+    deformer_ = std::make_unique<PatchDeformer>(std::move(*d));
+    bound_driver_ = driver;
+    bound_character_ = scene.doc().character;
+    shown_.reset();
+    char line[200];
+    std::snprintf(line, sizeof line,
+                  "parametric driver: bound %u skin points to %u samples (density %u, %zu degenerate) in %.0f ms",
+                  binding_->num_points, binding_->num_samples, driver->density, binding_->invalid_elements.size(), bind_ms_);
+    hooks.log(line, false);
+    if (!label.empty()) {
+      scene.history.push(label, with_patch_driver(scene.doc(), driver));
+      scene.document_changed();
+      hooks.log("parametric driver: " + label, false);
+    }
+    return;
   }
-  auto binding = std::make_unique<Binding>(std::move(*b));
-  auto d = PatchDeformer::create(*binding, scene.skin_rest, *rest_, density);
-  if (!d) {
-    hooks.show_error("parametric driver: " + d.error().message);
-    return false;
-  }
-  bind_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-  deformer_.reset();
-  binding_ = std::move(binding);
-  deformer_ = std::make_unique<PatchDeformer>(std::move(*d));
-  bound_skin_ = &scene.skin_rest;
-  density_ = density;
-  skin_dirty_ = true;
-  char line[200];
-  std::snprintf(line, sizeof line, "parametric driver: bound %u skin points to %u samples (density %u, %zu degenerate) in %.0f ms",
-                binding_->num_points, binding_->num_samples, density, binding_->invalid_elements.size(), bind_ms_);
-  hooks.log(line, false);
+  const auto& want = scene.doc().patch_driver;
+  if (!job_ && want && want != failed_ && !bound_to(scene)) start_bind(scene, want, "");
+}
+
+bool PatchPanel::new_driver(Scene& scene, PatchSurface rest, const std::string& label) {
+  PatchDriver d;
+  if (const auto& old = scene.doc().patch_driver) d.density = old->density;
+  d.posed = rest;
+  d.rest = std::move(rest);
+  selected_ = -1;
+  start_bind(scene, std::make_shared<const PatchDriver>(std::move(d)), label);
   return true;
 }
 
-bool PatchPanel::set_driver(Scene& scene, PatchSurface rest, const std::string& what, const EditorHooks& hooks) {
-  std::optional<PatchSurface> previous = std::move(rest_);
-  rest_ = std::move(rest);
-  if (!bind(scene, density_, hooks)) {
-    rest_ = std::move(previous);  // keep the driver it had
-    return false;
-  }
-  posed_ = *rest_;
-  selected_ = -1;
-  hooks.log("parametric driver: " + what + " (" + std::to_string(rest_->grids.size()) + " grid(s), " +
-                std::to_string(rest_->num_control_points()) + " control points)",
-            false);
-  return true;
+void PatchPanel::commit(Scene& scene, PatchDriver driver, const std::string& label) {
+  scene.history.push(label, with_patch_driver(scene.doc(), std::make_shared<const PatchDriver>(std::move(driver))));
+  scene.document_changed();
 }
 
 bool PatchPanel::import(Scene& scene, const std::string& path, const EditorHooks& hooks) {
@@ -57,15 +109,19 @@ bool PatchPanel::import(Scene& scene, const std::string& path, const EditorHooks
     hooks.show_error(p.error().message);
     return false;
   }
-  return set_driver(scene, std::move(*p), "imported " + path, hooks);
+  const size_t grids = p->grids.size(), points = p->num_control_points();
+  return new_driver(scene, std::move(*p),
+                    "Import parametric driver " + path + " (" + std::to_string(grids) + " grid(s), " +
+                        std::to_string(points) + " control points)");
 }
 
-bool PatchPanel::export_to(const std::string& path, const EditorHooks& hooks) const {
-  if (!rest_) {
+bool PatchPanel::export_to(const std::string& path, const Scene& scene, const EditorHooks& hooks) const {
+  const auto& driver = scene.doc().patch_driver;
+  if (!driver) {
     hooks.log("error: parametric driver: nothing to export", true);
     return false;
   }
-  if (auto s = save_patch_any(path, posed_); !s) {
+  if (auto s = save_patch_any(path, driver->posed); !s) {
     hooks.show_error(s.error().message);
     return false;
   }
@@ -84,22 +140,30 @@ bool PatchPanel::fit(Scene& scene, const Selection& selection, const EditorHooks
     hooks.show_error("fit a parametric driver: " + grid.error().message);
     return false;
   }
-  return set_driver(scene, PatchSurface{{*grid}},
-                    "fitted a " + std::to_string(grid->rows) + " x " + std::to_string(grid->cols) + " grid to " +
-                        std::to_string(selection.cage_faces.size()) + " cage faces",
-                    hooks);
+  const std::string label = "Fit a " + std::to_string(grid->rows) + " x " + std::to_string(grid->cols) +
+                            " parametric driver to " + std::to_string(selection.cage_faces.size()) + " cage faces";
+  return new_driver(scene, PatchSurface{{std::move(*grid)}}, label);
 }
 
 bool PatchPanel::set_density(Scene& scene, uint32_t density, const EditorHooks& hooks) {
-  if (!rest_) {
+  const auto& old = scene.doc().patch_driver;
+  if (!old) {
     hooks.log("error: parametric driver: import or fit one first", true);
     return false;
   }
-  return bind(scene, density, hooks);
+  if (density < 1 || density > 1024) {
+    hooks.log("error: parametric driver: density " + std::to_string(density) + " (use 1 to 1024)", true);
+    return false;
+  }
+  PatchDriver d = *old;
+  d.density = density;
+  start_bind(scene, std::make_shared<const PatchDriver>(std::move(d)), "Driver density " + std::to_string(density));
+  return true;
 }
 
-bool PatchPanel::select(int control_point, const EditorHooks& hooks) {
-  if (!rest_ || control_point < -1 || control_point >= int(posed_.num_control_points())) {
+bool PatchPanel::select(const Scene& scene, int control_point, const EditorHooks& hooks) {
+  const auto& driver = scene.doc().patch_driver;
+  if (!driver || control_point < -1 || control_point >= int(driver->posed.num_control_points())) {
     hooks.log("error: parametric driver: no control point " + std::to_string(control_point), true);
     return false;
   }
@@ -107,35 +171,56 @@ bool PatchPanel::select(int control_point, const EditorHooks& hooks) {
   return true;
 }
 
-bool PatchPanel::move(const glm::dvec3& delta, const EditorHooks& hooks) {
-  if (!rest_ || selected_ < 0) {
+bool PatchPanel::move(Scene& scene, const glm::dvec3& delta, const EditorHooks& hooks) {
+  const auto& old = scene.doc().patch_driver;
+  if (!old || selected_ < 0 || selected_ >= int(old->posed.num_control_points())) {
     hooks.log("error: parametric driver: select a control point to move", true);
     return false;
   }
-  std::vector<glm::dvec3> points = posed_.control_points();
-  points[size_t(selected_)] += delta;
-  posed_.set_control_points(points);
-  skin_dirty_ = true;
+  scene.history.push("Move control point " + std::to_string(selected_), moved(scene.doc(), delta));
+  scene.document_changed();
   return true;
 }
 
+Document PatchPanel::moved(const Document& from, const glm::dvec3& total) const {
+  if (!from.patch_driver || selected_ < 0 || selected_ >= int(from.patch_driver->posed.num_control_points())) return from;
+  PatchDriver d = *from.patch_driver;
+  std::vector<glm::dvec3> points = d.posed.control_points();
+  points[size_t(selected_)] += total;
+  d.posed.set_control_points(points);
+  return with_patch_driver(from, std::make_shared<const PatchDriver>(std::move(d)));
+}
+
+std::optional<glm::dvec3> PatchPanel::selected_position(const Scene& scene) const {
+  const auto& driver = scene.doc().patch_driver;
+  if (!visible_ || !driver || selected_ < 0 || selected_ >= int(driver->posed.num_control_points())) return std::nullopt;
+  return driver->posed.control_points()[size_t(selected_)];
+}
+
+bool PatchPanel::pick(const Scene& scene, const Camera& camera, Viewport viewport, glm::dvec2 pixel) {
+  const auto& driver = scene.doc().patch_driver;
+  if (!visible_ || !driver) return false;
+  const auto hit = pick_vertex(camera, viewport, pixel, float_points(driver->posed), 8.0);
+  if (hit) selected_ = int(*hit);
+  return hit.has_value();
+}
+
 void PatchPanel::update_display(Scene& scene, render::ViewportRenderer& renderer) {
-  if (!rest_) {
+  const auto& driver = scene.doc().patch_driver;
+  if (!driver) {
     renderer.update_control_net({}, {}, -1);
     return;
   }
-  if (bound_skin_ != &scene.skin_rest || !deformer_) return;  // another document: rebinds on demand
-  if (drive_skin_) {
-    if (skin_dirty_) {
+  if (selected_ >= int(driver->posed.num_control_points())) selected_ = -1;
+  if (driver->drive_skin && bound_to(scene)) {
+    if (shown_ != driver) {
       skin_.resize(scene.skin_rest.size());
-      if (auto s = deformer_->deform(posed_, skin_); !s) drive_skin_ = false;
-      skin_dirty_ = false;
+      if (auto s = deformer_->deform(driver->posed, skin_); !s) skin_.clear();
+      shown_ = driver;
     }
-    if (drive_skin_) renderer.update_skin(skin_);
+    if (skin_.size() == scene.skin_rest.size()) renderer.update_skin(skin_);
   }
-  std::vector<glm::vec3> points;
-  for (const glm::dvec3& p : posed_.control_points()) points.push_back(glm::vec3(p));
-  renderer.update_control_net(points, control_net_edges(posed_), selected_);
+  renderer.update_control_net(float_points(driver->posed), control_net_edges(driver->posed), selected_);
 }
 
 void PatchPanel::draw(Scene& scene, const Selection& selection, const EditorHooks& hooks) {
@@ -146,41 +231,62 @@ void PatchPanel::draw(Scene& scene, const Selection& selection, const EditorHook
     ImGui::End();
     return;
   }
+  const std::shared_ptr<const PatchDriver> driver = scene.doc().patch_driver;
   ImGui::TextWrapped("A surface of bicubic patches driving the rest skin (paper 3.3): samples at the knot values are its control elements.");
   ImGui::InputText("##path", path_field_, sizeof path_field_);
   ImGui::SameLine();
   if (ImGui::Button("Import")) import(scene, path_field_, hooks);
   ImGui::SameLine();
-  ImGui::BeginDisabled(!rest_);
-  if (ImGui::Button("Export")) export_to(path_field_, hooks);
+  ImGui::BeginDisabled(!driver);
+  if (ImGui::Button("Export")) export_to(path_field_, scene, hooks);
   ImGui::EndDisabled();
   ImGui::BeginDisabled(selection.cage_faces.empty());
   if (ImGui::Button("Fit patches to selected faces")) fit(scene, selection, hooks);
   ImGui::EndDisabled();
   if (selection.cage_faces.empty()) ImGui::TextDisabled("(select a rectangle of cage quads, F6)");
-  if (!rest_) {
+  if (job_) {
+    ImGui::ProgressBar(static_cast<float>(job_->progress()), ImVec2(-70, 0), "binding");
+    ImGui::SameLine();
+    if (ImGui::Button("Cancel")) job_->cancel();
+  }
+  if (!driver) {
     ImGui::TextDisabled("No driver yet.");
     ImGui::End();
     return;
   }
-  if (bound_skin_ != &scene.skin_rest && ImGui::Button("Bind to this skin")) bind(scene, density_, hooks);
-  int density = int(density_);
+  if (!job_ && !bound_to(scene) && ImGui::Button("Bind to this skin")) start_bind(scene, driver, "");
+  int density = int(driver->density);
   ImGui::SliderInt("density", &density, 1, 16);
-  if (ImGui::IsItemDeactivatedAfterEdit()) set_density(scene, uint32_t(density), hooks);
-  if (binding_)
+  if (ImGui::IsItemDeactivatedAfterEdit() && uint32_t(density) != driver->density) set_density(scene, uint32_t(density), hooks);
+  if (binding_ && bound_to(scene))
     ImGui::Text("%u samples, %zu degenerate; bind %.0f ms; mean set %.2f", binding_->num_samples,
                 binding_->invalid_elements.size(), bind_ms_, double(binding_->total_set_size) / std::max(1u, binding_->num_points));
-  ImGui::Checkbox("Drive the skin", &drive_skin_);
+  bool drive = driver->drive_skin;
+  if (ImGui::Checkbox("Drive the skin", &drive)) {
+    PatchDriver d = *driver;
+    d.drive_skin = drive;
+    commit(scene, std::move(d), drive ? "Drive the skin by the parametric driver" : "Stop driving the skin by the parametric driver");
+  }
   int sel = selected_;
-  if (ImGui::InputInt("control point", &sel) && sel >= -1 && sel < int(posed_.num_control_points())) selected_ = sel;
+  if (ImGui::InputInt("control point", &sel) && sel >= -1 && sel < int(driver->posed.num_control_points())) selected_ = sel;
   if (selected_ >= 0) {
-    glm::dvec3 p = posed_.control_points()[size_t(selected_)];
+    glm::dvec3 p = driver->posed.control_points()[size_t(selected_)];
     float v[3] = {float(p.x), float(p.y), float(p.z)};
-    if (ImGui::DragFloat3("position", v, 0.005f)) move(glm::dvec3(v[0], v[1], v[2]) - p, hooks);
+    // one drag of the fields = one undo step
+    if (ImGui::DragFloat3("position", v, 0.005f)) {
+      if (!scene.live) scene.history.begin(scene.doc());
+      scene.live = moved(scene.doc(), glm::dvec3(v[0], v[1], v[2]) - p);
+    }
+    if (ImGui::IsItemDeactivated() && scene.live) {
+      scene.history.commit("Move control point " + std::to_string(selected_), *scene.live);
+      scene.live.reset();
+      scene.document_changed();
+    }
   }
   if (ImGui::Button("Reset the control points")) {
-    posed_ = *rest_;
-    skin_dirty_ = true;
+    PatchDriver d = *driver;
+    d.posed = d.rest;
+    commit(scene, std::move(d), "Reset the control points");
   }
   ImGui::End();
 }
@@ -191,28 +297,37 @@ bool PatchPanel::script_command(const std::string& cmd, std::istringstream& in, 
     std::string p;
     in >> p;
     if (cmd == "patch_import") import(scene, p, hooks);
-    else export_to(p, hooks);
+    else export_to(p, scene, hooks);
+  } else if (cmd == "patch_cancel") {  // and the script waits for the bind to stop
+    if (job_) job_->cancel();
+    script_nowait_ = false;
   } else if (cmd == "patch_fit") {
     fit(scene, selection, hooks);
   } else if (cmd == "patch_density") {
     uint32_t d = 0;
-    in >> d;
+    std::string wait;
+    in >> d >> wait;
     set_density(scene, d, hooks);
+    script_nowait_ = wait == "nowait";
   } else if (cmd == "patch_select") {
     int i = -1;
     in >> i;
-    select(i, hooks);
+    select(scene, i, hooks);
   } else if (cmd == "patch_move") {
     glm::dvec3 d(0.0);
     in >> d.x >> d.y >> d.z;
-    move(d, hooks);
-  } else if (cmd == "patch_reset") {
-    if (rest_) posed_ = *rest_;
-    skin_dirty_ = true;
-  } else if (cmd == "patch_drive") {
+    move(scene, d, hooks);
+  } else if (cmd == "patch_reset" || cmd == "patch_drive") {
     std::string on;
     in >> on;
-    drive_skin_ = on != "off";
+    if (const auto& old = scene.doc().patch_driver) {
+      PatchDriver d = *old;
+      if (cmd == "patch_reset") d.posed = d.rest;
+      else d.drive_skin = on != "off";
+      commit(scene, std::move(d), cmd == "patch_reset" ? "Reset the control points" : "Drive the skin " + on);
+    } else {
+      hooks.log("error: parametric driver: import or fit one first", true);
+    }
   } else if (cmd == "patch_panel") {
     visible_ = true;
   } else {

@@ -110,6 +110,13 @@ Document with_sim(const Document& doc, SimSettings sim) {
   return out;
 }
 
+Document with_patch_driver(const Document& doc, std::shared_ptr<const PatchDriver> driver) {
+  Document out = doc;
+  out.patch_driver = std::move(driver);
+  out.revision = next_revision();
+  return out;
+}
+
 Document with_character(const Document& doc, std::shared_ptr<const Character> character, std::string path,
                         std::string hash) {
   Document out = doc;
@@ -139,6 +146,12 @@ Document with_cache_binding(const Document& doc, bool cache) {
 bool same_params(const BindParams& a, const BindParams& b) {
   return a == b;
 }
+
+namespace {
+bool same_patch_driver(const PatchDriver* a, const PatchDriver* b) {
+  return a == b || (a && b && *a == *b);
+}
+}  // namespace
 
 bool same_set_edits(std::span<const SetEdit> a, std::span<const SetEdit> b) {
   if (a.size() != b.size()) return false;
@@ -175,7 +188,8 @@ bool same_content(const Document& a, const Document& b) {
          a.cache_binding == b.cache_binding && same_cage(a.cage.get(), b.cage.get()) &&
          same_offsets(a.cage_offsets, b.cage_offsets) && same_params(a.params, b.params) &&
          same_set_edits(a.set_edits, b.set_edits) && a.attachment == b.attachment &&
-         a.keyposes == b.keyposes && a.sim == b.sim && a.preserved_fields == b.preserved_fields;
+         a.keyposes == b.keyposes && a.sim == b.sim &&
+         same_patch_driver(a.patch_driver.get(), b.patch_driver.get()) && a.preserved_fields == b.preserved_fields;
 }
 
 bool same_cage_motion(const Document& a, const Document& b) {
@@ -214,6 +228,9 @@ size_t estimated_own_bytes(const Document& doc) {
   n += vector_bytes(doc.cage_offsets) + vector_bytes(doc.attachment.overrides) + vector_bytes(doc.keyposes);
   n += vector_bytes(doc.sim.vertices) + vector_bytes(doc.sim.colliders);
   for (const Collider& c : doc.sim.colliders) n += c.name.size();
+  if (doc.patch_driver)
+    for (const PatchSurface* s : {&doc.patch_driver->rest, &doc.patch_driver->posed})
+      for (const PatchGrid& g : s->grids) n += sizeof(PatchGrid) + vector_bytes(g.points);
   for (const KeyposeSet& s : doc.keyposes) {
     n += s.name.size() + vector_bytes(s.drivers) + vector_bytes(s.keys);
     for (const KeyposeKey& k : s.keys)

@@ -19,6 +19,7 @@
 #include "core/cage_sim.h"
 #include "core/character.h"
 #include "core/keyposes.h"
+#include "core/patch_surface.h"
 #include "core/result.h"
 
 namespace cagewrap {
@@ -68,6 +69,9 @@ struct Document {
   // Secondary motion of the cage (core/cage_sim.h): on or off, parameters, per-vertex weights
   // (#Vc or empty) and colliders; applied per clip by core/clip_sim.h.
   SimSettings sim;
+  // The parametric driver (core/patch_surface.h, docs/parametric-drivers.md); null = none. Replaced,
+  // never mutated, like the cage.
+  std::shared_ptr<const PatchDriver> patch_driver;
   // A JSON object (text) of what the project file held that this build does not understand
   // ("extensions" and unknown top-level fields), written back unchanged on save. "" = nothing.
   std::string preserved_fields;
@@ -111,6 +115,7 @@ Document with_set_edits(const Document& doc, std::vector<SetEdit> edits);
 Document with_attachment(const Document& doc, AttachmentSettings attachment);
 Document with_keyposes(const Document& doc, std::vector<KeyposeSet> keyposes);
 Document with_sim(const Document& doc, SimSettings sim);
+Document with_patch_driver(const Document& doc, std::shared_ptr<const PatchDriver> driver);
 // The character file moved (or was replaced): new path, hash and data.
 Document with_character(const Document& doc, std::shared_ptr<const Character> character, std::string path,
                         std::string hash);
@@ -132,7 +137,8 @@ bool same_set_edits(std::span<const SetEdit> a, std::span<const SetEdit> b);
 // Estimated heap bytes, for the undo memory cap (History counts shared data once).
 size_t estimated_bytes(const Character& character);
 size_t estimated_bytes(const Cage& cage);
-// What a snapshot owns by value: set edits, cage offsets, attachment overrides, keyposes, paths,
+// What a snapshot owns by value: set edits, cage offsets, attachment overrides, keyposes, the
+// parametric driver's control points, paths,
 // preserved fields (not the shared data: character, cage, embedded character bytes).
 size_t estimated_own_bytes(const Document& doc);
 

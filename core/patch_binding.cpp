@@ -46,8 +46,12 @@ Result<Binding> bind_skin_to_patches(std::span<const glm::vec3> skin, const Patc
   params.variant = Variant::kBasic;
   params.separate = false;
   if (auto v = validate(params); !v) return v.error();
+  // a dense sampling takes a while before the points are bound: Cancel is honoured between stages
+  auto stopped = [&progress] { return progress.cancel && progress.cancel->load(std::memory_order_relaxed); };
+  const Error cancel_error{ErrorCode::kCancelled, "binding to the patch driver was cancelled"};
   auto sampled = sample_patch_surface(rest, density);
   if (!sampled) return sampled.error();
+  if (stopped()) return cancel_error;
   const std::vector<PatchSample>& samples = *sampled;
   if (skin.empty()) return make_error(ErrorCode::kEmpty, "the skin has no vertices");
   for (size_t i = 0; i < skin.size(); ++i)
@@ -69,6 +73,7 @@ Result<Binding> bind_skin_to_patches(std::span<const glm::vec3> skin, const Patc
   std::vector<glm::vec3> valid_position;
   std::vector<uint32_t> valid_ids;
   for (size_t k = 0; k < samples.size(); ++k) {
+    if (k % 65536 == 0 && stopped()) return cancel_error;
     const SampleFrame f = sample_frame(rest, samples[k]);
     position[k] = f.position;
     if (degenerate_frame(f.du, f.dv)) {
@@ -83,6 +88,7 @@ Result<Binding> bind_skin_to_patches(std::span<const glm::vec3> skin, const Patc
                                                        std::to_string(samples.size()) +
                                                        " samples have a degenerate frame (S_u x S_v = 0)");
   const PointGrid grid(valid_position);
+  if (stopped()) return cancel_error;
 
   // per point: the K + 1 nearest valid samples decide the set exactly (the threshold radius is
   // relative to the nearest; the (K+1)-th only sets the cut)
@@ -148,7 +154,7 @@ Result<Binding> bind_skin_to_patches(std::span<const glm::vec3> skin, const Patc
         progress.on_progress(double(d) / blocks);
     }
   });
-  if (cancelled) return make_error(ErrorCode::kCancelled, "binding to the patch driver was cancelled");
+  if (cancelled) return cancel_error;
 
   b.offsets.assign(n + 1, 0);
   for (size_t blk = 0; blk < blocks; ++blk)

@@ -53,6 +53,17 @@ struct PatchSurface {
   bool operator==(const PatchSurface&) const = default;
 };
 
+// A driver as a document holds it (core/document.h, saved in projects as "patch_driver"): the rest
+// grids the skin is bound to, the sampling density, the posed control points (the same grids, moved)
+// and whether it drives the skin in place of the cage.
+struct PatchDriver {
+  PatchSurface rest;
+  PatchSurface posed;
+  uint32_t density = 2;
+  bool drive_skin = true;
+  bool operator==(const PatchDriver&) const = default;
+};
+
 // The control net's edges as pairs of global control point indices (rows, then columns, grid by
 // grid), for display.
 std::vector<std::array<uint32_t, 2>> control_net_edges(const PatchSurface& surface);

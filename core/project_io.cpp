@@ -16,6 +16,7 @@
 #include "core/file_hash.h"
 #include "core/gltf_loader.h"
 #include "core/json_reader.h"
+#include "core/patch_io.h"
 #include "core/set_edits_io.h"
 
 namespace cagewrap {
@@ -26,7 +27,8 @@ namespace {
 
 const char* const kKnownFields[] = {"format",     "version",  "recovery",      "character",
                                     "cage",       "binding",  "set_edits",     "attachment",
-                                    "keyposes",   "extensions", "binding_cache", "simulation"};
+                                    "keyposes",   "extensions", "binding_cache", "simulation",
+                                    "patch_driver"};
 
 // The members of "binding_cache.inputs", in the order they are written.
 const std::pair<const char*, std::string BindingInputs::*> kInputFields[] = {
@@ -175,6 +177,29 @@ std::string simulation_text(const Document& doc) {
   return s;
 }
 
+// "patch_driver" (only when the document has one): the rest grids in the .cwpatch layout, the
+// density, whether it drives the skin and the posed control points, grid by grid.
+Result<std::string> patch_driver_text(const std::string& path, const Document& doc) {
+  if (!doc.patch_driver) return std::string();
+  const PatchDriver& d = *doc.patch_driver;
+  if (auto v = validate_patch_surface(d.rest, "the parametric driver"); !v)
+    return make_error(v.error().code, path + ": not saved: " + v.error().message);
+  if (d.posed.num_control_points() != d.rest.num_control_points())
+    return make_error(ErrorCode::kTopologyMismatch, path + ": not saved: the parametric driver has " +
+                                                        std::to_string(d.posed.num_control_points()) +
+                                                        " posed control points for " +
+                                                        std::to_string(d.rest.num_control_points()) + " at rest");
+  if (auto v = validate_patch_surface(d.posed, "the posed parametric driver"); !v)
+    return make_error(v.error().code, path + ": not saved: " + v.error().message);
+  std::string s = "  \"patch_driver\": {\"density\": " + std::to_string(d.density) +
+                  ", \"drive_skin\": " + (d.drive_skin ? "true" : "false") +
+                  ",\n    \"rest\": " + patch_surface_json(d.rest).dump() + ",\n    \"posed\": [";
+  const std::vector<glm::dvec3> posed = d.posed.control_points();
+  for (size_t k = 0; k < posed.size(); ++k)
+    s += std::string(k ? ", " : "") + Json::array({posed[k].x, posed[k].y, posed[k].z}).dump();
+  return s + "]},\n";
+}
+
 // "binding_cache": the record (its file relative to the project's folder), or {} when caching is on
 // and nothing is cached.
 std::string binding_cache_text(const std::string& path, const BindingCacheRecord& record) {
@@ -254,6 +279,9 @@ Result<std::string> project_text(const std::string& path, const Document& doc, c
   if (auto v = validate_sim_settings(doc.sim, positions.size(), num_nodes); !v)
     return make_error(v.error().code, path + ": not saved: " + v.error().message);
   s += simulation_text(doc);
+  auto patch = patch_driver_text(path, doc);
+  if (!patch) return patch.error();
+  s += *patch;
   if (cache) s += binding_cache_text(path, *cache);
   s += "  \"extensions\": " + (preserved.contains("extensions") ? preserved["extensions"] : Json::object()).dump();
   for (const auto& [key, value] : preserved.items())
@@ -492,6 +520,36 @@ SimSettings read_simulation(const Reader& r, const Json& j, const Character& cha
   if (auto v = validate_sim_settings(out, num_vertices, character.skeleton.size()); !v)
     r.fail(v.error().code, v.error().message);
   return out;
+}
+
+// "patch_driver": checked like a .cwpatch file (its rest grids), the density (1 to 1024) and the posed
+// control points (as many as the rest grids have, finite).
+std::shared_ptr<const PatchDriver> read_patch_driver(const Reader& r, const Json& j, const std::string& file,
+                                                     std::vector<std::string>& warnings) {
+  if (!j.is_object()) r.fail(ErrorCode::kParse, "patch_driver should be an object, not " + Reader::show(j));
+  auto rest = patch_surface_from_json(r.field(j, "patch_driver", "rest"), file, "patch_driver.rest");
+  if (!rest) r.fail(rest.error().code, rest.error().message);
+  PatchDriver d;
+  d.rest = std::move(*rest);
+  if (j.contains("density")) {
+    d.density = r.index(j["density"], "patch_driver.density");
+    if (d.density < 1 || d.density > 1024)
+      r.fail(ErrorCode::kInvalidArgument, "patch_driver.density is " + std::to_string(d.density) + "; it must be 1 to 1024");
+  }
+  if (j.contains("drive_skin")) d.drive_skin = r.boolean(j["drive_skin"], "patch_driver.drive_skin");
+  d.posed = d.rest;
+  if (j.contains("posed")) {
+    const Json& list = r.array(j["posed"], "patch_driver.posed");
+    const size_t n = d.rest.num_control_points();
+    if (list.size() != n)
+      r.fail(ErrorCode::kTopologyMismatch, "patch_driver.posed has " + std::to_string(list.size()) +
+                                               " control points, but patch_driver.rest has " + std::to_string(n));
+    std::vector<glm::dvec3> points(n);
+    for (size_t k = 0; k < n; ++k) points[k] = read_dvec3(r, list[k], Reader::at("patch_driver.posed", k));
+    d.posed.set_control_points(points);
+  }
+  warn_unknown(j, "patch_driver", {"density", "drive_skin", "rest", "posed"}, warnings, file);
+  return std::make_shared<const PatchDriver>(std::move(d));
 }
 
 std::vector<KeyposeSet> read_keyposes(const Reader& r, const Json& list, const Character& character,
@@ -749,6 +807,7 @@ Result<ProjectLoad> load(const std::string& path, const std::string& character_o
     doc.keyposes = read_keyposes(r, root["keyposes"], *loaded, num_cage_vertices, out.warnings, path);
   if (root.contains("simulation"))
     doc.sim = read_simulation(r, root["simulation"], *loaded, num_cage_vertices, out.warnings, path);
+  if (root.contains("patch_driver")) doc.patch_driver = read_patch_driver(r, root["patch_driver"], path, out.warnings);
   doc.character = std::make_shared<const Character>(std::move(loaded).value());
   doc.character_path = character_path;
   doc.character_hash = std::move(hash);

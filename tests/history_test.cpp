@@ -6,6 +6,7 @@
 
 #include "core/history.h"
 #include "tests/fixtures.h"
+#include "tests/patch_fixtures.h"
 
 namespace cagewrap {
 namespace {
@@ -240,6 +241,52 @@ TEST(History, MemoryCapEvictsTheOldestSteps) {
   EXPECT_EQ(h.undo_steps(), 0u);
   EXPECT_EQ(h.current().revision, revisions.back());
   EXPECT_EQ(h.memory_bytes(), estimated_bytes(*d.character) + cage_bytes + own);
+}
+
+// The parametric driver is document content: replacing it is a step that undo and redo restore,
+// a drag of a control point is one step, and an equal driver is the same content.
+TEST(History, ParametricDriverStepsUndoAndRedo) {
+  Document d0 = make_doc();
+  History h(d0);
+  PatchDriver fitted;
+  fitted.rest = test::wavy_surface(5, 6);
+  fitted.posed = fitted.rest;
+  Document d1 = with_patch_driver(d0, std::make_shared<const PatchDriver>(fitted));
+  EXPECT_NE(d1.revision, d0.revision);
+  EXPECT_EQ(d0.patch_driver, nullptr);  // copy on write: the old document keeps none
+  EXPECT_FALSE(same_content(d0, d1));
+  EXPECT_GT(estimated_own_bytes(d1), estimated_own_bytes(d0) + 2 * 30 * sizeof(glm::dvec3) - 1);
+  ASSERT_TRUE(h.push("Fit parametric driver", d1));
+
+  // a drag of control point 8: many live states, one step
+  h.begin(h.current());
+  Document live = h.current();
+  for (int i = 1; i <= 5; ++i) {
+    PatchDriver d = *live.patch_driver;
+    std::vector<glm::dvec3> p = d.posed.control_points();
+    p[8] += glm::dvec3(0.0, 0.1, 0.0);
+    d.posed.set_control_points(p);
+    live = with_patch_driver(live, std::make_shared<const PatchDriver>(d));
+  }
+  ASSERT_TRUE(h.commit("Move control point 8", live));
+  PatchDriver dense = *live.patch_driver;
+  dense.density = 6;
+  ASSERT_TRUE(h.push("Driver density 6", with_patch_driver(live, std::make_shared<const PatchDriver>(dense))));
+  EXPECT_EQ(h.undo_steps(), 3u);
+
+  EXPECT_EQ(h.undo().patch_driver->density, 2u);
+  const glm::dvec3 moved = h.current().patch_driver->posed.control_points()[8];
+  EXPECT_NEAR(moved.y - fitted.posed.control_points()[8].y, 0.5, 1e-12);
+  EXPECT_EQ(h.undo_label(), "Undo Move control point 8");
+  EXPECT_EQ(*h.undo().patch_driver, fitted);  // before the drag
+  EXPECT_EQ(h.undo().patch_driver, nullptr);  // before the fit
+  EXPECT_TRUE(same_content(h.current(), d0));
+  EXPECT_EQ(*h.redo().patch_driver, fitted);
+  EXPECT_EQ(h.redo().patch_driver->posed.control_points()[8], moved);
+  EXPECT_EQ(h.redo().patch_driver->density, 6u);
+  // an equal driver built anew is the same content (compared by value, not by address)
+  Document again = with_patch_driver(h.current(), std::make_shared<const PatchDriver>(*h.current().patch_driver));
+  EXPECT_TRUE(same_content(again, h.current()));
 }
 
 }  // namespace

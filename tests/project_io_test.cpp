@@ -23,6 +23,7 @@
 #include "core/file_hash.h"
 #include "core/project_io.h"
 #include "tests/document_fixtures.h"
+#include "tests/patch_fixtures.h"
 #include "tests/expect_error.h"
 
 namespace cagewrap {
@@ -142,6 +143,65 @@ TEST_F(ProjectIoTest, SimulationRoundTripsAndBadSettingsAreNamed) {
   s.vertices[4].stiffness = 2.0f;
   EXPECT_TRUE(Fails(save_project(path("bad.cagewrap"), with_sim(doc, s)), ErrorCode::kInvalidArgument,
                     {"not saved", "cage vertex 4"}));
+  EXPECT_FALSE(fs::exists(path("bad.cagewrap")));
+}
+
+TEST_F(ProjectIoTest, ParametricDriverRoundTripsAndBadValuesAreNamed) {
+  Document doc = make_doc();
+  ASSERT_TRUE(save_project(path("plain.cagewrap"), doc).ok());
+  EXPECT_EQ(read_text(path("plain.cagewrap")).find("\"patch_driver\""), std::string::npos);  // files without it stay as they were
+  EXPECT_EQ(load_ok(path("plain.cagewrap")).document.patch_driver, nullptr);
+  PatchDriver d;
+  d.rest = PatchSurface{{test::wavy_grid(4, 5), test::wavy_grid(7, 4, PatchBasis::kBezier)}};
+  d.posed = d.rest;
+  std::vector<glm::dvec3> moved = d.posed.control_points();
+  moved[3] += glm::dvec3(0.1234567890123, -1.0 / 3.0, 2e-9);  // doubles, not floats
+  moved[27] -= glm::dvec3(0.5, 0.25, 1.0);
+  d.posed.set_control_points(moved);
+  d.density = 5;
+  d.drive_skin = false;
+  doc = with_patch_driver(doc, std::make_shared<const PatchDriver>(d));
+  EXPECT_FALSE(same_content(doc, make_doc()));
+  const std::string project = path("patch.cagewrap");
+  ASSERT_TRUE(save_project(project, doc).ok());
+  ProjectLoad loaded = load_ok(project);
+  EXPECT_TRUE(loaded.warnings.empty());
+  ASSERT_NE(loaded.document.patch_driver, nullptr);
+  EXPECT_EQ(*loaded.document.patch_driver, d);  // bit for bit
+  EXPECT_TRUE(same_content(doc, loaded.document));
+  ASSERT_TRUE(save_project(path("again.cagewrap"), loaded.document).ok());
+  EXPECT_EQ(read_text(path("again.cagewrap")), read_text(project));
+
+  const Json saved = Json::parse(read_text(project))["patch_driver"];
+  auto with = [&](auto change) {
+    return error_after([&](Json& j) {
+      j["patch_driver"] = saved;
+      change(j["patch_driver"]);
+    });
+  };
+  Error e = with([](Json& p) { p["posed"].erase(0); });
+  EXPECT_EQ(e.code, ErrorCode::kTopologyMismatch);
+  EXPECT_CONTAINS(e.message, "patch_driver.posed has 47 control points, but patch_driver.rest has 48");
+  e = with([](Json& p) { p["posed"][7][1] = "x"; });
+  EXPECT_CONTAINS(e.message, "patch_driver.posed[7][1] should be a number");
+  e = with([](Json& p) { p["posed"][9][2] = nullptr; });
+  EXPECT_EQ(e.code, ErrorCode::kNonFinite);
+  EXPECT_CONTAINS(e.message, "patch_driver.posed[9][2]");
+  e = with([](Json& p) { p["density"] = 0; });
+  EXPECT_CONTAINS(e.message, "patch_driver.density is 0; it must be 1 to 1024");
+  e = with([](Json& p) { p["rest"]["grids"][1]["rows"] = 6; });
+  EXPECT_EQ(e.code, ErrorCode::kTopologyMismatch);
+  EXPECT_CONTAINS(e.message, "patch_driver.rest.grids[1].points has 7 rows");
+  e = with([](Json& p) { p.erase("rest"); });
+  EXPECT_CONTAINS(e.message, "patch_driver");
+  EXPECT_CONTAINS(e.message, "rest");
+  e = with([](Json& p) { p["drive_skin"] = 1; });
+  EXPECT_CONTAINS(e.message, "patch_driver.drive_skin should be true or false");
+  // a driver whose posed grids do not match its rest grids is not saved
+  PatchDriver bad = d;
+  bad.posed.grids.pop_back();
+  EXPECT_TRUE(Fails(save_project(path("bad.cagewrap"), with_patch_driver(doc, std::make_shared<const PatchDriver>(bad))),
+                    ErrorCode::kTopologyMismatch, {"not saved", "20 posed control points for 48"}));
   EXPECT_FALSE(fs::exists(path("bad.cagewrap")));
 }
 
