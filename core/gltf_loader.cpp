@@ -97,7 +97,9 @@ class AccessorReader {
       return fail(ErrorCode::kParse, label + " has " + std::to_string(nc) + " components per element, expected " +
                                          std::to_string(components));
     const bool is_float = a.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT;
-    if ((is_float && !allow_float) || (!is_float && !allow_int))
+    const bool is_signed = a.componentType == TINYGLTF_COMPONENT_TYPE_BYTE || a.componentType == TINYGLTF_COMPONENT_TYPE_SHORT;
+    // integer-only data (indices, joints) is unsigned in glTF: a signed type could hold negative indices
+    if ((is_float && !allow_float) || (!is_float && !allow_int) || (!allow_float && is_signed))
       return fail(ErrorCode::kParse, label + " has component type " + std::to_string(a.componentType) +
                                          (allow_float ? ", expected FLOAT" : ", expected an unsigned integer type"));
     if (nc > 4 && !is_float)
@@ -135,8 +137,10 @@ class AccessorReader {
         return fail(ErrorCode::kIndexOutOfRange, slabel + " count " + std::to_string(sp.count) +
                                                      " exceeds the accessor count " + std::to_string(count));
       const int ics = component_size(sp.indices.componentType);
-      if (ics <= 0 || sp.indices.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT)
-        return fail(ErrorCode::kParse, slabel + " indices have an invalid component type");
+      if (ics <= 0 || sp.indices.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT ||
+          sp.indices.componentType == TINYGLTF_COMPONENT_TYPE_BYTE || sp.indices.componentType == TINYGLTF_COMPONENT_TYPE_SHORT)
+        return fail(ErrorCode::kParse, slabel + " indices have component type " +
+                                           std::to_string(sp.indices.componentType) + ", expected an unsigned integer type");
       auto iview = view_bytes(sp.indices.bufferView, slabel + " indices");
       if (!iview) return iview.error();
       auto vview = view_bytes(sp.values.bufferView, slabel + " values");

@@ -322,14 +322,29 @@ TEST(GltfLoader, UnusableFilesNameTheObjectAndIndex) {
               std::string::npos)
         << e;
   }
-  // A negative joint index (a signed component type; the spec allows only unsigned ones).
+  // Joints and indices of a signed component type (the spec allows only unsigned ones: a signed
+  // type could hold a negative index, as the fuzzer found).
   {
     GltfBuilder b = skinned_plate<int8_t, float>({0, -128, 0, 0}, test::kByte, {0.5f, 0.5f, 0, 0}, test::kFloat,
                                                  false, 1);
     b.write_embedded(dir + "/negative_joint.gltf");
     std::string e = load_error(dir + "/negative_joint.gltf");
-    EXPECT_NE(e.find("mesh 0 ('messy') primitive 0 vertex 0: JOINTS_0 lists joint -128, but skin 0 ('rig') has 2 "
-                     "joints"),
+    EXPECT_NE(e.find("(mesh 0 ('messy') primitive 0 JOINTS_0) has component type 5120, expected an unsigned integer "
+                     "type"),
+              std::string::npos)
+        << e;
+  }
+  {
+    GltfBuilder b;
+    int p = b.add_floats(grid_positions(2), "VEC3", true);
+    int ix = b.add_accessor(std::vector<int16_t>{0, 1, -32768}, "SCALAR", test::kShort);
+    b.doc["meshes"].push_back({{"name", "signed"}, {"primitives", {{{"attributes", {{"POSITION", p}}}, {"indices", ix}}}}});
+    b.add_node({{"mesh", 0}});
+    b.set_scene({0});
+    b.write_embedded(dir + "/signed_indices.gltf");
+    std::string e = load_error(dir + "/signed_indices.gltf");
+    EXPECT_NE(e.find("(mesh 0 ('signed') primitive 0 indices) has component type 5122, expected an unsigned integer "
+                     "type"),
               std::string::npos)
         << e;
   }
