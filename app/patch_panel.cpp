@@ -3,7 +3,9 @@
 #include <chrono>
 #include <utility>
 
-#include <imgui.h>
+#if CAGEWRAP_GUI
+#include <imgui/imgui.h>
+#endif
 
 #include "core/patch_fit.h"
 #include "core/patch_io.h"
@@ -205,6 +207,7 @@ bool PatchPanel::pick(const Scene& scene, const Camera& camera, Viewport viewpor
   return hit.has_value();
 }
 
+#if CAGEWRAP_GUI  // the renderer and the window
 void PatchPanel::update_display(Scene& scene, render::ViewportRenderer& renderer) {
   const auto& driver = scene.doc().patch_driver;
   if (!driver) {
@@ -290,6 +293,7 @@ void PatchPanel::draw(Scene& scene, const Selection& selection, const EditorHook
   }
   ImGui::End();
 }
+#endif  // CAGEWRAP_GUI
 
 bool PatchPanel::script_command(const std::string& cmd, std::istringstream& in, Scene& scene, const Selection& selection,
                                 const EditorHooks& hooks) {
