@@ -183,6 +183,14 @@ void ViewportRenderer::draw_axes(const ViewParams& v) {
   glViewport(v.x, v.y, v.width, v.height);
 }
 
+// Points drawn as discs of `size` pixels with the line program (already in use).
+void ViewportRenderer::draw_round_points(LineBuffer& points, float size) {
+  line_program_.set("u_point_size", size);
+  line_program_.set("u_round_points", 1);
+  points.draw(GL_POINTS);
+  line_program_.set("u_round_points", 0);
+}
+
 void ViewportRenderer::draw(const ViewParams& v, const ViewportStyle& style) {
   glViewport(v.x, v.y, v.width, v.height);
   glEnable(GL_DEPTH_TEST);
@@ -232,38 +240,26 @@ void ViewportRenderer::draw(const ViewParams& v, const ViewportStyle& style) {
     line_program_.set("u_depth_bias", on_top ? 1.0f : 0.0005f);
     glLineWidth(1.5f);
     cage_edges_->draw(GL_LINES);
-    line_program_.set("u_point_size", 5.0f);
-    line_program_.set("u_round_points", 1);
-    cage_points_->draw(GL_POINTS);
-    line_program_.set("u_round_points", 0);
+    draw_round_points(*cage_points_, 5.0f);
   }
   if (skin_points_->size() > 0) {
     line_program_.use();
     line_program_.set("u_depth_bias", on_top ? 1.0f : 0.0005f);
-    line_program_.set("u_point_size", 6.0f);
-    line_program_.set("u_round_points", 1);
-    skin_points_->draw(GL_POINTS);
-    line_program_.set("u_round_points", 0);
+    draw_round_points(*skin_points_, 6.0f);
   }
   if (net_points_->size() > 0) {  // the control net is the driver: always on top, like the skeleton
     line_program_.use();
     line_program_.set("u_depth_bias", 1.0f);
     glLineWidth(2.0f);
     net_edges_->draw(GL_LINES);
-    line_program_.set("u_point_size", 8.0f);
-    line_program_.set("u_round_points", 1);
-    net_points_->draw(GL_POINTS);
-    line_program_.set("u_round_points", 0);
+    draw_round_points(*net_points_, 8.0f);
   }
   if (style.show_skeleton) {
     line_program_.use();
     line_program_.set("u_depth_bias", 1.0f);  // the skeleton is inside the skin: always on top
     glLineWidth(2.5f);
     bones_->draw(GL_LINES);
-    line_program_.set("u_point_size", 9.0f);
-    line_program_.set("u_round_points", 1);
-    joints_->draw(GL_POINTS);
-    line_program_.set("u_round_points", 0);
+    draw_round_points(*joints_, 9.0f);
   }
   glLineWidth(1.0f);
   line_program_.use();

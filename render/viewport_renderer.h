@@ -71,6 +71,7 @@ class ViewportRenderer {
   void draw(const ViewParams& view, const ViewportStyle& style);
 
  private:
+  void draw_round_points(LineBuffer& points, float size);
   void draw_grid(const ViewParams& v);
   void draw_axes(const ViewParams& v);
 

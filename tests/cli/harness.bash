@@ -110,3 +110,12 @@ same_after_shift() {
     END { if (m != n || g != nf) print "  counts: " m " vertices (want " n "), " g " faces (want " nf ")"
           exit !(bad == 0 && m == n && n > 0 && g == nf) }' "$1" "$2"
 }
+
+# need_demo_assets: DEMO and CAGE, the bundled demo character and cage; skips the script (77) without them
+need_demo_assets() {
+  local root
+  root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+  DEMO="$root/assets/demo_character.glb"
+  CAGE="$root/assets/demo_cage.obj"
+  [ -f "$DEMO" ] && [ -f "$CAGE" ] || { echo "skipped: $DEMO or $CAGE not found"; exit 77; }
+}

@@ -6,10 +6,7 @@
 set -u
 
 source "$(dirname "$0")/harness.bash"
-ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
-DEMO="$ROOT/assets/demo_character.glb"
-CAGE="$ROOT/assets/demo_cage.obj"
-[ -f "$DEMO" ] && [ -f "$CAGE" ] || { echo "skipped: $DEMO or $CAGE not found"; exit 77; }
+need_demo_assets
 
 
 P="$T/hero.cagewrap"

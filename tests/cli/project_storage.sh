@@ -8,9 +8,7 @@
 set -uo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 source "$ROOT/tests/cli/harness.bash"
-DEMO="$ROOT/assets/demo_character.glb"
-CAGE="$ROOT/assets/demo_cage.obj"
-[[ -f "$DEMO" && -f "$CAGE" ]] || { echo "skipped: $DEMO or $CAGE not found"; exit 77; }
+need_demo_assets
 
 mkdir -p "$T/a" "$T/b"
 cp "$DEMO" "$T/a/hero.glb"

@@ -6,10 +6,7 @@
 set -u
 
 source "$(dirname "$0")/harness.bash"
-ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
-DEMO="$ROOT/assets/demo_character.glb"
-CAGE="$ROOT/assets/demo_cage.obj"
-[ -f "$DEMO" ] && [ -f "$CAGE" ] || { echo "skipped: $DEMO or $CAGE not found"; exit 77; }
+need_demo_assets
 
 # number_above / number_below FILE REGEX LIMIT: the first number after REGEX in FILE is above / below LIMIT
 number_below() { local v; v=$(grep -o -- "$2 [0-9.e+-]*" "$1" | head -1 | awk '{print $NF}'); awk -v v="$v" -v l="$3" 'BEGIN { exit !(v != "" && v + 0 < l) }' || { echo "'$2' is '$v', want < $3"; return 1; }; }
