@@ -25,6 +25,7 @@
 
 #include "app/cage_tools.h"
 #include "app/export_panel.h"
+#include "app/offscreen_surface.h"
 #include "app/patch_panel.h"
 #include "app/rig_panel.h"
 #include "app/sets_panel.h"
@@ -71,6 +72,8 @@ class Editor {
 
  private:
   bool open_window();
+  bool open_glfw_window();
+  void framebuffer_size(int& w, int& h) const;  // of the window, or of the offscreen frame
   void load_initial();
   void set_scene(std::unique_ptr<Scene> scene);
   void upload_topology();
@@ -142,6 +145,8 @@ class Editor {
 
   EditorOptions options_;
   GLFWwindow* window_ = nullptr;
+  std::unique_ptr<OffscreenSurface> offscreen_;  // --offscreen: no window, an EGL context and a framebuffer
+  bool close_ = false;                          // quit chosen (offscreen runs end with their script)
   std::unique_ptr<render::ViewportRenderer> renderer_ = std::make_unique<render::ViewportRenderer>();
   render::ViewportStyle style_;
   Camera camera_;
@@ -232,6 +237,33 @@ void Editor::log(std::string text, bool error) {
 }
 
 bool Editor::open_window() {
+  if (options_.offscreen) {
+    auto surface = OffscreenSurface::create(options_.width, options_.height, 4);
+    if (!surface) {
+      std::fprintf(stderr, "error: --offscreen: %s\n", surface.error().message.c_str());
+      return false;
+    }
+    offscreen_ = std::move(*surface);
+    std::printf("offscreen %d x %d: %s\n", offscreen_->width(), offscreen_->height(), offscreen_->description().c_str());
+  } else if (!open_glfw_window()) {
+    return false;
+  }
+  IMGUI_CHECKVERSION();
+  ImGui::CreateContext();
+  ImGui::GetIO().IniFilename = nullptr;  // layout is fixed; preferences live elsewhere
+  ImGui::StyleColorsDark();
+  ImGui::GetStyle().WindowRounding = 3.0f;
+  if (window_) ImGui_ImplGlfw_InitForOpenGL(window_, true);
+  ImGui_ImplOpenGL3_Init("#version 330");
+  std::string err;
+  if (!renderer_->init(err)) {
+    std::fprintf(stderr, "error: %s\n", err.c_str());
+    return false;
+  }
+  return true;
+}
+
+bool Editor::open_glfw_window() {
   glfwSetErrorCallback([](int code, const char* text) { std::fprintf(stderr, "glfw error %d: %s\n", code, text); });
   if (!glfwInit()) {
     std::fprintf(stderr, "error: cannot open a window (no display? run under Xvfb for headless use)\n");
@@ -250,19 +282,16 @@ bool Editor::open_window() {
   }
   glfwMakeContextCurrent(window_);
   glfwSwapInterval(options_.screenshot.empty() ? 1 : 0);
-  IMGUI_CHECKVERSION();
-  ImGui::CreateContext();
-  ImGui::GetIO().IniFilename = nullptr;  // layout is fixed; preferences live elsewhere
-  ImGui::StyleColorsDark();
-  ImGui::GetStyle().WindowRounding = 3.0f;
-  ImGui_ImplGlfw_InitForOpenGL(window_, true);
-  ImGui_ImplOpenGL3_Init("#version 330");
-  std::string err;
-  if (!renderer_->init(err)) {
-    std::fprintf(stderr, "error: %s\n", err.c_str());
-    return false;
-  }
   return true;
+}
+
+void Editor::framebuffer_size(int& w, int& h) const {
+  if (offscreen_) {
+    w = offscreen_->width();
+    h = offscreen_->height();
+  } else {
+    glfwGetFramebufferSize(window_, &w, &h);
+  }
 }
 
 void Editor::set_scene(std::unique_ptr<Scene> scene) {
@@ -1509,7 +1538,7 @@ void Editor::draw_file_popups() {
   else if (!files_.browsing()) after_save_ = nullptr;  // the Save as was cancelled
   if (quit_requested_) {
     quit_requested_ = false;
-    guard_unsaved([this] { glfwSetWindowShouldClose(window_, 1); });
+    guard_unsaved([this] { close_ = true; });
   }
   if (open_prompt_) ImGui::OpenPopup("Save changes?");
   open_prompt_ = false;
@@ -2053,11 +2082,13 @@ void Editor::draw_panels() {
 
 bool Editor::save_screenshot(const std::string& path, bool view_only) {
   int w, h;
-  glfwGetFramebufferSize(window_, &w, &h);
+  framebuffer_size(w, h);
   std::vector<unsigned char> pixels(static_cast<size_t>(w) * h * 4);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glReadBuffer(GL_BACK);
+  if (offscreen_) offscreen_->bind_for_reading();
+  else glReadBuffer(GL_BACK);
   glReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, pixels.data());
+  if (offscreen_) offscreen_->begin_frame();
   std::vector<unsigned char> flipped(pixels.size());
   for (int y = 0; y < h; ++y)
     std::copy_n(&pixels[static_cast<size_t>(h - 1 - y) * w * 4], static_cast<size_t>(w) * 4, &flipped[static_cast<size_t>(y) * w * 4]);
@@ -2084,16 +2115,22 @@ int Editor::run() {
     options_.height = files_.prefs().window_height;
   }
   files_.apply(style_);
+  if (options_.offscreen && options_.screenshot.empty() && options_.script.empty()) {
+    std::fprintf(stderr, "error: --offscreen has no window and no input: give --script or --screenshot\n");
+    return 1;
+  }
   if (!open_window()) return 1;
   log(skin_display_.init(options_.cpu_deform ? SkinDisplay::Path::kCpu
                          : options_.gpu_deform ? SkinDisplay::Path::kGpu
                                                : SkinDisplay::Path::kAutomatic,
                          options_.frame_stats));
-  glfwSetWindowUserPointer(window_, this);
-  glfwSetDropCallback(window_, [](GLFWwindow* w, int count, const char** paths) {
-    auto* self = static_cast<Editor*>(glfwGetWindowUserPointer(w));
-    if (count > 0) self->dropped_ = paths[0];
-  });
+  if (window_) {
+    glfwSetWindowUserPointer(window_, this);
+    glfwSetDropCallback(window_, [](GLFWwindow* w, int count, const char** paths) {
+      auto* self = static_cast<Editor*>(glfwGetWindowUserPointer(w));
+      if (count > 0) self->dropped_ = paths[0];
+    });
+  }
   if (!options_.script.empty()) {
     std::ifstream in(options_.script);
     if (!in) {
@@ -2121,14 +2158,14 @@ int Editor::run() {
   int exit_code = 0;
   auto last = std::chrono::steady_clock::now();
   const bool scripted = !options_.screenshot.empty() || !script_.empty();
-  while (!glfwWindowShouldClose(window_)) {
-    glfwPollEvents();
+  while (!close_ && !(window_ && glfwWindowShouldClose(window_))) {
+    if (window_) glfwPollEvents();
     auto now = std::chrono::steady_clock::now();
     double dt = std::chrono::duration<double>(now - last).count();
     last = now;
     fps_ = 0.9 * fps_ + 0.1 * (dt > 0 ? 1.0 / dt : 0.0);
     int w, h;
-    glfwGetFramebufferSize(window_, &w, &h);
+    framebuffer_size(w, h);
     view_x_ = kLeftWidth;
     view_y_ = kMenuHeight;
     view_w_ = std::max(1.0f, w - kLeftWidth - kRightWidth);
@@ -2141,7 +2178,12 @@ int Editor::run() {
       else guard_unsaved([this, path] { open_path(path); });
     }
     ImGui_ImplOpenGL3_NewFrame();
-    ImGui_ImplGlfw_NewFrame();
+    if (window_) {
+      ImGui_ImplGlfw_NewFrame();
+    } else {  // no platform backend: the frame's size and time, no input
+      ImGui::GetIO().DisplaySize = ImVec2(static_cast<float>(w), static_cast<float>(h));
+      ImGui::GetIO().DeltaTime = dt > 0 ? static_cast<float>(dt) : 1.0f / 60.0f;
+    }
     ImGui::NewFrame();
     handle_input();
     // a scripted run waits for the first bind so that the steps act on the deformed skin
@@ -2201,7 +2243,7 @@ int Editor::run() {
       std::string title = "cagewrap - " + (scene_->doc().project_path.empty() ? std::string("untitled") : scene_->doc().project_path) +
                           (recovered_ ? " (recovered)" : "") + (scene_->history.dirty(scene_->doc()) ? " *" : "");
       if (auto m = autosave_->tick(scene_->doc(), scene_->history.dirty(scene_->doc()))) log(*m, m->rfind("error", 0) == 0);
-      if (title != title_) glfwSetWindowTitle(window_, (title_ = title).c_str());
+      if (title != title_ && window_) glfwSetWindowTitle(window_, (title_ = title).c_str());
     }
     const auto ui_start = std::chrono::steady_clock::now();
     draw_panels();
@@ -2241,21 +2283,25 @@ int Editor::run() {
       break;
     }
     if (options_.screenshot.empty() && !script_.empty() && script_done && frame > 1) break;
-    glfwSwapBuffers(window_);
+    if (offscreen_) offscreen_->end_frame();
+    else glfwSwapBuffers(window_);
   }
   if (options_.frame_stats) std::printf("%s\n", skin_display_.summary().c_str());
-  int window_w = 0, window_h = 0;
-  glfwGetWindowSize(window_, &window_w, &window_h);
-  files_.remember(style_, window_w, window_h);
+  if (window_) {  // an offscreen run keeps the window size the artist left
+    int window_w = 0, window_h = 0;
+    glfwGetWindowSize(window_, &window_w, &window_h);
+    files_.remember(style_, window_w, window_h);
+  }
   autosave_->discard();  // a clean quit: the work was saved, or the artist chose to discard it
   if (auto e = files_.save(); !e.empty()) log("warning: " + e);
   ImGui_ImplOpenGL3_Shutdown();
-  ImGui_ImplGlfw_Shutdown();
+  if (window_) ImGui_ImplGlfw_Shutdown();
   ImGui::DestroyContext();
   scene_.reset();
   renderer_.reset();  // GL objects go while the context is current
   skin_display_.release_gl();
-  glfwDestroyWindow(window_);
+  offscreen_.reset();
+  if (window_) glfwDestroyWindow(window_);
   // No glfwTerminate(): with Mesa's software rasterizer it unloads swrast_dri.so, whose LLVM static
   // destructors crash in __cxa_finalize. The process is about to exit; the OS reclaims the display.
   return exit_code;

@@ -25,6 +25,9 @@ int main(int argc, char** argv) {
                "deform the skin with OpenGL compute shaders even on a software OpenGL (Mesa's llvmpipe), where the CPU is faster");
   app.add_flag("--frame-stats", editor.frame_stats,
                "print where the frame time goes (deform, normals, draw, UI; medians) at exit");
+  app.add_flag("--offscreen", editor.offscreen,
+               "run the editor with no window or display, drawing into an offscreen framebuffer through a headless "
+               "OpenGL 4.3 context (EGL; a GPU server or CI runner); needs --script or --screenshot");
   app.positionals_at_end(false);
   cagewrap::app::add_bind_command(app, exit_code);
   cagewrap::app::add_deform_command(app, exit_code);

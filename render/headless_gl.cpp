@@ -54,7 +54,7 @@ std::vector<Candidate> candidate_displays(std::string& notes) {
   }
   if (has_word(client, "EGL_MESA_platform_surfaceless")) {
     EGLDisplay d = eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
-    if (d != EGL_NO_DISPLAY) out.push_back({d, "Mesa surfaceless EGL"});
+    if (d != EGL_NO_DISPLAY) out.push_back({d, "EGL surfaceless platform"});
   }
   EGLDisplay d = eglGetDisplay(EGL_DEFAULT_DISPLAY);
   if (d != EGL_NO_DISPLAY) out.push_back({d, "default EGL display"});
