@@ -19,6 +19,7 @@
 #include <fstream>
 #include <functional>
 #include <sstream>
+#include <tuple>
 #include <filesystem>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -145,6 +146,8 @@ class Editor {
 
   EditorOptions options_;
   GLFWwindow* window_ = nullptr;
+  mutable std::tuple<const void*, const void*, size_t> scene_size_key_{};  // scene_size()'s cache
+  mutable double scene_size_ = 1.0;
   std::unique_ptr<OffscreenSurface> offscreen_;  // --offscreen: no window, an EGL context and a framebuffer
   bool close_ = false;                          // quit chosen (offscreen runs end with their script)
   std::unique_ptr<render::ViewportRenderer> renderer_ = std::make_unique<render::ViewportRenderer>();
@@ -504,7 +507,17 @@ std::vector<glm::vec3> Editor::face_centroids(std::span<const glm::vec3> positio
   return c;
 }
 
-double Editor::scene_size() const { return scene_ ? std::max(bounding_box(scene_->skin_rest).diagonal(), 1e-9) : 1.0; }
+// The rest skin's diagonal, asked several times a frame (grid, tolerances, panels): a pass over a
+// million-vertex skin costs about a millisecond, so it is kept until the rest skin is another.
+double Editor::scene_size() const {
+  if (!scene_) return 1.0;
+  const std::tuple<const void*, const void*, size_t> key{scene_.get(), scene_->skin_rest.data(), scene_->skin_rest.size()};
+  if (key != scene_size_key_) {
+    scene_size_key_ = key;
+    scene_size_ = std::max(bounding_box(scene_->skin_rest).diagonal(), 1e-9);
+  }
+  return scene_size_;
+}
 double Editor::mirror_tolerance() const { return mirror_tolerance_share_ * scene_size(); }
 // Keys and assignments go to the vertex nearest each mirror image: a cage that is only nearly
 // symmetric (a decimated one) needs about an edge length (core/keyposes.h mirror_keypose_set).
@@ -2190,6 +2203,7 @@ int Editor::run() {
     const bool export_blocks = export_panel_.busy() && script_waits_for_export_;
     if (!script_.empty() && !(scene_ && (scene_->job || cage_tools_.busy() || patch_panel_.busy() || export_blocks))) run_script_step();
 
+    const auto scene_start = std::chrono::steady_clock::now();
     if (scene_) {
       if (auto msg = scene_->poll_bind()) {
         log(*msg, msg->rfind("error", 0) == 0);
@@ -2246,9 +2260,10 @@ int Editor::run() {
       if (title != title_ && window_) glfwSetWindowTitle(window_, (title_ = title).c_str());
     }
     const auto ui_start = std::chrono::steady_clock::now();
+    skin_display_.add_scene_ms(std::chrono::duration<double, std::milli>(ui_start - scene_start).count());
     draw_panels();
     ImGui::Render();
-    skin_display_.add_cpu_ms(FramePart::kUi, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - ui_start).count());
+    skin_display_.add_cpu_ms(FramePart::kUiBuild, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - ui_start).count());
 
     glViewport(0, 0, w, h);
     glClearColor(0.16f, 0.17f, 0.19f, 1.0f);
@@ -2266,9 +2281,9 @@ int Editor::run() {
       renderer_->draw(v, style_);
       skin_display_.end(FramePart::kDraw);
     }
-    skin_display_.begin(FramePart::kUi);
+    skin_display_.begin(FramePart::kUiDraw);
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
-    skin_display_.end(FramePart::kUi);
+    skin_display_.end(FramePart::kUiDraw);
     skin_display_.end_frame(dt * 1e3);
     ++frame;
     if (!pending_screenshot_.empty() && pending_screenshot_frames_-- <= 0) {
@@ -2286,7 +2301,7 @@ int Editor::run() {
     if (offscreen_) offscreen_->end_frame();
     else glfwSwapBuffers(window_);
   }
-  if (options_.frame_stats) std::printf("%s\n", skin_display_.summary().c_str());
+  if (options_.frame_stats || options_.frame_time) std::printf("%s\n", skin_display_.summary().c_str());
   if (window_) {  // an offscreen run keeps the window size the artist left
     int window_w = 0, window_h = 0;
     glfwGetWindowSize(window_, &window_w, &window_h);

@@ -18,6 +18,7 @@ struct EditorOptions {
   bool cpu_deform = false;   // deform the skin on the CPU even where OpenGL 4.3 could (app/skin_display.h)
   bool gpu_deform = false;   // deform it on the GPU even on a software OpenGL (Mesa's llvmpipe)
   bool frame_stats = false;  // print the frame-time split (medians) at exit; finishes GL work per part
+  bool frame_time = false;   // print the same at exit without finishing GL work between parts
   bool offscreen = false;    // no window: a headless EGL context and a framebuffer (app/offscreen_surface.h)
 };
 

@@ -24,7 +24,11 @@ int main(int argc, char** argv) {
   app.add_flag("--gpu-deform", editor.gpu_deform,
                "deform the skin with OpenGL compute shaders even on a software OpenGL (Mesa's llvmpipe), where the CPU is faster");
   app.add_flag("--frame-stats", editor.frame_stats,
-               "print where the frame time goes (deform, normals, draw, UI; medians) at exit");
+               "print where the frame time goes (deform, normals, scene, draw, UI; medians) at exit, finishing the GL's "
+               "work after each part so that CPU times include it");
+  app.add_flag("--frame-time", editor.frame_time,
+               "print the same medians at exit without finishing GL work between parts: the frame rate as the artist "
+               "sees it (GPU times still from timer queries)");
   app.add_flag("--offscreen", editor.offscreen,
                "run the editor with no window or display, drawing into an offscreen framebuffer through a headless "
                "OpenGL 4.3 context (EGL; a GPU server or CI runner); needs --script or --screenshot");

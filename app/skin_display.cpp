@@ -12,7 +12,7 @@ namespace cagewrap::app {
 
 namespace {
 
-const char* const kPartNames[kFrameParts] = {"deform", "normals", "draw", "UI"};
+const char* const kPartNames[kFrameParts] = {"deform", "normals", "scene", "draw", "UI build", "UI draw"};
 
 double ms_between(std::chrono::steady_clock::time_point a, std::chrono::steady_clock::time_point b) {
   return std::chrono::duration<double, std::milli>(b - a).count();
@@ -175,10 +175,18 @@ std::string SkinDisplay::summary() const {
                           any_from_cage ? "with the skin deformed through the cage" : "with no cage deformation", gpu_frames,
                           median(frame), median(frame) > 0 ? 1000.0 / median(frame) : 0.0);
   std::string out(buf, static_cast<size_t>(std::max(len, 0)));
+  std::vector<double> other;  // the frame's time outside the parts (events, buffer swap, the loop itself)
+  for (size_t i = 0; i < frame.size(); ++i) {
+    double parts = 0;
+    for (size_t p = 0; p < kFrameParts; ++p) parts += cpu[p][i];
+    other.push_back(std::max(0.0, frame[i] - parts));
+  }
   for (size_t p = 0; p < kFrameParts; ++p) {
     len = std::snprintf(buf, sizeof buf, "; %s %.2f ms CPU %.2f ms GPU", kPartNames[p], median(cpu[p]), median(gpu[p]));
     out.append(buf, static_cast<size_t>(std::max(len, 0)));
   }
+  len = std::snprintf(buf, sizeof buf, "; other %.2f ms", median(other));
+  out.append(buf, static_cast<size_t>(std::max(len, 0)));
   return out;
 }
 

@@ -17,6 +17,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <algorithm>
 #include <vector>
 
 #include "app/editor_scene.h"
@@ -26,8 +27,11 @@
 
 namespace cagewrap::app {
 
-enum class FramePart : uint8_t { kDeform, kNormals, kDraw, kUi };
-constexpr size_t kFrameParts = 4;
+// Where a frame's time goes (--frame-stats, the stats overlay): the skin's deform and normals; the
+// rest of the scene update on the CPU (clip, skeleton, cage, simulation, display buffers); drawing
+// the viewport; building the panels (ImGui, CPU only); drawing them.
+enum class FramePart : uint8_t { kDeform, kNormals, kScene, kDraw, kUiBuild, kUiDraw };
+constexpr size_t kFrameParts = 6;
 
 class SkinDisplay {
  public:
@@ -58,6 +62,11 @@ class SkinDisplay {
   void begin(FramePart part);
   void end(FramePart part);
   void add_cpu_ms(FramePart part, double ms) { cpu_ms_[static_cast<size_t>(part)] += ms; }
+  // The scene update's wall time, which includes update(): the part that is not deform or normals.
+  void add_scene_ms(double ms) {
+    cpu_ms_[static_cast<size_t>(FramePart::kScene)] += std::max(
+        0.0, ms - cpu_ms_[static_cast<size_t>(FramePart::kDeform)] - cpu_ms_[static_cast<size_t>(FramePart::kNormals)]);
+  }
   // At the end of each frame, with its wall time.
   void end_frame(double frame_ms);
 
