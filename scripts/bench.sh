@@ -4,8 +4,8 @@
 #     1,000,000 skin vertices.
 #   gpu (make bench-gpu): the GPU path, `bench --gpu` on both triplets at about 1,000,000 vertices
 #     (headless EGL: a GPU server needs no display), the 4,000,000-vertex memory run, and the editor's
-#     frame split playing a clip with a 1,000,000-vertex demo character (needs a display; without one
-#     it runs under xvfb-run, which means Mesa's software OpenGL).
+#     frame playing a clip with a 1,000,000-vertex demo character (`cagewrap --offscreen`: headless
+#     EGL as well; EDITOR_FRAMES sets how many frames, default 240).
 set -euo pipefail
 bin=${1:-build/cagewrap}
 assets=${2:-../shared/assets}
@@ -43,19 +43,21 @@ echo "== memory: mannequiny, --subdivide 23 (about 4,000,000 vertices), CPU path
 "$bin" bench --mesh "$d/mesh_7136.obj" --cage "$d/cage.obj" --posed-cage "$d/cage_posed.obj" --subdivide 23 --variant all
 "$bin" bench --mesh "$d/mesh_7136.obj" --cage "$d/cage.obj" --posed-cage "$d/cage_posed.obj" --subdivide 23 --gpu
 
-# the editor playing the walk with a 1,000,000-vertex skin and the 2,000-face demo cage
+# the editor playing the walk with a 1,000,000-vertex skin and the 2,000-face demo cage, offscreen
+# (a headless EGL context: no display needed, on a GPU server too), per part (--frame-stats) and
+# as the artist sees it (--frame-time), on the GPU path and the CPU path
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 big=$(dirname "$bin")/demo_1m.glb
 [ -f "$big" ] || "$bin" make-demo --cell-size 0.0028 --out "$big"
 script=$(mktemp)
 config=$(mktemp -d)
-echo "wait 60" > "$script"
-run=()
-[ -n "${DISPLAY:-}" ] || run=(xvfb-run -a -s "-screen 0 1600x900x24")
+echo "wait ${EDITOR_FRAMES:-240}" > "$script"
 for path in "" --cpu-deform; do
-  echo
-  echo "== editor: $big, walk playing, 1280 x 720 ${path:-(GPU path)}"
-  CAGEWRAP_CONFIG_DIR=$config "${run[@]}" "$bin" "$big" --cage "$here/assets/demo_cage.obj" --width 1280 --height 720 --play \
-    --script "$script" --frames 1 --frame-stats $path --screenshot "$config/frame.png" | grep -E "^(skin deformed|bound|frame stats)"
+  for stats in --frame-stats --frame-time; do
+    echo
+    echo "== editor: $big, walk playing, 1280 x 720, offscreen ${path:-(GPU path)} $stats"
+    CAGEWRAP_CONFIG_DIR=$config "$bin" "$big" --cage "$here/assets/demo_cage.obj" --offscreen --width 1280 --height 720 --play \
+      --script "$script" --frames 1 $stats $path --screenshot "$config/frame.png" | grep -E "^(offscreen|skin deformed|bound|frame stats)"
+  done
 done
 rm -rf "$script" "$config"
