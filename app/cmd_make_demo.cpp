@@ -25,8 +25,9 @@ void add_make_demo_command(CLI::App& app, int& exit_code) {
       std::fprintf(stderr, "error: %s: output must end in .glb\n", args->out.c_str());
       return;
     }
-    if (!(args->options.cell_size >= 0.0025 && args->options.cell_size <= 0.1)) {
-      std::fprintf(stderr, "error: --cell-size %g is outside 0.0025..0.1 m\n", args->options.cell_size);
+    // 0.00125 m makes about 5,000,000 vertices (the vertex count grows with 1 / cell size squared)
+    if (!(args->options.cell_size >= 0.00125 && args->options.cell_size <= 0.1)) {
+      std::fprintf(stderr, "error: --cell-size %g is outside 0.00125..0.1 m\n", args->options.cell_size);
       return;
     }
     Character c = make_demo_character(args->options);
