@@ -21,6 +21,10 @@ fails() {
 
 run make-demo --out "$T/demo.glb" --cell-size 0.05
 check "make-demo exits 0" [ "$rc" -eq 0 ]
+# a cell size outside the range is refused by name, before any work, and writes nothing
+fails "make-demo: cell size too small" "--cell-size 0.001" -- make-demo --out "$T/tiny.glb" --cell-size 0.001
+check "make-demo: the range is given" hasf "$T/err" "0.00125..0.1"
+check "make-demo: nothing written" [ ! -e "$T/tiny.glb" ]
 write_skin_fixture
 printf 'v -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\nv -1 -1 1\nv 1 -1 1\nv 1 1 1\nv -1 1 1\n' >"$T/nofaces.obj"
 cp "$T/nofaces.obj" "$T/cage.obj"
