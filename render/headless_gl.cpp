@@ -26,6 +26,12 @@ struct Candidate {
   std::string how;
 };
 
+void add_surfaceless(const char* client_extensions, std::vector<Candidate>& out) {
+  if (!has_word(client_extensions, "EGL_MESA_platform_surfaceless")) return;
+  EGLDisplay d = eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
+  if (d != EGL_NO_DISPLAY) out.push_back({d, "EGL surfaceless platform"});
+}
+
 std::vector<Candidate> candidate_displays(std::string& notes) {
   std::vector<Candidate> out;
   const char* client = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);  // client extensions
@@ -48,13 +54,13 @@ std::vector<Candidate> candidate_displays(std::string& notes) {
       (soft ? software : hardware).push_back(c);
     }
     out.insert(out.end(), hardware.begin(), hardware.end());
+    // the surfaceless platform before Mesa's software device: where a GPU driver's device display
+    // cannot give a context, its surfaceless platform may (NVIDIA's does), and software comes last
+    add_surfaceless(client, out);
     out.insert(out.end(), software.begin(), software.end());
   } else {
     notes += "no EGL device enumeration; ";
-  }
-  if (has_word(client, "EGL_MESA_platform_surfaceless")) {
-    EGLDisplay d = eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
-    if (d != EGL_NO_DISPLAY) out.push_back({d, "EGL surfaceless platform"});
+    add_surfaceless(client, out);
   }
   EGLDisplay d = eglGetDisplay(EGL_DEFAULT_DISPLAY);
   if (d != EGL_NO_DISPLAY) out.push_back({d, "default EGL display"});
@@ -119,7 +125,8 @@ Result<std::unique_ptr<HeadlessGl>> HeadlessGl::create() {
     gl->context_ = context;
     const char* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
     const char* version = reinterpret_cast<const char*>(glGetString(GL_VERSION));
-    gl->description_ = std::string(renderer ? renderer : "?") + ", OpenGL " + (version ? version : "?") + " (" + c.how + ")";
+    gl->description_ = std::string(renderer ? renderer : "?") + ", OpenGL " + (version ? version : "?") + " (" + c.how +
+                       (tried.empty() ? std::string() : "; before it: " + tried.substr(0, tried.size() - 2)) + ")";
     gl->software_ = renderer && (std::strstr(renderer, "llvmpipe") || std::strstr(renderer, "softpipe") ||
                                  std::strstr(renderer, "swrast"));
     return gl;

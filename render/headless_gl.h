@@ -1,8 +1,8 @@
 // An OpenGL 4.3+ core context with no window, for the GPU tests and `cagewrap bench --gpu`: EGL with
 // no surface, so it runs on a machine with no display (a CI runner, a GPU server) as well as on a
-// desktop. It tries, in order: the EGL devices of the machine (EGL_EXT_platform_device; hardware
-// devices before Mesa's software one; CAGEWRAP_EGL_DEVICE=n picks device n), Mesa's surfaceless
-// platform, and the default display.
+// desktop. It tries, in order: the machine's hardware EGL devices (EGL_EXT_platform_device), the
+// surfaceless platform (EGL_MESA_platform_surfaceless, which NVIDIA's driver has too), Mesa's
+// software device, and the default display; CAGEWRAP_EGL_DEVICE=n picks device n alone.
 #pragma once
 
 #include <memory>
