@@ -25,12 +25,17 @@ namespace fs = std::filesystem;
 using namespace cagewrap;
 using namespace cagewrap::test;
 
-std::vector<glm::dvec3> saved_offsets(const fs::path& project) {
-  std::vector<glm::dvec3> out;
+// A project the script saved, parsed; null (and a failure) when it cannot be read.
+nlohmann::json saved_project(const fs::path& project) {
   std::ifstream in(project);
   EXPECT_TRUE(in) << project;
-  if (!in) return out;
-  auto j = nlohmann::json::parse(in);
+  return in ? nlohmann::json::parse(in) : nlohmann::json();
+}
+
+std::vector<glm::dvec3> saved_offsets(const fs::path& project) {
+  std::vector<glm::dvec3> out;
+  const auto j = saved_project(project);
+  if (j.is_null()) return out;
   for (const auto& o : j.at("cage").at("offsets")) out.emplace_back(o[0].get<double>(), o[1].get<double>(), o[2].get<double>());
   return out;
 }
@@ -147,9 +152,8 @@ TEST(EditorTools, RestEditMovesTheReferenceCageAndRegistersOnlyNearbyPoints) {
   write_script(script, "clip rest\nwait 2\nmode cage_vertices\nselect_cage_vertex 500\nmove_target rest\nmove 0 0.03 0\n"
                        "wait 2\nsave " + project.string() + "\n");
   screenshot("--script " + script.string(), "tools_rest");
-  std::ifstream in(project);
-  ASSERT_TRUE(in) << project;
-  auto j = nlohmann::json::parse(in);
+  const auto j = saved_project(project);
+  ASSERT_FALSE(j.is_null()) << project;
   const auto& pos = j.at("cage").at("positions");
   ASSERT_EQ(pos.size(), cage.num_vertices());
   for (uint32_t i = 0; i < cage.num_vertices(); ++i) {
@@ -208,9 +212,8 @@ TEST(EditorTools, ImportAndAutomaticCageAreUndoableSteps) {
                            p_undo.string() + "\nauto_cage 600\nsave " + p_auto.string() + "\n");
   screenshot("--script " + script.string(), "tools_import");
   auto cage_of = [](const fs::path& p) {
-    std::ifstream in(p);
-    EXPECT_TRUE(in) << p;
-    return in ? nlohmann::json::parse(in).at("cage") : nlohmann::json();
+    const auto j = saved_project(p);
+    return j.is_null() ? j : j.at("cage");
   };
   EXPECT_EQ(cage_of(p_import).at("positions").size(), imported.num_vertices());
   EXPECT_EQ(cage_of(p_undo).at("positions").size(), demo_vertices);
@@ -265,9 +268,8 @@ TEST(EditorTools, SubdivisionIsOneUndoStepAndCarriesOffsets) {
                            "cage_op linear\nsave " + p_linear.string() + "\n");
   screenshot("--script " + script.string(), "tools_subdivide");
   auto faces_of = [](const fs::path& p) {
-    std::ifstream in(p);
-    EXPECT_TRUE(in) << p;
-    return in ? nlohmann::json::parse(in).at("cage").at("faces").size() : size_t{0};
+    const auto j = saved_project(p);
+    return j.is_null() ? size_t{0} : j.at("cage").at("faces").size();
   };
   const size_t f = cage.num_faces();
   // red-green: the face becomes 4 and each of its 3 neighbours 2
@@ -303,9 +305,9 @@ TEST(EditorTools, OpeningWithUnsavedChangesAsksFirst) {
   auto k = saved_offsets(kept);
   ASSERT_GT(k.size(), 10u);
   EXPECT_NEAR(k[10].y, 0.1, 1e-6) << "Cancel keeps the document and its move";
-  std::ifstream in(fresh);
-  ASSERT_TRUE(in) << fresh;
-  EXPECT_TRUE(nlohmann::json::parse(in).at("cage").at("positions").empty()) << "Discard opened the character alone, a new untitled project";
+  const auto saved = saved_project(fresh);
+  ASSERT_FALSE(saved.is_null()) << fresh;
+  EXPECT_TRUE(saved.at("cage").at("positions").empty()) << "Discard opened the character alone, a new untitled project";
   EXPECT_TRUE(fs::exists(prompt_png));
 }
 
@@ -322,9 +324,8 @@ TEST(EditorTools, KeyingASculptMakesAKeyAtThePose) {
                        "mode cage_vertices\nselect_cage_vertex 300\nmove 0 0 0.05\nkey\nsave " + keyed.string() + "\nundo\nsave " +
                            undone.string() + "\n");
   screenshot("--script " + script.string(), "tools_key");
-  std::ifstream in(keyed);
-  ASSERT_TRUE(in) << keyed;
-  const auto j = nlohmann::json::parse(in);
+  const auto j = saved_project(keyed);
+  ASSERT_FALSE(j.is_null()) << keyed;
   ASSERT_EQ(j.at("keyposes").size(), 1u);
   const auto& set = j.at("keyposes")[0];
   EXPECT_EQ(set.at("drivers")[0].at("node").get<std::string>(), "forearm.L");
@@ -355,9 +356,9 @@ TEST(EditorTools, PaintingSetsRemovesFacesFromThePointsUnderTheBrush) {
                        "mode skin_vertices\npaint_at_skin_vertex 20000 0.15\nsave " + painted.string() + "\nundo\nsave " +
                            undone.string() + "\n");
   Image shot = screenshot("--script " + script.string(), "tools_sets");
-  std::ifstream in(painted);
-  ASSERT_TRUE(in) << painted;
-  const auto edits = nlohmann::json::parse(in).at("set_edits");
+  const auto saved = saved_project(painted);
+  ASSERT_FALSE(saved.is_null()) << painted;
+  const auto edits = saved.at("set_edits");
   EXPECT_GT(edits.size(), 50u) << "the brush covers many points";
   for (const auto& e : edits) {
     EXPECT_FALSE(e.at("exclude").empty());
@@ -387,9 +388,9 @@ TEST(EditorTools, SelectLimbFacesAndOnlyTheseFaces) {
   write_script(script, "clip rest\nwait 2\nmode joints\nselect_joint 7\nselect_limb_faces\nmode skin_vertices\nselect_skin_vertex 20000\n"
                        "set_edit only\nsave " + p.string() + "\n");
   screenshot("--script " + script.string(), "tools_limb");
-  std::ifstream in(p);
-  ASSERT_TRUE(in) << p;
-  const auto edits = nlohmann::json::parse(in).at("set_edits");
+  const auto saved = saved_project(p);
+  ASSERT_FALSE(saved.is_null()) << p;
+  const auto edits = saved.at("set_edits");
   ASSERT_EQ(edits.size(), 1u);
   EXPECT_EQ(edits[0].at("point").get<int>(), 20000);
   EXPECT_TRUE(edits[0].value("only", false));

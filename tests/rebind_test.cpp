@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cstring>
 #include <numeric>
 #include <random>
@@ -26,6 +27,9 @@ Binding bind_or_die(const TwoLegs& t, const BindParams& p, std::span<const SetEd
   EXPECT_TRUE(b.ok()) << (b.ok() ? "" : b.error().message);
   return std::move(b).value();
 }
+
+// The tests run each case without part labels, then with the two legs' labels.
+std::array<const PartLabels*, 2> without_and_with_labels(const TwoLegs& t) { return {nullptr, &t.labels}; }
 
 // Every table of two bindings, bit for bit (floats compared as stored).
 void expect_same_tables(const Binding& a, const Binding& b) {
@@ -76,8 +80,7 @@ TEST_P(EveryVariantSets, HierarchyMatchesBruteForceWithEditsAndLabels) {
   BindParams p;
   p.variant = GetParam();
   const std::vector<SetEdit> edits = assorted_edits(t);
-  for (const PartLabels* labels :
-       {static_cast<const PartLabels*>(nullptr), static_cast<const PartLabels*>(&t.labels)}) {
+  for (const PartLabels* labels : without_and_with_labels(t)) {
     Binding fast = bind_or_die(t, p, edits, labels);
     auto slow = bind_skin_brute_force(t.skin.positions, t.cage, t.cage.polygons.positions, p, edits, labels);
     ASSERT_TRUE(slow.ok()) << slow.error().message;
@@ -92,8 +95,7 @@ TEST_P(EveryVariantSets, UpdateEqualsAFullBind) {
   TwoLegs t = fixtures::two_legs();
   BindParams p;
   p.variant = GetParam();
-  for (const PartLabels* labels :
-       {static_cast<const PartLabels*>(nullptr), static_cast<const PartLabels*>(&t.labels)}) {
+  for (const PartLabels* labels : without_and_with_labels(t)) {
     auto rebinder = Rebinder::create(t.skin.positions, t.cage, t.cage.polygons.positions, p, labels);
     ASSERT_TRUE(rebinder.ok()) << rebinder.error().message;
     Binding before = std::move(rebinder->bind({})).value();
@@ -139,8 +141,7 @@ TEST_P(EveryVariantSets, RestMoveEqualsAFullBind) {
   BindParams p;
   p.variant = GetParam();
   const std::vector<SetEdit> edits = assorted_edits(t);
-  for (const PartLabels* labels :
-       {static_cast<const PartLabels*>(nullptr), static_cast<const PartLabels*>(&t.labels)}) {
+  for (const PartLabels* labels : without_and_with_labels(t)) {
     p.scale = bind_or_die(t, p, edits, labels).h;  // a fixed h: the moves below leave it alone
     Binding live = bind_or_die(t, p, edits, labels);
     auto index = ReachIndex::create(live, t.skin.positions);
