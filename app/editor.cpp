@@ -19,7 +19,6 @@
 #include <fstream>
 #include <functional>
 #include <sstream>
-#include <tuple>
 #include <filesystem>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -146,8 +145,6 @@ class Editor {
 
   EditorOptions options_;
   GLFWwindow* window_ = nullptr;
-  mutable std::tuple<const void*, const void*, size_t> scene_size_key_{};  // scene_size()'s cache
-  mutable double scene_size_ = 1.0;
   std::unique_ptr<OffscreenSurface> offscreen_;  // --offscreen: no window, an EGL context and a framebuffer
   bool close_ = false;                          // quit chosen (offscreen runs end with their script)
   std::unique_ptr<render::ViewportRenderer> renderer_ = std::make_unique<render::ViewportRenderer>();
@@ -507,17 +504,8 @@ std::vector<glm::vec3> Editor::face_centroids(std::span<const glm::vec3> positio
   return c;
 }
 
-// The rest skin's diagonal, asked several times a frame (grid, tolerances, panels): a pass over a
-// million-vertex skin costs about a millisecond, so it is kept until the rest skin is another.
-double Editor::scene_size() const {
-  if (!scene_) return 1.0;
-  const std::tuple<const void*, const void*, size_t> key{scene_.get(), scene_->skin_rest.data(), scene_->skin_rest.size()};
-  if (key != scene_size_key_) {
-    scene_size_key_ = key;
-    scene_size_ = std::max(bounding_box(scene_->skin_rest).diagonal(), 1e-9);
-  }
-  return scene_size_;
-}
+// Asked several times a frame (grid, tolerances, panels): the scene computes it once.
+double Editor::scene_size() const { return scene_ ? scene_->skin_diagonal : 1.0; }
 double Editor::mirror_tolerance() const { return mirror_tolerance_share_ * scene_size(); }
 // Keys and assignments go to the vertex nearest each mirror image: a cage that is only nearly
 // symmetric (a decimated one) needs about an edge length (core/keyposes.h mirror_keypose_set).
@@ -2232,10 +2220,11 @@ int Editor::run() {
       // the cage simulation fills a few milliseconds a frame; a script waits for all of it
       scene_->fill_simulation(scripted ? 0.0 : 6.0);
       skin_display_.before_pose(*scene_);
+      patch_panel_.drive_skin(*scene_);  // a parametric driver's skin replaces the cage's
       scene_->update_pose();
       if (topology_dirty_) upload_topology();
       if (auto e = skin_display_.update(*scene_, *renderer_); !e.empty()) log(e);
-      patch_panel_.update_display(*scene_, *renderer_);  // a parametric driver's skin and control net
+      patch_panel_.update_display(*scene_, *renderer_);  // a parametric driver's control net
       update_selection_display();
       {
         const auto& colors = sets_panel_.colors(*scene_, selection_);

@@ -220,6 +220,7 @@ void Scene::update_pose() {
     if (ch.skeleton.node(i).parent >= 0) bones.push_back({static_cast<uint32_t>(ch.skeleton.node(i).parent), static_cast<uint32_t>(i)});
 
   skin_from_cage = false;
+  skin_driven_ = driven_skin && driven_skin->size() == skin_rest.size() && !show_file_skinning;
   const auto& cage = doc().cage;
   if (cage) {
     // the driver: rest cage + the artist's offsets + keyposes, carried by the skeleton (core/rig.h)
@@ -235,7 +236,7 @@ void Scene::update_pose() {
     cage_posed = posed.positions;
     cage_linear = posed.linear;
     cage_skinning = posed.skinning;
-    if (deformer && bound_cage == cage) {
+    if (deformer && bound_cage == cage && !skin_driven_) {
       skin_posed_.resize(skin_rest.size());
       auto t0 = std::chrono::steady_clock::now();
       auto s = skin_on_gpu ? deformer->update_maps(posed.positions, cage_vertex_frames(*binding, posed))
@@ -246,6 +247,12 @@ void Scene::update_pose() {
   }
   if (show_file_skinning) skin_from_cage = false;
   skin_stale_ = skin_from_cage && skin_on_gpu;
+  if (skin_driven_) {
+    if (skin_posed_from_ != driven_skin) skin_posed_ = *driven_skin;  // copied once per change
+    skin_posed_from_ = driven_skin;
+    return;
+  }
+  skin_posed_from_.reset();
   if (!skin_from_cage) skin_posed_ = skin_character(ch, pose);
 }
 
@@ -287,6 +294,7 @@ std::unique_ptr<Scene> make_scene(Document doc, std::optional<Binding> cached = 
   auto scene = std::make_unique<Scene>(std::move(doc));
   const Character& ch = *scene->doc().character;
   for (const auto& prim : ch.primitives) scene->skin_rest.insert(scene->skin_rest.end(), prim.positions.begin(), prim.positions.end());
+  scene->skin_diagonal = std::max(bounding_box(scene->skin_rest).diagonal(), 1e-9);
   scene->skin_topology = combined_topology(ch);
   if (!ch.clips.empty()) {
     scene->clip = 0;

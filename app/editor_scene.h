@@ -48,6 +48,7 @@ struct Scene {
   const Document& doc() const { return live ? *live : history.current(); }
 
   std::vector<glm::vec3> skin_rest;  // #V bind pose, every primitive in file order
+  double skin_diagonal = 1.0;        // of skin_rest's bounding box (grid, tolerances; never 0)
   PolyMesh skin_topology;            // combined triangles
   std::optional<CageAttachment> attachment;
   BindParams params;                 // as edited in the panel (committed to the document on release)
@@ -80,6 +81,12 @@ struct Scene {
   // Changes (to a value never used before, by any scene) whenever `deformer` is replaced or its
   // table changes in place, so a GPU copy of the table knows to follow.
   uint64_t binding_revision = 0;
+  // A skin deformed by something other than the cage (the parametric driver, app/patch_panel.h),
+  // shown instead of the cage-deformed one while set (#V, the order of skin_rest); the setter makes
+  // a new one (a new pointer) whenever its contents change, so it is copied and uploaded only then.
+  std::shared_ptr<const std::vector<glm::vec3>> driven_skin;
+  // Whether this frame shows driven_skin (set by update_pose).
+  bool skin_driven() const { return skin_driven_; }
   // The deformed skin of the current frame (#V, the order of skin_rest), for picking, brushes and
   // the skin points; with skin_on_gpu it is deformed on the CPU here, at the first call per frame.
   const std::vector<glm::vec3>& skin_posed();
@@ -141,6 +148,8 @@ struct Scene {
   const Binding* rebinder_for_ = nullptr;
   std::vector<glm::vec3> skin_posed_;  // see skin_posed()
   bool skin_stale_ = false;            // the GPU has this frame's skin; skin_posed_ is older
+  bool skin_driven_ = false;           // this frame shows driven_skin
+  std::shared_ptr<const std::vector<glm::vec3>> skin_posed_from_;  // the driven_skin skin_posed_ holds, if any
   AttachmentSettings pending_attachment_, bound_attachment_;
   std::shared_ptr<const Cage> attached_cage_;  // the cage `attachment` was made for
   AttachmentSettings attached_settings_;       // and the settings it was made with

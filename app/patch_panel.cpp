@@ -207,6 +207,20 @@ bool PatchPanel::pick(const Scene& scene, const Camera& camera, Viewport viewpor
   return hit.has_value();
 }
 
+void PatchPanel::drive_skin(Scene& scene) {
+  const auto& driver = scene.doc().patch_driver;
+  if (!driver || !driver->drive_skin || !bound_to(scene)) {
+    scene.driven_skin.reset();
+    return;
+  }
+  if (shown_ != driver) {
+    auto skin = std::make_shared<std::vector<glm::vec3>>(scene.skin_rest.size());
+    skin_ = deformer_->deform(driver->posed, *skin).ok() ? std::move(skin) : nullptr;
+    shown_ = driver;
+  }
+  scene.driven_skin = skin_;
+}
+
 #if CAGEWRAP_GUI  // the renderer and the window
 void PatchPanel::update_display(Scene& scene, render::ViewportRenderer& renderer) {
   const auto& driver = scene.doc().patch_driver;
@@ -215,14 +229,6 @@ void PatchPanel::update_display(Scene& scene, render::ViewportRenderer& renderer
     return;
   }
   if (selected_ >= int(driver->posed.num_control_points())) selected_ = -1;
-  if (driver->drive_skin && bound_to(scene)) {
-    if (shown_ != driver) {
-      skin_.resize(scene.skin_rest.size());
-      if (auto s = deformer_->deform(driver->posed, skin_); !s) skin_.clear();
-      shown_ = driver;
-    }
-    if (skin_.size() == scene.skin_rest.size()) renderer.update_skin(skin_);
-  }
   renderer.update_control_net(float_points(driver->posed), control_net_edges(driver->posed), selected_);
 }
 

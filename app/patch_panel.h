@@ -30,8 +30,10 @@ class PatchPanel {
  public:
   bool& visible() { return visible_; }
   void draw(Scene& scene, const Selection& selection, const EditorHooks& hooks);
-  // After the frame's skin is drawn into the renderer: the skin the driver deforms (when it drives
-  // the skin) and the control net.
+  // Before the frame's pose: while the driver drives the skin, hands the skin it deforms to the
+  // scene (Scene::driven_skin; deformed again only when the driver changes), else takes it back.
+  void drive_skin(Scene& scene);
+  // The control net, into the renderer.
   void update_display(Scene& scene, render::ViewportRenderer& renderer);
   // Every frame: finishes a background bind (the change it was for becomes an undo step) and starts
   // one when the document's driver is not bound (undo, redo, a project opened).
@@ -86,7 +88,7 @@ class PatchPanel {
   std::shared_ptr<const PatchDriver> bound_driver_;  // the driver the binding was made for
   std::shared_ptr<const Character> bound_character_;  // and the character whose rest skin it binds
   std::shared_ptr<const PatchDriver> shown_;  // the driver skin_ was deformed by
-  std::vector<glm::vec3> skin_;  // #V deformed by shown_->posed
+  std::shared_ptr<const std::vector<glm::vec3>> skin_;  // #V deformed by shown_->posed (null: it failed)
   double bind_ms_ = 0;
   std::chrono::steady_clock::time_point job_start_;
   char path_field_[512] = "";

@@ -28,7 +28,7 @@ glm::vec4 heat(float t) {
 void SetsPanel::ensure_mirror(const Scene& scene) {
   const Cage* cage = scene.doc().cage.get();
   if (mirror_cage_ == cage && point_mirror_) return;
-  const double tol = 2e-3 * bounding_box(scene.skin_rest).diagonal();
+  const double tol = 2e-3 * scene.skin_diagonal;
   point_mirror_.emplace(scene.skin_rest, tol);
   std::vector<glm::vec3> centroids = face_centroids(cage->polygons);
   face_mirror_.emplace(centroids, std::max(tol, 0.25 * mean_edge_length(cage->polygons)));
@@ -74,7 +74,7 @@ void SetsPanel::begin_stroke(Scene& scene) {
 
 void SetsPanel::dab(Scene& scene, const Selection& sel, uint32_t triangle, const glm::dvec3& hit, const EditorHooks& hooks) {
   if (!stroking_) return;
-  if (brush_radius_ <= 0.0) brush_radius_ = 0.03 * bounding_box(scene.skin_rest).diagonal();
+  if (brush_radius_ <= 0.0) brush_radius_ = 0.03 * scene.skin_diagonal;
   auto pts = brush_.points_within(triangle, hit, brush_radius_);
   if (!pts || pts->points.empty()) return;
   apply(scene, sel, IndexSet(pts->points), hooks);
@@ -230,9 +230,9 @@ void SetsPanel::draw(Scene& scene, const Selection& sel, const EditorHooks& hook
   if (ImGui::Button("Apply to the selected skin vertices", ImVec2(-1, 0))) apply(scene, sel, sel.skin_vertices, hooks);
   ImGui::EndDisabled();
   ImGui::Checkbox("paint on the skin (skin mode, LMB)", &paint_);
-  if (brush_radius_ <= 0.0) brush_radius_ = 0.03 * bounding_box(scene.skin_rest).diagonal();
+  if (brush_radius_ <= 0.0) brush_radius_ = 0.03 * scene.skin_diagonal;
   float r = static_cast<float>(brush_radius_);
-  const float size = static_cast<float>(bounding_box(scene.skin_rest).diagonal());
+  const float size = static_cast<float>(scene.skin_diagonal);
   ImGui::Checkbox("radius in screen pixels", &screen_radius_);
   if (screen_radius_) {
     float px = static_cast<float>(radius_pixels_);
