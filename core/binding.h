@@ -50,6 +50,8 @@ struct BindParams {
 
 // Checks ranges; names the offending parameter.
 Status validate(const BindParams& params);
+// A skin to bind: at least one vertex, every coordinate finite (the error names the vertex).
+Status check_skin(std::span<const glm::vec3> skin);
 
 // User edits of contributing sets, an input of registration (so editing is a parameter, not a patch).
 // Exclusions act before the threshold (an excluded element does not exist for that point), inclusions

@@ -91,7 +91,7 @@ Result<Deformer> Deformer::create(const Binding& b, std::span<const glm::vec3> s
       if (b.element_status[e] == ElementStatus::kValid) valid.push_back(b.elements[e]);
     d.fit_ = std::make_unique<OneRingFit>(b.rest_cage, valid);
   } else {
-    d.maps_.resize(b.num_samples > 0 ? b.num_samples : ne);
+    d.maps_.resize(ne);
   }
   if (d.need_rigid_) d.rigid_maps_.resize(ne);
   return d;
@@ -211,7 +211,7 @@ Status Deformer::deform(std::span<const glm::vec3> posed, std::span<glm::vec3> o
     return make_error(ErrorCode::kInvalidArgument, "output holds " + std::to_string(out.size()) +
                                                        " points but the skin has " + std::to_string(b.num_points));
   if (auto s = update_maps(posed, vertex_linear); !s) return s;
-  apply_table(out);
+  apply_table(maps_, out);
   return Ok{};
 }
 
@@ -226,12 +226,11 @@ Status Deformer::deform_with_maps(std::span<const Affine> maps, std::span<glm::v
   if (out.size() != b.num_points)
     return make_error(ErrorCode::kInvalidArgument, "output holds " + std::to_string(out.size()) +
                                                        " points but the skin has " + std::to_string(b.num_points));
-  std::copy(maps.begin(), maps.end(), maps_.begin());
-  apply_table(out);
+  apply_table(maps, out);
   return Ok{};
 }
 
-void Deformer::apply_table(std::span<glm::vec3> out) const {
+void Deformer::apply_table(std::span<const Affine> affine, std::span<glm::vec3> out) const {
   const Binding& b = *binding_;
   const Variant variant = b.params.variant;
 
@@ -261,7 +260,7 @@ void Deformer::apply_table(std::span<glm::vec3> out) const {
       }
     });
   } else {
-    const Affine* maps = maps_.data();
+    const Affine* maps = affine.data();
     tbb::parallel_for(tbb::blocked_range<size_t>(0, b.num_points, 4096), [&](const tbb::blocked_range<size_t>& r) {
       for (size_t i = r.begin(); i != r.end(); ++i) {
         // blend the affine maps first (12 multiply-adds per entry, vectorizable), then apply once

@@ -47,7 +47,7 @@ class Deformer {
 
   // A sample-driven binding (Binding::num_samples > 0, core/patch_binding.h): deforms into `out`
   // (#P x 3) with one map per sample (#samples, relative to Binding::origin), built by the driver
-  // (PatchDeformer). The same kernel as deform(); affine_maps() returns these maps afterwards.
+  // (PatchDeformer). The same kernel as deform().
   Status deform_with_maps(std::span<const Affine> maps, std::span<glm::vec3> out);
 
   // The first half of deform(): checks the posed cage and rebuilds the per-change maps from it
@@ -82,9 +82,9 @@ class Deformer {
   void build_element_maps(std::span<const glm::vec3> posed);
   void build_rigid_maps(std::span<const glm::vec3> posed);
   void build_vertex_maps(std::span<const glm::vec3> posed, std::span<const glm::dmat3> vertex_linear);
-  // The table applied to the skin with maps_ (basic, extended, sample-driven) or rigid_maps_
-  // (clamped), then the fallback points: the one kernel every deform path runs.
-  void apply_table(std::span<glm::vec3> out) const;
+  // The table applied to the skin with `affine` (basic, extended: maps_; sample-driven: the
+  // driver's) or rigid_maps_ (clamped), then the fallback points: the one kernel every deform path runs.
+  void apply_table(std::span<const Affine> affine, std::span<glm::vec3> out) const;
 
   const Binding* binding_ = nullptr;
   std::span<const glm::vec3> skin_;

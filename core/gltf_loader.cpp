@@ -74,6 +74,12 @@ int component_size(int type) {
   return type == TINYGLTF_COMPONENT_TYPE_DOUBLE ? -1 : s;  // glTF has no doubles
 }
 
+// Indices and joints must be of an unsigned integer type (a signed one could hold negative indices).
+bool unsigned_integer_type(int type) {
+  return type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE || type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT ||
+         type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
+}
+
 // Reads accessors into flat arrays, checking every index and byte range against the file.
 class AccessorReader {
  public:
@@ -97,9 +103,7 @@ class AccessorReader {
       return fail(ErrorCode::kParse, label + " has " + std::to_string(nc) + " components per element, expected " +
                                          std::to_string(components));
     const bool is_float = a.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT;
-    const bool is_signed = a.componentType == TINYGLTF_COMPONENT_TYPE_BYTE || a.componentType == TINYGLTF_COMPONENT_TYPE_SHORT;
-    // integer-only data (indices, joints) is unsigned in glTF: a signed type could hold negative indices
-    if ((is_float && !allow_float) || (!is_float && !allow_int) || (!allow_float && is_signed))
+    if ((is_float && !allow_float) || (!is_float && !allow_int) || (!allow_float && !unsigned_integer_type(a.componentType)))
       return fail(ErrorCode::kParse, label + " has component type " + std::to_string(a.componentType) +
                                          (allow_float ? ", expected FLOAT" : ", expected an unsigned integer type"));
     if (nc > 4 && !is_float)
@@ -137,8 +141,7 @@ class AccessorReader {
         return fail(ErrorCode::kIndexOutOfRange, slabel + " count " + std::to_string(sp.count) +
                                                      " exceeds the accessor count " + std::to_string(count));
       const int ics = component_size(sp.indices.componentType);
-      if (ics <= 0 || sp.indices.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT ||
-          sp.indices.componentType == TINYGLTF_COMPONENT_TYPE_BYTE || sp.indices.componentType == TINYGLTF_COMPONENT_TYPE_SHORT)
+      if (ics <= 0 || !unsigned_integer_type(sp.indices.componentType))
         return fail(ErrorCode::kParse, slabel + " indices have component type " +
                                            std::to_string(sp.indices.componentType) + ", expected an unsigned integer type");
       auto iview = view_bytes(sp.indices.bufferView, slabel + " indices");
@@ -572,10 +575,10 @@ class Importer {
             if (j != 0) zero = true;  // joint 0 with weight 0 is the usual padding, not a problem
             continue;
           }
-          if (!(j >= 0 && j < double(nj)))  // a signed component type can hold a negative index
+          if (j >= double(nj))  // (JOINTS of a signed component type were refused when read)
             return fail(ErrorCode::kIndexOutOfRange,
                         label + " vertex " + std::to_string(v) + ": JOINTS_" + std::to_string(set) + " lists joint " +
-                            std::to_string(int64_t(j)) + ", but " + named("skin", skin_index, skin.name) + " has " +
+                            std::to_string(uint64_t(j)) + ", but " + named("skin", skin_index, skin.name) + " has " +
                             std::to_string(nj) + " joints");
           entries.emplace_back(static_cast<uint32_t>(j), w);
         }

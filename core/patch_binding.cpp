@@ -14,6 +14,9 @@
 
 namespace cagewrap {
 
+namespace {
+
+// Mean length of the control-net edges (rows and columns of every grid): the default h.
 double mean_control_edge_length(const PatchSurface& surface) {
   double sum = 0.0;
   size_t n = 0;
@@ -26,11 +29,15 @@ double mean_control_edge_length(const PatchSurface& surface) {
   return n ? sum / double(n) : 0.0;
 }
 
+// Samples whose frame is degenerate (S_u x S_v vanishes relative to the tangents' lengths, or is not
+// finite): they get no weight and are reported in Binding::invalid_elements (as sample indices).
 bool degenerate_frame(const glm::dvec3& du, const glm::dvec3& dv) {
   const double area = glm::length(glm::cross(du, dv));
   const double longest = std::max(glm::length(du), glm::length(dv));
   return !std::isfinite(area) || !(area > kDegenerateRatio * longest * longest);
 }
+
+}  // namespace
 
 std::vector<glm::vec3> sample_positions(const PatchSurface& surface, std::span<const PatchSample> samples) {
   std::vector<glm::vec3> out(samples.size());
@@ -53,11 +60,7 @@ Result<Binding> bind_skin_to_patches(std::span<const glm::vec3> skin, const Patc
   if (!sampled) return sampled.error();
   if (stopped()) return cancel_error;
   const std::vector<PatchSample>& samples = *sampled;
-  if (skin.empty()) return make_error(ErrorCode::kEmpty, "the skin has no vertices");
-  for (size_t i = 0; i < skin.size(); ++i)
-    if (!std::isfinite(skin[i].x) || !std::isfinite(skin[i].y) || !std::isfinite(skin[i].z))
-      return make_error(ErrorCode::kNonFinite,
-                        "skin vertex " + std::to_string(i) + " has a non-finite coordinate");
+  if (auto s = check_skin(skin); !s) return s.error();
   const double h = params.scale > 0 ? params.scale : mean_control_edge_length(rest);
   if (!(h > 0) || !std::isfinite(h))
     return make_error(ErrorCode::kInvalidArgument,
@@ -109,7 +112,7 @@ Result<Binding> bind_skin_to_patches(std::span<const glm::vec3> skin, const Patc
     double dist[65], w[65];
     for (size_t blk = r.begin(); blk != r.end(); ++blk) {
       if (cancelled.load(std::memory_order_relaxed)) return;
-      if (progress.cancel && progress.cancel->load(std::memory_order_relaxed)) {
+      if (stopped()) {
         cancelled = true;
         return;
       }
@@ -203,7 +206,6 @@ Result<PatchDeformer> PatchDeformer::create(const Binding& binding, std::span<co
   auto d = Deformer::create(binding, skin_rest);
   if (!d) return d.error();
   PatchDeformer pd(std::move(*d));
-  pd.density_ = density;
   pd.shape_ = shape_of(rest);
   pd.samples_ = std::move(*sampled);
   const size_t ns = pd.samples_.size();

@@ -22,13 +22,6 @@
 
 namespace cagewrap {
 
-// Mean length of the control-net edges (rows and columns of every grid): the default h.
-double mean_control_edge_length(const PatchSurface& surface);
-
-// Samples whose frame is degenerate (S_u x S_v vanishes relative to the tangents' lengths, or is not
-// finite): they get no weight and are reported in Binding::invalid_elements (as sample indices).
-bool degenerate_frame(const glm::dvec3& du, const glm::dvec3& dv);
-
 // Binds `skin` to the samples of `rest` at `density` (core/patch_surface.h). params.variant and
 // the separation settings are ignored (the basic variant; no skeleton labels); set edits do not apply.
 // A point that no sample reaches (max_distance) follows its nearest valid sample alone. Errors: bad
@@ -47,21 +40,14 @@ class PatchDeformer {
   static Result<PatchDeformer> create(const Binding& binding, std::span<const glm::vec3> skin_rest,
                                       const PatchSurface& rest, uint32_t density);
 
-  // Checks the posed surface (same grids and sizes as the rest surface, finite control points) and
-  // rebuilds the per-sample maps.
-  Status update_maps(const PatchSurface& posed);
-  // update_maps, then the table applied to the skin (#P x 3).
+  // Checks the posed surface (same grids and sizes as the rest surface, finite control points),
+  // rebuilds the per-sample maps and applies the table to the skin (#P x 3).
   Status deform(const PatchSurface& posed, std::span<glm::vec3> out);
-
-  std::span<const Affine> maps() const { return maps_; }  // #samples, after update_maps
-  std::span<const PatchSample> samples() const { return samples_; }
-  uint32_t density() const { return density_; }
-  const Binding& binding() const { return deformer_.binding(); }
 
  private:
   explicit PatchDeformer(Deformer d) : deformer_(std::move(d)) {}
+  Status update_maps(const PatchSurface& posed);
   Deformer deformer_;
-  uint32_t density_ = 1;
   std::vector<uint32_t> shape_;          // rows, cols and basis of each grid (to check posed surfaces)
   std::vector<PatchSample> samples_;     // #S
   std::vector<glm::dvec3> rest_point_;   // #S, relative to the binding's origin

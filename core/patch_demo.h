@@ -12,7 +12,7 @@
 namespace cagewrap {
 
 struct PatchDemo {
-  PolyMesh skin;        // two triangulated sheets, 0.3 above and below the driver, joined at the rim
+  PolyMesh skin;        // two triangulated sheets, 0.3 above and below the driver (open at the rim)
   PatchSurface driver;  // one 6 x 12 clamped bicubic B-spline grid, x in [0, 11], z in [0, 5]
   Twist twist;          // 90 degrees about the x axis through the sheet's middle, smoothstep along x
 };

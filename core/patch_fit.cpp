@@ -110,15 +110,14 @@ Result<QuadGrid> quad_grid_of_faces(const PolyMesh& cage, std::span<const uint32
                    "; select an open rectangle of quads");
       auto q = cage.face(f);
       const uint32_t a = across(q, x, y), b = across(q, y, x);
-      if ((next[j] != UINT32_MAX && next[j] != a))
+      if (next[j] != UINT32_MAX && next[j] != a)
         return bad("the selected faces are not a rectangle of quads around " + face_name(f) +
                    " (a vertex where more or fewer than four faces meet)");
       next[j] = a;
       next[j + 1] = b;
       row_faces.push_back(f);
     }
-    if (row_faces.empty()) break;
-    if (row_faces.size() != cols) break;  // unreachable: a short row returned above
+    if (row_faces.empty()) break;  // a shorter row returned above
     F.push_back(std::move(row_faces));
     V.push_back(std::move(next));
   }

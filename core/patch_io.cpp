@@ -7,6 +7,7 @@
 
 #include "core/atomic_write.h"
 #include "core/gltf_writer.h"
+#include "core/mesh_io.h"
 
 namespace cagewrap {
 
@@ -138,8 +139,7 @@ Status write_patch_gltf(const std::string& path, const PatchSurface& surface) {
            {"nodes", Json::array({Json{{"name", "patch driver"},
                                        {"extras", Json{{kPatchGltfKey, patch_surface_json(surface)}}}}})}};
   std::string text = doc.dump();
-  const bool binary = path.size() >= 4 && path.compare(path.size() - 4, 4, ".glb") == 0;
-  if (!binary) return write_file_atomic(path, text + "\n");
+  if (!has_extension(path, ".glb")) return write_file_atomic(path, text + "\n");
   const std::vector<uint8_t> bytes = glb_container(text, {});
   return write_file_atomic(path, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
 }
@@ -147,10 +147,9 @@ Status write_patch_gltf(const std::string& path, const PatchSurface& surface) {
 Result<PatchSurface> load_patch_gltf(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) return make_error(ErrorCode::kFileNotFound, path + ": cannot be opened");
-  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  std::string text = bytes;
-  if (bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0) {
-    auto json = glb_json_chunk(bytes, path);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (text.size() >= 4 && std::memcmp(text.data(), "glTF", 4) == 0) {  // a .glb: its JSON chunk
+    auto json = glb_json_chunk(text, path);
     if (!json) return json.error();
     text = std::move(*json);
   }
@@ -174,13 +173,7 @@ Result<PatchSurface> load_patch_gltf(const std::string& path) {
 }
 
 namespace {
-bool gltf_name(const std::string& path) {
-  auto ends = [&](const char* ext) {
-    const size_t n = std::strlen(ext);
-    return path.size() >= n && path.compare(path.size() - n, n, ext) == 0;
-  };
-  return ends(".gltf") || ends(".glb");
-}
+bool gltf_name(const std::string& path) { return has_extension(path, ".gltf") || has_extension(path, ".glb"); }
 }  // namespace
 
 Result<PatchSurface> load_patch_any(const std::string& path) {

@@ -194,8 +194,7 @@ SampleFrame apply(const PatchGrid& g, const PatchSample& s) {
 }  // namespace
 
 PatchPoint evaluate(const PatchGrid& grid, double u, double v) {
-  SampleFrame f = apply(grid, make_sample(grid, 0, u, v));
-  return {f.position, f.du, f.dv};
+  return apply(grid, make_sample(grid, 0, u, v));
 }
 
 Result<std::vector<PatchSample>> sample_patch_surface(const PatchSurface& surface, uint32_t density) {

@@ -84,11 +84,12 @@ struct CubicBasis {
 };
 CubicBasis cubic_basis(PatchBasis basis, uint32_t n, double t);
 
-struct PatchPoint {
+// A point of the surface and its tangents dS/du, dS/dv.
+struct SampleFrame {
   glm::dvec3 position{0.0};
-  glm::dvec3 du{0.0};  // dS/du
-  glm::dvec3 dv{0.0};  // dS/dv
+  glm::dvec3 du{0.0}, dv{0.0};
 };
+using PatchPoint = SampleFrame;
 // S(u, v) and its tangents; u in [0, spans along u], v in [0, spans along v] (clamped to the domain).
 PatchPoint evaluate(const PatchGrid& grid, double u, double v);
 
@@ -105,10 +106,6 @@ struct PatchSample {
 // Errors: density 0 (or above 1024), a surface validate_patch_surface refuses.
 Result<std::vector<PatchSample>> sample_patch_surface(const PatchSurface& surface, uint32_t density);
 // Samples a surface with the given control points (grid by grid, #C) would have: a sample and its frame.
-struct SampleFrame {
-  glm::dvec3 position{0.0};
-  glm::dvec3 du{0.0}, dv{0.0};
-};
 SampleFrame sample_frame(const PatchSurface& surface, const PatchSample& sample);
 
 }  // namespace cagewrap

@@ -35,6 +35,14 @@ bool parse_variant(const std::string& s, Variant& out) {
   return true;
 }
 
+Status check_skin(std::span<const glm::vec3> skin) {
+  if (skin.empty()) return make_error(ErrorCode::kEmpty, "the skin has no vertices");
+  for (size_t i = 0; i < skin.size(); ++i)
+    if (!std::isfinite(skin[i].x) || !std::isfinite(skin[i].y) || !std::isfinite(skin[i].z))
+      return make_error(ErrorCode::kNonFinite, "skin vertex " + std::to_string(i) + " has a non-finite coordinate");
+  return Ok{};
+}
+
 Status validate(const BindParams& p) {
   auto bad = [](const std::string& m) { return make_error(ErrorCode::kInvalidArgument, m); };
   if (!(p.local >= 0 && std::isfinite(p.local))) return bad("local must be a finite number >= 0");
@@ -427,14 +435,11 @@ Result<Context> make_context(std::span<const glm::vec3> skin, const Cage& cage, 
                              const BindParams& params, const PartLabels* labels) {
   auto v = validate(params);
   if (!v) return v.error();
-  if (skin.empty()) return make_error(ErrorCode::kEmpty, "the skin has no vertices");
+  if (auto s = check_skin(skin); !s) return s.error();
   if (rest.size() != cage.num_vertices())
     return make_error(ErrorCode::kTopologyMismatch, "the cage has " + std::to_string(cage.num_vertices()) +
                                                         " vertices but " + std::to_string(rest.size()) +
                                                         " positions were given");
-  for (size_t i = 0; i < skin.size(); ++i)
-    if (!std::isfinite(skin[i].x) || !std::isfinite(skin[i].y) || !std::isfinite(skin[i].z))
-      return make_error(ErrorCode::kNonFinite, "skin vertex " + std::to_string(i) + " has a non-finite coordinate");
   Context ctx;
   ctx.skin = skin;
   ctx.cage = &cage;
