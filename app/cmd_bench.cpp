@@ -67,11 +67,16 @@ void add_bench_command(CLI::App& app, int& exit_code) {
                 "also time the OpenGL 4.3 compute path (deform + normals, GL timer queries) in a headless EGL context");
   add_bind_options(*cmd, args->bind);
   cmd->remove_option(cmd->get_option("--variant"));
+  args->bind.variant_option = nullptr;  // removed: --variant here takes a list
   cmd->add_option("--variant", args->variant_list, "basic | clamped | extended | all")->capture_default_str();
   cmd->callback([args, &exit_code] {
     exit_code = 1;
     if (args->changes < 20) {
       std::fprintf(stderr, "error: --changes must be at least 20\n");
+      return;
+    }
+    if (!args->score_deformed.empty() && args->twist.empty()) {
+      std::fprintf(stderr, "error: --score-deformed needs --twist (the reference it is scored against)\n");
       return;
     }
     std::vector<std::string> variants;
@@ -105,10 +110,6 @@ void add_bench_command(CLI::App& app, int& exit_code) {
         return;
       }
       gpu = std::move(g).value();
-    }
-    if (!args->score_deformed.empty() && !twist) {
-      std::fprintf(stderr, "error: --score-deformed needs --twist (the reference it is scored against)\n");
-      return;
     }
     if (args->subdivide > 0) *mesh = subdivide_edges_uniform(*mesh, args->subdivide);
     const auto& skin = mesh->positions;

@@ -34,6 +34,7 @@ std::optional<PatchSurface> load_patch_or_report(const std::string& path) {
 void add_patch_bind_options(CLI::App& cmd, BindOptions& opts, uint32_t* density) {
   add_bind_options(cmd, opts);
   cmd.remove_option(cmd.get_option("--variant"));
+  opts.variant_option = nullptr;
   opts.variant = "basic";
   if (density)
     cmd.add_option("--density", *density, "samples per knot span along u and v (1 = the knot values)")

@@ -14,13 +14,17 @@
 
 namespace cagewrap::app {
 
+BindProgress job_progress(const BindJob::Progress& progress, const std::atomic<bool>& cancel) {
+  BindProgress p;
+  p.on_progress = [&progress](double f) { progress("bind", f); };
+  p.cancel = &cancel;
+  return p;
+}
+
 std::unique_ptr<BindJob> start_bind_job(std::vector<glm::vec3> skin, Document doc, std::optional<CageAttachment> attachment) {
   return std::make_unique<BindJob>("binding", [skin = std::move(skin), doc = std::move(doc), attachment = std::move(attachment)](
                                                   const BindJob::Progress& progress, const std::atomic<bool>& cancel) {
-    BindProgress p;
-    p.on_progress = [&progress](double f) { progress("bind", f); };
-    p.cancel = &cancel;
-    return bind_document(doc, skin, attachment ? &*attachment : nullptr, p);
+    return bind_document(doc, skin, attachment ? &*attachment : nullptr, job_progress(progress, cancel));
   });
 }
 
@@ -32,11 +36,9 @@ std::unique_ptr<BindJob> start_rest_edit_job(std::vector<glm::vec3> skin, Docume
       "rest edit", [skin = std::move(skin), doc = std::move(doc), attachment = std::move(attachment),
                     previous = std::move(previous), previous_attachment = std::move(previous_attachment),
                     report = std::move(report)](const BindJob::Progress& progress, const std::atomic<bool>& cancel) mutable {
-        BindProgress p;
-        p.on_progress = [&progress](double f) { progress("bind", f); };
-        p.cancel = &cancel;
         return rebind_document(doc, skin, attachment ? &*attachment : nullptr, std::move(previous),
-                               previous_attachment ? &*previous_attachment : nullptr, p, report.get());
+                               previous_attachment ? &*previous_attachment : nullptr, job_progress(progress, cancel),
+                               report.get());
       });
 }
 

@@ -31,6 +31,8 @@ namespace cagewrap::app {
 
 // A bind running on a worker thread, with progress and cancel; the UI polls it every frame.
 using BindJob = BackgroundTask<Binding>;
+// A background bind's progress and Cancel, as the core binds take them.
+BindProgress job_progress(const BindJob::Progress& progress, const std::atomic<bool>& cancel);
 // Binds the document's skin to its cage (parameters, set edits, automatic separation by the
 // attachment's skeleton parts: core/rig.h bind_document).
 std::unique_ptr<BindJob> start_bind_job(std::vector<glm::vec3> skin, Document doc, std::optional<CageAttachment> attachment);

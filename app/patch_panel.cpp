@@ -1,6 +1,5 @@
 #include "app/patch_panel.h"
 
-#include <chrono>
 #include <utility>
 
 #if CAGEWRAP_GUI
@@ -32,15 +31,11 @@ void PatchPanel::start_bind(Scene& scene, std::shared_ptr<const PatchDriver> dri
   job_character_ = scene.doc().character;
   job_label_ = std::move(label);
   script_nowait_ = false;
-  job_start_ = std::chrono::steady_clock::now();
   job_ = std::make_unique<BackgroundTask<Binding>>(
       "binding to the parametric driver",
-      [skin = scene.skin_rest, driver, params = scene.doc().params](const BackgroundTask<Binding>::Progress& progress,
+      [skin = scene.skin_rest, driver, params = scene.doc().params](const BindJob::Progress& progress,
                                                                      const std::atomic<bool>& cancel) {
-        BindProgress p;
-        p.on_progress = [&progress](double f) { progress("bind", f); };
-        p.cancel = &cancel;
-        return bind_skin_to_patches(skin, driver->rest, driver->density, params, p);
+        return bind_skin_to_patches(skin, driver->rest, driver->density, params, job_progress(progress, cancel));
       });
 }
 
@@ -67,7 +62,6 @@ void PatchPanel::poll(Scene& scene, const EditorHooks& hooks) {
       if (label.empty()) failed_ = scene.doc().patch_driver;
       return;
     }
-    bind_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - job_start_).count();
     deformer_.reset();
     binding_ = std::move(binding);
     deformer_ = std::make_unique<PatchDeformer>(std::move(*d));
@@ -77,11 +71,10 @@ void PatchPanel::poll(Scene& scene, const EditorHooks& hooks) {
     char line[200];
     std::snprintf(line, sizeof line,
                   "parametric driver: bound %u skin points to %u samples (density %u, %zu degenerate) in %.0f ms",
-                  binding_->num_points, binding_->num_samples, driver->density, binding_->invalid_elements.size(), bind_ms_);
+                  binding_->num_points, binding_->num_samples, driver->density, binding_->invalid_elements.size(), binding_->seconds * 1e3);
     hooks.log(line, false);
     if (!label.empty()) {
-      scene.history.push(label, with_patch_driver(scene.doc(), driver));
-      scene.document_changed();
+      commit(scene, driver, label);
       hooks.log("parametric driver: " + label, false);
     }
     return;
@@ -90,19 +83,41 @@ void PatchPanel::poll(Scene& scene, const EditorHooks& hooks) {
   if (!job_ && want && want != failed_ && !bound_to(scene)) start_bind(scene, want, "");
 }
 
-bool PatchPanel::new_driver(Scene& scene, PatchSurface rest, const std::string& label) {
+void PatchPanel::new_driver(Scene& scene, PatchSurface rest, const std::string& label) {
   PatchDriver d;
   if (const auto& old = scene.doc().patch_driver) d.density = old->density;
   d.posed = rest;
   d.rest = std::move(rest);
   selected_ = -1;
   start_bind(scene, std::make_shared<const PatchDriver>(std::move(d)), label);
+}
+
+void PatchPanel::commit(Scene& scene, std::shared_ptr<const PatchDriver> driver, const std::string& label) {
+  scene.history.push(label, with_patch_driver(scene.doc(), std::move(driver)));
+  scene.document_changed();
+}
+
+bool PatchPanel::change_driver(Scene& scene, const std::function<void(PatchDriver&)>& change, const std::string& label,
+                               const EditorHooks& hooks) {
+  const auto& old = scene.doc().patch_driver;
+  if (!old) {
+    hooks.log("error: parametric driver: import or fit one first", true);
+    return false;
+  }
+  PatchDriver d = *old;
+  change(d);
+  commit(scene, std::make_shared<const PatchDriver>(std::move(d)), label);
   return true;
 }
 
-void PatchPanel::commit(Scene& scene, PatchDriver driver, const std::string& label) {
-  scene.history.push(label, with_patch_driver(scene.doc(), std::make_shared<const PatchDriver>(std::move(driver))));
-  scene.document_changed();
+bool PatchPanel::set_drive(Scene& scene, bool drive, const EditorHooks& hooks) {
+  return change_driver(scene, [drive](PatchDriver& d) { d.drive_skin = drive; },
+                       drive ? "Drive the skin by the parametric driver" : "Stop driving the skin by the parametric driver",
+                       hooks);
+}
+
+bool PatchPanel::reset(Scene& scene, const EditorHooks& hooks) {
+  return change_driver(scene, [](PatchDriver& d) { d.posed = d.rest; }, "Reset the control points", hooks);
 }
 
 bool PatchPanel::import(Scene& scene, const std::string& path, const EditorHooks& hooks) {
@@ -112,9 +127,10 @@ bool PatchPanel::import(Scene& scene, const std::string& path, const EditorHooks
     return false;
   }
   const size_t grids = p->grids.size(), points = p->num_control_points();
-  return new_driver(scene, std::move(*p),
-                    "Import parametric driver " + path + " (" + std::to_string(grids) + " grid(s), " +
-                        std::to_string(points) + " control points)");
+  new_driver(scene, std::move(*p),
+             "Import parametric driver " + path + " (" + std::to_string(grids) + " grid(s), " +
+                 std::to_string(points) + " control points)");
+  return true;
 }
 
 bool PatchPanel::export_to(const std::string& path, const Scene& scene, const EditorHooks& hooks) const {
@@ -144,7 +160,8 @@ bool PatchPanel::fit(Scene& scene, const Selection& selection, const EditorHooks
   }
   const std::string label = "Fit a " + std::to_string(grid->rows) + " x " + std::to_string(grid->cols) +
                             " parametric driver to " + std::to_string(selection.cage_faces.size()) + " cage faces";
-  return new_driver(scene, PatchSurface{{std::move(*grid)}}, label);
+  new_driver(scene, PatchSurface{{std::move(*grid)}}, label);
+  return true;
 }
 
 bool PatchPanel::set_density(Scene& scene, uint32_t density, const EditorHooks& hooks) {
@@ -269,13 +286,9 @@ void PatchPanel::draw(Scene& scene, const Selection& selection, const EditorHook
   if (ImGui::IsItemDeactivatedAfterEdit() && uint32_t(density) != driver->density) set_density(scene, uint32_t(density), hooks);
   if (binding_ && bound_to(scene))
     ImGui::Text("%u samples, %zu degenerate; bind %.0f ms; mean set %.2f", binding_->num_samples,
-                binding_->invalid_elements.size(), bind_ms_, double(binding_->total_set_size) / std::max(1u, binding_->num_points));
+                binding_->invalid_elements.size(), binding_->seconds * 1e3, double(binding_->total_set_size) / std::max(1u, binding_->num_points));
   bool drive = driver->drive_skin;
-  if (ImGui::Checkbox("Drive the skin", &drive)) {
-    PatchDriver d = *driver;
-    d.drive_skin = drive;
-    commit(scene, std::move(d), drive ? "Drive the skin by the parametric driver" : "Stop driving the skin by the parametric driver");
-  }
+  if (ImGui::Checkbox("Drive the skin", &drive)) set_drive(scene, drive, hooks);
   int sel = selected_;
   if (ImGui::InputInt("control point", &sel) && sel >= -1 && sel < int(driver->posed.num_control_points())) selected_ = sel;
   if (selected_ >= 0) {
@@ -292,11 +305,7 @@ void PatchPanel::draw(Scene& scene, const Selection& selection, const EditorHook
       scene.document_changed();
     }
   }
-  if (ImGui::Button("Reset the control points")) {
-    PatchDriver d = *driver;
-    d.posed = d.rest;
-    commit(scene, std::move(d), "Reset the control points");
-  }
+  if (ImGui::Button("Reset the control points")) reset(scene, hooks);
   ImGui::End();
 }
 #endif  // CAGEWRAP_GUI
@@ -327,17 +336,12 @@ bool PatchPanel::script_command(const std::string& cmd, std::istringstream& in, 
     glm::dvec3 d(0.0);
     in >> d.x >> d.y >> d.z;
     move(scene, d, hooks);
-  } else if (cmd == "patch_reset" || cmd == "patch_drive") {
+  } else if (cmd == "patch_reset") {
+    reset(scene, hooks);
+  } else if (cmd == "patch_drive") {
     std::string on;
     in >> on;
-    if (const auto& old = scene.doc().patch_driver) {
-      PatchDriver d = *old;
-      if (cmd == "patch_reset") d.posed = d.rest;
-      else d.drive_skin = on != "off";
-      commit(scene, std::move(d), cmd == "patch_reset" ? "Reset the control points" : "Drive the skin " + on);
-    } else {
-      hooks.log("error: parametric driver: import or fit one first", true);
-    }
+    set_drive(scene, on != "off", hooks);
   } else if (cmd == "patch_panel") {
     visible_ = true;
   } else {

@@ -9,7 +9,7 @@
 // (core/patch_binding.h, core/patch_fit.h).
 #pragma once
 
-#include <chrono>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <sstream>
@@ -49,6 +49,8 @@ class PatchPanel {
   bool set_density(Scene& scene, uint32_t density, const EditorHooks& hooks);
   bool select(const Scene& scene, int control_point, const EditorHooks& hooks);
   bool move(Scene& scene, const glm::dvec3& delta, const EditorHooks& hooks);  // the selected control point
+  bool set_drive(Scene& scene, bool drive, const EditorHooks& hooks);  // "Drive the skin" on or off
+  bool reset(Scene& scene, const EditorHooks& hooks);                  // the control points back to rest
   // The view's picking and move gizmo (app/editor.cpp), while the window is open: the selected
   // control point's posed position (none: no selection or the window is closed); a click within 8
   // pixels of a control point selects it (core/picking.h pick_vertex; false when none is near);
@@ -69,9 +71,12 @@ class PatchPanel {
   // Binds `driver` in the background; when it succeeds and `label` is not empty, the document gets
   // the driver as the undo step `label` (else the driver is the document's already).
   void start_bind(Scene& scene, std::shared_ptr<const PatchDriver> driver, std::string label);
-  bool new_driver(Scene& scene, PatchSurface rest, const std::string& label);
+  void new_driver(Scene& scene, PatchSurface rest, const std::string& label);
   // The document with its driver replaced, as the undo step `label`.
-  void commit(Scene& scene, PatchDriver driver, const std::string& label);
+  void commit(Scene& scene, std::shared_ptr<const PatchDriver> driver, const std::string& label);
+  // The document's driver changed by `change`, as the undo step `label`; false (logged) without one.
+  bool change_driver(Scene& scene, const std::function<void(PatchDriver&)>& change, const std::string& label,
+                     const EditorHooks& hooks);
   // Whether the binding is for the document's driver (rest grids and density) and this skin.
   bool bound_to(const Scene& scene) const;
 
@@ -89,8 +94,6 @@ class PatchPanel {
   std::shared_ptr<const Character> bound_character_;  // and the character whose rest skin it binds
   std::shared_ptr<const PatchDriver> shown_;  // the driver skin_ was deformed by
   std::shared_ptr<const std::vector<glm::vec3>> skin_;  // #V deformed by shown_->posed (null: it failed)
-  double bind_ms_ = 0;
-  std::chrono::steady_clock::time_point job_start_;
   char path_field_[512] = "";
 };
 
