@@ -95,6 +95,7 @@ Result<MirroredAssignment> mirror_assignment(const AttachmentSettings& settings,
 struct Limb {
   uint32_t joint;  // skin joint index (into Skin::joints) that drives the limb
   glm::dvec3 a, b; // bind-pose segment
+  bool operator==(const Limb&) const = default;
 };
 
 struct CageAttachment {
@@ -106,6 +107,7 @@ struct CageAttachment {
   std::vector<uint32_t> influence_joint;
   std::vector<float> influence_weight;
   std::vector<Limb> limbs;            // the candidate segments, for display
+  bool operator==(const CageAttachment&) const = default;
 };
 
 // Limbs of a skin in its bind pose (from the inverse bind matrices).

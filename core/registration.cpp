@@ -581,6 +581,15 @@ void sort_rigid(Binding& b) {
   b.rigid_bary = std::move(bary);
 }
 
+// The rest cage a binding is made on, with its elements' statuses.
+void take_rest_cage(Binding& b, const Context& ctx) {
+  b.rest_cage.assign(ctx.rest.begin(), ctx.rest.end());
+  b.element_status = ctx.status;
+  b.invalid_elements.clear();
+  for (size_t e = 0; e < ctx.status.size(); ++e)
+    if (ctx.status[e] != ElementStatus::kValid) b.invalid_elements.push_back(static_cast<uint32_t>(e));
+}
+
 // The binding of every point from the chunks of register_points(order = all points).
 Binding assemble(const Context& ctx, std::span<const uint32_t> order, std::vector<Chunk>& chunks) {
   const BindParams& params = ctx.params;
@@ -591,11 +600,8 @@ Binding assemble(const Context& ctx, std::span<const uint32_t> order, std::vecto
   b.origin = bounding_box(ctx.skin).center();
   b.num_points = static_cast<uint32_t>(n);
   b.num_cage_vertices = static_cast<uint32_t>(ctx.cage->num_vertices());
-  b.rest_cage.assign(ctx.rest.begin(), ctx.rest.end());
   b.elements = ctx.cage->elements;
-  b.element_status = ctx.status;
-  for (size_t e = 0; e < ctx.status.size(); ++e)
-    if (ctx.status[e] != ElementStatus::kValid) b.invalid_elements.push_back(static_cast<uint32_t>(e));
+  take_rest_cage(b, ctx);
 
   // chunks hold points in Morton order: count per point, prefix-sum, then scatter back to point order
   const bool extended = params.variant == Variant::kExtended;
@@ -904,11 +910,7 @@ Status Rebinder::move_rest(Binding& b, std::span<const SetEdit> edit_list, std::
                           std::to_string(ctx.h) + ", the mean cage edge length) and so every weight; bind again, "
                           "or give a fixed scale to keep rest edits local");
   if (auto s = update_points(b, edit_list, points); !s) return s;
-  b.rest_cage.assign(ctx.rest.begin(), ctx.rest.end());
-  b.element_status = ctx.status;
-  b.invalid_elements.clear();
-  for (size_t e = 0; e < ctx.status.size(); ++e)
-    if (ctx.status[e] != ElementStatus::kValid) b.invalid_elements.push_back(static_cast<uint32_t>(e));
+  take_rest_cage(b, ctx);
   return Ok{};
 }
 
@@ -1004,15 +1006,14 @@ Status Rebinder::update_points(Binding& b, std::span<const SetEdit> edit_list, s
   }
   if (same_sizes) {
     for (size_t t = 0; t < touched.size(); ++t) {
-      const uint32_t first = b.offsets[touched[t]];
-      const Chunk& ch = chunks[slots[t].chunk];
-      std::copy_n(ch.ids.begin() + slots[t].entry, counts[t], b.ids.begin() + first);
-      std::copy_n(ch.weights.begin() + slots[t].entry, counts[t], b.weights.begin() + first);
-      if (clamped) std::copy_n(ch.bary.begin() + 2 * size_t(slots[t].entry), 2 * size_t(counts[t]), b.bary.begin() + 2 * size_t(first));
+      const size_t first = b.offsets[touched[t]];
+      std::ranges::copy(new_row(t, &Chunk::ids, slots[t].entry, counts[t], 1), b.ids.begin() + first);
+      std::ranges::copy(new_row(t, &Chunk::weights, slots[t].entry, counts[t], 1), b.weights.begin() + first);
+      if (clamped) std::ranges::copy(new_row(t, &Chunk::bary, slots[t].entry, counts[t], 2), b.bary.begin() + 2 * first);
       if (extended) {
-        const uint32_t m = b.set_offsets[touched[t]];
-        std::copy_n(ch.set_ids.begin() + slots[t].member, set_counts[t], b.set_ids.begin() + m);
-        std::copy_n(ch.set_weights.begin() + slots[t].member, set_counts[t], b.set_weights.begin() + m);
+        const size_t m = b.set_offsets[touched[t]];
+        std::ranges::copy(new_row(t, &Chunk::set_ids, slots[t].member, set_counts[t], 1), b.set_ids.begin() + m);
+        std::ranges::copy(new_row(t, &Chunk::set_weights, slots[t].member, set_counts[t], 1), b.set_weights.begin() + m);
       }
     }
   } else {

@@ -25,6 +25,9 @@ double box_box_dist2(const glm::dvec3& alo, const glm::dvec3& ahi, const glm::dv
   return d2;
 }
 
+// A reach as the boxes above it count it: infinite reaches are kept apart (ReachIndex::unbounded_).
+float boxed(float reach) { return std::isinf(reach) ? -1.f : reach; }
+
 // The point lies within its reach of the triangle (a small relative margin: more points, never fewer).
 bool within_reach(const glm::dvec3& p, float reach, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
   if (std::isinf(reach)) return true;
@@ -53,6 +56,7 @@ Result<ReachIndex> ReachIndex::create(const Binding& b, std::span<const glm::vec
     x.slot_[x.order_[i]] = static_cast<uint32_t>(i);
     x.skin_[i] = skin[x.order_[i]];
     x.reach_[i] = b.reach[x.order_[i]];
+    if (std::isinf(b.reach[i])) x.unbounded_.push_back(static_cast<uint32_t>(i));
   }
   const size_t leaves = (n + kLeaf - 1) / kLeaf;
   while (x.first_leaf_ < leaves) x.first_leaf_ *= 2;
@@ -64,7 +68,7 @@ Result<ReachIndex> ReachIndex::create(const Binding& b, std::span<const glm::vec
     for (size_t i = size_t(l) * kLeaf; i < std::min(n, size_t(l + 1) * kLeaf); ++i) {
       x.lo_[node] = glm::min(x.lo_[node], glm::dvec3(x.skin_[i]));
       x.hi_[node] = glm::max(x.hi_[node], glm::dvec3(x.skin_[i]));
-      x.max_reach_[node] = std::max(x.max_reach_[node], x.reach_[i]);
+      x.max_reach_[node] = std::max(x.max_reach_[node], boxed(x.reach_[i]));
     }
   }
   for (uint32_t node = x.first_leaf_ - 1; node >= 1; --node) {
@@ -79,7 +83,7 @@ void ReachIndex::refresh_leaf(uint32_t leaf) {
   uint32_t node = first_leaf_ + leaf;
   float m = -1.f;
   for (size_t i = size_t(leaf) * kLeaf; i < std::min(reach_.size(), size_t(leaf + 1) * kLeaf); ++i)
-    m = std::max(m, reach_[i]);
+    m = std::max(m, boxed(reach_[i]));
   max_reach_[node] = m;
   for (node /= 2; node >= 1; node /= 2) {
     const float up = std::max(max_reach_[2 * node], max_reach_[2 * node + 1]);
@@ -92,6 +96,10 @@ void ReachIndex::refresh(const Binding& b, std::span<const uint32_t> points) {
   std::vector<uint32_t> leaves;
   for (uint32_t p : points) {
     if (p >= slot_.size() || p >= b.reach.size()) continue;
+    const auto at = std::lower_bound(unbounded_.begin(), unbounded_.end(), p);
+    const bool listed = at != unbounded_.end() && *at == p;
+    if (std::isinf(b.reach[p]) && !listed) unbounded_.insert(at, p);
+    if (!std::isinf(b.reach[p]) && listed) unbounded_.erase(at);
     reach_[slot_[p]] = b.reach[p];
     leaves.push_back(slot_[p] / kLeaf);
   }
@@ -144,10 +152,8 @@ Result<std::vector<uint32_t>> ReachIndex::affected_points(const Binding& b, cons
         stack.pop_back();
         const float r = max_reach_[node];
         if (r < 0) continue;
-        if (!std::isinf(r)) {
-          const double rr = double(r) * (1 + 1e-6) + 1e-12;
-          if (box_box_dist2(lo_[node], hi_[node], lo, hi) > rr * rr) continue;
-        }
+        const double rr = double(r) * (1 + 1e-6) + 1e-12;
+        if (box_box_dist2(lo_[node], hi_[node], lo, hi) > rr * rr) continue;
         if (node < first_leaf_) {
           stack.push_back(2 * node);
           stack.push_back(2 * node + 1);
@@ -159,6 +165,8 @@ Result<std::vector<uint32_t>> ReachIndex::affected_points(const Binding& b, cons
       }
     }
   }
+  // points that follow their nearest element: any change may change which one that is
+  if (!changed.empty()) out.insert(out.end(), unbounded_.begin(), unbounded_.end());
   // inclusions act whatever the distance
   for (const SetEdit& edit : edits) {
     if (edit.point >= slot_.size()) continue;  // Rebinder::move_rest reports it

@@ -57,7 +57,10 @@ class ReachIndex {
   // node first_leaf_ + i
   uint32_t first_leaf_ = 1;
   std::vector<glm::dvec3> lo_, hi_;
-  std::vector<float> max_reach_;  // -1 for an empty node
+  std::vector<float> max_reach_;  // of the finite reaches below; -1 for a node with none
+  // Points with infinite reach (they follow their nearest element): affected by any change, so they
+  // are listed once here rather than opening every box above them to the search. Ascending.
+  std::vector<uint32_t> unbounded_;
   void refresh_leaf(uint32_t leaf);
 };
 

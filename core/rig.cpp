@@ -115,9 +115,15 @@ Result<Binding> rebind_document(const Document& doc, std::span<const glm::vec3> 
   auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
   if (doc.cage && rest_edit_params_fit(previous.params, previous.h, doc.params) && previous.num_points == skin_rest.size()) {
     previous.params.scale = previous.h;  // the same binding: h came out as this scale
-    auto labels = document_labels(doc, attachment), before = document_labels(doc, previous_attachment);
+    const auto labels = document_labels(doc, attachment);
+    // the labels the previous binding was made with: the same unless the attachment changed (each
+    // labelling is a pass over the whole skin)
+    const bool same_attachment = attachment == previous_attachment ||
+                                 (attachment && previous_attachment && *attachment == *previous_attachment);
+    const auto before = same_attachment ? std::nullopt : document_labels(doc, previous_attachment);
+    const PartLabels* before_labels = same_attachment ? (labels ? &*labels : nullptr) : (before ? &*before : nullptr);
     auto r = rebind_moved_rest(previous, skin_rest, *doc.cage, doc.cage_positions(), doc.set_edits,
-                               labels ? &*labels : nullptr, before ? &*before : nullptr);
+                               labels ? &*labels : nullptr, before_labels);
     if (r) {
       if (report) *report = *r, report->seconds = elapsed();
       if (progress.on_progress) progress.on_progress(1.0);
