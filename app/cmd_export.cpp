@@ -128,7 +128,7 @@ void add_export_command(CLI::App& app, int& exit_code) {
       request.options.clips.push_back(c);
     }
     std::optional<Rig> rig;
-    if (request.format != ExportFormat::kJson) {
+    if (request.format != ExportFormat::kJson || doc.attachment.mode == AttachmentMode::kFitted) {
       rig = rig_of_project(doc, P);
       if (!rig) return;
     }

@@ -65,8 +65,13 @@ void add_simulate_command(CLI::App& app, int& exit_code) {
       return;
     }
     std::optional<CageAttachment> attachment;
-    if (!ch.skins.empty()) {
-      auto att = attach_cage(ch, doc.cage_positions(), doc.attachment);
+    std::optional<Rig> rig;
+    if (!ch.skins.empty() && doc.attachment.mode == AttachmentMode::kFitted) {  // fitted from the binding
+      rig = rig_of_project(doc, P);
+      if (!rig) return;
+      attachment = *rig->attachment();
+    } else if (!ch.skins.empty()) {
+      auto att = attach_cage(ch, doc.cage_positions(), doc.attachment, doc.cage->elements);
       if (!att) {
         report_error({att.error().code, P + ": attachment: " + att.error().message});
         return;

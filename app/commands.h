@@ -22,5 +22,6 @@ void add_project_command(CLI::App& app, int& exit_code);
 void add_simulate_command(CLI::App& app, int& exit_code);
 void add_demo_sim_command(CLI::App& app, int& exit_code);
 void add_patch_command(CLI::App& app, int& exit_code);  // parametric drivers (cmd_patch.cpp)
+void add_check_command(CLI::App& app, int& exit_code);  // fidelity to the file's skinning (cmd_check.cpp)
 
 }  // namespace cagewrap::app

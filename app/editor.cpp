@@ -25,6 +25,7 @@
 
 #include "app/cage_tools.h"
 #include "app/export_panel.h"
+#include "app/fidelity_panel.h"
 #include "app/offscreen_surface.h"
 #include "app/patch_panel.h"
 #include "app/rig_panel.h"
@@ -209,6 +210,7 @@ class Editor {
   std::unique_ptr<Scene> scene_;
   CageTools cage_tools_;
   ExportPanel export_panel_;
+  FidelityPanel fidelity_panel_;
   bool script_waits_for_export_ = true;  // false after `export_nowait`: the script goes on meanwhile
   SkinDisplay skin_display_;  // the skin on the GPU or the CPU, and the frame-time split
   RigPanel rig_panel_;
@@ -1214,6 +1216,7 @@ void Editor::draw_properties() {
         ImGui::TextColored(ImVec4(1, 0.6f, 0.3f, 1), "%zu points follow their nearest element", b.rigid_points.size());
       if (b.separation_applied) ImGui::Text("separation kept %zu element-point pairs apart", static_cast<size_t>(b.total_separated));
       ImGui::Text("bound in %.2f s", b.seconds);
+      fidelity_panel_.draw(*scene_, hooks_);
     }
   } else if (scene_) {
     ImGui::TextWrapped("No cage: the skin shows the file's own linear blend skinning. Open with --cage to bind a cage.");
@@ -1604,7 +1607,9 @@ void Editor::guard_unsaved(std::function<void()> action) {
 //   Binding panel's fields) | rebind (its Rebind button: changed parameters become an undo step)
 //   memory PATH [LABEL] (appends the resident memory and the undo history's size to PATH: the soak test)
 //   export glb|obj|json MODE|- FPS all|CLIP[,CLIP] PATH (File > Export: runs in the background; the
-//   script waits for it; export_nowait: the script goes on), and those of run_file_script_command
+//   script waits for it; export_nowait: the script goes on) | heatmap on|off (the fidelity heat map)
+//   | fidelity_check (Check all clips; the script waits for it) | fidelity_cancel | fidelity_frame (logs
+//   this frame's fidelity figures), and those of run_file_script_command
 // `move` goes through the gizmo's own path: one drag, one undo step. `gizmo_drag` grabs a handle
 // where a person would (hit-tested like a click) and drags it DX, DY pixels.
 void Editor::run_script_step() {
@@ -1747,6 +1752,27 @@ void Editor::run_script_step() {
     } else if (cmd == "export" || cmd == "export_nowait") {
       script_waits_for_export_ = cmd == "export";
       script_export(in);
+    } else if (cmd == "heatmap") {  // on | off: the fidelity heat map
+      std::string v;
+      in >> v;
+      fidelity_panel_.heat_map = v != "off";
+    } else if (cmd == "fidelity_check") {  // Check all clips; the script waits for it
+      fidelity_panel_.start_check(*scene_, hooks_);
+    } else if (cmd == "fidelity_cancel") {
+      fidelity_panel_.cancel();
+    } else if (cmd == "fidelity_frame") {  // logs the current frame's figures
+      fidelity_panel_.update(*scene_);
+      if (const auto& f = fidelity_panel_.frame()) {
+        char buf[256];
+        const Skeleton& sk = scene_->doc().character->skeleton;
+        std::snprintf(buf, sizeof buf, "fidelity, this frame: worst %.4f%% (vertex %u, joint '%s'), RMS %.4f%%, stretch %.3fx",
+                      100 * f->worst, f->worst_vertex,
+                      f->worst_joint >= 0 ? sk.node(static_cast<size_t>(f->worst_joint)).name.c_str() : "-", 100 * f->rms,
+                      f->stretch);
+        log(buf);
+      } else {
+        log("fidelity, this frame: not measured (no binding, or the file's skinning is shown)");
+      }
     } else if (cmd == "export_cancel") {
       export_panel_.cancel();
     } else if (cmd == "export_browse") {
@@ -2189,7 +2215,9 @@ int Editor::run() {
     handle_input();
     // a scripted run waits for the first bind so that the steps act on the deformed skin
     const bool export_blocks = export_panel_.busy() && script_waits_for_export_;
-    if (!script_.empty() && !(scene_ && (scene_->job || cage_tools_.busy() || patch_panel_.busy() || export_blocks))) run_script_step();
+    if (!script_.empty() && !(scene_ && (scene_->job || cage_tools_.busy() || patch_panel_.busy() || export_blocks ||
+                                         fidelity_panel_.busy())))
+      run_script_step();
 
     const auto scene_start = std::chrono::steady_clock::now();
     if (scene_) {
@@ -2201,6 +2229,7 @@ int Editor::run() {
       cage_tools_.poll(*scene_, hooks_);
       patch_panel_.poll(*scene_, hooks_);
       export_panel_.poll(hooks_);
+      fidelity_panel_.poll(*scene_, hooks_);
       if (sets_panel_.take_select_limb_request()) {
         selection_.cage_faces = SetsPanel::limb_faces(*scene_, selection_.joints);
         log("selected " + std::to_string(selection_.cage_faces.size()) + " cage faces of the selected joints' limbs");
@@ -2227,7 +2256,10 @@ int Editor::run() {
       patch_panel_.update_display(*scene_, *renderer_);  // a parametric driver's control net
       update_selection_display();
       {
-        const auto& colors = sets_panel_.colors(*scene_, selection_);
+        fidelity_panel_.update(*scene_);
+        const auto& set_colors = sets_panel_.colors(*scene_, selection_);
+        // the sets panel's colours while it shows them, else the fidelity heat map when it is on
+        const auto& colors = set_colors.empty() ? fidelity_panel_.colors() : set_colors;
         if (!colors.empty() || skin_colored_) renderer_->set_skin_colors(colors);
         skin_colored_ = !colors.empty();
         if (auto faces = sets_panel_.highlighted_faces(*scene_, selection_); !faces.empty()) {
@@ -2282,11 +2314,16 @@ int Editor::run() {
     }
     const bool script_done = script_pos_ >= script_.size() && script_wait_ == 0;
     if (!options_.screenshot.empty() && frame >= options_.frames && script_done &&
-        !(scene_ && (scene_->job || cage_tools_.busy() || patch_panel_.busy() || export_panel_.busy()))) {
-      exit_code = save_screenshot(options_.screenshot) ? 0 : 1;
+        !(scene_ && (scene_->job || cage_tools_.busy() || patch_panel_.busy() || export_panel_.busy() || fidelity_panel_.busy()))) {
+      exit_code = save_screenshot(options_.screenshot) && export_panel_.failures() == 0 ? 0 : 1;
       break;
     }
-    if (options_.screenshot.empty() && !script_.empty() && script_done && frame > 1) break;
+    // a script ending in `export` waits for the export to finish; a failed one fails the run
+    if (options_.screenshot.empty() && !script_.empty() && script_done && frame > 1 &&
+        !(scene_ && (scene_->job || cage_tools_.busy() || patch_panel_.busy() || export_panel_.busy() || fidelity_panel_.busy()))) {
+      if (export_panel_.failures() > 0) exit_code = 1;
+      break;
+    }
     if (offscreen_) offscreen_->end_frame();
     else glfwSwapBuffers(window_);
   }

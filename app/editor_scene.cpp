@@ -1,5 +1,7 @@
 #include "app/editor_scene.h"
 
+#include "core/attachment_fit.h"
+
 #include <unistd.h>
 
 #include <filesystem>
@@ -69,6 +71,13 @@ void Scene::adopt_binding(Binding b) {
   bound_attachment_ = doc().attachment;
   bound_attachment_data_ = attachment;
   params = doc().params;
+  refit_attachment();
+}
+
+void Scene::refit_attachment() {
+  if (!attachment || !binding || doc().attachment.mode != AttachmentMode::kFitted) return;
+  if (binding->num_cage_vertices != attachment->joint.size()) return;
+  if (fit_attachment(*doc().character, *binding, doc().attachment, *attachment).ok()) attachment_revision = next_revision();
 }
 
 void Scene::start_bind() {
@@ -101,7 +110,7 @@ void Scene::document_changed() {
     attachment.reset();
     if (!doc().character->skins.empty()) {
       // the document's attachment settings (smooth, overrides); the automatic rigid one if they fail
-      auto att = attach_cage(*doc().character, cage->polygons.positions, doc().attachment);
+      auto att = attach_cage(*doc().character, cage->polygons.positions, doc().attachment, cage->elements);
       if (!att) att = attach_to_closest_limb(*doc().character, cage->polygons.positions);
       if (att) attachment = std::move(att).value();
     }
@@ -165,6 +174,7 @@ bool Scene::update_set_edits_live(const std::vector<SetEdit>& edits, std::span<c
   binding_revision = next_revision();
   bound_edits_ = edits;
   pending_edits_ = edits;
+  refit_attachment();
   return true;
 }
 
@@ -182,6 +192,7 @@ std::optional<std::string> Scene::poll_bind() {
     binding_revision = next_revision();
     if (d.ok()) {
       deformer.emplace(std::move(d).value());
+      refit_attachment();
       char buf[256];
       if (pending_rest_report_ && pending_rest_report_->points < binding->num_points)
         std::snprintf(buf, sizeof buf, "rest cage edit: %zu moved vertices, %zu of %u skin points registered again in %.3f s",

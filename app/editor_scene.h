@@ -108,6 +108,10 @@ struct Scene {
   void fill_simulation(double budget_ms);
 
   bool needs_rebind() const;
+  // A fitted attachment (core/attachment_fit.h) made again from the current binding; called whenever
+  // the binding changes (a bind ends, a cached one is adopted, a live set edit).
+  void refit_attachment();
+  uint64_t attachment_revision = 0;  // changes whenever refit_attachment changes `attachment`
   // Takes a binding made earlier for the document as it is (a project's cache: the caller checked
   // binding_fits), as a finished bind would; call before document_changed so that none starts.
   void adopt_binding(Binding binding);

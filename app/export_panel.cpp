@@ -93,6 +93,7 @@ bool ExportPanel::start(const Scene& scene, const ExportRequest& request, const 
   last_outcome_.clear();
   auto refuse = [&](const std::string& message) {
     last_outcome_ = message;
+    ++failures_;
     hooks.show_error("export: " + message);
     return false;
   };
@@ -111,7 +112,7 @@ bool ExportPanel::start(const Scene& scene, const ExportRequest& request, const 
                      const std::atomic<bool>& cancel) -> Result<ExportReport> {
         // A bind of its own: the export must not share the editor's deformer across threads. It
         // takes about a quarter of the time.
-        const bool needs_rig = request.format != ExportFormat::kJson;
+        const bool needs_rig = request.format != ExportFormat::kJson || doc.attachment.mode == AttachmentMode::kFitted;
         const double bind_share = needs_rig ? 0.25 : 0.0;
         std::optional<Rig> rig;
         if (needs_rig) {
@@ -144,6 +145,7 @@ void ExportPanel::poll(const EditorHooks& hooks) {
       hooks.log("export cancelled; nothing was written", false);
     } else {
       last_outcome_ = r.error().message;
+      ++failures_;
       hooks.show_error("export: " + r.error().message);
     }
     job_.reset();

@@ -29,6 +29,8 @@ class ExportPanel {
   // Finishes a background export: the report into the window and the log, or the error.
   void poll(const EditorHooks& hooks);
   bool busy() const { return job_ != nullptr; }
+  // Exports refused or failed (not cancelled) since the editor started: a scripted run exits non-zero.
+  int failures() const { return failures_; }
   void cancel() {
     if (job_) job_->cancel();
   }
@@ -66,6 +68,7 @@ class ExportPanel {
   bool browse_requested_ = false;
   std::unique_ptr<BackgroundTask<ExportReport>> job_;
   std::optional<ExportReport> report_;  // the last export's
+  int failures_ = 0;
   std::string last_outcome_;            // "cancelled", or the last error, shown in the window
   double started_ = 0.0, seconds_ = 0.0;
 };

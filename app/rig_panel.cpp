@@ -56,7 +56,7 @@ bool RigPanel::assign(Scene& scene, const Selection& sel, bool automatic, bool m
     a = m->settings;
   }
   // the attachment must be valid before it is committed
-  if (auto att = attach_cage(*doc.character, doc.cage->polygons.positions, a); !att) {
+  if (auto att = attach_cage(*doc.character, doc.cage->polygons.positions, a, doc.cage->elements); !att) {
     hooks.show_error(att.error().message);
     return false;
   }
@@ -150,11 +150,12 @@ void RigPanel::draw(Scene& scene, const Selection& sel, bool mirror, double tole
   }
   if (ImGui::CollapsingHeader("Attachment", ImGuiTreeNodeFlags_DefaultOpen)) {
     // the order of AttachmentMode
-    const char* modes[] = {"rigid: closest limb", "smooth near joints", "character's skin weights"};
+    const char* modes[] = {"rigid: closest limb", "smooth near joints", "character's skin weights",
+                           "skin weights, fitted to the file's skinning"};
     int mode = static_cast<int>(doc.attachment.mode);
     float width = static_cast<float>(doc.attachment.smooth_width);
     ImGui::SetNextItemWidth(220);
-    bool changed = ImGui::Combo("cage follows", &mode, modes, 3);
+    bool changed = ImGui::Combo("cage follows", &mode, modes, 4);
     if (doc.attachment.mode == AttachmentMode::kSmooth) {
       ImGui::SameLine();
       ImGui::SetNextItemWidth(120);

@@ -25,6 +25,8 @@
 #include <glm/vec4.hpp>
 
 #include "core/cage.h"
+#include "core/cage_attachment.h"
+#include "core/part_labels.h"
 #include "core/element_bvh.h"
 #include "core/offset_wrap.h"
 #include "core/quad_pairing.h"
@@ -621,9 +623,14 @@ std::vector<uint32_t> share_budget(std::span<const double> weight, uint32_t targ
 // with the smallest share joins the group of the piece nearest to it (a finger segment joins its
 // neighbour, then the hand). Separate shells keep skin that is buried inside other pieces close to
 // a cage surface of its own. Returns the group of each piece (numbered 0..#G-1).
+// `piece_parts` (one list per piece, or empty) and `related`: a group joins another only when
+// every part of one is related to every part of the other; a group no related piece can take keeps
+// its own shell, however small.
 std::vector<uint32_t> group_pieces(std::span<const glm::vec3> positions, std::span<const Tri> tris,
                                    std::span<const uint32_t> tri_piece, uint32_t pieces,
-                                   std::span<const double> weight, uint32_t target, uint32_t least) {
+                                   std::span<const double> weight, uint32_t target, uint32_t least,
+                                   std::span<const std::vector<uint32_t>> piece_parts = {},
+                                   const std::function<bool(uint32_t, uint32_t)>& related = {}) {
   std::vector<uint32_t> group(pieces);
   for (uint32_t i = 0; i < pieces; ++i) group[i] = i;
   if (pieces <= 1) return group;
@@ -649,14 +656,27 @@ std::vector<uint32_t> group_pieces(std::span<const glm::vec3> positions, std::sp
     const glm::dvec3 d = glm::max(glm::max(a.lo - b.hi, b.lo - a.hi), glm::dvec3(0.0));
     return glm::length(d);
   };
+  const bool by_parts = piece_parts.size() == pieces && related;
+  std::vector<std::vector<uint32_t>> group_parts(pieces);
+  if (by_parts)
+    for (uint32_t i = 0; i < pieces; ++i) group_parts[i] = piece_parts[i];
+  auto may_join = [&](uint32_t a, uint32_t b) {
+    if (!by_parts) return true;
+    for (uint32_t x : group_parts[a])
+      for (uint32_t y : group_parts[b])
+        if (!related(x, y)) return false;
+    return true;
+  };
+  std::vector<uint8_t> settled(pieces, 0);  // groups no related piece can take
   for (;;) {
     uint32_t smallest = UINT32_MAX, groups = 0;
     for (uint32_t g = 0; g < pieces; ++g) {
       if (members[g].empty()) continue;
       ++groups;
+      if (settled[g]) continue;
       if (smallest == UINT32_MAX || group_weight[g] < group_weight[smallest]) smallest = g;
     }
-    if (groups <= 1 || target * group_weight[smallest] / total >= least) break;
+    if (groups <= 1 || smallest == UINT32_MAX || target * group_weight[smallest] / total >= least) break;
     // the piece nearest to any vertex of the group
     Aabb gbox;
     for (uint32_t i : members[smallest]) {
@@ -666,7 +686,8 @@ std::vector<uint32_t> group_pieces(std::span<const glm::vec3> positions, std::sp
     double best = INFINITY;
     uint32_t nearest = UINT32_MAX;
     for (uint32_t q = 0; q < pieces; ++q) {
-      if (group[q] == smallest || bvh[q]->empty() || box_gap(gbox, box[q]) >= best) continue;
+      if (group[q] == smallest || bvh[q]->empty() || box_gap(gbox, box[q]) >= best || !may_join(smallest, group[q]))
+        continue;
       for (uint32_t i : members[smallest])
         for (uint32_t t : piece_tris[i])
           for (uint32_t v : tris[t]) {
@@ -674,8 +695,18 @@ std::vector<uint32_t> group_pieces(std::span<const glm::vec3> positions, std::sp
             if (d < best) best = d, nearest = q;
           }
     }
-    if (nearest == UINT32_MAX) break;  // only zero-area pieces left
+    if (nearest == UINT32_MAX) {  // only zero-area or unrelated pieces left
+      settled[smallest] = 1;
+      continue;
+    }
     const uint32_t into = group[nearest];
+    if (by_parts) {
+      auto& gp = group_parts[into];
+      gp.insert(gp.end(), group_parts[smallest].begin(), group_parts[smallest].end());
+      std::sort(gp.begin(), gp.end());
+      gp.erase(std::unique(gp.begin(), gp.end()), gp.end());
+      group_parts[smallest].clear();
+    }
     for (uint32_t i : members[smallest]) group[i] = into;
     members[into].insert(members[into].end(), members[smallest].begin(), members[smallest].end());
     members[smallest].clear();
@@ -846,11 +877,34 @@ Result<AutoCageReport> build_auto_cage(const Character& character, const AutoCag
                                        const AutoCageProgress& progress) {
   if (character.num_triangles() == 0)
     return make_error(ErrorCode::kEmpty, character.source + ": has no triangles to wrap a cage around");
-  return build_auto_cage(combined_topology(character), bind_joint_positions(character), params, progress);
+  const SkinParts parts = character_skin_parts(character);
+  return build_auto_cage(combined_topology(character), bind_joint_positions(character), params, progress,
+                         character.skins.empty() ? nullptr : &parts);
+}
+
+SkinParts character_skin_parts(const Character& character) {
+  SkinParts parts;
+  if (character.skins.empty()) return parts;
+  parts.vertex_part = dominant_joint_nodes(character);
+  auto chained = std::make_shared<const std::vector<uint8_t>>(part_relation(character));
+  const Skeleton* skeleton = &character.skeleton;
+  parts.related = [skeleton, chained](uint32_t a, uint32_t b) { return related_nodes(*skeleton, *chained, a, b, 1); };
+  parts.cage_labels = [&character](const Cage& cage) -> std::optional<PartLabels> {
+    auto att = attach_cage(character, cage.polygons.positions, AttachmentSettings{}, cage.elements);
+    if (!att) return std::nullopt;
+    auto labels = skeleton_part_labels(character, *att);
+    if (!labels) return std::nullopt;
+    return std::move(labels).value();
+  };
+  return parts;
 }
 
 Result<AutoCageReport> build_auto_cage(const PolyMesh& skin, std::span<const glm::vec3> joints,
-                                       const AutoCageParams& params, const AutoCageProgress& progress) {
+                                       const AutoCageParams& params, const AutoCageProgress& progress,
+                                       const SkinParts* skin_parts) {
+  if (skin_parts && !skin_parts->vertex_part.empty() && skin_parts->vertex_part.size() != skin.num_vertices())
+    return make_error(ErrorCode::kTopologyMismatch, "the skin parts name " + std::to_string(skin_parts->vertex_part.size()) +
+                                                        " vertices but the skin has " + std::to_string(skin.num_vertices()));
   if (auto s = validate(params); !s) return s.error();
   if (auto s = validate_mesh(skin, "skin"); !s) return s.error();
   const auto t_start = std::chrono::steady_clock::now();
@@ -916,7 +970,26 @@ Result<AutoCageReport> build_auto_cage(const PolyMesh& skin, std::span<const glm
         stage.check();
         std::vector<double> weight(pieces);
         for (uint32_t i = 0; i < pieces; ++i) weight[i] = budget_weight(piece_wraps[i], field);
-        group = group_pieces(weld.positions, tris, tri_piece, pieces, weight, params.target_faces, kMinShellFaces);
+        // the parts of each piece: those of at least a tenth of its vertices (a stray weight on a
+        // few seam vertices does not make a piece a part of another limb)
+        std::vector<std::vector<uint32_t>> piece_parts;
+        if (skin_parts && skin_parts->related && !skin_parts->vertex_part.empty()) {
+          std::vector<uint32_t> welded_part(weld.positions.size(), UINT32_MAX);
+          for (size_t v = weld.remap.size(); v-- > 0;) welded_part[weld.remap[v]] = skin_parts->vertex_part[v];
+          std::vector<std::unordered_map<uint32_t, uint32_t>> count(pieces);
+          std::vector<std::unordered_set<uint32_t>> seen(pieces);
+          for (size_t t = 0; t < tris.size(); ++t)
+            for (uint32_t v : tris[t])
+              if (seen[tri_piece[t]].insert(v).second && welded_part[v] != UINT32_MAX) ++count[tri_piece[t]][welded_part[v]];
+          piece_parts.resize(pieces);
+          for (uint32_t i = 0; i < pieces; ++i) {
+            for (const auto& [part, n] : count[i])
+              if (10 * n >= seen[i].size()) piece_parts[i].push_back(part);
+            std::sort(piece_parts[i].begin(), piece_parts[i].end());
+          }
+        }
+        group = group_pieces(weld.positions, tris, tri_piece, pieces, weight, params.target_faces, kMinShellFaces,
+                             piece_parts, skin_parts ? skin_parts->related : std::function<bool(uint32_t, uint32_t)>());
         const uint32_t groups = *std::max_element(group.begin(), group.end()) + 1;
         shells.resize(groups);
         std::vector<uint32_t> size(groups, 0), only(groups, 0);
@@ -1068,7 +1141,10 @@ Result<AutoCageReport> build_auto_cage(const PolyMesh& skin, std::span<const glm
     if (!cage) return cage.error();
     BindProgress bp;
     bp.cancel = progress.cancel;
-    auto binding = bind_skin(skin.positions, *cage, r.cage.positions, params.bind, {}, bp);
+    // the figure the rig will show: bound with the separation labels it binds with
+    std::optional<PartLabels> labels;
+    if (skin_parts && skin_parts->cage_labels && params.bind.separate) labels = skin_parts->cage_labels(*cage);
+    auto binding = bind_skin(skin.positions, *cage, r.cage.positions, params.bind, {}, bp, labels ? &*labels : nullptr);
     if (!binding) return binding.error();
     r.quality = binding->quality();
     auto failures = quality_failures(*binding, skin.positions);

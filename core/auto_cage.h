@@ -24,6 +24,7 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -31,9 +32,11 @@
 #include <glm/vec3.hpp>
 
 #include "core/binding.h"
+#include "core/cage.h"
 #include "core/character.h"
 #include "core/mesh.h"
 #include "core/mesh_check.h"
+#include "core/registration.h"
 #include "core/result.h"
 
 namespace cagewrap {
@@ -102,12 +105,30 @@ struct AutoCageReport {
   std::vector<std::string> warnings;
 };
 
+// What the skeleton says about the skin, for a cage that keeps unrelated parts apart: the part
+// (dominant joint) of every skin vertex and which parts are one (core/part_labels.h related_nodes).
+// Pieces of the skin are grouped into one shell only when every part of one is related to every part
+// of the other (a finger's segments with each other and the hand, never two fingers or a hand and a
+// thigh), and the cage-quality figure is measured with the separation labels the rig binds with.
+struct SkinParts {
+  std::vector<uint32_t> vertex_part;                   // #V part of each skin vertex; UINT32_MAX: none
+  std::function<bool(uint32_t, uint32_t)> related;     // whether two parts are one
+  // The part labels a bind of the skin to this cage would use (null: none; the figure is then
+  // measured without separation).
+  std::function<std::optional<PartLabels>(const Cage& cage)> cage_labels;
+};
+
 // Builds a cage around a skin in its bind pose. skin: any triangle mesh (#V x 3 positions,
-// triangles); joints: bind-pose joint positions (may be empty).
+// triangles); joints: bind-pose joint positions (may be empty); parts: may be null (no skeleton).
 // Errors: bad parameters, an empty or non-finite skin, nothing left after welding, cancellation.
 Result<AutoCageReport> build_auto_cage(const PolyMesh& skin, std::span<const glm::vec3> joints,
                                        const AutoCageParams& params = {},
-                                       const AutoCageProgress& progress = {});
+                                       const AutoCageProgress& progress = {}, const SkinParts* parts = nullptr);
+
+// The parts of a character's skin (dominant joints; related within one hierarchy step or along a
+// chain of short bones) and the labels its default attachment (AttachmentSettings{}) gives a cage.
+// The result refers to `character`, which must outlive it.
+SkinParts character_skin_parts(const Character& character);
 
 // The character's primitives joined in bind pose (combined_topology) and its joints' bind
 // positions (from the inverse bind matrices; the rest pose when it has no skins).

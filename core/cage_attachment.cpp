@@ -6,8 +6,10 @@
 #include <glm/geometric.hpp>
 #include <glm/matrix.hpp>
 
+#include "core/cage_shells.h"
 #include "core/geometry.h"
 #include "core/mirror_names.h"
+#include "core/part_labels.h"
 #include "core/point_grid.h"
 #include "core/skinning.h"
 
@@ -55,6 +57,7 @@ const char* attachment_mode_name(AttachmentMode m) {
   switch (m) {
     case AttachmentMode::kSmooth: return "smooth";
     case AttachmentMode::kSkinWeights: return "skin_weights";
+    case AttachmentMode::kFitted: return "fitted";
     case AttachmentMode::kRigid: break;
   }
   return "rigid";
@@ -64,6 +67,7 @@ bool parse_attachment_mode(const std::string& name, AttachmentMode& out) {
   if (name == "rigid") out = AttachmentMode::kRigid;
   else if (name == "smooth") out = AttachmentMode::kSmooth;
   else if (name == "skin_weights") out = AttachmentMode::kSkinWeights;
+  else if (name == "fitted") out = AttachmentMode::kFitted;
   else return false;
   return true;
 }
@@ -194,12 +198,41 @@ struct SkinWeightsSource {
   PointGrid grid;
   std::vector<uint32_t> start, joint;
   std::vector<float> weight;
+  // With a cage of several shells (closed pieces, core/auto_cage.h wraps a character of separate
+  // segments per piece): the shell of each cage vertex and one grid per shell over the skin points
+  // it owns (the shell the point is deepest inside, else the nearest one), with their indices.
+  std::vector<uint32_t> vertex_shell;  // #Vc, UINT32_MAX: the whole skin
+  std::vector<PointGrid> shell_grid;
+  std::vector<std::vector<uint32_t>> shell_points;
+  std::vector<uint32_t> dominant;  // #P heaviest joint of each point (UINT32_MAX: none)
+  std::vector<uint8_t> related;    // #J x #J: joints of one part (core/part_labels.h related_nodes, 1 step)
+  size_t nj = 0;
   double delta = 0.0;
 };
 
+// The shells' points (see SkinWeightsSource) from the ownership.
+void own_points_by_shell(SkinWeightsSource& s, const ShellOwnership& own) {
+  if (own.shells <= 1) return;
+  s.vertex_shell = own.vertex_shell;
+  s.shell_points.assign(own.shells, {});
+  for (uint32_t i = 0; i < own.point_shell.size(); ++i)
+    if (own.point_shell[i] != kNoShell) s.shell_points[own.point_shell[i]].push_back(i);
+  s.shell_grid.resize(own.shells);
+  std::vector<glm::vec3> pts;
+  for (uint32_t sh = 0; sh < own.shells; ++sh) {
+    pts.clear();
+    for (uint32_t i : s.shell_points[sh]) pts.push_back(s.rest[i]);
+    if (!pts.empty()) s.shell_grid[sh] = PointGrid(pts);
+  }
+}
+
 SkinWeightsSource skin_weights_source(const Character& character, std::span<const int32_t> joint_of) {
   SkinWeightsSource s;
-  s.rest = skin_character(character, character.skeleton.rest_pose());
+  // The bind pose (the raw POSITION data), the space the cage is built and bound in: the node rest
+  // pose may differ from it (the shared mannequin rests cross-legged over a T-pose bind), and
+  // matching a bind-pose cage against the rest-posed skin attached right-leg cage vertices to
+  // left-leg joints.
+  for (const Primitive& p : character.primitives) s.rest.insert(s.rest.end(), p.positions.begin(), p.positions.end());
   const PointJoints pj = point_joint_nodes(character);
   s.start.assign(1, 0);
   for (size_t p = 0; p + 1 < pj.start.size(); ++p) {
@@ -210,6 +243,19 @@ SkinWeightsSource skin_weights_source(const Character& character, std::span<cons
       }
     s.start.push_back(static_cast<uint32_t>(s.joint.size()));
   }
+  s.dominant.assign(s.start.size() - 1, UINT32_MAX);
+  for (size_t p = 0; p + 1 < s.start.size(); ++p) {
+    float best = 0.f;
+    for (uint32_t k = s.start[p]; k < s.start[p + 1]; ++k)
+      if (s.weight[k] > best) best = s.weight[k], s.dominant[p] = s.joint[k];
+  }
+  const Skin& skin = character.skins[0];
+  s.nj = skin.joints.size();
+  const std::vector<uint8_t> chained = part_relation(character);
+  s.related.assign(s.nj * s.nj, 0);
+  for (size_t a = 0; a < s.nj; ++a)
+    for (size_t b = 0; b < s.nj; ++b)
+      s.related[a * s.nj + b] = related_nodes(character.skeleton, chained, skin.joints[a], skin.joints[b], 1);
   s.grid = PointGrid(s.rest);
   const Aabb box = bounding_box(s.rest);
   s.delta = 1e-3 * glm::length(box.hi - box.lo);
@@ -218,13 +264,24 @@ SkinWeightsSource skin_weights_source(const Character& character, std::span<cons
 
 // (weight, joint) of the influences around p, heaviest first, at most kMaxAttachmentInfluences;
 // empty when no skinned point is near.
-void transferred_weights(const SkinWeightsSource& s, const glm::dvec3& p, size_t nj,
+void transferred_weights(const SkinWeightsSource& s, size_t v, const glm::dvec3& p, size_t nj,
                          std::vector<std::pair<double, uint32_t>>& raw) {
   thread_local std::vector<std::pair<double, uint32_t>> near;
   thread_local std::vector<double> acc;
   acc.assign(nj, 0.0);
-  s.grid.nearest(p, kTransferNeighbours, near);
+  const uint32_t shell = v < s.vertex_shell.size() ? s.vertex_shell[v] : UINT32_MAX;
+  if (shell != UINT32_MAX && !s.shell_points[shell].empty()) {
+    s.shell_grid[shell].nearest(p, kTransferNeighbours, near);
+    for (auto& n : near) n.second = s.shell_points[shell][n.second];
+  } else {
+    s.grid.nearest(p, kTransferNeighbours, near);
+  }
+  // only the part of the nearest point: a cage vertex where the hand touches the thigh (or one leg
+  // the other) takes the weights of one of them, never a blend of two unrelated limbs
+  const uint32_t part = near.empty() ? UINT32_MAX : s.dominant[near.front().second];
   for (const auto& [d2, i] : near) {
+    const uint32_t d = s.dominant[i];
+    if (part != UINT32_MAX && d != UINT32_MAX && !s.related[size_t(part) * s.nj + d]) continue;
     const double w = 1.0 / (std::sqrt(d2) + s.delta);
     for (uint32_t k = s.start[i]; k < s.start[i + 1]; ++k) acc[s.joint[k]] += w * s.weight[k];
   }
@@ -236,7 +293,7 @@ void transferred_weights(const SkinWeightsSource& s, const glm::dvec3& p, size_t
 }  // namespace
 
 Result<CageAttachment> attach_cage(const Character& character, std::span<const glm::vec3> cage_rest,
-                                   const AttachmentSettings& settings) {
+                                   const AttachmentSettings& settings, std::span<const Tri> cage_elements) {
   if (character.skins.empty())
     return make_error(ErrorCode::kInvalidArgument, character.source + ": has no skin (no skeleton to attach the cage to)");
   CageAttachment att;
@@ -264,7 +321,25 @@ Result<CageAttachment> attach_cage(const Character& character, std::span<const g
   }
   const bool smooth = settings.mode == AttachmentMode::kSmooth;
   std::optional<SkinWeightsSource> transfer;
-  if (settings.mode == AttachmentMode::kSkinWeights) transfer = skin_weights_source(character, joint_of);
+  ShellOwnership own;
+  if (!cage_elements.empty()) {
+    std::vector<glm::vec3> skin;
+    std::vector<Tri> tris;
+    for (const Primitive& p : character.primitives) {
+      const uint32_t base = static_cast<uint32_t>(skin.size());
+      skin.insert(skin.end(), p.positions.begin(), p.positions.end());
+      for (const Tri& t : p.triangles) tris.push_back({t[0] + base, t[1] + base, t[2] + base});
+    }
+    own = cage_shell_ownership(cage_rest, cage_elements, skin, tris);
+    if (own.shells > 1) {
+      att.vertex_shell = own.vertex_shell;
+      att.point_shell = own.piece_shell;
+    }
+  }
+  if (settings.mode == AttachmentMode::kSkinWeights || settings.mode == AttachmentMode::kFitted) {
+    transfer = skin_weights_source(character, joint_of);
+    own_points_by_shell(*transfer, own);
+  }
   const double width = settings.smooth_width > 0 && std::isfinite(settings.smooth_width)
                            ? settings.smooth_width
                            : AttachmentSettings{}.smooth_width;
@@ -281,7 +356,7 @@ Result<CageAttachment> attach_cage(const Character& character, std::span<const g
     if (next_override < settings.overrides.size() && settings.overrides[next_override].vertex == v) {
       raw.emplace_back(1.0, static_cast<uint32_t>(joint_of[settings.overrides[next_override].node]));
     } else if (transfer) {
-      transferred_weights(*transfer, glm::dvec3(cage_rest[v]), nj, raw);
+      transferred_weights(*transfer, v, glm::dvec3(cage_rest[v]), nj, raw);
     }
     if (raw.empty()) {
       glm::dvec3 p(cage_rest[v]);
@@ -321,6 +396,7 @@ Result<CageAttachment> attach_cage(const Character& character, std::span<const g
     att.joint[v] = raw.front().second;
     att.influence_start.push_back(static_cast<uint32_t>(att.influence_joint.size()));
   }
+  att.label_joint = att.joint;
   return att;
 }
 

@@ -5,7 +5,9 @@
 //
 // Three additions, set in a document's AttachmentSettings (saved, undoable):
 // - **skin weights** (the default for new documents): a vertex takes the character's own skin
-//   weights around it: the influences of its k = kTransferNeighbours nearest skin points at rest,
+//   weights around it: the influences of its k = kTransferNeighbours nearest skin points in the bind
+//   pose, of the part (core/part_labels.h related_nodes) of the nearest one and, with several shells,
+//   among the points of its own shell,
 //   each point weighted 1 / (d + delta) (d its distance, delta = 1e-3 of the skin's bounding-box
 //   diagonal), summed per joint, the heaviest kMaxAttachmentInfluences kept and normalized. The
 //   cage then bends as the character's linear blend skinning does (measured on the demo over its
@@ -26,6 +28,9 @@
 //   (the chest between neck and shoulders, where three joints can share a vertex); that is why
 //   every joint within the falloff takes part rather than exactly the nearest two (the second
 //   nearest would jump where it swaps with the third). At most kMaxAttachmentInfluences are kept.
+// - **fitted** (the default for new documents): the skin-weights attachment, then, once the skin is
+//   bound, weights refitted so that the rig reproduces the character's own skinning
+//   (core/attachment_fit.h; attach_cage alone gives the transferred weights).
 // - **overrides**: chosen cage vertices follow a chosen joint rigidly, whatever the mode.
 #pragma once
 
@@ -47,7 +52,7 @@ inline constexpr size_t kMaxAttachmentInfluences = 4;
 
 inline constexpr size_t kTransferNeighbours = 8;
 
-enum class AttachmentMode { kRigid, kSmooth, kSkinWeights };
+enum class AttachmentMode { kRigid, kSmooth, kSkinWeights, kFitted };
 const char* attachment_mode_name(AttachmentMode m);
 bool parse_attachment_mode(const std::string& name, AttachmentMode& out);
 
@@ -59,7 +64,7 @@ struct AttachmentOverride {
 
 // How the document's cage follows the skeleton. Part of the Document.
 struct AttachmentSettings {
-  AttachmentMode mode = AttachmentMode::kSkinWeights;
+  AttachmentMode mode = AttachmentMode::kFitted;
   double smooth_width = 0.5;  // the falloff above (> 0, dimensionless); used by kSmooth
   std::vector<AttachmentOverride> overrides;  // sorted by vertex, one per vertex
   bool operator==(const AttachmentSettings&) const = default;
@@ -101,12 +106,21 @@ struct Limb {
 struct CageAttachment {
   uint32_t skin = 0;                  // the Character::skins entry whose joints drive the cage
   std::vector<uint32_t> joint;        // #Vc the joint with the largest weight (the only one when rigid)
+  // #Vc the joint each vertex's separation label comes from (core/part_labels.h): `joint` as
+  // attach_cage made it, kept when fit_attachment (core/attachment_fit.h) changes the weights, so
+  // the bind the fit is made from and the bind after it see the same labels.
+  std::vector<uint32_t> label_joint;
   // Influences in CSR form: vertex v follows influence_joint[i] (skin joint) with influence_weight[i]
   // for i in influence_start[v] .. influence_start[v+1]-1, heaviest first; weights sum to 1.
   std::vector<uint32_t> influence_start;  // #Vc + 1
   std::vector<uint32_t> influence_joint;
   std::vector<float> influence_weight;
   std::vector<Limb> limbs;            // the candidate segments, for display
+  // With a cage of several shells (core/cage_shells.h; empty otherwise): each cage vertex's shell,
+  // and each skin point's (skin_character order) shell when one shell owns its whole skin piece
+  // (kNoShell: none). The bind's separation lets an owned point use only its shell's elements.
+  std::vector<uint32_t> vertex_shell;
+  std::vector<uint32_t> point_shell;
   bool operator==(const CageAttachment&) const = default;
 };
 
@@ -120,8 +134,12 @@ Result<CageAttachment> attach_to_closest_limb(const Character& character, std::s
 // Attachment by the settings (mode, falloff, overrides). Fails when the character has no skin, or
 // an override names a vertex outside the cage or a node that is not a joint of the skin (the
 // error names the vertex and the node).
+// `cage_elements` (the cage's control elements; may be empty): with a cage of several shells (its
+// connected pieces), the skin-weights mode takes each vertex's weights only from the skin points its
+// own shell owns (those deepest inside it, else nearest to it), so the shell around one finger does
+// not follow the next finger where the two overlap. Every attachment of a document's cage passes them.
 Result<CageAttachment> attach_cage(const Character& character, std::span<const glm::vec3> cage_rest,
-                                   const AttachmentSettings& settings);
+                                   const AttachmentSettings& settings, std::span<const Tri> cage_elements = {});
 
 // Posed cage vertices and, for the extended variant, each vertex's linear part from the skinning
 // matrices of the attachment's skin (#J, joint_matrices()): M_v = sum_i w_i skinning[joint_i] (a

@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <array>
+#include <cassert>
 #include <cmath>
+#include <cstdio>
+#include <functional>
 #include <numbers>
 #include <unordered_map>
 
@@ -22,10 +25,78 @@ struct JointSpec {
   dvec3 head;       // joint position (world, rest)
   dvec3 tail;       // end of its bone
   bool arm_frame;   // bending axis from (bone x forward) rather than world X
+  double r_head = 0, r_tail = 0;  // capsule radii of the fingers and the tail (0 for the others)
 };
 
+// What the variant changes.
+struct Shape {
+  bool arms_down = false;  // arms hanging, hands at the thighs, legs together
+  bool extras = false;     // fingers and a tail
+  bool grouped() const { return arms_down || extras; }
+};
+
+Shape shape_of(DemoVariant v) {
+  return {v == DemoVariant::kArmsDown || v == DemoVariant::kArmsDownTail,
+          v == DemoVariant::kTail || v == DemoVariant::kArmsDownTail};
+}
+
+constexpr int kTailBones = 12;
+struct FingerLayout {
+  const char* name;
+  double across;       // offset across the palm, in finger spacings (+ toward the thumb)
+  double along;        // offset of the knuckle along the hand, metres
+  double spread;       // sideways tilt of the finger (+ toward the thumb)
+  double length[3];    // phalanges, metres
+  double r0, r1;       // radius at the knuckle and at the tip
+};
+// The radii stay above sqrt(3) / 2 of the default cell (0.011 m), so that every fingertip holds a
+// grid point and none breaks off; the fingers fan out by 12.5 degrees from one to the next, so
+// that the gaps between them (which a cell can resolve only from about a cell wide) open quickly.
+constexpr FingerLayout kFingers[] = {
+    {"index", 1.5, 0.0, 0.33, {0.040, 0.025, 0.020}, 0.011, 0.0097},
+    {"middle", 0.5, 0.004, 0.11, {0.045, 0.028, 0.022}, 0.011, 0.0097},
+    {"ring", -0.5, 0.0, -0.11, {0.042, 0.026, 0.021}, 0.011, 0.0097},
+    {"little", -1.5, -0.01, -0.33, {0.032, 0.021, 0.018}, 0.0102, 0.0096},
+};
+constexpr double kFingerSpacing = 0.026;  // centre to centre at the knuckles: 4 mm apart, 1.3 cm at the first joint
+constexpr double kKnuckle = 0.088;        // knuckles from the wrist, along the hand
+
+// The hand's axes: u along it, w across the palm toward the thumb, the palm facing +Z.
+void hand_axes(const JointSpec& hand, double side, dvec3& u, dvec3& w) {
+  u = glm::normalize(hand.tail - hand.head);
+  w = side * glm::normalize(glm::cross(dvec3(0, 0, 1), u));
+}
+
+// Fingers: three phalanges each, straight at rest, children of the hand (j.back()).
+void add_fingers(std::vector<JointSpec>& j, double side) {
+  const std::string sfx = side > 0 ? ".L" : ".R";
+  const int hand = static_cast<int>(j.size()) - 1;
+  dvec3 u, w;
+  hand_axes(j[hand], side, u, w);
+  const dvec3 wrist = j[hand].head;
+  auto add_finger = [&](const std::string& name, dvec3 base, dvec3 dir, const double* len, double r0, double r1) {
+    const double total = len[0] + len[1] + len[2];
+    double at = 0;
+    int parent = hand;
+    for (int k = 0; k < 3; ++k) {
+      dvec3 head = base + at * dir, tail = base + (at + len[k]) * dir;
+      double ra = r0 + (r1 - r0) * at / total, rb = r0 + (r1 - r0) * (at + len[k]) / total;
+      j.push_back({"finger_" + name + "_" + std::to_string(k + 1) + sfx, parent, head, tail, true, ra, rb});
+      parent = static_cast<int>(j.size()) - 1;
+      at += len[k];
+    }
+  };
+  // The thumb leaves the side of the palm, out toward the thumb side and forward.
+  const double thumb_len[3] = {0.042, 0.032, 0.026};
+  add_finger("thumb", wrist + 0.02 * u + 0.026 * w, glm::normalize(0.5 * u + 0.8 * w + 0.4 * dvec3(0, 0, 1)), thumb_len,
+             0.013, 0.0105);
+  for (const FingerLayout& f : kFingers)
+    add_finger(f.name, wrist + (kKnuckle + f.along) * u + f.across * kFingerSpacing * w, glm::normalize(u + f.spread * w),
+               f.length, f.r0, f.r1);
+}
+
 // The rest skeleton, A-pose: arms 45 degrees below horizontal.
-std::vector<JointSpec> joint_specs() {
+std::vector<JointSpec> joint_specs(const Shape& shape) {
   const double s = std::sqrt(0.5);
   auto arm = [&](double side, dvec3 shoulder, double len) { return shoulder + len * dvec3(side * s, -s, 0); };
   std::vector<JointSpec> j;
@@ -39,21 +110,45 @@ std::vector<JointSpec> joint_specs() {
     int chest = 2;
     int base = static_cast<int>(j.size());
     dvec3 clav(side * 0.04, 1.41, 0), sh(side * 0.17, 1.42, 0);
-    dvec3 elbow = arm(side, sh, 0.28), wrist = arm(side, elbow, 0.25), hand_end = arm(side, wrist, 0.17);
+    dvec3 elbow, wrist, hand_end;
+    if (!shape.arms_down) {
+      elbow = arm(side, sh, 0.28), wrist = arm(side, elbow, 0.25), hand_end = arm(side, wrist, 0.17);
+    } else {  // hanging, a little out at the elbow, the hand in against the thigh
+      elbow = sh + dvec3(side * 0.035, -0.28, 0);
+      wrist = elbow + dvec3(side * -0.012, -0.25, 0);
+      hand_end = wrist + dvec3(side * -0.02, -0.17, 0);
+    }
     j.push_back({std::string("shoulder") + sfx, chest, clav, sh, true});
     j.push_back({std::string("upper_arm") + sfx, base, sh, elbow, true});
     j.push_back({std::string("forearm") + sfx, base + 1, elbow, wrist, true});
     j.push_back({std::string("hand") + sfx, base + 2, wrist, hand_end, true});
+    if (shape.extras) add_fingers(j, side);
   }
   for (double side : {1.0, -1.0}) {
     const char* sfx = side > 0 ? ".L" : ".R";
     int base = static_cast<int>(j.size());
     dvec3 hip(side * 0.095, 0.92, 0), knee(side * 0.105, 0.50, 0.01), ankle(side * 0.11, 0.09, 0),
         toe(side * 0.11, 0.03, 0.13), toe_end(side * 0.11, 0.03, 0.2);
+    if (shape.arms_down) {  // legs together: the thighs overlap along the inside, the knees touch
+      hip = {side * 0.07, 0.92, 0}, knee = {side * 0.054, 0.50, 0.01}, ankle = {side * 0.06, 0.09, 0},
+      toe = {side * 0.065, 0.03, 0.13}, toe_end = {side * 0.065, 0.03, 0.2};
+    }
     j.push_back({std::string("thigh") + sfx, 0, hip, knee, false});
     j.push_back({std::string("shin") + sfx, base, knee, ankle, false});
     j.push_back({std::string("foot") + sfx, base + 1, ankle, toe, false});
     j.push_back({std::string("toes") + sfx, base + 2, toe, toe_end, false});
+  }
+  if (!shape.extras) return j;
+  // The tail: from the back of the pelvis, backward and down, levelling out toward the tip.
+  dvec3 p(0, 0.90, -0.06);
+  for (int i = 0; i < kTailBones; ++i) {
+    const double angle = (50.0 - 5.0 * i) * std::numbers::pi / 180.0;  // below the horizontal
+    dvec3 next = p + 0.085 * dvec3(0, -std::sin(angle), -std::cos(angle));
+    char name[16];
+    std::snprintf(name, sizeof name, "tail_%02d", i + 1);
+    j.push_back({name, i == 0 ? 0 : static_cast<int>(j.size()) - 1, p, next, false,
+                 0.04 - 0.03 * i / kTailBones, 0.04 - 0.03 * (i + 1) / kTailBones});
+    p = next;
   }
   return j;
 }
@@ -64,6 +159,7 @@ struct Part {
   double ra, rb;
   double depth = 1.0;  // z extent relative to x/y
   int bone;
+  int group = 0;       // index into Body::groups (variants only)
 };
 
 double part_distance(const Part& p, dvec3 q) {
@@ -77,21 +173,45 @@ double part_distance(const Part& p, dvec3 q) {
   return p.depth < 1.0 ? d * p.depth : d;
 }
 
-std::vector<Part> body_parts(const std::vector<JointSpec>& j) {
-  auto idx = [&](const char* name) {
-    for (size_t i = 0; i < j.size(); ++i)
-      if (j[i].name == name) return static_cast<int>(i);
-    return -1;
-  };
+constexpr double kBlend = 0.035;
+
+// The variants' body is a tree of groups. The parts of a group are smoothly united (`blend`);
+// a group is smoothly united with each child subtree on its own (`blend_to_parent` of the
+// child), and those unions are combined by a plain minimum, so two subtrees that touch (a hand
+// and a thigh, two fingers) meet in a crease instead of being webbed together.
+constexpr size_t kMaxGroups = 32;  // body_sdf keeps them on the stack
+struct Group {
+  int parent;               // lower index, -1 for the root
+  double blend;             // among the group's own parts
+  double blend_to_parent;
+};
+
+struct Body {
   std::vector<Part> parts;
-  parts.push_back({{-0.075, 0.93, 0}, {0.075, 0.93, 0}, 0.115, 0.115, 0.8, idx("hips")});
+  std::vector<Group> groups;  // empty: one smooth union of every part (the default character)
+  // Whether group a is group b or one of its ancestors, or the other way round: the skin blends
+  // between them, so weights may diffuse across.
+  bool related(int a, int b) const {
+    if (a > b) std::swap(a, b);
+    while (b > a) b = groups[b].parent;
+    return a == b;
+  }
+};
+
+std::vector<Part> default_parts(const std::vector<JointSpec>& j, const Shape& shape,
+                                const std::function<int(const std::string&)>& idx) {
+  std::vector<Part> parts;
+  if (!shape.arms_down)
+    parts.push_back({{-0.075, 0.93, 0}, {0.075, 0.93, 0}, 0.115, 0.115, 0.8, idx("hips")});
+  else  // a narrower pelvis over the closed legs
+    parts.push_back({{-0.05, 0.93, 0}, {0.05, 0.93, 0}, 0.11, 0.11, 0.8, idx("hips")});
   parts.push_back({{0, 0.98, 0}, {0, 1.17, 0}, 0.115, 0.12, 0.75, idx("spine")});
   parts.push_back({{-0.055, 1.30, 0}, {0.055, 1.30, 0}, 0.135, 0.135, 0.72, idx("chest")});
   parts.push_back({{0, 1.22, 0}, {0, 1.38, 0}, 0.12, 0.11, 0.75, idx("chest")});
   parts.push_back({{0, 1.40, 0}, {0, 1.56, 0.005}, 0.055, 0.048, 1.0, idx("neck")});
   parts.push_back({{0, 1.62, 0.015}, {0, 1.69, 0.005}, 0.095, 0.09, 1.0, idx("head")});
   for (const char* s : {".L", ".R"}) {
-    auto bone = [&](const std::string& n) { return idx((n + s).c_str()); };
+    auto bone = [&](const std::string& n) { return idx(n + s); };
     const JointSpec& sh = j[bone("shoulder")];
     const JointSpec& ua = j[bone("upper_arm")];
     const JointSpec& fa = j[bone("forearm")];
@@ -99,8 +219,16 @@ std::vector<Part> body_parts(const std::vector<JointSpec>& j) {
     parts.push_back({sh.head, sh.tail, 0.055, 0.058, 1.0, bone("shoulder")});
     parts.push_back({ua.head, ua.tail, 0.056, 0.044, 1.0, bone("upper_arm")});
     parts.push_back({fa.head, fa.tail, 0.043, 0.033, 1.0, bone("forearm")});
-    parts.push_back({hd.head + 0.03 * glm::normalize(hd.tail - hd.head), hd.tail - 0.03 * glm::normalize(hd.tail - hd.head),
-                     0.038, 0.03, 0.55, bone("hand")});
+    if (!shape.extras) {
+      parts.push_back({hd.head + 0.03 * glm::normalize(hd.tail - hd.head), hd.tail - 0.03 * glm::normalize(hd.tail - hd.head),
+                       0.038, 0.03, 0.55, bone("hand")});
+    } else {  // a shorter, broader palm that the fingers leave
+      dvec3 u, w;
+      hand_axes(hd, s[1] == 'L' ? 1.0 : -1.0, u, w);
+      parts.push_back({hd.head + 0.025 * u, hd.head + 0.06 * u, 0.036, 0.034, 0.55, bone("hand")});
+      dvec3 knuckles = hd.head + 0.074 * u;
+      parts.push_back({knuckles - 0.026 * w, knuckles + 0.026 * w, 0.028, 0.028, 0.6, bone("hand")});
+    }
     const JointSpec& th = j[bone("thigh")];
     const JointSpec& sn = j[bone("shin")];
     const JointSpec& ft = j[bone("foot")];
@@ -113,21 +241,83 @@ std::vector<Part> body_parts(const std::vector<JointSpec>& j) {
   return parts;
 }
 
+Body body_parts(const std::vector<JointSpec>& j, const Shape& shape) {
+  auto idx = [&](const std::string& name) {
+    for (size_t i = 0; i < j.size(); ++i)
+      if (j[i].name == name) return static_cast<int>(i);
+    return -1;
+  };
+  Body body;
+  body.parts = default_parts(j, shape, idx);
+  if (!shape.grouped()) return body;
+  // Groups: 0 chest, spine, neck and head; 1 pelvis; 2, 3 the arms; 4, 5 the legs; 6 the tail;
+  // then one per finger.
+  enum { kTorso, kPelvis, kArmL, kArmR, kLegL, kLegR, kTail };
+  body.groups = {{-1, kBlend, 0.0},        {kTorso, kBlend, kBlend}, {kTorso, kBlend, kBlend}, {kTorso, kBlend, kBlend},
+                 {kPelvis, kBlend, kBlend}, {kPelvis, kBlend, kBlend}, {kPelvis, 0.006, kBlend}};
+  for (Part& p : body.parts) {
+    const std::string& n = j[p.bone].name;
+    const bool left = n.ends_with(".L");
+    if (n == "hips") p.group = kPelvis;
+    else if (n.starts_with("thigh") || n.starts_with("shin") || n.starts_with("foot") || n.starts_with("toes"))
+      p.group = left ? kLegL : kLegR;
+    else if (n.ends_with(".L") || n.ends_with(".R"))
+      p.group = left ? kArmL : kArmR;
+    else
+      p.group = kTorso;
+  }
+  if (!shape.extras) return body;
+  for (size_t b = 0; b < j.size(); ++b) {
+    const JointSpec& s = j[b];
+    const bool finger = s.name.starts_with("finger_");
+    if (!finger && !s.name.starts_with("tail_")) continue;
+    int group = kTail;
+    dvec3 a = s.head;
+    if (finger) {
+      if (s.name[s.name.size() - 3] == '1') {  // a new finger: its own group under the arm
+        body.groups.push_back({s.name.ends_with(".L") ? kArmL : kArmR, 0.004, 0.01});
+        a -= 0.012 * glm::normalize(s.tail - s.head);  // from inside the palm
+      }
+      group = static_cast<int>(body.groups.size()) - 1;
+    }
+    body.parts.push_back({a, s.tail, s.r_head, s.r_tail, 1.0, static_cast<int>(b), group});
+  }
+  assert(body.groups.size() <= kMaxGroups);
+  return body;
+}
+
 // Polynomial smooth minimum: equals min(a, b) when they differ by more than k.
 double smooth_min(double a, double b, double k) {
   double h = std::max(k - std::abs(a - b), 0.0) / k;
   return std::min(a, b) - h * h * k * 0.25;
 }
 
-constexpr double kBlend = 0.035;
-
-double body_sdf(const std::vector<Part>& parts, dvec3 q) {
-  double d = part_distance(parts[0], q);
-  for (size_t i = 1; i < parts.size(); ++i) d = smooth_min(d, part_distance(parts[i], q), kBlend);
-  return d;
+double body_sdf(const Body& body, dvec3 q) {
+  const std::vector<Part>& parts = body.parts;
+  if (body.groups.empty()) {
+    double d = part_distance(parts[0], q);
+    for (size_t i = 1; i < parts.size(); ++i) d = smooth_min(d, part_distance(parts[i], q), kBlend);
+    return d;
+  }
+  const size_t ng = body.groups.size();
+  std::array<double, kMaxGroups> own, under;  // the group's parts; the min over its child subtrees
+  std::array<bool, kMaxGroups> started{};
+  own.fill(1e300);
+  under.fill(1e300);
+  for (const Part& p : parts) {
+    double d = part_distance(p, q);
+    own[p.group] = started[p.group] ? smooth_min(own[p.group], d, body.groups[p.group].blend) : d;
+    started[p.group] = true;
+  }
+  for (size_t g = ng - 1; g > 0; --g) {  // children have higher indices than their parents
+    double subtree = under[g] < 1e300 ? under[g] : own[g];
+    int parent = body.groups[g].parent;
+    under[parent] = std::min(under[parent], smooth_min(own[parent], subtree, body.groups[g].blend_to_parent));
+  }
+  return under[0] < 1e300 ? under[0] : own[0];
 }
 
-dvec3 sdf_gradient(const std::vector<Part>& parts, dvec3 q) {
+dvec3 sdf_gradient(const Body& parts, dvec3 q) {
   const double e = 1e-4;
   return dvec3(body_sdf(parts, q + dvec3(e, 0, 0)) - body_sdf(parts, q - dvec3(e, 0, 0)),
                body_sdf(parts, q + dvec3(0, e, 0)) - body_sdf(parts, q - dvec3(0, e, 0)),
@@ -141,9 +331,9 @@ struct Surface {
 };
 
 // Marching tetrahedra over the grid.
-Surface polygonize(const std::vector<Part>& parts, double h) {
+Surface polygonize(const Body& parts, double h) {
   dvec3 lo(1e300), hi(-1e300);
-  for (const Part& p : parts) {
+  for (const Part& p : parts.parts) {
     double r = std::max(p.ra, p.rb);
     lo = glm::min(lo, glm::min(p.a, p.b) - dvec3(r));
     hi = glm::max(hi, glm::max(p.a, p.b) + dvec3(r));
@@ -240,7 +430,7 @@ void vertex_neighbours(const Surface& s, std::vector<uint32_t>& start, std::vect
   }
 }
 
-void relax(Surface& s, const std::vector<Part>& parts, int iterations) {
+void relax(Surface& s, const Body& parts, int iterations) {
   std::vector<uint32_t> start, adj;
   vertex_neighbours(s, start, adj);
   std::vector<dvec3> next(s.positions.size());
@@ -300,7 +490,7 @@ void add_rotation_channel(Clip& clip, const Skeleton& sk, uint32_t node, double 
   clip.samplers.push_back(std::move(s));
 }
 
-Clip walk_clip(const Skeleton& sk) {
+Clip walk_clip(const Skeleton& sk, double unit) {
   Clip clip;
   clip.name = "walk";
   const double T = 1.0;
@@ -340,7 +530,7 @@ Clip walk_clip(const Skeleton& sk) {
   for (int k = 0; k < keys; ++k) {
     double t = T * k / (keys - 1);
     bob.times.push_back(static_cast<float>(t));
-    bob.values.insert(bob.values.end(), {rest.x, static_cast<float>(rest.y - 0.015 + 0.015 * std::cos(2 * phase(t))), rest.z});
+    bob.values.insert(bob.values.end(), {rest.x, static_cast<float>(rest.y - 0.015 * unit + 0.015 * unit * std::cos(2 * phase(t))), rest.z});
   }
   clip.channels.push_back({hips, ChannelPath::kTranslation, static_cast<uint32_t>(clip.samplers.size())});
   clip.samplers.push_back(std::move(bob));
@@ -373,10 +563,60 @@ Clip arm_raise_clip(const Skeleton& sk) {
   return clip;
 }
 
+// A travelling wave down the tail (each bone +-18 degrees about its local X, half a wavelength
+// along the chain, so the tail curls up and down), and every finger phalanx curling 0 -> 70 -> 0.
+Clip tail_wave_clip(const Skeleton& sk) {
+  Clip clip;
+  clip.name = "tail_wave";
+  const double T = 2.0;
+  const int keys = 61;
+  const double two_pi = 2 * std::numbers::pi;
+  for (int i = 0; i < kTailBones; ++i) {
+    char name[16];
+    std::snprintf(name, sizeof name, "tail_%02d", i + 1);
+    add_rotation_channel(clip, sk, static_cast<uint32_t>(sk.find(name)), T, keys, [&](double t) {
+      return about(18.0 * std::sin(two_pi * t / T - i * std::numbers::pi / kTailBones), {1, 0, 0});
+    });
+  }
+  auto curl = [&](double t) { return 0.5 - 0.5 * std::cos(two_pi * t / T); };
+  for (const char* sfx : {".L", ".R"})
+    for (const char* finger : {"thumb", "index", "middle", "ring", "little"})
+      for (int k = 1; k <= 3; ++k) {
+        std::string name = std::string("finger_") + finger + "_" + std::to_string(k) + sfx;
+        add_rotation_channel(clip, sk, static_cast<uint32_t>(sk.find(name)), T, keys,
+                             [&](double t) { return about(70.0 * curl(t), {1, 0, 0}); });
+      }
+  clip.duration = T;
+  return clip;
+}
+
 }  // namespace
 
+double demo_default_cell_size(DemoVariant variant) { return shape_of(variant).extras ? 0.011 : 0.015; }
+
+std::optional<DemoVariant> parse_demo_variant(std::string_view name) {
+  if (name == "default") return DemoVariant::kDefault;
+  if (name == "arms-down") return DemoVariant::kArmsDown;
+  if (name == "tail") return DemoVariant::kTail;
+  if (name == "arms-down+tail" || name == "tail+arms-down") return DemoVariant::kArmsDownTail;
+  return std::nullopt;
+}
+
+const char* demo_variant_name(DemoVariant variant) {
+  switch (variant) {
+    case DemoVariant::kDefault: return "default";
+    case DemoVariant::kArmsDown: return "arms-down";
+    case DemoVariant::kTail: return "tail";
+    case DemoVariant::kArmsDownTail: return "arms-down+tail";
+  }
+  return "default";
+}
+
 Character make_demo_character(const DemoCharacterOptions& options) {
-  const std::vector<JointSpec> specs = joint_specs();
+  const Shape shape = shape_of(options.variant);
+  const double unit = options.unit_scale;  // scene units per metre
+  const double cell = options.cell_size > 0 ? options.cell_size : demo_default_cell_size(options.variant);
+  const std::vector<JointSpec> specs = joint_specs(shape);
   const size_t nj = specs.size();
   // Skeleton: joint nodes 0..nj-1, then the mesh node (a root, as glTF wants for skinned meshes).
   std::vector<glm::dmat3> frames(nj);
@@ -390,7 +630,7 @@ Character make_demo_character(const DemoCharacterOptions& options) {
     dvec3 parent_p = n.parent >= 0 ? specs[n.parent].head : dvec3(0.0);
     glm::dmat3 local_r = glm::transpose(parent_r) * frames[i];
     n.rest.rotation = glm::quat(glm::normalize(glm::quat_cast(local_r)));
-    n.rest.translation = glm::vec3(glm::transpose(parent_r) * (specs[i].head - parent_p));
+    n.rest.translation = glm::vec3(unit * (glm::transpose(parent_r) * (specs[i].head - parent_p)));
   }
   nodes[nj].name = "body";
   Character c;
@@ -406,32 +646,59 @@ Character make_demo_character(const DemoCharacterOptions& options) {
   }
   c.skins.push_back(std::move(skin));
 
-  // The skin surface.
-  const std::vector<Part> parts = body_parts(specs);
-  Surface s = polygonize(parts, options.cell_size);
-  relax(s, parts, options.relax_iterations);
+  // The skin surface (in metres).
+  const Body body = body_parts(specs, shape);
+  Surface s = polygonize(body, cell);
+  relax(s, body, options.relax_iterations);
 
-  // Weights: the nearest body part's bone, diffused over the surface.
+  // Weights: the nearest body part's bone, diffused over the surface (in the variants, only
+  // between vertices of groups that blend, and only onto bones of related groups: not from a
+  // hand into the thigh it touches).
   const size_t nv = s.positions.size();
   std::vector<float> w(nv * nj, 0.0f), w_next(nv * nj);
+  std::vector<int> nearest_group(nv, 0);
   tbb::parallel_for(size_t(0), nv, [&](size_t v) {
     double best = 1e300;
-    int bone = 0;
-    for (const Part& p : parts) {
+    int bone = 0, group = 0;
+    for (const Part& p : body.parts) {
       double d = part_distance(p, s.positions[v]);
       if (d < best) {
         best = d;
         bone = p.bone;
+        group = p.group;
       }
     }
     w[v * nj + bone] = 1.0f;
+    nearest_group[v] = group;
   });
   std::vector<uint32_t> start, adj;
   vertex_neighbours(s, start, adj);
+  // allowed[g * nj + b]: whether bone b may weigh on a vertex of group g (its part's group is g,
+  // an ancestor or a descendant): no weight of the touching hand on the thigh, of one finger on the next.
+  std::vector<char> allowed;
+  if (!body.groups.empty()) {
+    std::vector<int> bone_group(nj, 0);
+    for (const Part& p : body.parts) bone_group[p.bone] = p.group;
+    allowed.resize(body.groups.size() * nj);
+    for (size_t g = 0; g < body.groups.size(); ++g)
+      for (size_t b = 0; b < nj; ++b) allowed[g * nj + b] = body.related(static_cast<int>(g), bone_group[b]);
+    std::vector<uint32_t> kept_start(1, 0), kept;
+    for (size_t v = 0; v < nv; ++v) {
+      for (uint32_t k = start[v]; k < start[v + 1]; ++k)
+        if (body.related(nearest_group[v], nearest_group[adj[k]])) kept.push_back(adj[k]);
+      kept_start.push_back(static_cast<uint32_t>(kept.size()));
+    }
+    start.swap(kept_start);
+    adj.swap(kept);
+  }
   for (int it = 0; it < options.weight_smoothing_iterations; ++it) {
     tbb::parallel_for(size_t(0), nv, [&](size_t v) {
       uint32_t n = start[v + 1] - start[v];
       for (size_t b = 0; b < nj; ++b) {
+        if (!allowed.empty() && !allowed[nearest_group[v] * nj + b]) {
+          w_next[v * nj + b] = 0.0f;
+          continue;
+        }
         float sum = 0;
         for (uint32_t k = start[v]; k < start[v + 1]; ++k) sum += w[adj[k] * nj + b];
         w_next[v * nj + b] = n ? 0.5f * w[v * nj + b] + 0.5f * sum / float(n) : w[v * nj + b];
@@ -444,7 +711,7 @@ Character make_demo_character(const DemoCharacterOptions& options) {
   prim.node = static_cast<uint32_t>(nj);
   prim.skin = 0;
   prim.positions.resize(nv);
-  for (size_t v = 0; v < nv; ++v) prim.positions[v] = glm::vec3(s.positions[v]);
+  for (size_t v = 0; v < nv; ++v) prim.positions[v] = glm::vec3(unit * s.positions[v]);
   prim.triangles = std::move(s.triangles);
   prim.influence_start.assign(1, 0);
   std::vector<std::pair<float, uint16_t>> inf;
@@ -463,8 +730,9 @@ Character make_demo_character(const DemoCharacterOptions& options) {
     prim.influence_start.push_back(static_cast<uint32_t>(prim.influence_joint.size()));
   }
   c.primitives.push_back(std::move(prim));
-  c.clips.push_back(walk_clip(c.skeleton));
+  c.clips.push_back(walk_clip(c.skeleton, unit));
   c.clips.push_back(arm_raise_clip(c.skeleton));
+  if (shape.extras) c.clips.push_back(tail_wave_clip(c.skeleton));
   return c;
 }
 

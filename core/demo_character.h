@@ -5,24 +5,62 @@
 // relaxed tangentially and projected back onto the zero set. Weights come from the nearest body
 // part, diffused over the mesh (uniform Laplacian) and cut to four per vertex.
 //
+// Besides the default character, variants generate hard test characters that break cage-based
+// skinning (parts of the skin touching that must move apart, thin close parts, long chains):
+//   arms-down  arms hanging at the sides, the hands overlapping the outer thighs (the skin fuses
+//              there), legs together (the inner thighs and the knees touch). 21 joints.
+//   tail       the default body plus five fingers per hand (three phalanges each, side by side,
+//              5 mm apart at the knuckles, about 1 cm at the tips) and a 12-bone tail from the
+//              back of the pelvis (1 m, radius 0.04 -> 0.01). 63 joints. Its default cell is
+//              0.011 m (about 70,000 vertices): the fingers (radius 11 -> 9.7 mm, a little thick)
+//              stay whole at that cell, while 0.008 m would make about 130,000 vertices.
+//   arms-down+tail  both.
+// In the variants the body is a tree of groups (torso, pelvis, arms, legs, fingers, tail): parts
+// of one group and a group with its parent group blend smoothly; groups that merely touch (a hand
+// and a thigh, the two thighs, two fingers) meet in a crease, and the weight diffusion does not
+// cross from one to the other (the hand stays weighted to the hand, the thigh to the thigh). The
+// default character keeps its one smooth union, bytes unchanged.
+//
 // This work is based on: Bloomenthal, "Polygonization of Implicit Surfaces" (CAGD 1988) for the
 // tetrahedral decomposition; Quilez's polynomial smooth minimum for the smooth union.
 #pragma once
+
+#include <optional>
+#include <string_view>
 
 #include "core/character.h"
 
 namespace cagewrap {
 
+enum class DemoVariant { kDefault, kArmsDown, kTail, kArmsDownTail };
+
 struct DemoCharacterOptions {
-  double cell_size = 0.015;         // grid spacing of the polygonizer, metres
+  double cell_size = 0.0;           // grid spacing of the polygonizer, metres; 0: demo_default_cell_size
   int relax_iterations = 4;         // tangential smoothing + projection passes
   int weight_smoothing_iterations = 40;
+  DemoVariant variant = DemoVariant::kDefault;
+  // Scene units per metre: 1 writes metres, 100 centimetres (positions, joint translations,
+  // inverse bind matrices and animated translations scaled; the cell size stays in metres, so the
+  // mesh is the same).
+  double unit_scale = 1.0;
 };
+
+// 0.015 m (about 35,000 vertices); 0.011 m for the variants with fingers.
+double demo_default_cell_size(DemoVariant variant);
+// "default", "arms-down", "tail", "arms-down+tail" (also "tail+arms-down").
+std::optional<DemoVariant> parse_demo_variant(std::string_view name);
+const char* demo_variant_name(DemoVariant variant);
 
 // 21 joints: hips, spine, chest, neck, head; shoulder/upper_arm/forearm/hand and
 // thigh/shin/foot/toes on each side (.L/.R). Y up, metres, facing +Z, A-pose. Each joint's local
 // Y runs along its bone and its local X is the bending axis of elbows and knees. Two clips:
 // "walk" (1 s loop) and "arm_raise" (2 s: arms up through 125 degrees with the elbows bending 110).
+// The tail variants add finger_{thumb,index,middle,ring,little}_{1,2,3}.L/.R right after each
+// hand (its children; local X is the curling axis, +angle curls toward the palm, which faces +Z;
+// so the joints after hand.L have other indices than in the default), tail_01 .. tail_12 at the
+// end (tail_01 a child of hips, local X bends the tail up and down), and a third clip
+// "tail_wave" (2 s loop: a travelling wave of +-18 degrees down the tail, every finger phalanx
+// curling 0 -> 70 -> 0).
 Character make_demo_character(const DemoCharacterOptions& options = {});
 
 }  // namespace cagewrap

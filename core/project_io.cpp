@@ -403,7 +403,7 @@ AttachmentSettings read_attachment(const Reader& r, const Json& a, const Charact
   if (a.contains("mode")) {
     std::string mode = r.string(a["mode"], "attachment.mode");
     if (!parse_attachment_mode(mode, out.mode))
-      r.fail(ErrorCode::kParse, "attachment.mode is '" + mode + "'; expected rigid, smooth or skin_weights");
+      r.fail(ErrorCode::kParse, "attachment.mode is '" + mode + "'; expected rigid, smooth, skin_weights or fitted");
   }
   if (a.contains("smooth_width")) {
     out.smooth_width = r.number(a["smooth_width"], "attachment.smooth_width");

@@ -174,13 +174,22 @@ struct Context {
   std::vector<std::array<uint32_t, 3>> element_label;  // #E dense labels of the corners
   uint32_t num_labels = 0;
   std::vector<uint8_t> connected;  // num_labels x num_labels
+  std::vector<uint8_t> element_bridge;  // #E: corners on unrelated parts (drives only points related to all)
+  std::vector<uint32_t> point_shell;    // #P owning cage shell (kUnlabelled: any) or empty
+  std::vector<uint32_t> element_shell;  // #E shell of each element (with point_shell)
 
   // Whether element e may drive the point (always, without separation).
   bool allowed(uint32_t point, uint32_t e) const {
     if (!separate) return true;
+    if (!point_shell.empty() && point_shell[point] != kUnlabelled && element_shell[e] != point_shell[point]) return false;
     const uint32_t lp = point_label[point];
     if (lp == kUnlabelled) return true;
     const uint8_t* row = connected.data() + size_t(lp) * num_labels;
+    if (element_bridge[e]) {
+      for (uint32_t l : element_label[e])
+        if (l != kUnlabelled && !row[l]) return false;
+      return true;
+    }
     for (uint32_t l : element_label[e])
       if (l == kUnlabelled || row[l]) return true;
     return false;
@@ -426,7 +435,48 @@ Status set_labels(Context& ctx, const PartLabels& labels) {
   ctx.connected.assign(size_t(ctx.num_labels) * ctx.num_labels, 0);
   for (uint32_t a = 0; a < ctx.num_labels; ++a)
     for (uint32_t b = 0; b < ctx.num_labels; ++b)
-      ctx.connected[size_t(a) * ctx.num_labels + b] = within_steps(labels.parent, used[a], used[b], ctx.params.separation_steps);
+      ctx.connected[size_t(a) * ctx.num_labels + b] =
+          within_steps(labels.parent, used[a], used[b], ctx.params.separation_steps) ||
+          (labels.related.size() == nl * nl && labels.related[size_t(used[a]) * nl + used[b]]);
+  // an element whose corners follow unrelated parts (a face from the hand to the thigh where they
+  // touch at rest, from one leg to the other where the legs are together) bridges them: it may
+  // drive only points related to every corner, so neither part is pulled along when they separate
+  if (!labels.point_shell.empty() || !labels.vertex_shell.empty()) {
+    if (labels.point_shell.size() != ctx.skin.size() || labels.vertex_shell.size() != ctx.cage->num_vertices())
+      return bad("the part labels' shells name " + std::to_string(labels.point_shell.size()) + " skin points and " +
+                 std::to_string(labels.vertex_shell.size()) + " cage vertices; the skin has " +
+                 std::to_string(ctx.skin.size()) + " and the cage " + std::to_string(ctx.cage->num_vertices()));
+    ctx.point_shell = labels.point_shell;
+    ctx.element_shell.resize(ctx.cage->num_elements());
+    for (size_t e = 0; e < ctx.element_shell.size(); ++e) ctx.element_shell[e] = labels.vertex_shell[ctx.cage->elements[e][0]];
+  }
+  ctx.element_bridge.assign(ctx.element_label.size(), 0);
+  // siblings (the two thighs under the hips) are bridged apart only away from where they branch: the
+  // crotch's elements span both thighs, and cutting them creased it (the worst dent of the legs-apart
+  // test doubled, 8 -> 19 mm), while legs held together need it lower down
+  std::vector<uint8_t> near(size_t(ctx.num_labels) * ctx.num_labels, 0);
+  for (uint32_t a = 0; a < ctx.num_labels; ++a)
+    for (uint32_t b = 0; b < ctx.num_labels; ++b)
+      near[size_t(a) * ctx.num_labels + b] = ctx.connected[size_t(a) * ctx.num_labels + b] ||
+                                             within_steps(labels.parent, used[a], used[b], 2);
+  const bool geometry = labels.head.size() == nl && labels.length.size() == nl;
+  glm::dvec3 centroid(0.0);
+  auto linked = [&](uint32_t a, uint32_t b) {
+    if (a == kUnlabelled || b == kUnlabelled || ctx.connected[size_t(a) * ctx.num_labels + b]) return true;
+    if (!near[size_t(a) * ctx.num_labels + b]) return false;
+    if (!geometry) return true;
+    const uint32_t ua = used[a], ub = used[b];
+    const double reach = 0.5 * std::min(labels.length[ua], labels.length[ub]);
+    return glm::length(centroid - glm::dvec3(labels.head[ua])) < reach ||
+           glm::length(centroid - glm::dvec3(labels.head[ub])) < reach;
+  };
+  for (size_t e = 0; e < ctx.element_label.size(); ++e) {
+    const auto& l = ctx.element_label[e];
+    const Tri& t = ctx.cage->elements[e];
+    centroid = (glm::dvec3(ctx.rest[t[0]]) + glm::dvec3(ctx.rest[t[1]]) + glm::dvec3(ctx.rest[t[2]])) / 3.0;
+    const int links = int(linked(l[0], l[1])) + int(linked(l[1], l[2])) + int(linked(l[0], l[2]));
+    ctx.element_bridge[e] = links < 2;  // the corners' parts are not one connected group
+  }
   ctx.separate = true;
   return Ok{};
 }

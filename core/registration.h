@@ -20,6 +20,19 @@ struct PartLabels {
   std::vector<int32_t> parent;        // #L parent of each label, -1 for a root
   std::vector<uint32_t> point;        // #P label of each skin point (or kUnlabelled)
   std::vector<uint32_t> cage_vertex;  // #Vc label of each cage vertex (or kUnlabelled)
+  // Optional #L x #L (row-major): label pairs that are one part whatever their hierarchy steps
+  // (a chain of short bones, core/part_labels.h chained_nodes); empty = the steps alone.
+  std::vector<uint8_t> related;
+  // Optional (#P and #Vc, or empty): the cage shell owning each skin point (kUnlabelled: none) and
+  // each cage vertex's shell (core/cage_shells.h); an owned point may use only its shell's elements.
+  std::vector<uint32_t> point_shell;
+  std::vector<uint32_t> vertex_shell;
+  // Optional (#L each, or empty): each label's joint head and bone length in the bind pose. With them,
+  // an element spanning two sibling parts (the thighs under the hips) bridges them only away from
+  // where they branch: farther from both heads than half the shorter bone (the crotch's elements
+  // span both thighs and stay; those between legs held together further down do not).
+  std::vector<glm::vec3> head;
+  std::vector<float> length;
   bool empty() const { return parent.empty(); }
 };
 

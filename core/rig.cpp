@@ -2,6 +2,7 @@
 
 #include <optional>
 
+#include "core/attachment_fit.h"
 #include "core/clip_sim.h"
 #include "core/part_labels.h"
 
@@ -153,7 +154,7 @@ Result<Rig> Rig::make(const Document& doc, Binding* binding, const BindProgress&
   s.doc = doc;
   const Character& ch = *doc.character;
   if (!ch.skins.empty()) {
-    auto att = attach_cage(ch, doc.cage_positions(), doc.attachment);
+    auto att = attach_cage(ch, doc.cage_positions(), doc.attachment, doc.cage->elements);
     if (!att) return make_error(att.error().code, "attachment: " + att.error().message);
     s.attachment = std::move(att).value();
   }
@@ -166,6 +167,9 @@ Result<Rig> Rig::make(const Document& doc, Binding* binding, const BindProgress&
     if (!bound) return make_error(bound.error().code, "bind: " + bound.error().message);
     s.binding = std::move(bound).value();
   }
+  if (s.attachment && doc.attachment.mode == AttachmentMode::kFitted)
+    if (auto f = fit_attachment(ch, s.binding, doc.attachment, *s.attachment); !f)
+      return make_error(f.error().code, "attachment: " + f.error().message);
   auto deformer = Deformer::create(s.binding, s.skin_rest);
   if (!deformer) return make_error(deformer.error().code, "bind: " + deformer.error().message);
   s.deformer.emplace(std::move(deformer).value());

@@ -629,15 +629,23 @@ Result<ExportResult> export_rig(const Document& doc, Rig& rig, const ExportOptio
     out.clips.back().duration = std::max(out.clips.back().duration, cf.times.back());
   }
 
-  // Errors against the rig, measured on the exported character itself (what a loader sees).
+  // Errors against the rig, measured on the exported character itself (what a loader sees), and
+  // against the file's own skinning at the same frames.
   stage.begin("measuring", targets_until, 1.0);
+  {
+    Aabb box;
+    for (const glm::vec3& p : rest_skin) box.extend(glm::dvec3(p));
+    r.diagonal = box.empty() ? 0.0 : box.diagonal();
+  }
   PosedCage posed;
   std::vector<glm::vec3> live(np);
   for (size_t c = 0; c < frames.size(); ++c) {
     const ExportClipFrames& cf = frames[c];
     for (size_t k = 0; k < cf.times.size(); ++k) {
       Pose pose = sample_pose(out, static_cast<int32_t>(c), cf.times[k]);
-      accumulate(r.at_frames, skin_character(out, pose), skins[cf.first + k]);
+      const std::vector<glm::vec3> exported = skin_character(out, pose);
+      accumulate(r.at_frames, exported, skins[cf.first + k]);
+      if (!ch.skins.empty()) accumulate(r.vs_file, exported, skin_character(ch, sample_pose(ch, cf.clip, cf.times[k])));
       if (skin_fit) {
         pose.morph_weights[mesh_node].assign(r.frames, 0.0f);
         accumulate(r.fitted, skin_character(out, pose), skins[cf.first + k]);

@@ -84,6 +84,11 @@ struct ExportResult {
   // kCage: the cage at the frames against the posed driver cage, and at the keypose poses (the
   // skinned cage has no keyposes: this is what leaving them out costs).
   ExportError fitted, at_frames, between_frames, at_keyposes;
+  // The exported skin at the frames against the character's own linear blend skinning there (what
+  // the file made before the cage; the skin modes only), and the bind-pose skin's bounding-box
+  // diagonal, in the file's units, that the report relates the errors to.
+  ExportError vs_file;
+  double diagonal = 0.0;
   std::vector<std::string> warnings;
 };
 

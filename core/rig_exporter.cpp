@@ -6,6 +6,7 @@
 #include "core/atomic_write.h"
 #include "core/gltf_writer.h"
 #include "core/mesh_io.h"
+#include "core/fidelity.h"
 #include "core/rig_json.h"
 
 namespace cagewrap {
@@ -80,9 +81,13 @@ std::string megabytes(uint64_t bytes) {
   return buf;
 }
 
-std::string error_line(const std::string& what, const ExportError& e) {
+// In the file's units (metres for a character of plausible size, else "scene units", core/fidelity.h),
+// with the largest error as a share of the skin's diagonal.
+std::string error_line(const std::string& what, const ExportError& e, double diagonal) {
   char buf[256];
-  std::snprintf(buf, sizeof buf, "%-46s mean %.3g m, max %.3g m", (what + ":").c_str(), e.mean, e.max);
+  const std::string units = scene_units(diagonal);
+  std::snprintf(buf, sizeof buf, "%-46s mean %.3g %s, max %.3g %s (%.2f%% of the diagonal)", (what + ":").c_str(), e.mean,
+                units.c_str(), e.max, units.c_str(), diagonal > 0 ? 100 * e.max / diagonal : 0.0);
   return buf;
 }
 
@@ -110,17 +115,19 @@ Result<ExportReport> run_glb(const Document& doc, Rig& rig, const ExportRequest&
   const ExportMode mode = request.options.mode;
   const std::string poses = std::to_string(r.keypose_poses) + " keypose poses";
   if (mode == ExportMode::kBakedSkin)
-    r.error_lines.push_back(error_line("error at frames, skeleton only", result->fitted));
+    r.error_lines.push_back(error_line("error at frames, skeleton only", result->fitted, result->diagonal));
   if (mode == ExportMode::kCage) {
-    r.error_lines.push_back(error_line("cage error at frames", result->at_frames));
+    r.error_lines.push_back(error_line("cage error at frames", result->at_frames, result->diagonal));
     if (r.keypose_poses)
-      r.error_lines.push_back(error_line("cage error at " + poses + " (left out)", result->at_keyposes));
+      r.error_lines.push_back(error_line("cage error at " + poses + " (left out)", result->at_keyposes, result->diagonal));
   } else {
-    r.error_lines.push_back(error_line("error at frames", result->at_frames));
-    r.error_lines.push_back(error_line("error between frames", result->between_frames));
+    r.error_lines.push_back(error_line("error at frames", result->at_frames, result->diagonal));
+    r.error_lines.push_back(error_line("error between frames", result->between_frames, result->diagonal));
+    if (result->vs_file.samples)
+      r.error_lines.push_back(error_line("against the file's own skinning, at frames", result->vs_file, result->diagonal));
   }
   if (mode == ExportMode::kBakedSkin && r.keypose_poses)
-    r.error_lines.push_back(error_line("error at " + poses + ", skeleton only", result->at_keyposes));
+    r.error_lines.push_back(error_line("error at " + poses + ", skeleton only", result->at_keyposes, result->diagonal));
   result->character = Character{};
   r.errors = std::move(result).value();
   return r;
@@ -145,8 +152,8 @@ Result<ExportReport> run_obj(const Document& doc, Rig& rig, const ExportRequest&
   return r;
 }
 
-Result<ExportReport> run_json(const Document& doc, const ExportRequest& request) {
-  auto json = rig_json(doc);
+Result<ExportReport> run_json(const Document& doc, const Rig* rig, const ExportRequest& request) {
+  auto json = rig_json(doc, rig ? rig->attachment() : nullptr);
   if (!json) return json.error();
   if (auto s = write_file_atomic(request.out, json->text); !s) return s.error();
   ExportReport r;
@@ -174,11 +181,11 @@ Result<ExportReport> run_export(const Document& doc, Rig* rig, const ExportReque
                             (mine == doc.character_path ? "character" : "project") +
                             " file; export elsewhere");
   }
-  if (request.format != ExportFormat::kJson && !rig)
+  if ((request.format != ExportFormat::kJson || doc.attachment.mode == AttachmentMode::kFitted) && !rig)
     return make_error(ErrorCode::kInvalidArgument, "the document's rig is not bound yet");
   Result<ExportReport> r = request.format == ExportFormat::kGlb   ? run_glb(doc, *rig, request, progress)
                            : request.format == ExportFormat::kObj ? run_obj(doc, *rig, request, progress)
-                                                                  : run_json(doc, request);
+                                                                  : run_json(doc, rig, request);
   if (r) r->what = export_kind_name(request);
   return r;
 }

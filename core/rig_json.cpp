@@ -52,7 +52,7 @@ Json keypose_json(const KeyposeSet& set, const Skeleton& skeleton, bool active) 
 
 }  // namespace
 
-Result<RigJson> rig_json(const Document& doc) {
+Result<RigJson> rig_json(const Document& doc, const CageAttachment* attachment) {
   if (!doc.character || !doc.cage)
     return make_error(ErrorCode::kInvalidArgument,
                       "the document has no cage yet: there is no rig to describe");
@@ -91,7 +91,7 @@ Result<RigJson> rig_json(const Document& doc) {
     root["skin"] = nullptr;
     root["attachment"] = nullptr;
   } else {
-    auto att = attach_cage(ch, rest, doc.attachment);
+    auto att = attachment ? Result<CageAttachment>(*attachment) : attach_cage(ch, rest, doc.attachment, cage.elements);
     if (!att) return make_error(att.error().code, "attachment: " + att.error().message);
     out.attached = true;
     const Skin& skin = ch.skins[att->skin];

@@ -9,6 +9,7 @@
 
 #include <string>
 
+#include "core/cage_attachment.h"
 #include "core/document.h"
 #include "core/result.h"
 
@@ -25,6 +26,8 @@ struct RigJson {
 
 // Fails when the document has no cage, or its attachment fails (an override naming a node that is
 // not a joint of the skin: the message names it).
-Result<RigJson> rig_json(const Document& doc);
+// `attachment`: the rig's (a fitted attachment needs the binding, core/attachment_fit.h); null: made
+// from the document's settings (attach_cage: the transferred weights for a fitted attachment).
+Result<RigJson> rig_json(const Document& doc, const CageAttachment* attachment = nullptr);
 
 }  // namespace cagewrap

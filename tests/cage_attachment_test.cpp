@@ -63,10 +63,10 @@ TEST(CageAttachment, RigidFollowsTheClosestLimb) {
   EXPECT_EQ(influences(c, *att, 1).list, (std::vector<std::pair<std::string, float>>{{"lower", 1.0f}}));
   EXPECT_EQ(influences(c, *att, 2).list, (std::vector<std::pair<std::string, float>>{{"hand", 1.0f}}));
   EXPECT_EQ(influences(c, *att, 3).list, (std::vector<std::pair<std::string, float>>{{"upper", 1.0f}}));
-  // the default (skin weights) falls back to the closest limb where no skin point is near: this
+  // the default (skin weights, fitted later) falls back to the closest limb where no skin point is near: this
   // character has no mesh at all
   auto same = attach_cage(c, pts, AttachmentSettings{});
-  EXPECT_EQ(AttachmentSettings{}.mode, AttachmentMode::kSkinWeights);
+  EXPECT_EQ(AttachmentSettings{}.mode, AttachmentMode::kFitted);  // skin weights, refitted once bound
   EXPECT_EQ(same->joint, att->joint);
   EXPECT_EQ(same->influence_joint, att->influence_joint);
 }

@@ -35,13 +35,18 @@ class EditorExportGui : public ::testing::Test {
   }
   // Runs the editor on the demo character and its cage with `script`, saving a screenshot at the
   // end; returns stdout and stderr.
-  std::string run(const std::string& name, const std::string& script) {
+  // `screenshot`: end with --screenshot (else the script's end ends the run); `succeed`: the run is
+  // expected to exit 0 (a script whose export failed exits non-zero).
+  std::string run(const std::string& name, const std::string& script, bool succeed = true, bool screenshot = true) {
     const fs::path s = dir_ / (name + ".script"), log = dir_ / (name + ".log");
     std::ofstream(s) << script;
-    const std::string cmd = test::editor_command("--width 1280 --height 720 --script " + s.string() +
-                                                     " --screenshot " + (dir_ / (name + ".png")).string(),
-                                                 (dir_ / "config").string(), log.string());
-    EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd << "\n" << read_file(log);
+    const std::string cmd = test::editor_command(
+        "--width 1280 --height 720 --script " + s.string() +
+            (screenshot ? " --screenshot " + (dir_ / (name + ".png")).string() : std::string()),
+        (dir_ / "config").string(), log.string());
+    const int status = std::system(cmd.c_str());
+    if (succeed) EXPECT_EQ(status, 0) << cmd << "\n" << read_file(log);
+    else EXPECT_NE(status, 0) << cmd << "\n" << read_file(log);
     return read_file(log);
   }
   fs::path dir_;
@@ -83,7 +88,8 @@ TEST_F(EditorExportGui, ABadPathIsAnErrorAndTheEditorCarriesOn) {
   const fs::path bad = dir_ / "missing" / "x.glb", json = dir_ / "rig.json";
   const std::string log =
       run("bad_path", "wait 2\nexport glb cage 4 all " + bad.string() + "\nwait 1\nexport json - 30 all " +
-                          json.string() + "\nwait 3\n");
+                          json.string() + "\nwait 3\n",
+          /*succeed=*/false);  // the refused export fails the scripted run
   EXPECT_NE(log.find("error: export: " + bad.string() + ": the folder " + bad.parent_path().string() +
                      " does not exist"),
             std::string::npos)
@@ -96,7 +102,19 @@ TEST_F(EditorExportGui, ABadPathIsAnErrorAndTheEditorCarriesOn) {
   ASSERT_TRUE(j.ok()) << j.error().message;
   EXPECT_EQ((*j)["format"], "cagewrap-rig");
   EXPECT_GT((*j)["cage"]["positions"].size(), 100u);
-  EXPECT_EQ((*j)["attachment"]["mode"], "skin_weights");  // the default a new document gets
+  EXPECT_EQ((*j)["attachment"]["mode"], "fitted");  // the default a new document gets
+}
+
+// A script that ends in `export` waits for the export to finish before the editor exits (it used to
+// exit 0 having written nothing), and a failed export makes the run exit non-zero.
+TEST_F(EditorExportGui, AScriptEndingInExportWaitsForItAndAFailureFailsTheRun) {
+  const fs::path glb = dir_ / "last.glb";
+  const std::string log = run("last", "export glb baked-animation 10 walk " + glb.string() + "\n", true, false);
+  ASSERT_TRUE(fs::exists(glb)) << log;
+  EXPECT_NE(log.find("exported baked-animation"), std::string::npos) << log;
+  const fs::path bad = dir_ / "nowhere" / "x.glb";
+  const std::string failed = run("last_bad", "export glb baked-animation 10 walk " + bad.string() + "\n", false, false);
+  EXPECT_NE(failed.find("does not exist"), std::string::npos) << failed;
 }
 
 // A long bake (both clips at 60 fps) shows its progress; Cancel stops it and leaves no file.

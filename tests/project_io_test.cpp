@@ -288,7 +288,7 @@ TEST_F(ProjectIoTest, FileLayoutMatchesTheFormatDocument) {
   EXPECT_EQ(j["set_edits"][0]["exclude"], Json::array({0, 7}));
   EXPECT_EQ(j["set_edits"][1]["include"], Json::array({47}));
   EXPECT_TRUE(j["extensions"].is_object());
-  EXPECT_EQ(j["attachment"], Json::parse(R"({"mode": "skin_weights", "smooth_width": 0.5, "overrides": []})"));
+  EXPECT_EQ(j["attachment"], Json::parse(R"({"mode": "fitted", "smooth_width": 0.5, "overrides": []})"));
   EXPECT_EQ(j["keyposes"], Json::array());
   std::vector<std::string> keys;
   for (const auto& [key, value] : j.items()) keys.push_back(key);
@@ -828,7 +828,7 @@ TEST_F(ProjectIoRigTest, ErrorsNameTheJsonPath) {
   e = error_in([](Json& j) { j["keyposes"][0]["rest_key"] = 1; });
   EXPECT_CONTAINS(e.message, "keyposes[0].rest_key should be true or false");
   e = error_in([](Json& j) { j["attachment"]["mode"] = "soft"; });
-  EXPECT_CONTAINS(e.message, "attachment.mode is 'soft'; expected rigid, smooth or skin_weights");
+  EXPECT_CONTAINS(e.message, "attachment.mode is 'soft'; expected rigid, smooth, skin_weights or fitted");
   e = error_in([](Json& j) { j["attachment"]["smooth_width"] = 0; });
   EXPECT_CONTAINS(e.message, "attachment.smooth_width must be > 0");
   e = error_in([](Json& j) { j["attachment"]["overrides"][0]["vertex"] = 99; });

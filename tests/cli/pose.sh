@@ -17,7 +17,7 @@ NV=$(grep -c '^v ' <("$BIN" skin --character "$DEMO" --out "$T/lbs_rest.obj" >/d
 # ---------------------------------------------------------------------------------------- rest
 run pose --project "$P" --out "$T/rest.obj"
 check "pose at rest exits 0" [ "$rc" -eq 0 ]
-check "pose says what it did" has "$T/out" "^posed $NV skin vertices of .*hero.cagewrap at the rest pose (skin_weights attachment, 0 of 0 keypose sets active), wrote $T/rest.obj\$"
+check "pose says what it did" has "$T/out" "^posed $NV skin vertices of .*hero.cagewrap at the rest pose (fitted attachment, 0 of 0 keypose sets active), wrote $T/rest.obj\$"
 check "at rest the skin is the character's rest skin" below 2e-5 "$T/rest.obj" "$T/lbs_rest.obj"
 check "the output has the character's triangles" [ "$(grep -c '^f ' "$T/rest.obj")" -eq "$(grep -c '^f ' "$T/lbs_rest.obj")" ]
 run pose --project "$P" --clip rest --out "$T/rest2.obj"

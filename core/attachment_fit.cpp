@@ -1,0 +1,117 @@
+#include "core/attachment_fit.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include <Eigen/Sparse>
+#include <Eigen/SparseCholesky>
+
+namespace cagewrap {
+
+Status fit_attachment(const Character& character, const Binding& binding, const AttachmentSettings& settings,
+                      CageAttachment& att) {
+  const size_t nv = att.joint.size();
+  const size_t np = binding.num_points;
+  if (binding.num_cage_vertices != nv || att.influence_start.size() != nv + 1)
+    return make_error(ErrorCode::kTopologyMismatch, "the attachment has " + std::to_string(nv) +
+                                                        " cage vertices, the binding " +
+                                                        std::to_string(binding.num_cage_vertices));
+  if (np != character.num_vertices() || binding.offsets.size() != np + 1)
+    return make_error(ErrorCode::kTopologyMismatch, "the binding has " + std::to_string(np) + " points, the character " +
+                                                        std::to_string(character.num_vertices()));
+  if (att.skin >= character.skins.size()) return make_error(ErrorCode::kInvalidArgument, "the attachment names no skin");
+  const size_t nj = character.skins[att.skin].joints.size();
+  if (nv == 0 || nj == 0) return Ok{};
+  const bool extended = binding.params.variant == Variant::kExtended;
+
+  // W (#P x #Vc) and T (#P x #J) over the points of the attachment's skin
+  std::vector<Eigen::Triplet<double>> w_entries;
+  w_entries.reserve(binding.ids.size() * (extended ? 1 : 3));
+  std::vector<Eigen::Triplet<double>> t_entries;
+  std::vector<uint8_t> rigid(np, 0);
+  for (uint32_t p : binding.rigid_points)
+    if (p < np) rigid[p] = 1;
+  size_t row = 0;
+  std::vector<uint32_t> point_row(np, UINT32_MAX);
+  size_t base = 0;
+  for (const Primitive& prim : character.primitives) {
+    const bool ours = prim.skin == static_cast<int32_t>(att.skin) && prim.influence_start.size() == prim.num_vertices() + 1;
+    for (size_t v = 0; v < prim.num_vertices(); ++v) {
+      const size_t p = base + v;
+      if (!ours || rigid[p] || binding.offsets[p] == binding.offsets[p + 1]) continue;
+      point_row[p] = static_cast<uint32_t>(row);
+      for (uint32_t k = prim.influence_start[v]; k < prim.influence_start[v + 1]; ++k)
+        if (prim.influence_joint[k] < nj) t_entries.emplace_back(row, prim.influence_joint[k], prim.influence_weight[k]);
+      for (uint32_t e = binding.offsets[p]; e < binding.offsets[p + 1]; ++e) {
+        const double u = binding.weights[e];
+        const uint32_t id = binding.ids[e];
+        if (extended) {
+          if (id < nv) w_entries.emplace_back(row, id, u);
+        } else if (id < binding.elements.size()) {
+          for (uint32_t c : binding.elements[id])
+            if (c < nv) w_entries.emplace_back(row, c, u / 3.0);
+        }
+      }
+      ++row;
+    }
+    base += prim.num_vertices();
+  }
+  if (row == 0) return Ok{};
+  Eigen::SparseMatrix<double> W(static_cast<Eigen::Index>(row), static_cast<Eigen::Index>(nv));
+  W.setFromTriplets(w_entries.begin(), w_entries.end());
+  Eigen::SparseMatrix<double> T(static_cast<Eigen::Index>(row), static_cast<Eigen::Index>(nj));
+  T.setFromTriplets(t_entries.begin(), t_entries.end());
+  Eigen::SparseMatrix<double> A = W.transpose() * W;
+  double mean_diag = 0.0;
+  for (Eigen::Index i = 0; i < A.rows(); ++i) mean_diag += A.coeff(i, i);
+  mean_diag /= double(A.rows());
+  const double lambda = kFitRegularization * (mean_diag > 0 ? mean_diag : 1.0);
+  Eigen::MatrixXd w0 = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(nv), static_cast<Eigen::Index>(nj));
+  for (size_t v = 0; v < nv; ++v)
+    for (uint32_t i = att.influence_start[v]; i < att.influence_start[v + 1]; ++i)
+      w0(static_cast<Eigen::Index>(v), att.influence_joint[i]) = att.influence_weight[i];
+  Eigen::SparseMatrix<double> I(A.rows(), A.cols());
+  I.setIdentity();
+  A += lambda * I;
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(A);
+  if (solver.info() != Eigen::Success)
+    return make_error(ErrorCode::kInvalidArgument, "the attachment fit's system could not be factorized");
+  const Eigen::MatrixXd rhs = Eigen::MatrixXd(W.transpose() * T) + lambda * w0;
+  const Eigen::MatrixXd w = solver.solve(rhs);
+  if (solver.info() != Eigen::Success || !w.allFinite())
+    return make_error(ErrorCode::kInvalidArgument, "the attachment fit's system could not be solved");
+
+  // keep each vertex's heaviest positive weights; overrides stay pinned to their joint
+  CageAttachment out = att;
+  out.influence_start.assign(1, 0);
+  out.influence_joint.clear();
+  out.influence_weight.clear();
+  std::vector<std::pair<double, uint32_t>> raw;
+  for (size_t v = 0; v < nv; ++v) {
+    raw.clear();
+    if (!assigned_node(settings, static_cast<uint32_t>(v))) {
+      for (size_t j = 0; j < nj; ++j) {
+        const double x = w(static_cast<Eigen::Index>(v), static_cast<Eigen::Index>(j));
+        if (x > 1e-4) raw.emplace_back(x, static_cast<uint32_t>(j));
+      }
+      std::stable_sort(raw.begin(), raw.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+      if (raw.size() > kMaxAttachmentInfluences) raw.resize(kMaxAttachmentInfluences);
+    }
+    if (raw.empty())  // an override, or nothing positive: the transferred weights
+      for (uint32_t i = att.influence_start[v]; i < att.influence_start[v + 1]; ++i)
+        raw.emplace_back(att.influence_weight[i], att.influence_joint[i]);
+    double sum = 0.0;
+    for (const auto& r : raw) sum += r.first;
+    for (const auto& r : raw) {
+      out.influence_joint.push_back(r.second);
+      out.influence_weight.push_back(static_cast<float>(r.first / sum));
+    }
+    out.joint[v] = raw.front().second;
+    out.influence_start.push_back(static_cast<uint32_t>(out.influence_joint.size()));
+  }
+  att = std::move(out);
+  return Ok{};
+}
+
+}  // namespace cagewrap

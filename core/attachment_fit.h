@@ -1,0 +1,34 @@
+// The fitted attachment (AttachmentMode::kFitted, the default for new documents): the cage vertices'
+// joint weights chosen so that the rig reproduces the character's own skinning.
+//
+// Why it can: with the extended variant and the attachment's frames (core/rig.h), a skin point
+// deforms as P' = sum_j W_pj (L_j (P - v_j) + v'_j), where W_pj is the binding's stencil over cage
+// vertices and, for a cage posed by linear blend skinning, v'_j = M_j v_j and L_j is the 3x3 of M_j
+// = sum_b w_jb S_b (S_b the joints' skinning matrices). So P' = sum_b (sum_j W_pj w_jb) S_b P: the
+// rig *is* linear blend skinning of the skin with the weights W w. The fit picks the cage weights w
+// (#Vc x #J) that make W w closest to the file's weights T (#P x #J) in least squares, pulled toward
+// the transferred weights w0 where few points decide them:
+//     (W^T W + lambda I) w = W^T T + lambda w0,   lambda = kFitRegularization x mean diag(W^T W),
+// one sparse Cholesky factorization for all joints. Then each vertex keeps its
+// kMaxAttachmentInfluences largest positive weights, normalized (a cage is skinned with at most
+// four). Where the cage cannot express the file's weights (a crease sharper than the cage's
+// resolution) the rig is the least-squares closest it can be; elsewhere it equals the file's
+// skinning. Other variants use the same weights (their rig is close to, not equal to, LBS).
+#pragma once
+
+#include "core/binding.h"
+#include "core/cage_attachment.h"
+#include "core/character.h"
+#include "core/result.h"
+
+namespace cagewrap {
+
+inline constexpr double kFitRegularization = 1e-3;
+
+// Refits `att` (made by attach_cage for the binding's cage) from `binding` (of the character's skin,
+// skin_character order, extended variant; other variants are fitted through their elements'
+// corners, a third each). Overrides keep their joint. Fails on mismatched sizes.
+Status fit_attachment(const Character& character, const Binding& binding, const AttachmentSettings& settings,
+                      CageAttachment& att);
+
+}  // namespace cagewrap
