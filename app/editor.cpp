@@ -1601,7 +1601,8 @@ void Editor::guard_unsaved(std::function<void()> action) {
 //   sim_panel | sim on|off | sim_weights pin|free [MASS STIFFNESS] (the selected cage vertices) |
 //   sim_param gravity|damping|goal_frequency|iterations|substeps|preroll|margin|skeleton|edges VALUE |
 //   sim_collider plane|sphere|capsule AX AY AZ BX BY BZ R | sim_remove_collider I (the Simulation window)
-//   paint_at_skin_vertex I [RADIUS] | select_limb_faces | export_window | export_cancel
+//   paint_at_skin_vertex I [RADIUS] | select_limb_faces | select_set_faces (the faces driving the
+//   selected skin vertices) | log_set I (logs skin vertex I's elements) | export_window | export_cancel
 //   export_browse | export_press (the window's Browse... and Export buttons)
 //   bind_param local|epsilon|max_elements|scale|max_distance|separation_steps|variant VALUE (the
 //   Binding panel's fields) | rebind (its Rebind button: changed parameters become an undo step)
@@ -1609,7 +1610,7 @@ void Editor::guard_unsaved(std::function<void()> action) {
 //   export glb|obj|json MODE|- FPS all|CLIP[,CLIP] PATH (File > Export: runs in the background; the
 //   script waits for it; export_nowait: the script goes on) | heatmap on|off (the fidelity heat map)
 //   | fidelity_check (Check all clips; the script waits for it) | fidelity_cancel | fidelity_frame (logs
-//   this frame's fidelity figures), and those of run_file_script_command
+//   this frame's fidelity figures) | file_skinning on|off (L), and those of run_file_script_command
 // `move` goes through the gizmo's own path: one drag, one undo step. `gizmo_drag` grabs a handle
 // where a person would (hit-tested like a click) and drags it DX, DY pixels.
 void Editor::run_script_step() {
@@ -1752,6 +1753,10 @@ void Editor::run_script_step() {
     } else if (cmd == "export" || cmd == "export_nowait") {
       script_waits_for_export_ = cmd == "export";
       script_export(in);
+    } else if (cmd == "file_skinning") {  // on | off: show the file's own skinning (L)
+      std::string v;
+      in >> v;
+      scene_->show_file_skinning = v != "off";
     } else if (cmd == "heatmap") {  // on | off: the fidelity heat map
       std::string v;
       in >> v;
@@ -1870,6 +1875,21 @@ void Editor::run_script_step() {
       } else {
         log("error: script line " + std::to_string(script_pos_) + ": unknown set edit mode '" + m + "'", true);
       }
+    } else if (cmd == "select_set_faces") {  // the cage faces whose elements drive the selected skin vertices
+      std::vector<uint32_t> faces;
+      if (scene_->binding && scene_->doc().cage && scene_->binding->has_sets())
+        for (uint32_t p : selection_.skin_vertices)
+          if (p < scene_->binding->num_points)
+            for (uint32_t e : scene_->binding->sets().of(p)) faces.push_back(scene_->doc().cage->element_face[e]);
+      selection_.cage_faces = IndexSet(std::move(faces));
+    } else if (cmd == "log_set") {  // I: logs the elements that drive skin vertex I now
+      uint32_t p = 0;
+      in >> p;
+      std::string text = "set of skin vertex " + std::to_string(p) + ":";
+      if (scene_->binding && p < scene_->binding->num_points && scene_->binding->has_sets())
+        for (uint32_t e : scene_->binding->sets().of(p)) text += " " + std::to_string(e);
+      else text += " (not bound)";
+      log(text);
     } else if (cmd == "select_limb_faces") {  // the cage faces following the selected joints
       selection_.cage_faces = SetsPanel::limb_faces(*scene_, selection_.joints);
     } else if (cmd == "paint_at_skin_vertex") {  // I [RADIUS]: one brush stroke of one dab at skin vertex I
@@ -2095,6 +2115,7 @@ void Editor::draw_panels() {
   draw_log();
   draw_stats();
   draw_toolbar();
+  if (scene_) fidelity_panel_.draw_warning(*scene_, view_x_ + 10, view_y_ + view_h_ - 10);
   if (scene_) cage_tools_.draw_windows(*scene_, hooks_);
   if (scene_) export_panel_.draw(*scene_, hooks_);
   if (scene_) rig_panel_.draw(*scene_, selection_, mirror_.enabled, rig_mirror_tolerance(), hooks_);

@@ -125,6 +125,27 @@ void FidelityPanel::poll(const Scene& scene, const EditorHooks& hooks) {
   for (const std::string& f : rep.failures(scene.doc().character->skeleton)) hooks.log("warning: fidelity: " + f, false);
 }
 
+void FidelityPanel::draw_warning(const Scene& scene, float x, float y) {
+  if (!frame_) return;
+  const FrameFidelity& f = *frame_;
+  const bool worst = f.worst > thresholds.worst, rms = f.rms > thresholds.rms, stretch = f.stretch > thresholds.stretch;
+  if (!worst && !rms && !stretch) return;
+  ImGui::SetNextWindowPos(ImVec2(x, y), ImGuiCond_Always, ImVec2(0, 1));
+  ImGui::SetNextWindowBgAlpha(0.7f);
+  ImGui::Begin("fidelity warning", nullptr,
+               ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoSavedSettings |
+                   ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoNav | ImGuiWindowFlags_NoInputs);
+  const ImVec4 bad(1.0f, 0.45f, 0.3f, 1);
+  if (worst || rms)
+    ImGui::TextColored(bad, "Not faithful: %.1f%% of the diagonal off the file's skinning near joint '%s' (RMS %.2f%%)",
+                       100 * f.worst, joint_label(scene, f.worst_joint).c_str(), 100 * f.rms);
+  if (stretch)
+    ImGui::TextColored(bad, "A skin edge stretched %.1fx the file's skinning near joint '%s'", f.stretch,
+                       joint_label(scene, f.stretch_joint).c_str());
+  ImGui::TextDisabled("Properties > Fidelity: heat map, check all clips; L shows the file's skinning");
+  ImGui::End();
+}
+
 void FidelityPanel::draw(Scene& scene, const EditorHooks& hooks) {
   if (!scene.doc().cage || scene.doc().character->skins.empty()) return;
   ImGui::Spacing();

@@ -27,6 +27,9 @@ class FidelityPanel {
   void update(Scene& scene);
   // The section in Properties (call inside the Properties window).
   void draw(Scene& scene, const EditorHooks& hooks);
+  // The warning in the 3-D view (its bottom-left corner at x, y: screen pixels), when this frame
+  // passes a threshold: the figure and the joint nearest the worst vertex or the most stretched edge.
+  void draw_warning(const Scene& scene, float x, float y);
   // Finishes a running check: the report into the panel and the log.
   void poll(const Scene& scene, const EditorHooks& hooks);
   void start_check(const Scene& scene, const EditorHooks& hooks);
