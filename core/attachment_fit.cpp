@@ -6,11 +6,14 @@
 
 #include <Eigen/Sparse>
 #include <Eigen/SparseCholesky>
+#include <glm/geometric.hpp>
+
+#include "core/fidelity.h"
 
 namespace cagewrap {
 
 Status fit_attachment(const Character& character, const Binding& binding, const AttachmentSettings& settings,
-                      CageAttachment& att) {
+                      CageAttachment& att, const FitOptions& options) {
   const size_t nv = att.joint.size();
   const size_t np = binding.num_points;
   if (binding.num_cage_vertices != nv || att.influence_start.size() != nv + 1)
@@ -66,7 +69,7 @@ Status fit_attachment(const Character& character, const Binding& binding, const 
   double mean_diag = 0.0;
   for (Eigen::Index i = 0; i < A.rows(); ++i) mean_diag += A.coeff(i, i);
   mean_diag /= double(A.rows());
-  const double lambda = kFitRegularization * (mean_diag > 0 ? mean_diag : 1.0);
+  const double lambda = options.regularization * (mean_diag > 0 ? mean_diag : 1.0);
   Eigen::MatrixXd w0 = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(nv), static_cast<Eigen::Index>(nj));
   for (size_t v = 0; v < nv; ++v)
     for (uint32_t i = att.influence_start[v]; i < att.influence_start[v + 1]; ++i)
@@ -74,10 +77,40 @@ Status fit_attachment(const Character& character, const Binding& binding, const 
   Eigen::SparseMatrix<double> I(A.rows(), A.cols());
   I.setIdentity();
   A += lambda * I;
+  // the weights' differences along the skin's edges too (a Sobolev fit): W w should change across
+  // an edge as the file's weights do, or the rig stretches the edge where W changes faster than T
+  // (a concave armpit, where neighbouring points project far apart on the cage)
+  Eigen::SparseMatrix<double> L(static_cast<Eigen::Index>(row), static_cast<Eigen::Index>(row));
+  const double gamma = options.gradient;
+  if (gamma > 0) {
+    std::vector<glm::vec3> rest;
+    for (const Primitive& prim : character.primitives) rest.insert(rest.end(), prim.positions.begin(), prim.positions.end());
+    const auto edges = skin_edges(character);
+    double mean_len = 0.0;
+    size_t n = 0;
+    for (const auto& [a, b] : edges)
+      if (point_row[a] != UINT32_MAX && point_row[b] != UINT32_MAX) mean_len += glm::length(rest[a] - rest[b]), ++n;
+    mean_len = n ? mean_len / double(n) : 0.0;
+    std::vector<Eigen::Triplet<double>> l_entries;
+    for (const auto& [a, b] : edges) {
+      const uint32_t ra = point_row[a], rb = point_row[b];
+      if (ra == UINT32_MAX || rb == UINT32_MAX) continue;
+      const double len = glm::length(rest[a] - rest[b]);
+      if (!(len > 1e-3 * mean_len)) continue;
+      const double k = (mean_len / len) * (mean_len / len);
+      l_entries.emplace_back(ra, ra, k);
+      l_entries.emplace_back(rb, rb, k);
+      l_entries.emplace_back(ra, rb, -k);
+      l_entries.emplace_back(rb, ra, -k);
+    }
+    L.setFromTriplets(l_entries.begin(), l_entries.end());
+    A += gamma * Eigen::SparseMatrix<double>(W.transpose() * L * W);
+  }
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(A);
   if (solver.info() != Eigen::Success)
     return make_error(ErrorCode::kInvalidArgument, "the attachment fit's system could not be factorized");
-  const Eigen::MatrixXd rhs = Eigen::MatrixXd(W.transpose() * T) + lambda * w0;
+  Eigen::MatrixXd rhs = Eigen::MatrixXd(W.transpose() * T) + lambda * w0;
+  if (gamma > 0) rhs += gamma * Eigen::MatrixXd(W.transpose() * (L * T));
   const Eigen::MatrixXd w = solver.solve(rhs);
   if (solver.info() != Eigen::Success || !w.allFinite())
     return make_error(ErrorCode::kInvalidArgument, "the attachment fit's system could not be solved");

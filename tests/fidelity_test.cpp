@@ -154,8 +154,44 @@ TEST(FittedAttachment, IsCloserToTheFilesSkinningThanTheTransferredWeights) {
   EXPECT_LT(by_mode[1].overall.rms.rms, 0.97 * by_mode[0].overall.rms.rms);
 }
 
-// The rig of the extended variant with the attachment's frames is linear blend skinning with the
-// weights W w: with the fit, a straight chain the cage can express is reproduced closely.
+// The fit's term along the skin's edges lowers the largest edge stretch without moving the worst
+// vertex (measured on the demo's automatic cage: 11.4x -> 10.1x, worst 3.81% -> 3.83%).
+TEST(FittedAttachment, TheEdgeTermLowersTheWorstStretch) {
+  const Document demo = test::demo_document();
+  auto built = build_auto_cage(*demo.character);
+  ASSERT_TRUE(built.ok()) << built.error().message;
+  auto cage = make_cage(built->cage, "automatic cage");
+  ASSERT_TRUE(cage.ok());
+  const Document doc = with_cage(demo, std::make_shared<const Cage>(std::move(cage).value()));
+  auto rig = Rig::create(doc);
+  ASSERT_TRUE(rig.ok());
+  FidelityOptions o = quick();
+  o.clips = {1};  // arm_raise
+  auto with_term = check_fidelity(doc, *rig, o);
+  ASSERT_TRUE(with_term.ok());
+  // the same rig with the weights refitted without the edge term
+  auto transferred = attach_cage(*doc.character, doc.cage_positions(), doc.attachment, doc.cage->elements);
+  ASSERT_TRUE(transferred.ok());
+  FitOptions plain;
+  plain.gradient = 0.0;
+  CageAttachment without = *transferred;
+  ASSERT_TRUE(fit_attachment(*doc.character, rig->binding(), doc.attachment, without, plain).ok());
+  std::vector<glm::vec3> skin(rig->num_skin_points());
+  PosedCage posed;
+  const Pose pose = compose_pose(*doc.character, 1, 1.0, false);
+  pose_document_cage(doc, &without, pose, posed);
+  auto deformer = Deformer::create(rig->binding(), rig->skin_rest());
+  ASSERT_TRUE(deformer.ok());
+  ASSERT_TRUE(deform_through_cage(*deformer, posed, skin).ok());
+  const auto lbs = skin_character(*doc.character, pose);
+  const FrameFidelity f = compare_skins(skin, lbs, skin_edges(*doc.character), heaviest_joints(*doc.character),
+                                        with_term->diagonal, o.min_edge);
+  EXPECT_LT(with_term->overall.stretch.stretch, 0.95 * f.stretch);
+  EXPECT_LT(with_term->overall.worst.worst, f.worst + 0.002);
+}
+
+// The fit keeps overrides pinned, at most four positive weights summing to one per vertex, and the
+// separation labels of the transferred weights.
 TEST(FittedAttachment, KeepsOverridesAndAtMostFourInfluences) {
   Document doc = test::demo_document();
   const uint32_t head = static_cast<uint32_t>(doc.character->skeleton.find("head"));
