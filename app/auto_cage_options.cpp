@@ -94,4 +94,20 @@ void print_cage_report(const AutoCageReport& r, const AutoCageParams& p) {
   for (const std::string& w : r.warnings) std::printf("  %s\n", w.c_str());
 }
 
+bool add_automatic_cage(Document& doc, const AutoCageParams& params, const std::string& character_path, bool quiet) {
+  auto r = build_auto_cage(*doc.character, params, terminal_cage_progress());
+  if (!r) {
+    report_error({r.error().code, character_path + ": " + r.error().message});
+    return false;
+  }
+  auto cage = make_cage(r->cage, "automatic cage");
+  if (!cage) {
+    report_error(cage.error());
+    return false;
+  }
+  if (!quiet) print_cage_report(*r, params);
+  doc = with_cage(doc, std::make_shared<const Cage>(std::move(cage).value()));
+  return true;
+}
+
 }  // namespace cagewrap::app

@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 
 #include "core/auto_cage.h"
+#include "core/document.h"
 
 namespace cagewrap::app {
 
@@ -27,5 +28,9 @@ bool finish_auto_cage_options(AutoCageOptions& opts, const BindParams& bind);
 // A progress bar on stderr when it is a terminal.
 AutoCageProgress terminal_cage_progress();
 void print_cage_report(const AutoCageReport& r, const AutoCageParams& p);
+// Builds the automatic cage of `doc`'s character (`character_path` for messages, with a progress
+// bar) and puts it into the document, printing the report unless `quiet`; prints the error and
+// returns false when the build fails.
+bool add_automatic_cage(Document& doc, const AutoCageParams& params, const std::string& character_path, bool quiet);
 
 }  // namespace cagewrap::app

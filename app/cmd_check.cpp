@@ -149,18 +149,7 @@ void add_check_command(CLI::App& app, int& exit_code) {
       name = args->character;
       if (!doc.cage) {
         if (!finish_auto_cage_options(args->auto_cage, doc.params)) return;
-        auto r = build_auto_cage(*doc.character, args->auto_cage.params, terminal_cage_progress());
-        if (!r) {
-          report_error({r.error().code, args->character + ": " + r.error().message});
-          return;
-        }
-        auto cage = make_cage(r->cage, "automatic cage");
-        if (!cage) {
-          report_error(cage.error());
-          return;
-        }
-        if (!args->json) print_cage_report(*r, args->auto_cage.params);
-        doc = with_cage(doc, std::make_shared<const Cage>(std::move(cage).value()));
+        if (!add_automatic_cage(doc, args->auto_cage.params, args->character, args->json)) return;
       }
     }
     const Character& ch = *doc.character;

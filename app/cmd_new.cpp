@@ -46,20 +46,7 @@ void add_new_command(CLI::App& app, int& exit_code) {
       return;
     }
     *doc = with_params(*doc, args->bind.params);
-    if (automatic) {
-      auto r = build_auto_cage(*doc->character, args->auto_cage.params, terminal_cage_progress());
-      if (!r) {
-        report_error({r.error().code, args->character + ": " + r.error().message});
-        return;
-      }
-      auto cage = make_cage(r->cage, "automatic cage");
-      if (!cage) {
-        report_error(cage.error());
-        return;
-      }
-      print_cage_report(*r, args->auto_cage.params);
-      *doc = with_cage(*doc, std::make_shared<const Cage>(std::move(cage).value()));
-    }
+    if (automatic && !add_automatic_cage(*doc, args->auto_cage.params, args->character, false)) return;
     if (args->embed) {
       auto e = embed_character(*doc);
       if (!e) {

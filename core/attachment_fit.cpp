@@ -134,14 +134,7 @@ Status fit_attachment(const Character& character, const Binding& binding, const 
     if (raw.empty())  // an override, or nothing positive: the transferred weights
       for (uint32_t i = att.influence_start[v]; i < att.influence_start[v + 1]; ++i)
         raw.emplace_back(att.influence_weight[i], att.influence_joint[i]);
-    double sum = 0.0;
-    for (const auto& r : raw) sum += r.first;
-    for (const auto& r : raw) {
-      out.influence_joint.push_back(r.second);
-      out.influence_weight.push_back(static_cast<float>(r.first / sum));
-    }
-    out.joint[v] = raw.front().second;
-    out.influence_start.push_back(static_cast<uint32_t>(out.influence_joint.size()));
+    append_influences(out, v, raw);
   }
   att = std::move(out);
   return Ok{};

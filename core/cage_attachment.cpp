@@ -177,6 +177,17 @@ double smoothstep01(double t) {
 }
 }  // namespace
 
+void append_influences(CageAttachment& att, size_t v, std::span<const std::pair<double, uint32_t>> raw) {
+  double sum = 0;
+  for (const auto& r : raw) sum += r.first;
+  for (const auto& r : raw) {
+    att.influence_joint.push_back(r.second);
+    att.influence_weight.push_back(static_cast<float>(r.first / sum));
+  }
+  att.joint[v] = raw.front().second;
+  att.influence_start.push_back(static_cast<uint32_t>(att.influence_joint.size()));
+}
+
 Result<CageAttachment> attach_to_closest_limb(const Character& character, std::span<const glm::vec3> cage_rest) {
   AttachmentSettings rigid;
   rigid.mode = AttachmentMode::kRigid;
@@ -387,14 +398,7 @@ Result<CageAttachment> attach_cage(const Character& character, std::span<const g
         keep_heaviest(raw);
       }
     }
-    double sum = 0;
-    for (const auto& r : raw) sum += r.first;
-    for (const auto& r : raw) {
-      att.influence_joint.push_back(r.second);
-      att.influence_weight.push_back(static_cast<float>(r.first / sum));
-    }
-    att.joint[v] = raw.front().second;
-    att.influence_start.push_back(static_cast<uint32_t>(att.influence_joint.size()));
+    append_influences(att, v, raw);
   }
   att.label_joint = att.joint;
   return att;

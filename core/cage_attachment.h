@@ -124,6 +124,10 @@ struct CageAttachment {
   bool operator==(const CageAttachment&) const = default;
 };
 
+// Appends vertex v's influences (weight, skin joint; heaviest first, not empty) to `att`, normalized
+// to sum to one, and sets its heaviest joint: the last step of every attachment rule.
+void append_influences(CageAttachment& att, size_t v, std::span<const std::pair<double, uint32_t>> raw);
+
 // Limbs of a skin in its bind pose (from the inverse bind matrices).
 std::vector<Limb> skin_limbs(const Character& character, uint32_t skin);
 
