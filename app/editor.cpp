@@ -211,7 +211,8 @@ class Editor {
   CageTools cage_tools_;
   ExportPanel export_panel_;
   FidelityPanel fidelity_panel_;
-  bool script_waits_for_export_ = true;  // false after `export_nowait`: the script goes on meanwhile
+  bool script_waits_for_export_ = true;
+  bool script_waits_for_fidelity_ = true;  // false after `fidelity_check_nowait`  // false after `export_nowait`: the script goes on meanwhile
   SkinDisplay skin_display_;  // the skin on the GPU or the CPU, and the frame-time split
   RigPanel rig_panel_;
   SetsPanel sets_panel_;
@@ -1609,7 +1610,8 @@ void Editor::guard_unsaved(std::function<void()> action) {
 //   memory PATH [LABEL] (appends the resident memory and the undo history's size to PATH: the soak test)
 //   export glb|obj|json MODE|- FPS all|CLIP[,CLIP] PATH (File > Export: runs in the background; the
 //   script waits for it; export_nowait: the script goes on) | heatmap on|off (the fidelity heat map)
-//   | fidelity_check (Check all clips; the script waits for it) | fidelity_cancel | fidelity_frame (logs
+//   | fidelity_check (Check all clips; the script waits for it; fidelity_check_nowait: it goes on) |
+//   fidelity_cancel | fidelity_frame (logs
 //   this frame's fidelity figures) | file_skinning on|off (L), and those of run_file_script_command
 // `move` goes through the gizmo's own path: one drag, one undo step. `gizmo_drag` grabs a handle
 // where a person would (hit-tested like a click) and drags it DX, DY pixels.
@@ -1761,7 +1763,8 @@ void Editor::run_script_step() {
       std::string v;
       in >> v;
       fidelity_panel_.heat_map = v != "off";
-    } else if (cmd == "fidelity_check") {  // Check all clips; the script waits for it
+    } else if (cmd == "fidelity_check" || cmd == "fidelity_check_nowait") {  // Check all clips; the script waits for it
+      script_waits_for_fidelity_ = cmd == "fidelity_check";
       fidelity_panel_.start_check(*scene_, hooks_);
     } else if (cmd == "fidelity_cancel") {
       fidelity_panel_.cancel();
@@ -2236,8 +2239,9 @@ int Editor::run() {
     handle_input();
     // a scripted run waits for the first bind so that the steps act on the deformed skin
     const bool export_blocks = export_panel_.busy() && script_waits_for_export_;
+    const bool fidelity_blocks = fidelity_panel_.busy() && script_waits_for_fidelity_;
     if (!script_.empty() && !(scene_ && (scene_->job || cage_tools_.busy() || patch_panel_.busy() || export_blocks ||
-                                         fidelity_panel_.busy())))
+                                         fidelity_blocks)))
       run_script_step();
 
     const auto scene_start = std::chrono::steady_clock::now();

@@ -1,0 +1,90 @@
+// The editor's Fidelity section (app/fidelity_panel.h), run for real under Xvfb: the heat map
+// colours the skin where the rig leaves the file's skinning, the warning names a joint, "Check all
+// clips" reports every clip in the log, and Cancel stops it.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "gui_harness.h"
+
+namespace cagewrap {
+namespace {
+
+namespace fs = std::filesystem;
+using namespace cagewrap::test;
+
+// A project on the demo whose cage is shifted 30 cm sideways: its vertices take the weights of the
+// wrong limbs, and the rig is far from the file's skinning.
+fs::path bad_project(const fs::path& dir) {
+  const fs::path cage = dir / "shifted_cage.obj", project = dir / "shifted.cagewrap";
+  std::ifstream in(std::string(CAGEWRAP_SOURCE_DIR) + "/assets/demo_cage.obj");
+  std::ofstream out(cage);
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.rfind("v ", 0) == 0) {
+      double x, y, z;
+      std::sscanf(line.c_str(), "v %lf %lf %lf", &x, &y, &z);
+      out << "v " << x + 0.3 << " " << y << " " << z << "\n";
+    } else {
+      out << line << "\n";
+    }
+  }
+  out.close();
+  const std::string cmd = std::string(CAGEWRAP_BINARY) + " new --character '" + CAGEWRAP_SOURCE_DIR +
+                          "/assets/demo_character.glb' --cage '" + cage.string() + "' --out '" + project.string() + "' > /dev/null";
+  EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  return project;
+}
+
+size_t red_pixels(const Image& img) {
+  size_t hot = 0;
+  for (int y = kTop; y < img.h - kBottom; ++y)
+    for (int x = kLeft; x < img.w - kRight; ++x) {
+      const unsigned char* p = img.at(x, y);
+      if (p[0] > 170 && p[1] < 80 && p[2] < 80) ++hot;
+    }
+  return hot;
+}
+
+TEST(EditorFidelity, HeatMapWarningAndCheckAllClipsOnABadCage) {
+  std::string why;
+  if (!gui_available(why)) GTEST_SKIP() << why;
+  const fs::path dir = gui_test_dir() / "fidelity";
+  fs::create_directories(dir);
+  const fs::path project = bad_project(dir);
+  std::ofstream(dir / "bad.script") << "clip walk\ntime 0.5\nheatmap on\nwait 3\nfidelity_frame\nfidelity_check\nwait 1\n";
+  const Image hot = screenshot(project.string() + " --script " + (dir / "bad.script").string(), "fidelity_bad");
+  const std::string log = read_file(gui_test_dir() / "fidelity_bad.log");
+  EXPECT_NE(log.find("fidelity, this frame: worst "), std::string::npos) << log;
+  EXPECT_NE(log.find("fidelity, every clip ("), std::string::npos) << log;
+  EXPECT_NE(log.find("(over the thresholds)"), std::string::npos) << log;
+  EXPECT_NE(log.find("warning: fidelity: worst vertex"), std::string::npos) << log;
+  EXPECT_NE(log.find("joint '"), std::string::npos) << log;
+  // the same frame without the heat map: the red is the map's
+  std::ofstream(dir / "plain.script") << "clip walk\ntime 0.5\nwait 3\n";
+  const Image plain = screenshot(project.string() + " --script " + (dir / "plain.script").string(), "fidelity_plain");
+  // measured at 1280 x 720: 922 red pixels with the map (the right leg); without it, under 40
+  EXPECT_GT(red_pixels(hot), 400u);
+  EXPECT_LT(red_pixels(plain), 40u);
+}
+
+TEST(EditorFidelity, TheDemoRigIsGreyAtRestAndCancelStopsTheCheck) {
+  std::string why;
+  if (!gui_available(why)) GTEST_SKIP() << why;
+  const fs::path dir = gui_test_dir() / "fidelity";
+  fs::create_directories(dir);
+  // at rest the demo's rig is its skinning: no red anywhere; the check is cancelled at once
+  std::ofstream(dir / "rest.script") << "clip rest\nheatmap on\nwait 3\nfidelity_frame\nfidelity_check_nowait\nfidelity_cancel\nwait 2\n";
+  const std::string args = std::string(CAGEWRAP_SOURCE_DIR) + "/assets/demo_character.glb --cage " + CAGEWRAP_SOURCE_DIR +
+                           "/assets/demo_cage.obj --script " + (dir / "rest.script").string();
+  const Image img = screenshot(args, "fidelity_rest");
+  const std::string log = read_file(gui_test_dir() / "fidelity_rest.log");
+  EXPECT_NE(log.find("fidelity, this frame: worst 0.0000%"), std::string::npos) << log;
+  EXPECT_LT(red_pixels(img), 50u);
+  EXPECT_NE(log.find("fidelity check cancelled"), std::string::npos) << log;
+}
+
+}  // namespace
+}  // namespace cagewrap
