@@ -5,7 +5,14 @@
 
 #include <filesystem>
 #include <fstream>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <iterator>
 #include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "gui_harness.h"
 
@@ -84,6 +91,44 @@ TEST(EditorFidelity, TheDemoRigIsGreyAtRestAndCancelStopsTheCheck) {
   EXPECT_NE(log.find("fidelity, this frame: worst 0.0000%"), std::string::npos) << log;
   EXPECT_LT(red_pixels(img), 50u);
   EXPECT_NE(log.find("fidelity check cancelled"), std::string::npos) << log;
+}
+
+// The editor's automatic cage (Cage > Automatic cage, default settings) is the cage `cagewrap cage`
+// builds, vertex for vertex: the default path gives one rig in the editor and on the command line.
+TEST(EditorFidelity, TheEditorsAutomaticCageIsTheCommandLinesCage) {
+  std::string why;
+  if (!gui_available(why)) GTEST_SKIP() << why;
+  const fs::path dir = gui_test_dir() / "fidelity";
+  fs::create_directories(dir);
+  const std::string demo = std::string(CAGEWRAP_SOURCE_DIR) + "/assets/demo_character.glb";
+  const fs::path saved = dir / "auto.cagewrap", cli = dir / "cli_cage.obj";
+  fs::remove(saved);
+  std::ofstream(dir / "auto.script") << "auto_cage\nwait 2\nsave " << saved.string() << "\n";
+  screenshot(demo + " --script " + (dir / "auto.script").string(), "fidelity_auto");
+  const std::string cmd = std::string(CAGEWRAP_BINARY) + " cage --mesh '" + demo + "' --out '" + cli.string() + "' > /dev/null 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  std::ifstream pf(saved);
+  ASSERT_TRUE(pf.good()) << saved << "\n" << read_file(gui_test_dir() / "fidelity_auto.log");
+  const nlohmann::json project = nlohmann::json::parse(pf);
+  const auto& positions = project.at("cage").at("positions");
+  std::vector<std::array<double, 3>> from_cli;
+  size_t cli_faces = 0;
+  std::ifstream obj(cli);
+  std::string line;
+  while (std::getline(obj, line))
+    if (line.rfind("f ", 0) == 0) {
+      ++cli_faces;
+    } else if (line.rfind("v ", 0) == 0) {
+      std::array<double, 3> v{};
+      std::sscanf(line.c_str(), "v %lf %lf %lf", &v[0], &v[1], &v[2]);
+      from_cli.push_back(v);
+    }
+  ASSERT_EQ(positions.size(), from_cli.size());
+  double worst = 0;
+  for (size_t i = 0; i < from_cli.size(); ++i)
+    for (int k = 0; k < 3; ++k) worst = std::max(worst, std::abs(positions[i][k].get<double>() - from_cli[i][k]));
+  EXPECT_LT(worst, 1e-6) << "the OBJ keeps 9 significant digits";
+  EXPECT_EQ(project.at("cage").at("faces").size(), cli_faces);
 }
 
 }  // namespace
