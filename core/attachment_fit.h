@@ -33,6 +33,9 @@ inline constexpr double kFitRegularization = 1e-3;
 // 0.1% of the diagonal; at 3 and 10 the RMS grows (mannequin 0.18% -> 0.25%, 0.35%).
 inline constexpr double kFitGradient = 1.0;
 
+// Points the fit reads at most (a larger skin is sampled evenly, with the edges of the sampled points).
+inline constexpr size_t kFitMaxPoints = 200000;
+
 struct FitOptions {
   double regularization = kFitRegularization;
   double gradient = kFitGradient;  // 0: the weights alone
