@@ -1,9 +1,11 @@
 #include "app/fidelity_panel.h"
 
+// The panel lives in the editor only (a build without the GUI has none).
+#if CAGEWRAP_GUI
+#include <imgui/imgui.h>
+
 #include <algorithm>
 #include <cstdio>
-
-#include <imgui.h>
 
 #include "core/skinning.h"
 
@@ -216,3 +218,5 @@ void FidelityPanel::draw(Scene& scene, const EditorHooks& hooks) {
 }
 
 }  // namespace cagewrap::app
+
+#endif  // CAGEWRAP_GUI
