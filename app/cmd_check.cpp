@@ -46,8 +46,6 @@ nlohmann::json clip_json(const ClipFidelity& c, const Skeleton& sk, double diago
           {"stretch", frame_json(c.stretch, sk, diagonal)}};
 }
 
-}  // namespace
-
 nlohmann::json fidelity_json(const FidelityReport& r, const Skeleton& sk) {
   nlohmann::json clips = nlohmann::json::array();
   for (const ClipFidelity& c : r.clips) clips.push_back(clip_json(c, sk, r.diagonal));
@@ -83,6 +81,8 @@ void print_fidelity_table(const FidelityReport& r, const Skeleton& sk) {
   if (failures.empty()) std::printf("passed\n");
   for (const std::string& f : failures) std::printf("FAILED: %s\n", f.c_str());
 }
+
+}  // namespace
 
 void add_check_command(CLI::App& app, int& exit_code) {
   struct Args {

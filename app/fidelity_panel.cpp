@@ -5,6 +5,7 @@
 #include <imgui/imgui.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 
 #include "core/skinning.h"
@@ -47,6 +48,11 @@ void FidelityPanel::update(Scene& scene) {
   std::string key = doc_key(scene) + t + (heat_map ? "/h" : "");
   for (const auto& q : scene.pose_override) key += std::to_string(q.x + 3 * q.y + 7 * q.z);
   if (key == key_) return;
+  // while the frame keeps changing (playback, a drag) measure at most 4 times a second: the file's
+  // skinning and, on the GPU path, a CPU copy of the rig's skin cost a frame's worth at 1M vertices
+  const double now = std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+  if (scene.player.playing() && now - measured_at_ < 0.25) return;
+  measured_at_ = now;
   key_ = key;
   const Character& ch = *doc.character;
   if (character_ != &ch) {

@@ -23,7 +23,8 @@ namespace cagewrap::app {
 
 class FidelityPanel {
  public:
-  // Measures the current frame when it changed (pose, binding, attachment, document); cheap when not.
+  // Measures the current frame when it changed (pose, binding, attachment, document; while a clip
+  // plays, at most 4 times a second); cheap when not.
   void update(Scene& scene);
   // The section in Properties (call inside the Properties window).
   void draw(Scene& scene, const EditorHooks& hooks);
@@ -53,6 +54,7 @@ class FidelityPanel {
   const Character* character_ = nullptr;  // edges_ and joints_ are of this character
   double diagonal_ = 1.0;
   std::string key_;  // what frame_ was measured for
+  double measured_at_ = -1e9;  // steady-clock seconds of the last measurement
   std::optional<FidelityReport> report_;
   std::string report_key_;  // the document the report is of (stale when it changed)
   std::unique_ptr<BackgroundTask<FidelityReport>> job_;

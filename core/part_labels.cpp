@@ -25,16 +25,25 @@ std::vector<uint32_t> dominant_joint_nodes(const Character& character) {
   return out;
 }
 
+namespace {
+// Every node's head in the bind pose: a joint's from its inverse bind matrix, any other node's from
+// the rest pose.
+std::vector<glm::vec3> bind_node_heads(const Character& character) {
+  const Skeleton& sk = character.skeleton;
+  const std::vector<glm::mat4> rest = sk.global_transforms(sk.rest_pose());
+  std::vector<glm::vec3> head(sk.size());
+  for (size_t i = 0; i < head.size(); ++i) head[i] = glm::vec3(rest[i][3]);
+  for (const Skin& skin : character.skins)
+    for (size_t j = 0; j < skin.joints.size(); ++j)
+      if (skin.joints[j] < head.size()) head[skin.joints[j]] = glm::vec3(glm::inverse(glm::dmat4(skin.inverse_bind[j]))[3]);
+  return head;
+}
+}  // namespace
+
 std::vector<uint8_t> chained_nodes(const Character& character, double reach) {
   const Skeleton& sk = character.skeleton;
   const size_t n = sk.size();
-  // bind-pose heads: a joint's from its inverse bind matrix, any other node's from the rest pose
-  std::vector<glm::dvec3> head(n);
-  const std::vector<glm::mat4> rest = sk.global_transforms(sk.rest_pose());
-  for (size_t i = 0; i < n; ++i) head[i] = glm::dvec3(rest[i][3]);
-  for (const Skin& skin : character.skins)
-    for (size_t j = 0; j < skin.joints.size(); ++j)
-      if (skin.joints[j] < n) head[skin.joints[j]] = glm::dvec3(glm::inverse(glm::dmat4(skin.inverse_bind[j]))[3]);
+  const std::vector<glm::vec3> head = bind_node_heads(character);
   std::vector<uint8_t> out(n * n, 0);
   for (size_t a = 0; a < n; ++a) {
     out[a * n + a] = 1;
@@ -42,7 +51,7 @@ std::vector<uint8_t> chained_nodes(const Character& character, double reach) {
     size_t steps = 0;
     for (int32_t x = static_cast<int32_t>(a), p = sk.node(a).parent; p >= 0 && steps < n;
          x = p, p = sk.node(static_cast<size_t>(p)).parent, ++steps) {
-      length += glm::length(head[static_cast<size_t>(x)] - head[static_cast<size_t>(p)]);
+      length += glm::length(glm::dvec3(head[static_cast<size_t>(x)]) - glm::dvec3(head[static_cast<size_t>(p)]));
       if (!(length <= reach)) break;
       out[a * n + size_t(p)] = out[size_t(p) * n + a] = 1;
     }
@@ -117,12 +126,7 @@ Result<PartLabels> skeleton_part_labels(const Character& character, const CageAt
   labels.related = part_relation(character);
   {
     const Skeleton& s = character.skeleton;
-    const std::vector<glm::mat4> rest = s.global_transforms(s.rest_pose());
-    labels.head.resize(nodes);
-    for (size_t i = 0; i < nodes; ++i) labels.head[i] = glm::vec3(rest[i][3]);
-    for (const Skin& sk : character.skins)
-      for (size_t j = 0; j < sk.joints.size(); ++j)
-        if (sk.joints[j] < nodes) labels.head[sk.joints[j]] = glm::vec3(glm::inverse(sk.inverse_bind[j])[3]);
+    labels.head = bind_node_heads(character);
     labels.length.assign(nodes, 0.0f);
     for (size_t i = 0; i < nodes; ++i) {
       float longest = 0.0f;  // a bone runs from its head to its children's heads

@@ -11,6 +11,7 @@ PACKAGES=(
   libtbb-dev nlohmann-json3-dev libcli11-dev libstb-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   xvfb xauth
+  python3
   clang libclang-rt-14-dev
 )
 
