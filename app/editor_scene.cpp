@@ -60,24 +60,40 @@ bool Scene::needs_rebind() const {
 }
 
 void Scene::adopt_binding(Binding b) {
-  auto owned = std::make_unique<Binding>(std::move(b));
-  auto d = Deformer::create(*owned, skin_rest);  // refers to the binding: made from its final place
-  if (!d) return;  // a fresh bind follows
-  deformer.reset();
-  binding = std::move(owned);
-  deformer.emplace(std::move(d).value());
+  auto previous = std::move(binding);
+  binding = std::make_unique<Binding>(std::move(b));
+  if (!make_deformer().ok()) {  // a fresh bind follows
+    binding = std::move(previous);
+    if (binding) static_cast<void>(make_deformer());  // the previous one again (it worked before)
+    return;
+  }
   bound_cage = doc().cage;
   bound_edits_ = doc().set_edits;
   bound_attachment_ = doc().attachment;
   bound_attachment_data_ = attachment;
   params = doc().params;
-  refit_attachment();
 }
 
-void Scene::refit_attachment() {
-  if (!attachment || !binding || doc().attachment.mode != AttachmentMode::kFitted) return;
-  if (binding->num_cage_vertices != attachment->joint.size()) return;
-  if (fit_attachment(*doc().character, *binding, doc().attachment, *attachment).ok()) attachment_revision = next_revision();
+Status Scene::make_deformer() {
+  if (!binding) return make_error(ErrorCode::kInvalidArgument, "no binding");
+  std::unique_ptr<Binding> fitted;
+  if (attachment && doc().attachment.mode == AttachmentMode::kFitted &&
+      binding->num_cage_vertices == attachment->joint.size()) {
+    // from the transferred weights, as Rig::create fits them
+    CageAttachment a = transferred_ && transferred_->joint.size() == attachment->joint.size() ? *transferred_ : *attachment;
+    if (auto f = fit_rig(*doc().character, *binding, doc().attachment, a); f.ok()) {
+      attachment = std::move(a);
+      attachment_revision = next_revision();
+      if (*f) fitted = std::make_unique<Binding>(std::move(**f));
+    }
+  }
+  binding_revision = next_revision();
+  deformer.reset();  // it read the binding about to be replaced
+  rig_binding = std::move(fitted);
+  auto d = Deformer::create(rig_binding ? *rig_binding : *binding, skin_rest);  // refers to it: made from its final place
+  if (!d) return make_error(d.error().code, d.error().message);
+  deformer.emplace(std::move(d).value());
+  return Ok{};
 }
 
 void Scene::start_bind() {
@@ -113,6 +129,7 @@ void Scene::document_changed() {
       auto att = attach_cage(*doc().character, cage->polygons.positions, doc().attachment, cage->elements);
       if (!att) att = attach_to_closest_limb(*doc().character, cage->polygons.positions);
       if (att) attachment = std::move(att).value();
+      transferred_ = attachment;
     }
     attached_cage_ = cage;
     attached_settings_ = doc().attachment;
@@ -170,12 +187,9 @@ bool Scene::update_set_edits_live(const std::vector<SetEdit>& edits, std::span<c
     rebinder_for_ = binding.get();
   }
   if (!rebinder_->update(*binding, edits, points).ok()) return false;
-  if (!deformer->stencil_changed().ok()) return false;
-  binding_revision = next_revision();
   bound_edits_ = edits;
   pending_edits_ = edits;
-  refit_attachment();
-  return true;
+  return make_deformer().ok();
 }
 
 std::optional<std::string> Scene::poll_bind() {
@@ -188,11 +202,8 @@ std::optional<std::string> Scene::poll_bind() {
     bound_edits_ = pending_edits_;
     bound_attachment_ = pending_attachment_;
     bound_attachment_data_ = pending_attachment_data_;
-    auto d = Deformer::create(*binding, skin_rest);
-    binding_revision = next_revision();
+    auto d = make_deformer();
     if (d.ok()) {
-      deformer.emplace(std::move(d).value());
-      refit_attachment();
       char buf[256];
       if (pending_rest_report_ && pending_rest_report_->points < binding->num_points)
         std::snprintf(buf, sizeof buf, "rest cage edit: %zu moved vertices, %zu of %u skin points registered again in %.3f s",
@@ -203,7 +214,6 @@ std::optional<std::string> Scene::poll_bind() {
                     binding->rigid_points.size(), 100 * binding->quality());
       message = buf;
     } else {
-      deformer.reset();  // it read the binding just replaced
       message = "error: " + d.error().message;
     }
   } else {

@@ -108,10 +108,15 @@ struct Scene {
   void fill_simulation(double budget_ms);
 
   bool needs_rebind() const;
-  // A fitted attachment (core/attachment_fit.h) made again from the current binding; called whenever
-  // the binding changes (a bind ends, a cached one is adopted, a live set edit).
-  void refit_attachment();
-  uint64_t attachment_revision = 0;  // changes whenever refit_attachment changes `attachment`
+  // The deformer made again from the current binding, whenever it changes (a bind ends, a cached one
+  // is adopted, a live set edit): with a fitted attachment, the rig's fit (core/attachment_fit.h
+  // fit_rig, as Rig and `cagewrap pose` make it: the attachment fitted from the transferred weights
+  // and the stencil smoothed where the rig would stretch the skin) goes into `rig_binding`, which
+  // the deformer reads when the fit smoothed the stencil; `binding` stays the registration (sets,
+  // live edits, rest edits, the cache).
+  Status make_deformer();
+  std::unique_ptr<Binding> rig_binding;  // the smoothed stencil `deformer` reads, or null: `binding`
+  uint64_t attachment_revision = 0;  // changes whenever make_deformer fits `attachment` again
   // Takes a binding made earlier for the document as it is (a project's cache: the caller checked
   // binding_fits), as a finished bind would; call before document_changed so that none starts.
   void adopt_binding(Binding binding);
@@ -159,6 +164,7 @@ struct Scene {
   AttachmentSettings pending_attachment_, bound_attachment_;
   std::shared_ptr<const Cage> attached_cage_;  // the cage `attachment` was made for
   AttachmentSettings attached_settings_;       // and the settings it was made with
+  std::optional<CageAttachment> transferred_;  // `attachment` as attach_cage made it (before any fit)
 };
 
 // Loads a character file (glTF) and optionally a cage; errors name the file.

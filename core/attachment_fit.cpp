@@ -8,6 +8,8 @@
 #include <Eigen/SparseCholesky>
 #include <glm/geometric.hpp>
 
+#include "core/stencil_smooth.h"
+
 namespace cagewrap {
 
 Status fit_attachment(const Character& character, const Binding& binding, const AttachmentSettings& settings,
@@ -152,6 +154,19 @@ Status fit_attachment(const Character& character, const Binding& binding, const 
   out.influence_start.assign(1, 0);
   out.influence_joint.clear();
   out.influence_weight.clear();
+  // a vertex follows only joints of one chain (its heaviest joint's ancestors and descendants): a
+  // thigh's vertex never takes the other leg, whatever the least squares would trade for it
+  const Skeleton& sk = character.skeleton;
+  const Skin& skin = character.skins[att.skin];
+  auto above = [&](uint32_t a, uint32_t b) {  // a is b or an ancestor of b
+    for (int32_t x = static_cast<int32_t>(b); x >= 0 && size_t(x) < sk.size(); x = sk.node(size_t(x)).parent)
+      if (static_cast<uint32_t>(x) == a) return true;
+    return false;
+  };
+  auto same_chain = [&](uint32_t a, uint32_t b) {  // skin joints
+    const uint32_t x = skin.joints[a], y = skin.joints[b];
+    return above(x, y) || above(y, x);
+  };
   std::vector<std::pair<double, uint32_t>> raw;
   for (size_t v = 0; v < nv; ++v) {
     raw.clear();
@@ -161,6 +176,10 @@ Status fit_attachment(const Character& character, const Binding& binding, const 
         if (x > 1e-4) raw.emplace_back(x, static_cast<uint32_t>(j));
       }
       std::stable_sort(raw.begin(), raw.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+      if (!raw.empty()) {
+        const uint32_t heaviest = raw[0].second;
+        std::erase_if(raw, [&](const auto& x) { return !same_chain(heaviest, x.second); });
+      }
       if (raw.size() > kMaxAttachmentInfluences) raw.resize(kMaxAttachmentInfluences);
     }
     if (raw.empty())  // an override, or nothing positive: the transferred weights
@@ -170,6 +189,22 @@ Status fit_attachment(const Character& character, const Binding& binding, const 
   }
   att = std::move(out);
   return Ok{};
+}
+
+Result<std::optional<Binding>> fit_rig(const Character& character, const Binding& registration,
+                                       const AttachmentSettings& settings, CageAttachment& att) {
+  if (auto f = fit_attachment(character, registration, settings, att); !f) return f.error();
+  if (registration.params.variant != Variant::kExtended || registration.num_points > kSmoothMaxPoints ||
+      registration.num_points != character.num_vertices())
+    return std::optional<Binding>();
+  const SkinGraph graph = character_skin_graph(character);
+  const std::vector<float> excess = rig_weight_excess(registration, graph, character, att);
+  const StencilSmoothing options;
+  if (std::none_of(excess.begin(), excess.end(), [&](float x) { return x > options.jump_low; }))
+    return std::optional<Binding>();
+  std::optional<Binding> smoothed = registration;
+  smooth_stencil(*smoothed, graph, options, excess, related_to_file_weights(graph, character, att));
+  return smoothed;
 }
 
 }  // namespace cagewrap

@@ -13,11 +13,14 @@
 // (mean edge / edge)^2 (so that W w also changes along every skin edge as T does: where W changes
 // faster than T, in a concave armpit, the rig would stretch the edge), gamma = kFitGradient; one
 // sparse Cholesky factorization for all joints. Then each vertex keeps its
-// kMaxAttachmentInfluences largest positive weights, normalized (a cage is skinned with at most
-// four). Where the cage cannot express the file's weights (a crease sharper than the cage's
+// kMaxAttachmentInfluences largest positive weights on one chain of the skeleton (the heaviest
+// joint's ancestors and descendants: no vertex follows a joint of another limb), normalized (a cage
+// is skinned with at most four). Where the cage cannot express the file's weights (a crease sharper than the cage's
 // resolution) the rig is the least-squares closest it can be; elsewhere it equals the file's
 // skinning. Other variants use the same weights (their rig is close to, not equal to, LBS).
 #pragma once
+
+#include <optional>
 
 #include "core/binding.h"
 #include "core/cage_attachment.h"
@@ -46,5 +49,16 @@ struct FitOptions {
 // corners, a third each). Overrides keep their joint. Fails on mismatched sizes.
 Status fit_attachment(const Character& character, const Binding& binding, const AttachmentSettings& settings,
                       CageAttachment& att, const FitOptions& options = {});
+
+// The default rig's fit (Rig and the editor share it): fit_attachment; then, where the rig's skin
+// weights E change across the skin's edges faster than the file's (core/stencil_smooth.h,
+// rig_weight_excess: the edges a posed rig would stretch), the registration's stencil is smoothed
+// along the skin in a copy. The attachment is not fitted again to the smoothed stencil: measured,
+// refitting undoes part of the gain and worsens the mannequin (worst 1.44% -> 2.12%, stretch 3.5x ->
+// 6.3x; docs/algorithm-notes.md). Returns that copy (what the deformer reads), or nothing when the
+// registration is used as it is (not extended, a skin over kSmoothMaxPoints, nothing to smooth).
+// The registration itself (its sets, the cache, live edits) is not changed.
+Result<std::optional<Binding>> fit_rig(const Character& character, const Binding& registration,
+                                       const AttachmentSettings& settings, CageAttachment& att);
 
 }  // namespace cagewrap

@@ -76,8 +76,9 @@ struct Rig::State {
   Document doc;  // the document the rig was made for (its cage, parameters, set edits, attachment)
   std::vector<glm::vec3> skin_rest;  // #P
   std::optional<CageAttachment> attachment;
-  Binding binding;
-  std::optional<Deformer> deformer;  // refers to binding and skin_rest: State never moves
+  Binding binding;                   // the registration (sets, the cache)
+  std::optional<Binding> fitted;     // the stencil the deformer reads when fit_rig smoothed it
+  std::optional<Deformer> deformer;  // refers to fitted or binding and skin_rest: State never moves
   SimCache sims;                     // the simulated clips (pose_clip)
 };
 
@@ -167,10 +168,12 @@ Result<Rig> Rig::make(const Document& doc, Binding* binding, const BindProgress&
     if (!bound) return make_error(bound.error().code, "bind: " + bound.error().message);
     s.binding = std::move(bound).value();
   }
-  if (s.attachment && doc.attachment.mode == AttachmentMode::kFitted)
-    if (auto f = fit_attachment(ch, s.binding, doc.attachment, *s.attachment); !f)
-      return make_error(f.error().code, "attachment: " + f.error().message);
-  auto deformer = Deformer::create(s.binding, s.skin_rest);
+  if (s.attachment && doc.attachment.mode == AttachmentMode::kFitted) {
+    auto f = fit_rig(ch, s.binding, doc.attachment, *s.attachment);
+    if (!f) return make_error(f.error().code, "attachment: " + f.error().message);
+    s.fitted = std::move(f).value();
+  }
+  auto deformer = Deformer::create(s.fitted ? *s.fitted : s.binding, s.skin_rest);
   if (!deformer) return make_error(deformer.error().code, "bind: " + deformer.error().message);
   s.deformer.emplace(std::move(deformer).value());
   return rig;
@@ -216,6 +219,7 @@ Status Rig::pose_clip(const Document& doc, int32_t clip, double t, std::span<con
 size_t Rig::num_skin_points() const { return state_->skin_rest.size(); }
 std::span<const glm::vec3> Rig::skin_rest() const { return state_->skin_rest; }
 const Binding& Rig::binding() const { return state_->binding; }
+const Binding& Rig::deformer_binding() const { return state_->fitted ? *state_->fitted : state_->binding; }
 const CageAttachment* Rig::attachment() const { return state_->attachment ? &*state_->attachment : nullptr; }
 
 }  // namespace cagewrap

@@ -104,7 +104,11 @@ class Rig {
 
   size_t num_skin_points() const;
   std::span<const glm::vec3> skin_rest() const;
+  // The registration: the sets, what a project's cache holds (bind_document's result).
   const Binding& binding() const;
+  // What the deformer reads: the registration, or with a fitted attachment its stencil smoothed
+  // where the rig would stretch the skin (core/attachment_fit.h fit_rig).
+  const Binding& deformer_binding() const;
   const CageAttachment* attachment() const;
 
   Rig(Rig&&) noexcept;

@@ -1,0 +1,356 @@
+#include "core/stencil_smooth.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include <glm/geometric.hpp>
+
+#include "core/cage_attachment.h"
+#include "core/character.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+namespace cagewrap {
+
+namespace {
+// |a - b|_1 of two sparse weight lists
+double influence_distance(const Influences& a, const Influences& b) {
+  double d = 0.0;
+  for (const auto& [j, w] : a) {
+    float o = 0.0f;
+    for (const auto& [k, x] : b)
+      if (k == j) o = x;
+    d += std::abs(double(w) - double(o));
+  }
+  for (const auto& [k, x] : b) {
+    bool in_a = false;
+    for (const auto& [j, w] : a) in_a |= j == k;
+    if (!in_a) d += std::abs(double(x));
+  }
+  return d;
+}
+}  // namespace
+
+SkinGraph build_skin_graph(std::span<const glm::vec3> positions, std::span<const Tri> triangles,
+                           std::span<const Influences> influences) {
+  SkinGraph g;
+  const bool have_t = influences.size() == positions.size();
+  const size_t n = positions.size();
+  if (n == 0) return g;
+  // weld exact duplicates: sort by position, one node per run
+  std::vector<uint32_t> order(n);
+  std::iota(order.begin(), order.end(), 0u);
+  auto less = [&](uint32_t a, uint32_t b) {
+    const glm::vec3 &p = positions[a], &q = positions[b];
+    if (p.x != q.x) return p.x < q.x;
+    if (p.y != q.y) return p.y < q.y;
+    if (p.z != q.z) return p.z < q.z;
+    return a < b;
+  };
+  std::sort(order.begin(), order.end(), less);
+  g.node.assign(n, 0);
+  uint32_t nodes = 0;
+  for (size_t i = 0; i < n; ++i) {
+    if (i > 0 && (positions[order[i]] != positions[order[i - 1]] ||
+                  (have_t && influence_distance(influences[order[i]], influences[order[i - 1]]) > 1e-3)))
+      ++nodes;
+    g.node[order[i]] = nodes;
+  }
+  ++nodes;
+  struct Edge {
+    uint32_t a, b;
+    float w;
+  };
+  std::vector<Edge> edges;
+  edges.reserve(triangles.size() * 6);
+  for (const Tri& t : triangles)
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t a = t[k], b = t[(k + 1) % 3];
+      if (a >= n || b >= n) continue;
+      const uint32_t na = g.node[a], nb = g.node[b];
+      if (na == nb) continue;
+      float w = 1.0f;
+      if (have_t) {
+        const double x = std::max(0.0, 1.0 - influence_distance(influences[a], influences[b]) / kSmoothWeightJump);
+        w = static_cast<float>(x * x);
+      }
+      edges.push_back({na, nb, w});
+      edges.push_back({nb, na, w});
+    }
+  std::sort(edges.begin(), edges.end(), [](const Edge& x, const Edge& y) {
+    return x.a != y.a ? x.a < y.a : (x.b != y.b ? x.b < y.b : x.w < y.w);
+  });
+  // one entry per neighbour (the smallest weight of its edges)
+  edges.erase(std::unique(edges.begin(), edges.end(), [](const Edge& x, const Edge& y) { return x.a == y.a && x.b == y.b; }),
+              edges.end());
+  g.offsets.assign(size_t(nodes) + 1, 0);
+  for (const auto& e : edges) ++g.offsets[e.a + 1];
+  for (size_t i = 0; i < nodes; ++i) g.offsets[i + 1] += g.offsets[i];
+  g.neighbours.resize(edges.size());
+  g.weights.resize(edges.size());
+  for (size_t i = 0; i < edges.size(); ++i) g.neighbours[i] = edges[i].b, g.weights[i] = edges[i].w;
+  g.positions.resize(nodes);
+  for (size_t i = 0; i < n; ++i) g.positions[g.node[i]] = positions[i];
+  if (have_t) {
+    g.influence.resize(nodes);
+    for (size_t i = 0; i < n; ++i) g.influence[g.node[i]] = influences[i];
+  }
+  return g;
+}
+
+SkinGraph character_skin_graph(const Character& ch) {
+  std::vector<glm::vec3> positions;
+  std::vector<Tri> tris;
+  std::vector<Influences> infl;
+  uint32_t base = 0;
+  for (const Primitive& p : ch.primitives) {
+    positions.insert(positions.end(), p.positions.begin(), p.positions.end());
+    for (const Tri& t : p.triangles) tris.push_back({t[0] + base, t[1] + base, t[2] + base});
+    const bool skinned = p.skin >= 0 && size_t(p.skin) < ch.skins.size() && p.influence_start.size() == p.num_vertices() + 1;
+    for (size_t v = 0; v < p.num_vertices(); ++v) {
+      Influences list;
+      if (skinned) {
+        const Skin& s = ch.skins[size_t(p.skin)];
+        for (uint32_t k = p.influence_start[v]; k < p.influence_start[v + 1]; ++k)
+          if (p.influence_joint[k] < s.joints.size()) list.emplace_back(s.joints[p.influence_joint[k]], p.influence_weight[k]);
+      } else {
+        list.emplace_back(p.node, 1.0f);
+      }
+      infl.push_back(std::move(list));
+    }
+    base += static_cast<uint32_t>(p.num_vertices());
+  }
+  return build_skin_graph(positions, tris, infl);
+}
+
+namespace {
+using Entry = std::pair<uint32_t, float>;  // cage vertex, weight
+
+// Adds `scale` x row into `acc` (unsorted, merged by id).
+void add_row(std::vector<Entry>& acc, std::span<const Entry> row, float scale) {
+  for (const Entry& e : row) {
+    auto it = std::find_if(acc.begin(), acc.end(), [&](const Entry& a) { return a.first == e.first; });
+    if (it == acc.end())
+      acc.emplace_back(e.first, scale * e.second);
+    else
+      it->second += scale * e.second;
+  }
+}
+
+// Keeps the `max_entries` heaviest, sorted by id, renormalized to sum to one.
+void finish_row(std::vector<Entry>& acc, uint32_t max_entries) {
+  if (acc.size() > max_entries) {
+    std::partial_sort(acc.begin(), acc.begin() + max_entries, acc.end(),
+                      [](const Entry& a, const Entry& b) { return a.second > b.second || (a.second == b.second && a.first < b.first); });
+    acc.resize(max_entries);
+  }
+  std::sort(acc.begin(), acc.end());
+  double sum = 0.0;
+  for (const Entry& e : acc) sum += e.second;
+  if (sum > 0)
+    for (Entry& e : acc) e.second = static_cast<float>(e.second / sum);
+}
+}  // namespace
+
+namespace {
+// E per node (from the first member with a row; empty: none)
+std::vector<Influences> rig_weights(const Binding& b, const SkinGraph& g, const Character& ch, const CageAttachment& att) {
+  const size_t nodes = g.num_nodes();
+  std::vector<Influences> e(nodes);
+  if (b.params.variant != Variant::kExtended || g.node.size() != b.num_points || att.skin >= ch.skins.size() ||
+      att.influence_start.size() != size_t(b.num_cage_vertices) + 1)
+    return e;
+  const Skin& skin = ch.skins[att.skin];
+  std::vector<uint8_t> have(nodes, 0);
+  for (uint32_t p = 0; p < b.num_points; ++p) {
+    const uint32_t nd = g.node[p];
+    if (have[nd] || b.offsets[p] == b.offsets[p + 1]) continue;
+    have[nd] = 1;
+    Influences& row = e[nd];
+    for (uint32_t k = b.offsets[p]; k < b.offsets[p + 1]; ++k) {
+      const uint32_t v = b.ids[k];
+      if (v >= b.num_cage_vertices) continue;
+      for (uint32_t i = att.influence_start[v]; i < att.influence_start[v + 1]; ++i) {
+        const uint32_t j = att.influence_joint[i];
+        if (j >= skin.joints.size()) continue;
+        const uint32_t node = skin.joints[j];
+        const float w = b.weights[k] * att.influence_weight[i];
+        auto it = std::find_if(row.begin(), row.end(), [&](const auto& x) { return x.first == node; });
+        if (it == row.end()) row.emplace_back(node, w);
+        else it->second += w;
+      }
+    }
+  }
+  return e;
+}
+}  // namespace
+
+double rig_weight_error(const Binding& b, const SkinGraph& g, const Character& ch, const CageAttachment& att) {
+  if (g.influence.size() != g.num_nodes()) return 0.0;
+  const std::vector<Influences> e = rig_weights(b, g, ch, att);
+  double worst = 0.0;
+  for (size_t nd = 0; nd < e.size(); ++nd)
+    if (!e[nd].empty()) worst = std::max(worst, influence_distance(e[nd], g.influence[nd]));
+  return worst;
+}
+
+std::vector<float> rig_weight_excess(const Binding& b, const SkinGraph& g, const Character& ch,
+                                     const CageAttachment& att) {
+  const size_t nodes = g.num_nodes();
+  std::vector<float> out(nodes, 0.0f);
+  if (g.influence.size() != nodes) return out;
+  const std::vector<Influences> e = rig_weights(b, g, ch, att);
+  std::vector<uint8_t> have(nodes, 0);
+  for (size_t nd = 0; nd < nodes; ++nd) have[nd] = !e[nd].empty();
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, nodes, 1024), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t nd = r.begin(); nd != r.end(); ++nd) {
+      if (!have[nd]) continue;
+      double worst = 0.0;
+      for (uint32_t k = g.offsets[nd]; k < g.offsets[nd + 1]; ++k) {
+        const uint32_t m = g.neighbours[k];
+        if (!have[m]) continue;
+        const double len = glm::length(glm::dvec3(g.positions[nd]) - glm::dvec3(g.positions[m]));
+        if (!(len > 0)) continue;
+        const double excess = influence_distance(e[nd], e[m]) - influence_distance(g.influence[nd], g.influence[m]);
+        worst = std::max(worst, excess / len * b.h);
+      }
+      out[nd] = static_cast<float>(worst);
+    }
+  });
+  return out;
+}
+
+std::function<bool(uint32_t, uint32_t)> related_to_file_weights(const SkinGraph& g, const Character& ch,
+                                                               const CageAttachment& att) {
+  const Skin* skin = att.skin < ch.skins.size() ? &ch.skins[att.skin] : nullptr;
+  return [&g, &ch, &att, skin](uint32_t node, uint32_t v) {
+    if (!skin || node >= g.influence.size() || v >= att.label_joint.size() || att.label_joint[v] >= skin->joints.size())
+      return true;
+    const uint32_t label = skin->joints[att.label_joint[v]];
+    for (const auto& [j, w] : g.influence[node]) {
+      if (w <= 0.0f) continue;
+      if (j == label) return true;
+      if (j < ch.skeleton.size() && ch.skeleton.node(j).parent == static_cast<int32_t>(label)) return true;
+    }
+    return false;
+  };
+}
+
+void smooth_stencil(Binding& b, const SkinGraph& g, const StencilSmoothing& opt, std::span<const float> jump,
+                    const std::function<bool(uint32_t, uint32_t)>& allowed) {
+  if (b.params.variant != Variant::kExtended || opt.iterations == 0 || g.empty() || g.node.size() != b.num_points ||
+      b.offsets.size() != size_t(b.num_points) + 1)
+    return;
+  const size_t nodes = g.num_nodes();
+  const uint32_t cap = std::max<uint32_t>(1, opt.max_entries);
+  // node rows: the mean of the rows of the node's vertices that have one
+  std::vector<std::vector<Entry>> rows(nodes), next(nodes);
+  std::vector<uint32_t> members(nodes, 0);
+  for (uint32_t p = 0; p < b.num_points; ++p) {
+    if (b.offsets[p] == b.offsets[p + 1]) continue;
+    const uint32_t nd = g.node[p];
+    ++members[nd];
+    std::vector<Entry> row;
+    for (uint32_t e = b.offsets[p]; e < b.offsets[p + 1]; ++e) row.emplace_back(b.ids[e], b.weights[e]);
+    add_row(rows[nd], row, 1.0f);
+  }
+  for (size_t nd = 0; nd < nodes; ++nd)
+    if (members[nd] > 0) finish_row(rows[nd], UINT32_MAX);  // sorted by id, the mean of the members
+  // each node's own cage vertices (always allowed)
+  std::vector<std::vector<uint32_t>> raw(allowed ? nodes : 0);
+  for (size_t nd = 0; nd < raw.size(); ++nd)
+    for (const Entry& e : rows[nd]) raw[nd].push_back(e.first);
+  // where to smooth: smoothstep(jump_low, jump_high, g) per node, spread over the rings; without
+  // g, everywhere
+  std::vector<float> need(nodes, 1.0f);
+  const bool local = !jump.empty();
+  if (local) {
+    if (jump.size() != nodes) return;
+    for (size_t nd = 0; nd < nodes; ++nd) {
+      const double x = std::clamp((double(jump[nd]) - opt.jump_low) / std::max(1e-9, opt.jump_high - opt.jump_low), 0.0, 1.0);
+      need[nd] = static_cast<float>(x * x * (3 - 2 * x));
+    }
+    std::vector<float> spread = need;
+    for (uint32_t it = 0; it < opt.iterations; ++it) {
+      for (size_t nd = 0; nd < nodes; ++nd)
+        for (uint32_t k = g.offsets[nd]; k < g.offsets[nd + 1]; ++k)
+          spread[nd] = std::max(spread[nd], static_cast<float>(opt.spread) * need[g.neighbours[k]]);
+      need = spread;
+    }
+    // a faint reach leaves the row as it was: the change stays where it is needed
+    for (float& x : need)
+      if (x < kSmoothMinNeed) x = 0.0f;
+  }
+  // an edge longer than h / edge_scale blends less, by the square of the ratio: the smoothing then
+  // reaches about as far on a coarse skin as on a dense one (a few cage edges), not 32 long edges
+  auto edge_weight = [&](size_t nd, uint32_t k) {
+    double w = g.weights.size() == g.neighbours.size() ? double(g.weights[k]) : 1.0;
+    if (opt.edge_scale > 0 && g.positions.size() == nodes) {
+      const double len = glm::length(glm::dvec3(g.positions[nd]) - glm::dvec3(g.positions[g.neighbours[k]]));
+      const double f = b.h / (opt.edge_scale * len);
+      if (f < 1) w *= f * f;
+    }
+    return w;
+  };
+  for (uint32_t it = 0; it < opt.iterations; ++it) {
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, nodes, 1024), [&](const tbb::blocked_range<size_t>& r) {
+      std::vector<Entry> acc;
+      for (size_t nd = r.begin(); nd != r.end(); ++nd) {
+        if (rows[nd].empty()) {
+          next[nd].clear();
+          continue;
+        }
+        // x + blend * sum_k w_k (x_k - x) / count, over the neighbours with a row
+        uint32_t count = 0;
+        double wsum = 0.0;
+        for (uint32_t k = g.offsets[nd]; k < g.offsets[nd + 1]; ++k)
+          if (!rows[g.neighbours[k]].empty()) ++count, wsum += edge_weight(nd, k);
+        if (count == 0 || !(wsum > 0)) {
+          next[nd] = rows[nd];
+          continue;
+        }
+        acc.clear();
+        const double blend = opt.blend * need[nd];
+        if (!(blend > 0)) {
+          next[nd] = rows[nd];
+          continue;
+        }
+        add_row(acc, rows[nd], static_cast<float>(1.0 - blend * wsum / count));
+        for (uint32_t k = g.offsets[nd]; k < g.offsets[nd + 1]; ++k)
+          if (!rows[g.neighbours[k]].empty() && edge_weight(nd, k) > 0)
+            add_row(acc, rows[g.neighbours[k]], static_cast<float>(blend * edge_weight(nd, k) / count));
+        if (allowed) {
+          const auto& own = raw[nd];
+          std::erase_if(acc, [&](const Entry& e) {
+            return !std::binary_search(own.begin(), own.end(), e.first) && !allowed(static_cast<uint32_t>(nd), e.first);
+          });
+        }
+        finish_row(acc, cap);
+        next[nd] = acc;
+      }
+    });
+    std::swap(rows, next);
+  }
+  // write the rows back; a point whose node was not blended keeps its own row bit for bit
+  auto own = [&](uint32_t p) { return b.offsets[p] == b.offsets[p + 1] || need[g.node[p]] == 0.0f; };
+  std::vector<uint32_t> offsets(size_t(b.num_points) + 1, 0);
+  for (uint32_t p = 0; p < b.num_points; ++p)
+    offsets[p + 1] = offsets[p] + (own(p) ? b.offsets[p + 1] - b.offsets[p] : static_cast<uint32_t>(rows[g.node[p]].size()));
+  std::vector<uint32_t> ids(offsets.back());
+  std::vector<float> weights(offsets.back());
+  for (uint32_t p = 0; p < b.num_points; ++p) {
+    uint32_t o = offsets[p];
+    if (own(p)) {
+      for (uint32_t e = b.offsets[p]; e < b.offsets[p + 1]; ++e) ids[o] = b.ids[e], weights[o] = b.weights[e], ++o;
+    } else {
+      for (const Entry& e : rows[g.node[p]]) ids[o] = e.first, weights[o] = e.second, ++o;
+    }
+  }
+  b.offsets = std::move(offsets);
+  b.ids = std::move(ids);
+  b.weights = std::move(weights);
+}
+
+}  // namespace cagewrap

@@ -1,0 +1,201 @@
+// Smoothing the extended stencil along the skin (core/stencil_smooth.h) and the default rig's fit
+// that uses it (core/attachment_fit.h fit_rig): the rows keep rest identity and affine exactness, the
+// graph welds seams but not jumps of the file's weights, only the flagged region changes, and on the
+// demo's automatic cage the rig stretches the skin far less than with the registration's rows.
+#include <algorithm>
+#include <cmath>
+
+#include <gtest/gtest.h>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "core/attachment_fit.h"
+#include "core/auto_cage.h"
+#include "core/fidelity.h"
+#include "core/rig.h"
+#include "core/skinning.h"
+#include "core/stencil_smooth.h"
+#include "rig_fixtures.h"
+
+namespace cagewrap {
+namespace {
+
+double diagonal(std::span<const glm::vec3> pts) {
+  glm::vec3 lo(1e30f), hi(-1e30f);
+  for (const auto& p : pts) lo = glm::min(lo, p), hi = glm::max(hi, p);
+  return glm::length(glm::dvec3(hi - lo));
+}
+
+// The demo's rig: its registration and the smoothed copy the deformer reads.
+struct DemoRig {
+  Document doc = test::demo_document();
+  Rig rig = std::move(Rig::create(doc).value());
+};
+
+TEST(StencilSmoothing, RowsSumToOneAndKeepRestAndAffineMapsExact) {
+  DemoRig d;
+  const Binding& reg = d.rig.binding();
+  const Binding& b = d.rig.deformer_binding();
+  ASSERT_NE(&reg, &b) << "the demo's default rig smooths its stencil";
+  ASSERT_EQ(b.offsets.size(), reg.offsets.size());
+  size_t changed = 0;
+  for (uint32_t p = 0; p < b.num_points; ++p) {
+    const uint32_t n = b.offsets[p + 1] - b.offsets[p];
+    ASSERT_EQ(n == 0, reg.offsets[p + 1] == reg.offsets[p]) << "point " << p << ": fallback points stay fallback points";
+    EXPECT_LE(n, StencilSmoothing{}.max_entries);
+    double sum = 0.0;
+    for (uint32_t e = b.offsets[p]; e < b.offsets[p + 1]; ++e) sum += b.weights[e];
+    if (n) EXPECT_NEAR(sum, 1.0, 1e-5) << "point " << p;
+    // the same row, whatever its order: the same cage vertices with the same weights
+    std::vector<std::pair<uint32_t, float>> x, y;
+    for (uint32_t e = b.offsets[p]; e < b.offsets[p + 1]; ++e) x.emplace_back(b.ids[e], b.weights[e]);
+    for (uint32_t e = reg.offsets[p]; e < reg.offsets[p + 1]; ++e) y.emplace_back(reg.ids[e], reg.weights[e]);
+    std::sort(x.begin(), x.end());
+    std::sort(y.begin(), y.end());
+    bool same = x.size() == y.size();
+    for (size_t i = 0; same && i < x.size(); ++i) same = x[i] == y[i];  // bit for bit where not blended
+    changed += !same;
+  }
+  EXPECT_GT(changed, 100u) << "some rows were blended";
+  EXPECT_LT(changed, size_t(b.num_points)) << "not every row: only where the rig outruns the file's weights";
+
+  const auto rest_skin = d.rig.skin_rest();
+  const double diag = diagonal(rest_skin);
+  auto deformer = Deformer::create(b, rest_skin);
+  ASSERT_TRUE(deformer.ok());
+  const auto cage = d.doc.cage_positions();
+  const size_t nv = cage.size();
+  std::vector<glm::vec3> out(rest_skin.size());
+  // rest: the skin stays where it is
+  ASSERT_TRUE(deformer->deform(cage, out, std::vector<glm::dmat3>(nv, glm::dmat3(1.0))).ok());
+  double worst = 0.0;
+  for (size_t i = 0; i < out.size(); ++i) worst = std::max(worst, double(glm::length(out[i] - rest_skin[i])));
+  EXPECT_LT(worst, 1e-5 * diag);
+  // one affine map on every vertex (rotation, non-uniform scale, shear, translation): carried exactly
+  glm::dmat3 m = glm::dmat3(glm::rotate(glm::dmat4(1.0), 0.7, glm::dvec3(0.3, 1.0, 0.2)));
+  m = m * glm::dmat3(1.3, 0.0, 0.0, 0.2, 0.8, 0.0, 0.0, 0.1, 1.1);
+  const glm::dvec3 t(0.4, -0.2, 1.5);
+  std::vector<glm::vec3> moved(nv);
+  for (size_t v = 0; v < nv; ++v) moved[v] = glm::vec3(m * glm::dvec3(cage[v]) + t);
+  ASSERT_TRUE(deformer->deform(moved, out, std::vector<glm::dmat3>(nv, m)).ok());
+  worst = 0.0;
+  for (size_t i = 0; i < out.size(); ++i)
+    worst = std::max(worst, glm::length(glm::dvec3(out[i]) - (m * glm::dvec3(rest_skin[i]) + t)));
+  EXPECT_LT(worst, 1e-4 * diag);
+}
+
+TEST(StencilSmoothing, GraphWeldsSeamsButNotJumpsOfTheFilesWeights) {
+  // a strip 0-1-2-3 and vertex 4 at vertex 1's place with the same weights (a seam), vertex 5 at
+  // vertex 2's place with other weights (two parts touching)
+  const std::vector<glm::vec3> pos{{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {3, 0, 0}, {1, 0, 0}, {2, 0, 0}};
+  const std::vector<Tri> tris{{0, 1, 4}, {1, 2, 3}, {4, 5, 3}};
+  const Influences a{{0, 1.0f}}, blend{{0, 0.75f}, {1, 0.25f}}, other{{7, 1.0f}};
+  const std::vector<Influences> t{a, a, blend, blend, a, other};
+  const SkinGraph g = build_skin_graph(pos, tris, t);
+  EXPECT_EQ(g.node[1], g.node[4]) << "a seam: one node";
+  EXPECT_NE(g.node[2], g.node[5]) << "same place, other weights: two nodes";
+  EXPECT_EQ(g.num_nodes(), 5u);
+  auto weight = [&](uint32_t x, uint32_t y) {
+    const uint32_t nx = g.node[x], ny = g.node[y];
+    for (uint32_t k = g.offsets[nx]; k < g.offsets[nx + 1]; ++k)
+      if (g.neighbours[k] == ny) return g.weights[k];
+    return -1.0f;
+  };
+  EXPECT_FLOAT_EQ(weight(2, 3), 1.0f);   // the same weights
+  EXPECT_FLOAT_EQ(weight(1, 2), 0.25f);  // |dT|_1 = 1/2 of the jump scale: (1 - 0.5)^2
+  EXPECT_FLOAT_EQ(weight(4, 5), 0.0f);   // |dT|_1 = 2: not blended across
+  EXPECT_FLOAT_EQ(weight(0, 3), -1.0f);  // not joined
+}
+
+TEST(StencilSmoothing, OnlyTheFlaggedRegionChanges) {
+  // a chain of 60 skin points, each on its own cage vertex; only point 30 is flagged
+  const uint32_t n = 60;
+  std::vector<glm::vec3> pos(n);
+  std::vector<Tri> tris;
+  for (uint32_t i = 0; i < n; ++i) pos[i] = glm::vec3(float(i), 0, 0);
+  for (uint32_t i = 0; i + 1 < n; ++i) tris.push_back({i, i + 1, i});
+  const SkinGraph g = build_skin_graph(pos, tris);
+  Binding b;
+  b.params.variant = Variant::kExtended;
+  b.h = 1.0;
+  b.num_points = n;
+  b.num_cage_vertices = n;
+  for (uint32_t i = 0; i < n; ++i) b.offsets.push_back(i), b.ids.push_back(i), b.weights.push_back(1.0f);
+  b.offsets.push_back(n);
+  std::vector<float> jump(g.num_nodes(), 0.0f);
+  jump[g.node[30]] = 10.0f;
+  StencilSmoothing o;
+  o.iterations = 4;
+  o.edge_scale = 0;
+  Binding s = b;
+  smooth_stencil(s, g, o, jump);
+  auto row = [&](const Binding& x, uint32_t p) {
+    return std::vector<uint32_t>(x.ids.begin() + x.offsets[p], x.ids.begin() + x.offsets[p + 1]);
+  };
+  EXPECT_GT(row(s, 30).size(), 1u) << "the flagged point takes its neighbours' cage vertices";
+  for (uint32_t p : {0u, 10u, 20u, 40u, 59u}) EXPECT_EQ(row(s, p), row(b, p)) << "point " << p << " is far from it";
+  // and a rule that refuses a vertex keeps it out
+  Binding r = b;
+  smooth_stencil(r, g, o, jump, [](uint32_t, uint32_t v) { return v != 31; });
+  const auto r30 = row(r, 30);
+  EXPECT_EQ(std::count(r30.begin(), r30.end(), 31u), 0);
+  EXPECT_EQ(std::count(r30.begin(), r30.end(), 29u), 1);
+}
+
+// The default rig's fit keeps every cage vertex on one chain of the skeleton.
+TEST(FittedAttachment, EveryVertexFollowsOneChain) {
+  DemoRig d;
+  const CageAttachment& att = *d.rig.attachment();
+  const Skeleton& sk = d.doc.character->skeleton;
+  const Skin& skin = d.doc.character->skins[att.skin];
+  auto above = [&](uint32_t a, uint32_t b) {
+    for (int32_t x = static_cast<int32_t>(b); x >= 0; x = sk.node(size_t(x)).parent)
+      if (static_cast<uint32_t>(x) == a) return true;
+    return false;
+  };
+  size_t blended = 0;
+  for (size_t v = 0; v < att.joint.size(); ++v) {
+    const uint32_t first = skin.joints[att.influence_joint[att.influence_start[v]]];
+    for (uint32_t k = att.influence_start[v] + 1; k < att.influence_start[v + 1]; ++k) {
+      const uint32_t j = skin.joints[att.influence_joint[k]];
+      EXPECT_TRUE(above(first, j) || above(j, first)) << "cage vertex " << v << ": " << sk.node(first).name << " and " << sk.node(j).name;
+      ++blended;
+    }
+  }
+  EXPECT_GT(blended, 0u) << "the fit blends joints along the chains";
+}
+
+// On the demo's automatic cage the smoothed rig meets the thresholds on every clip, where
+// the registration's own rows with the same cage weights stretch the armpit about 10x.
+TEST(DefaultRig, SmoothedStencilKeepsTheDemoWithinTheThresholds) {
+  const Document demo = test::demo_document();
+  auto built = build_auto_cage(*demo.character);
+  ASSERT_TRUE(built.ok()) << built.error().message;
+  auto cage = make_cage(built->cage, "automatic cage");
+  ASSERT_TRUE(cage.ok());
+  const Document doc = with_cage(demo, std::make_shared<const Cage>(std::move(cage).value()));
+  auto rig = Rig::create(doc);
+  ASSERT_TRUE(rig.ok());
+  FidelityOptions o;
+  o.fps = 10;
+  auto r = check_fidelity(doc, *rig, o);
+  ASSERT_TRUE(r.ok());
+  EXPECT_LT(r->overall.worst.worst, 0.05);
+  EXPECT_LT(r->overall.rms.rms, 0.01);
+  EXPECT_LT(r->overall.stretch.stretch, 2.0);
+  // the registration's rows, the same cage weights, arm_raise at 1 s
+  const int32_t arm_raise = doc.character->find_clip("arm_raise");
+  ASSERT_GE(arm_raise, 0);
+  const Pose pose = compose_pose(*doc.character, arm_raise, 1.0, false);
+  PosedCage posed;
+  pose_document_cage(doc, rig->attachment(), pose, posed);
+  auto raw = Deformer::create(rig->binding(), rig->skin_rest());
+  ASSERT_TRUE(raw.ok());
+  std::vector<glm::vec3> skin(rig->num_skin_points());
+  ASSERT_TRUE(deform_through_cage(*raw, posed, skin).ok());
+  const FrameFidelity f = compare_skins(skin, skin_character(*doc.character, pose), skin_edges(*doc.character),
+                                        heaviest_joints(*doc.character), r->diagonal, o.min_edge);
+  EXPECT_GT(f.stretch, 2.0 * r->overall.stretch.stretch);
+}
+
+}  // namespace
+}  // namespace cagewrap
