@@ -10,6 +10,7 @@
 #include "core/character.h"
 
 #include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 namespace cagewrap {
@@ -246,7 +247,7 @@ void smooth_stencil(Binding& b, const SkinGraph& g, const StencilSmoothing& opt,
   const size_t nodes = g.num_nodes();
   const uint32_t cap = std::max<uint32_t>(1, opt.max_entries);
   // node rows: the mean of the rows of the node's vertices that have one
-  std::vector<std::vector<Entry>> rows(nodes), next(nodes);
+  std::vector<std::vector<Entry>> rows(nodes);
   std::vector<uint32_t> members(nodes, 0);
   for (uint32_t p = 0; p < b.num_points; ++p) {
     if (b.offsets[p] == b.offsets[p + 1]) continue;
@@ -294,44 +295,63 @@ void smooth_stencil(Binding& b, const SkinGraph& g, const StencilSmoothing& opt,
     }
     return w;
   };
+  // the nodes that blend (a row, a share to take, neighbours with rows across edges of some weight),
+  // with their neighbour count and weight sum, which stay the same through the steps; the others'
+  // rows never change
+  struct Active {
+    uint32_t node, count;
+    double wsum;
+  };
+  std::vector<Active> active;
+  for (size_t nd = 0; nd < nodes; ++nd) {
+    if (rows[nd].empty() || !(need[nd] > 0)) continue;
+    uint32_t count = 0;
+    double wsum = 0.0;
+    for (uint32_t k = g.offsets[nd]; k < g.offsets[nd + 1]; ++k)
+      if (!rows[g.neighbours[k]].empty()) ++count, wsum += edge_weight(nd, k);
+    if (count > 0 && wsum > 0) active.push_back({static_cast<uint32_t>(nd), count, wsum});
+  }
+  std::vector<std::vector<Entry>> next(active.size());
+  // per thread: a dense accumulator over the cage vertices and the ones it touched
+  struct Scratch {
+    std::vector<float> w;
+    std::vector<uint32_t> touched;
+  };
+  tbb::enumerable_thread_specific<Scratch> scratch;
   for (uint32_t it = 0; it < opt.iterations; ++it) {
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, nodes, 1024), [&](const tbb::blocked_range<size_t>& r) {
-      std::vector<Entry> acc;
-      for (size_t nd = r.begin(); nd != r.end(); ++nd) {
-        if (rows[nd].empty()) {
-          next[nd].clear();
-          continue;
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, active.size(), 256), [&](const tbb::blocked_range<size_t>& r) {
+      Scratch& sc = scratch.local();
+      if (sc.w.size() < b.num_cage_vertices) sc.w.assign(b.num_cage_vertices, 0.0f);
+      auto add = [&](const std::vector<Entry>& row, float scale) {
+        for (const Entry& e : row) {
+          if (e.first >= sc.w.size()) continue;
+          if (sc.w[e.first] == 0.0f) sc.touched.push_back(e.first);
+          sc.w[e.first] += scale * e.second;
         }
+      };
+      for (size_t i = r.begin(); i != r.end(); ++i) {
+        const auto [nd, count, wsum] = active[i];
         // x + blend * sum_k w_k (x_k - x) / count, over the neighbours with a row
-        uint32_t count = 0;
-        double wsum = 0.0;
-        for (uint32_t k = g.offsets[nd]; k < g.offsets[nd + 1]; ++k)
-          if (!rows[g.neighbours[k]].empty()) ++count, wsum += edge_weight(nd, k);
-        if (count == 0 || !(wsum > 0)) {
-          next[nd] = rows[nd];
-          continue;
-        }
-        acc.clear();
         const double blend = opt.blend * need[nd];
-        if (!(blend > 0)) {
-          next[nd] = rows[nd];
-          continue;
-        }
-        add_row(acc, rows[nd], static_cast<float>(1.0 - blend * wsum / count));
+        sc.touched.clear();
+        add(rows[nd], static_cast<float>(1.0 - blend * wsum / count));
         for (uint32_t k = g.offsets[nd]; k < g.offsets[nd + 1]; ++k)
           if (!rows[g.neighbours[k]].empty() && edge_weight(nd, k) > 0)
-            add_row(acc, rows[g.neighbours[k]], static_cast<float>(blend * edge_weight(nd, k) / count));
-        if (allowed) {
-          const auto& own = raw[nd];
-          std::erase_if(acc, [&](const Entry& e) {
-            return !std::binary_search(own.begin(), own.end(), e.first) && !allowed(static_cast<uint32_t>(nd), e.first);
-          });
+            add(rows[g.neighbours[k]], static_cast<float>(blend * edge_weight(nd, k) / count));
+        std::vector<Entry>& acc = next[i];
+        acc.clear();
+        for (uint32_t v : sc.touched) {
+          const float x = sc.w[v];
+          sc.w[v] = 0.0f;
+          if (x == 0.0f) continue;
+          // a vertex the node's own row does not hold joins only when the rule allows it
+          if (allowed && !std::binary_search(raw[nd].begin(), raw[nd].end(), v) && !allowed(nd, v)) continue;
+          acc.emplace_back(v, x);
         }
         finish_row(acc, cap);
-        next[nd] = acc;
       }
     });
-    std::swap(rows, next);
+    for (size_t i = 0; i < active.size(); ++i) std::swap(rows[active[i].node], next[i]);
   }
   // write the rows back; a point whose node was not blended keeps its own row bit for bit
   auto own = [&](uint32_t p) { return b.offsets[p] == b.offsets[p + 1] || need[g.node[p]] == 0.0f; };
