@@ -211,8 +211,8 @@ class Editor {
   CageTools cage_tools_;
   ExportPanel export_panel_;
   FidelityPanel fidelity_panel_;
-  bool script_waits_for_export_ = true;
-  bool script_waits_for_fidelity_ = true;  // false after `fidelity_check_nowait`  // false after `export_nowait`: the script goes on meanwhile
+  bool script_waits_for_export_ = true;    // false after `export_nowait`: the script goes on meanwhile
+  bool script_waits_for_fidelity_ = true;  // false after `fidelity_check_nowait`
   SkinDisplay skin_display_;  // the skin on the GPU or the CPU, and the frame-time split
   RigPanel rig_panel_;
   SetsPanel sets_panel_;
@@ -302,6 +302,7 @@ void Editor::set_scene(std::unique_ptr<Scene> scene) {
   if (autosave_) autosave_->discard();  // the work it held was saved or discarded (guard_unsaved)
   recovered_ = false;
   skin_display_.scene_changed();
+  fidelity_panel_.scene_changed();
   topology_dirty_ = true;
   skin_bvh_built_ = false;
   display_key_.clear();
@@ -1755,7 +1756,7 @@ void Editor::run_script_step() {
     } else if (cmd == "export" || cmd == "export_nowait") {
       script_waits_for_export_ = cmd == "export";
       script_export(in);
-    } else if (cmd == "file_skinning") {  // on | off: show the file's own skinning (L)
+    } else if (cmd == "file_skinning" || cmd == "compare") {  // on | off: show the file's own skinning (L)
       std::string v;
       in >> v;
       scene_->show_file_skinning = v != "off";
@@ -1920,10 +1921,6 @@ void Editor::run_script_step() {
       set_override(node, glm::quat(glm::radians(deg)));
     } else if (cmd == "reset_pose") {
       scene_->pose_override.clear();
-    } else if (cmd == "compare") {
-      std::string on;
-      in >> on;
-      scene_->show_file_skinning = on == "on";
     } else if (cmd == "rotate_drag") {  // x|y|z|view DEGREES: grabs the ring where a person would
       script_rotate_drag(in);
     } else if (cmd == "view") {  // front | right | top

@@ -60,11 +60,10 @@ bool Scene::needs_rebind() const {
 }
 
 void Scene::adopt_binding(Binding b) {
-  auto previous = std::move(binding);
-  binding = std::make_unique<Binding>(std::move(b));
-  if (!make_deformer().ok()) {  // a fresh bind follows
-    binding = std::move(previous);
-    if (binding) static_cast<void>(make_deformer());  // the previous one again (it worked before)
+  auto owned = std::make_unique<Binding>(std::move(b));
+  std::swap(binding, owned);
+  if (!make_deformer().ok()) {  // the previous binding and deformer stay; a fresh bind follows
+    binding = std::move(owned);
     return;
   }
   bound_cage = doc().cage;
@@ -74,25 +73,35 @@ void Scene::adopt_binding(Binding b) {
   params = doc().params;
 }
 
+bool Scene::fits_attachment() const {
+  return attachment && binding && doc().attachment.mode == AttachmentMode::kFitted &&
+         binding->num_cage_vertices == attachment->joint.size();
+}
+
 Status Scene::make_deformer() {
   if (!binding) return make_error(ErrorCode::kInvalidArgument, "no binding");
+  // all or nothing: the fit and the deformer are made aside, and taken only when both worked
+  std::optional<CageAttachment> fitted_attachment;
   std::unique_ptr<Binding> fitted;
-  if (attachment && doc().attachment.mode == AttachmentMode::kFitted &&
-      binding->num_cage_vertices == attachment->joint.size()) {
-    // from the transferred weights, as Rig::create fits them
-    CageAttachment a = transferred_ && transferred_->joint.size() == attachment->joint.size() ? *transferred_ : *attachment;
+  if (fits_attachment()) {
+    CageAttachment a = transferred_ ? *transferred_ : *attachment;  // as Rig::create: from the transferred weights
     if (auto f = fit_rig(*doc().character, *binding, doc().attachment, a); f.ok()) {
-      attachment = std::move(a);
-      attachment_revision = next_revision();
+      fitted_attachment = std::move(a);
       if (*f) fitted = std::make_unique<Binding>(std::move(**f));
     }
   }
-  binding_revision = next_revision();
-  deformer.reset();  // it read the binding about to be replaced
-  rig_binding = std::move(fitted);
-  auto d = Deformer::create(rig_binding ? *rig_binding : *binding, skin_rest);  // refers to it: made from its final place
+  // refers to the binding: made from its final place (the heap object `fitted` owns, or `binding`'s)
+  auto d = Deformer::create(fitted ? *fitted : *binding, skin_rest);
   if (!d) return make_error(d.error().code, d.error().message);
+  deformer.reset();
+  rig_binding = std::move(fitted);
   deformer.emplace(std::move(d).value());
+  binding_revision = next_revision();
+  if (fitted_attachment) {
+    attachment = std::move(*fitted_attachment);
+    attachment_revision = next_revision();
+    sim_cache.clear();  // the simulated clips keep a copy of the attachment
+  }
   return Ok{};
 }
 
@@ -133,6 +142,9 @@ void Scene::document_changed() {
     }
     attached_cage_ = cage;
     attached_settings_ = doc().attachment;
+    // a binding that stays (adopted from a project's cache, or other attachment settings with
+    // separation off) is fitted to the new attachment
+    if (binding && !job && !needs_rebind()) static_cast<void>(make_deformer());
   }
   if (!cage && deformer) {
     deformer.reset();
@@ -187,9 +199,15 @@ bool Scene::update_set_edits_live(const std::vector<SetEdit>& edits, std::span<c
     rebinder_for_ = binding.get();
   }
   if (!rebinder_->update(*binding, edits, points).ok()) return false;
+  if (fits_attachment()) {
+    if (!make_deformer().ok()) return false;  // the fit follows the new sets
+  } else {
+    if (!deformer->stencil_changed().ok()) return false;  // the deformer reads `binding` itself
+    binding_revision = next_revision();
+  }
   bound_edits_ = edits;
   pending_edits_ = edits;
-  return make_deformer().ok();
+  return true;
 }
 
 std::optional<std::string> Scene::poll_bind() {
@@ -214,6 +232,9 @@ std::optional<std::string> Scene::poll_bind() {
                     binding->rigid_points.size(), 100 * binding->quality());
       message = buf;
     } else {
+      deformer.reset();  // it read the binding just replaced
+      rig_binding.reset();
+      binding_revision = next_revision();
       message = "error: " + d.error().message;
     }
   } else {

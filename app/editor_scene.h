@@ -115,6 +115,7 @@ struct Scene {
   // the deformer reads when the fit smoothed the stencil; `binding` stays the registration (sets,
   // live edits, rest edits, the cache).
   Status make_deformer();
+  bool fits_attachment() const;  // a fitted attachment for the current binding (make_deformer fits it)
   std::unique_ptr<Binding> rig_binding;  // the smoothed stencil `deformer` reads, or null: `binding`
   uint64_t attachment_revision = 0;  // changes whenever make_deformer fits `attachment` again
   // Takes a binding made earlier for the document as it is (a project's cache: the caller checked

@@ -112,6 +112,22 @@ void FidelityPanel::cancel() {
   if (job_) job_->cancel();
 }
 
+void FidelityPanel::scene_changed() {
+  cancel();
+  job_.reset();  // joins the cancelled check
+  frame_.reset();
+  distance_.clear();
+  colors_.clear();
+  edges_.clear();
+  joints_.clear();
+  character_ = nullptr;
+  key_.clear();
+  measured_at_ = -1e9;
+  report_.reset();
+  report_key_.clear();
+  last_outcome_.clear();
+}
+
 void FidelityPanel::poll(const Scene& scene, const EditorHooks& hooks) {
   if (!job_ || !job_->done()) return;
   auto& r = job_->result();

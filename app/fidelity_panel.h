@@ -36,6 +36,9 @@ class FidelityPanel {
   void start_check(const Scene& scene, const EditorHooks& hooks);
   void cancel();
   bool busy() const { return job_ != nullptr; }
+  // Another document opened: a running check is cancelled (and waited for), and what was measured
+  // for the previous one is dropped (its edges and joints index another skin). Settings stay.
+  void scene_changed();
 
   bool heat_map = false;
   // The heat map's colours for the current frame (#V), empty when it is off or nothing is measured.

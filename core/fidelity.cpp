@@ -9,6 +9,7 @@
 #include <tbb/parallel_reduce.h>
 
 #include "core/mesh.h"
+#include "core/part_labels.h"
 #include "core/skinning.h"
 
 namespace cagewrap {
@@ -25,30 +26,15 @@ std::string format_length(double value, const std::string& units) {
 
 std::vector<std::pair<uint32_t, uint32_t>> skin_edges(const Character& character) {
   std::vector<std::pair<uint32_t, uint32_t>> e;
-  uint32_t offset = 0;
-  for (const Primitive& p : character.primitives) {
-    for (const Tri& t : p.triangles)
-      for (int k = 0; k < 3; ++k) {
-        uint32_t a = t[k] + offset, b = t[(k + 1) % 3] + offset;
-        if (a == b) continue;
-        if (a > b) std::swap(a, b);
-        e.emplace_back(a, b);
-      }
-    offset += static_cast<uint32_t>(p.num_vertices());
-  }
-  std::sort(e.begin(), e.end());
-  e.erase(std::unique(e.begin(), e.end()), e.end());
+  for (const auto& [a, b] : unique_edges(combined_topology(character))) e.emplace_back(a, b);
   return e;
 }
 
 std::vector<int32_t> heaviest_joints(const Character& character) {
-  const PointJoints pj = point_joint_nodes(character);
-  std::vector<int32_t> out(pj.start.size() - 1, -1);
-  for (size_t p = 0; p + 1 < pj.start.size(); ++p) {
-    float best = 0.f;
-    for (uint32_t i = pj.start[p]; i < pj.start[p + 1]; ++i)
-      if (pj.weight[i] > best) best = pj.weight[i], out[p] = static_cast<int32_t>(pj.node[i]);
-  }
+  const std::vector<uint32_t> nodes = dominant_joint_nodes(character);
+  std::vector<int32_t> out(nodes.size(), -1);
+  for (size_t p = 0; p < nodes.size(); ++p)
+    if (nodes[p] != PartLabels::kUnlabelled) out[p] = static_cast<int32_t>(nodes[p]);
   return out;
 }
 
@@ -202,9 +188,7 @@ Result<FidelityReport> check_fidelity(const Document& doc, Rig& rig, const Fidel
   if (bind.size() != ch.num_vertices())
     return make_error(ErrorCode::kTopologyMismatch, "the rig's skin has " + std::to_string(bind.size()) +
                                                          " points, the character " + std::to_string(ch.num_vertices()));
-  Aabb box;
-  for (const glm::vec3& p : bind) box.extend(glm::dvec3(p));
-  report.diagonal = box.diagonal();
+  report.diagonal = bounding_box(bind).diagonal();
   report.units = scene_units(report.diagonal);
   const auto edges = skin_edges(ch);
   const auto joints = heaviest_joints(ch);

@@ -500,6 +500,9 @@ Result<ExportResult> export_rig(const Document& doc, Rig& rig, const ExportOptio
   out.skeleton = std::move(sk).value();
   const uint32_t mesh_node = static_cast<uint32_t>(out.skeleton.size() - 1);
   if (options.mode != ExportMode::kBakedAnimation) out.skins = ch.skins;
+  // the reports' scale (every mode, the cage's too)
+  const Aabb rest_box = bounding_box(rig.skin_rest());
+  r.diagonal = rest_box.empty() ? 0.0 : rest_box.diagonal();
 
   if (options.mode == ExportMode::kCage) {
     Primitive p;
@@ -632,11 +635,6 @@ Result<ExportResult> export_rig(const Document& doc, Rig& rig, const ExportOptio
   // Errors against the rig, measured on the exported character itself (what a loader sees), and
   // against the file's own skinning at the same frames.
   stage.begin("measuring", targets_until, 1.0);
-  {
-    Aabb box;
-    for (const glm::vec3& p : rest_skin) box.extend(glm::dvec3(p));
-    r.diagonal = box.empty() ? 0.0 : box.diagonal();
-  }
   PosedCage posed;
   std::vector<glm::vec3> live(np);
   for (size_t c = 0; c < frames.size(); ++c) {

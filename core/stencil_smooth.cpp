@@ -8,6 +8,7 @@
 
 #include "core/cage_attachment.h"
 #include "core/character.h"
+#include "core/skinning.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
@@ -102,42 +103,25 @@ SkinGraph build_skin_graph(std::span<const glm::vec3> positions, std::span<const
 }
 
 SkinGraph character_skin_graph(const Character& ch) {
-  std::vector<glm::vec3> positions;
-  std::vector<Tri> tris;
-  std::vector<Influences> infl;
-  uint32_t base = 0;
-  for (const Primitive& p : ch.primitives) {
-    positions.insert(positions.end(), p.positions.begin(), p.positions.end());
-    for (const Tri& t : p.triangles) tris.push_back({t[0] + base, t[1] + base, t[2] + base});
-    const bool skinned = p.skin >= 0 && size_t(p.skin) < ch.skins.size() && p.influence_start.size() == p.num_vertices() + 1;
-    for (size_t v = 0; v < p.num_vertices(); ++v) {
-      Influences list;
-      if (skinned) {
-        const Skin& s = ch.skins[size_t(p.skin)];
-        for (uint32_t k = p.influence_start[v]; k < p.influence_start[v + 1]; ++k)
-          if (p.influence_joint[k] < s.joints.size()) list.emplace_back(s.joints[p.influence_joint[k]], p.influence_weight[k]);
-      } else {
-        list.emplace_back(p.node, 1.0f);
-      }
-      infl.push_back(std::move(list));
-    }
-    base += static_cast<uint32_t>(p.num_vertices());
-  }
-  return build_skin_graph(positions, tris, infl);
+  const PointJoints pj = point_joint_nodes(ch);
+  std::vector<Influences> infl(pj.start.size() - 1);
+  for (size_t p = 0; p < infl.size(); ++p)
+    for (uint32_t i = pj.start[p]; i < pj.start[p + 1]; ++i) infl[p].emplace_back(pj.node[i], pj.weight[i]);
+  const PolyMesh skin = combined_topology(ch);
+  const Triangulation tris = triangulate(skin);
+  return build_skin_graph(skin.positions, tris.triangles, infl);
 }
 
 namespace {
 using Entry = std::pair<uint32_t, float>;  // cage vertex, weight
 
-// Adds `scale` x row into `acc` (unsorted, merged by id).
-void add_row(std::vector<Entry>& acc, std::span<const Entry> row, float scale) {
-  for (const Entry& e : row) {
-    auto it = std::find_if(acc.begin(), acc.end(), [&](const Entry& a) { return a.first == e.first; });
-    if (it == acc.end())
-      acc.emplace_back(e.first, scale * e.second);
-    else
-      it->second += scale * e.second;
-  }
+// Adds w to vertex v's entry in `acc` (unsorted, merged by id).
+void add_entry(std::vector<Entry>& acc, uint32_t v, float w) {
+  auto it = std::find_if(acc.begin(), acc.end(), [&](const Entry& a) { return a.first == v; });
+  if (it == acc.end())
+    acc.emplace_back(v, w);
+  else
+    it->second += w;
 }
 
 // Keeps the `max_entries` heaviest, sorted by id, renormalized to sum to one.
@@ -187,15 +171,6 @@ std::vector<Influences> rig_weights(const Binding& b, const SkinGraph& g, const 
   return e;
 }
 }  // namespace
-
-double rig_weight_error(const Binding& b, const SkinGraph& g, const Character& ch, const CageAttachment& att) {
-  if (g.influence.size() != g.num_nodes()) return 0.0;
-  const std::vector<Influences> e = rig_weights(b, g, ch, att);
-  double worst = 0.0;
-  for (size_t nd = 0; nd < e.size(); ++nd)
-    if (!e[nd].empty()) worst = std::max(worst, influence_distance(e[nd], g.influence[nd]));
-  return worst;
-}
 
 std::vector<float> rig_weight_excess(const Binding& b, const SkinGraph& g, const Character& ch,
                                      const CageAttachment& att) {
@@ -248,17 +223,10 @@ void smooth_stencil(Binding& b, const SkinGraph& g, const StencilSmoothing& opt,
   const uint32_t cap = std::max<uint32_t>(1, opt.max_entries);
   // node rows: the mean of the rows of the node's vertices that have one
   std::vector<std::vector<Entry>> rows(nodes);
-  std::vector<uint32_t> members(nodes, 0);
-  for (uint32_t p = 0; p < b.num_points; ++p) {
-    if (b.offsets[p] == b.offsets[p + 1]) continue;
-    const uint32_t nd = g.node[p];
-    ++members[nd];
-    std::vector<Entry> row;
-    for (uint32_t e = b.offsets[p]; e < b.offsets[p + 1]; ++e) row.emplace_back(b.ids[e], b.weights[e]);
-    add_row(rows[nd], row, 1.0f);
-  }
-  for (size_t nd = 0; nd < nodes; ++nd)
-    if (members[nd] > 0) finish_row(rows[nd], UINT32_MAX);  // sorted by id, the mean of the members
+  for (uint32_t p = 0; p < b.num_points; ++p)
+    for (uint32_t e = b.offsets[p]; e < b.offsets[p + 1]; ++e) add_entry(rows[g.node[p]], b.ids[e], b.weights[e]);
+  for (auto& row : rows)
+    if (!row.empty()) finish_row(row, UINT32_MAX);  // sorted by id, the mean of the members
   // each node's own cage vertices (always allowed)
   std::vector<std::vector<uint32_t>> raw(allowed ? nodes : 0);
   for (size_t nd = 0; nd < raw.size(); ++nd)
@@ -286,15 +254,17 @@ void smooth_stencil(Binding& b, const SkinGraph& g, const StencilSmoothing& opt,
   }
   // an edge longer than h / edge_scale blends less, by the square of the ratio: the smoothing then
   // reaches about as far on a coarse skin as on a dense one (a few cage edges), not 32 long edges
-  auto edge_weight = [&](size_t nd, uint32_t k) {
-    double w = g.weights.size() == g.neighbours.size() ? double(g.weights[k]) : 1.0;
-    if (opt.edge_scale > 0 && g.positions.size() == nodes) {
-      const double len = glm::length(glm::dvec3(g.positions[nd]) - glm::dvec3(g.positions[g.neighbours[k]]));
-      const double f = b.h / (opt.edge_scale * len);
-      if (f < 1) w *= f * f;
+  std::vector<float> edge(g.neighbours.size());
+  for (size_t nd = 0; nd < nodes; ++nd)
+    for (uint32_t k = g.offsets[nd]; k < g.offsets[nd + 1]; ++k) {
+      double w = g.weights.size() == g.neighbours.size() ? double(g.weights[k]) : 1.0;
+      if (opt.edge_scale > 0 && g.positions.size() == nodes) {
+        const double len = glm::length(glm::dvec3(g.positions[nd]) - glm::dvec3(g.positions[g.neighbours[k]]));
+        const double f = b.h / (opt.edge_scale * len);
+        if (f < 1) w *= f * f;
+      }
+      edge[k] = static_cast<float>(w);
     }
-    return w;
-  };
   // the nodes that blend (a row, a share to take, neighbours with rows across edges of some weight),
   // with their neighbour count and weight sum, which stay the same through the steps; the others'
   // rows never change
@@ -308,7 +278,7 @@ void smooth_stencil(Binding& b, const SkinGraph& g, const StencilSmoothing& opt,
     uint32_t count = 0;
     double wsum = 0.0;
     for (uint32_t k = g.offsets[nd]; k < g.offsets[nd + 1]; ++k)
-      if (!rows[g.neighbours[k]].empty()) ++count, wsum += edge_weight(nd, k);
+      if (!rows[g.neighbours[k]].empty()) ++count, wsum += edge[k];
     if (count > 0 && wsum > 0) active.push_back({static_cast<uint32_t>(nd), count, wsum});
   }
   std::vector<std::vector<Entry>> next(active.size());
@@ -336,8 +306,8 @@ void smooth_stencil(Binding& b, const SkinGraph& g, const StencilSmoothing& opt,
         sc.touched.clear();
         add(rows[nd], static_cast<float>(1.0 - blend * wsum / count));
         for (uint32_t k = g.offsets[nd]; k < g.offsets[nd + 1]; ++k)
-          if (!rows[g.neighbours[k]].empty() && edge_weight(nd, k) > 0)
-            add(rows[g.neighbours[k]], static_cast<float>(blend * edge_weight(nd, k) / count));
+          if (!rows[g.neighbours[k]].empty() && edge[k] > 0)
+            add(rows[g.neighbours[k]], static_cast<float>(blend * edge[k] / count));
         std::vector<Entry>& acc = next[i];
         acc.clear();
         for (uint32_t v : sc.touched) {

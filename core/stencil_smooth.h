@@ -92,9 +92,6 @@ std::function<bool(uint32_t, uint32_t)> related_to_file_weights(const SkinGraph&
 // vertices' joint weights: the rig is linear blend skinning with E) change across the node's edges
 // than the file's do: max over edges of (|E_a - E_b|_1 - |T_a - T_b|_1) / length x h. Where it is
 // large the posed rig stretches the edge against the file's skinning.
-// The largest |E - T|_1 over the nodes: the rig's worst weight error against the file's.
-double rig_weight_error(const Binding& binding, const SkinGraph& graph, const Character& character,
-                        const CageAttachment& attachment);
 std::vector<float> rig_weight_excess(const Binding& binding, const SkinGraph& graph, const Character& character,
                                      const CageAttachment& attachment);
 

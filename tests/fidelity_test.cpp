@@ -29,16 +29,6 @@ Document demo_with(AttachmentMode mode) {
   return with_attachment(doc, a);
 }
 
-// The demo with the cage the default path builds (`cagewrap cage`, the editor's automatic cage).
-Document demo_with_automatic_cage() {
-  const Document demo = test::demo_document();
-  auto built = build_auto_cage(*demo.character);
-  EXPECT_TRUE(built.ok()) << built.error().message;
-  auto cage = make_cage(built->cage, "automatic cage");
-  EXPECT_TRUE(cage.ok());
-  return with_cage(demo, std::make_shared<const Cage>(std::move(cage).value()));
-}
-
 FidelityOptions quick() {
   FidelityOptions o;
   o.fps = 10;
@@ -142,7 +132,7 @@ TEST(CheckFidelity, CancelStops) {
 // the transferred weights it starts from, at the worst vertex and in RMS, over the demo's clips.
 // Measured: worst 4.22% -> 3.81% of the diagonal, RMS at the worst frame 0.154% -> 0.143%.
 TEST(FittedAttachment, IsCloserToTheFilesSkinningThanTheTransferredWeights) {
-  const Document automatic = demo_with_automatic_cage();
+  const Document automatic = test::demo_with_automatic_cage();
   FidelityReport by_mode[2];
   int i = 0;
   for (AttachmentMode mode : {AttachmentMode::kSkinWeights, AttachmentMode::kFitted}) {
@@ -164,7 +154,7 @@ TEST(FittedAttachment, IsCloserToTheFilesSkinningThanTheTransferredWeights) {
 // weights, core/attachment_fit.h fit_rig) against the registration's rows with a plain fit
 // (measured on the demo's automatic cage before the smoothing: 11.4x -> 10.1x, worst 3.81% -> 3.83%).
 TEST(FittedAttachment, TheEdgeTermLowersTheWorstStretch) {
-  const Document doc = demo_with_automatic_cage();
+  const Document doc = test::demo_with_automatic_cage();
   auto rig = Rig::create(doc);
   ASSERT_TRUE(rig.ok());
   FidelityOptions o = quick();

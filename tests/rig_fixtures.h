@@ -12,6 +12,7 @@
 #include <glm/matrix.hpp>
 #include <gtest/gtest.h>
 
+#include "core/auto_cage.h"
 #include "core/cage_attachment.h"
 #include "core/cage_import.h"
 #include "core/character.h"
@@ -107,6 +108,16 @@ inline Document demo_document() {
   doc.cage = std::make_shared<const Cage>(std::move(cage).value());
   doc.revision = next_revision();
   return doc;
+}
+
+// The demo with the cage the default path builds (`cagewrap cage`, the editor's automatic cage).
+inline Document demo_with_automatic_cage() {
+  const Document demo = demo_document();
+  auto built = build_auto_cage(*demo.character);
+  EXPECT_TRUE(built.ok()) << built.error().message;
+  auto cage = make_cage(built->cage, "automatic cage");
+  EXPECT_TRUE(cage.ok());
+  return with_cage(demo, std::make_shared<const Cage>(std::move(cage).value()));
 }
 
 // A biceps bulge on the demo character (core/demo_character.h) and its cage (assets/demo_cage.obj):

@@ -9,8 +9,8 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "core/attachment_fit.h"
-#include "core/auto_cage.h"
 #include "core/fidelity.h"
+#include "core/mesh.h"
 #include "core/rig.h"
 #include "core/skinning.h"
 #include "core/stencil_smooth.h"
@@ -18,12 +18,6 @@
 
 namespace cagewrap {
 namespace {
-
-double diagonal(std::span<const glm::vec3> pts) {
-  glm::vec3 lo(1e30f), hi(-1e30f);
-  for (const auto& p : pts) lo = glm::min(lo, p), hi = glm::max(hi, p);
-  return glm::length(glm::dvec3(hi - lo));
-}
 
 // The demo's rig: its registration and the smoothed copy the deformer reads.
 struct DemoRig {
@@ -44,7 +38,9 @@ TEST(StencilSmoothing, RowsSumToOneAndKeepRestAndAffineMapsExact) {
     EXPECT_LE(n, StencilSmoothing{}.max_entries);
     double sum = 0.0;
     for (uint32_t e = b.offsets[p]; e < b.offsets[p + 1]; ++e) sum += b.weights[e];
-    if (n) EXPECT_NEAR(sum, 1.0, 1e-5) << "point " << p;
+    if (n) {
+      EXPECT_NEAR(sum, 1.0, 1e-5) << "point " << p;
+    }
     // the same row, whatever its order: the same cage vertices with the same weights
     std::vector<std::pair<uint32_t, float>> x, y;
     for (uint32_t e = b.offsets[p]; e < b.offsets[p + 1]; ++e) x.emplace_back(b.ids[e], b.weights[e]);
@@ -59,7 +55,7 @@ TEST(StencilSmoothing, RowsSumToOneAndKeepRestAndAffineMapsExact) {
   EXPECT_LT(changed, size_t(b.num_points)) << "not every row: only where the rig outruns the file's weights";
 
   const auto rest_skin = d.rig.skin_rest();
-  const double diag = diagonal(rest_skin);
+  const double diag = bounding_box(rest_skin).diagonal();
   auto deformer = Deformer::create(b, rest_skin);
   ASSERT_TRUE(deformer.ok());
   const auto cage = d.doc.cage_positions();
@@ -167,12 +163,7 @@ TEST(FittedAttachment, EveryVertexFollowsOneChain) {
 // On the demo's automatic cage the smoothed rig meets the thresholds on every clip, where
 // the registration's own rows with the same cage weights stretch the armpit about 10x.
 TEST(DefaultRig, SmoothedStencilKeepsTheDemoWithinTheThresholds) {
-  const Document demo = test::demo_document();
-  auto built = build_auto_cage(*demo.character);
-  ASSERT_TRUE(built.ok()) << built.error().message;
-  auto cage = make_cage(built->cage, "automatic cage");
-  ASSERT_TRUE(cage.ok());
-  const Document doc = with_cage(demo, std::make_shared<const Cage>(std::move(cage).value()));
+  const Document doc = test::demo_with_automatic_cage();
   auto rig = Rig::create(doc);
   ASSERT_TRUE(rig.ok());
   FidelityOptions o;
