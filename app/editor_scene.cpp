@@ -23,24 +23,41 @@ BindProgress job_progress(const BindJob::Progress& progress, const std::atomic<b
   return p;
 }
 
-std::unique_ptr<BindJob> start_bind_job(std::vector<glm::vec3> skin, Document doc, std::optional<CageAttachment> attachment) {
-  return std::make_unique<BindJob>("binding", [skin = std::move(skin), doc = std::move(doc), attachment = std::move(attachment)](
-                                                  const BindJob::Progress& progress, const std::atomic<bool>& cancel) {
-    return bind_document(doc, skin, attachment ? &*attachment : nullptr, job_progress(progress, cancel));
+namespace {
+// The fit a job makes after its bind (on its worker thread).
+void fit_after_bind(const Document& doc, const Binding& binding, const FitRequest& fit) {
+  if (!fit.out || !fit.transferred || doc.attachment.mode != AttachmentMode::kFitted) return;
+  CageAttachment a = *fit.transferred;
+  auto f = fit_rig(*doc.character, binding, doc.attachment, a);
+  if (f) *fit.out = RigFit{std::move(a), std::move(f).value(), *fit.transferred};
+}
+}  // namespace
+
+std::unique_ptr<BindJob> start_bind_job(std::vector<glm::vec3> skin, Document doc, std::optional<CageAttachment> attachment,
+                                        FitRequest fit) {
+  return std::make_unique<BindJob>("binding", [skin = std::move(skin), doc = std::move(doc), attachment = std::move(attachment),
+                                               fit = std::move(fit)](const BindJob::Progress& progress,
+                                                                     const std::atomic<bool>& cancel) {
+    auto b = bind_document(doc, skin, attachment ? &*attachment : nullptr, job_progress(progress, cancel));
+    if (b && !cancel) fit_after_bind(doc, *b, fit);
+    return b;
   });
 }
 
 std::unique_ptr<BindJob> start_rest_edit_job(std::vector<glm::vec3> skin, Document doc,
                                              std::optional<CageAttachment> attachment, Binding previous,
                                              std::optional<CageAttachment> previous_attachment,
-                                             std::shared_ptr<RestRebindReport> report) {
+                                             std::shared_ptr<RestRebindReport> report, FitRequest fit) {
   return std::make_unique<BindJob>(
       "rest edit", [skin = std::move(skin), doc = std::move(doc), attachment = std::move(attachment),
                     previous = std::move(previous), previous_attachment = std::move(previous_attachment),
-                    report = std::move(report)](const BindJob::Progress& progress, const std::atomic<bool>& cancel) mutable {
-        return rebind_document(doc, skin, attachment ? &*attachment : nullptr, std::move(previous),
-                               previous_attachment ? &*previous_attachment : nullptr, job_progress(progress, cancel),
-                               report.get());
+                    report = std::move(report), fit = std::move(fit)](const BindJob::Progress& progress,
+                                                                      const std::atomic<bool>& cancel) mutable {
+        auto b = rebind_document(doc, skin, attachment ? &*attachment : nullptr, std::move(previous),
+                                 previous_attachment ? &*previous_attachment : nullptr, job_progress(progress, cancel),
+                                 report.get());
+        if (b && !cancel) fit_after_bind(doc, *b, fit);
+        return b;
       });
 }
 
@@ -78,16 +95,22 @@ bool Scene::fits_attachment() const {
          binding->num_cage_vertices == attachment->joint.size();
 }
 
-Status Scene::make_deformer() {
+Status Scene::make_deformer(RigFit* fit) {
   if (!binding) return make_error(ErrorCode::kInvalidArgument, "no binding");
   // all or nothing: the fit and the deformer are made aside, and taken only when both worked
   std::optional<CageAttachment> fitted_attachment;
   std::unique_ptr<Binding> fitted;
   if (fits_attachment()) {
-    CageAttachment a = transferred_ ? *transferred_ : *attachment;  // as Rig::create: from the transferred weights
-    if (auto f = fit_rig(*doc().character, *binding, doc().attachment, a); f.ok()) {
-      fitted_attachment = std::move(a);
-      if (*f) fitted = std::make_unique<Binding>(std::move(**f));
+    const CageAttachment& from = transferred_ ? *transferred_ : *attachment;  // as Rig::create: the transferred weights
+    if (fit && fit->transferred == from) {  // the bind job's fit, of this binding and attachment
+      fitted_attachment = std::move(fit->attachment);
+      if (fit->smoothed) fitted = std::make_unique<Binding>(std::move(*fit->smoothed));
+    } else {
+      CageAttachment a = from;
+      if (auto f = fit_rig(*doc().character, *binding, doc().attachment, a); f.ok()) {
+        fitted_attachment = std::move(a);
+        if (*f) fitted = std::make_unique<Binding>(std::move(**f));
+      }
     }
   }
   // refers to the binding: made from its final place (the heap object `fitted` owns, or `binding`'s)
@@ -108,12 +131,14 @@ Status Scene::make_deformer() {
 void Scene::start_bind() {
   if (!doc().cage || job) return;
   pending_rest_report_.reset();
+  pending_fit_ = std::make_shared<std::optional<RigFit>>();
+  FitRequest fit{doc().attachment.mode == AttachmentMode::kFitted ? transferred_ : std::nullopt, pending_fit_};
   if (rest_edit_possible()) {
     pending_rest_report_ = std::make_shared<RestRebindReport>();
     job = start_rest_edit_job(skin_rest, with_params(doc(), params), attachment, *binding, bound_attachment_data_,
-                              pending_rest_report_);
+                              pending_rest_report_, std::move(fit));
   } else {
-    job = start_bind_job(skin_rest, with_params(doc(), params), attachment);
+    job = start_bind_job(skin_rest, with_params(doc(), params), attachment, std::move(fit));
   }
   pending_attachment_data_ = attachment;
   pending_cage_ = doc().cage;
@@ -220,7 +245,7 @@ std::optional<std::string> Scene::poll_bind() {
     bound_edits_ = pending_edits_;
     bound_attachment_ = pending_attachment_;
     bound_attachment_data_ = pending_attachment_data_;
-    auto d = make_deformer();
+    auto d = make_deformer(pending_fit_ && *pending_fit_ ? &**pending_fit_ : nullptr);
     if (d.ok()) {
       char buf[256];
       if (pending_rest_report_ && pending_rest_report_->points < binding->num_points)

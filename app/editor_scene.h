@@ -33,15 +33,30 @@ namespace cagewrap::app {
 using BindJob = BackgroundTask<Binding>;
 // A background bind's progress and Cancel, as the core binds take them.
 BindProgress job_progress(const BindJob::Progress& progress, const std::atomic<bool>& cancel);
+// The default rig's fit of a bind (core/attachment_fit.h fit_rig: the fitted attachment and the
+// smoothed stencil), made on the bind's worker thread so that the UI does not wait for it.
+struct RigFit {
+  CageAttachment attachment;        // `transferred` fitted
+  std::optional<Binding> smoothed;  // the stencil the deformer reads, or none: the registration
+  CageAttachment transferred;       // what it was fitted from (it applies to this attachment only)
+};
+// What a bind job fits after binding: the transferred attachment, when the document's attachment is
+// fitted; the result goes to `out`.
+struct FitRequest {
+  std::optional<CageAttachment> transferred;
+  std::shared_ptr<std::optional<RigFit>> out;
+};
 // Binds the document's skin to its cage (parameters, set edits, automatic separation by the
-// attachment's skeleton parts: core/rig.h bind_document).
-std::unique_ptr<BindJob> start_bind_job(std::vector<glm::vec3> skin, Document doc, std::optional<CageAttachment> attachment);
+// attachment's skeleton parts: core/rig.h bind_document), then fits the rig (`fit`).
+std::unique_ptr<BindJob> start_bind_job(std::vector<glm::vec3> skin, Document doc, std::optional<CageAttachment> attachment,
+                                        FitRequest fit = {});
 // The document's rest cage moved since `previous` was bound (core/rig.h rebind_document): only the
-// skin points within reach of the moved vertices are registered again; `report` is filled when it ends.
+// skin points within reach of the moved vertices are registered again; `report` is filled when it
+// ends; then the rig is fitted (`fit`).
 std::unique_ptr<BindJob> start_rest_edit_job(std::vector<glm::vec3> skin, Document doc,
                                              std::optional<CageAttachment> attachment, Binding previous,
                                              std::optional<CageAttachment> previous_attachment,
-                                             std::shared_ptr<RestRebindReport> report);
+                                             std::shared_ptr<RestRebindReport> report, FitRequest fit = {});
 
 struct Scene {
   explicit Scene(Document doc) : history(std::move(doc)) {}
@@ -114,7 +129,9 @@ struct Scene {
   // and the stencil smoothed where the rig would stretch the skin) goes into `rig_binding`, which
   // the deformer reads when the fit smoothed the stencil; `binding` stays the registration (sets,
   // live edits, rest edits, the cache).
-  Status make_deformer();
+  // `fit` (optional): the fit a bind job made for the current binding, taken instead of fitting
+  // here when it was made from the current transferred attachment.
+  Status make_deformer(RigFit* fit = nullptr);
   bool fits_attachment() const;  // a fitted attachment for the current binding (make_deformer fits it)
   std::unique_ptr<Binding> rig_binding;  // the smoothed stencil `deformer` reads, or null: `binding`
   uint64_t attachment_revision = 0;  // changes whenever make_deformer fits `attachment` again
@@ -153,6 +170,7 @@ struct Scene {
   std::vector<SetEdit> pending_edits_, bound_edits_;  // the set edits of the running job / the binding
   std::optional<CageAttachment> pending_attachment_data_, bound_attachment_data_;  // the attachment they used
   std::shared_ptr<RestRebindReport> pending_rest_report_;  // set when the running job is a rest edit
+  std::shared_ptr<std::optional<RigFit>> pending_fit_;     // the running job's fit, when it makes one
   // whether the running job may re-register only some points (same elements, parameters, edits)
   bool rest_edit_possible() const;
   void add_move(std::vector<glm::vec3>& values, const MoveWeights& weights, const glm::dvec3& world_delta) const;
