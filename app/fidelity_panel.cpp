@@ -46,7 +46,11 @@ void FidelityPanel::update(Scene& scene) {
   char t[64];
   std::snprintf(t, sizeof t, "/%d/%.6f/%zu", scene.clip, scene.player.time(), scene.pose_override.size());
   std::string key = doc_key(scene) + t + (heat_map ? "/h" : "");
-  for (const auto& q : scene.pose_override) key += std::to_string(q.x + 3 * q.y + 7 * q.z);
+  for (const auto& q : scene.pose_override) {
+    char r[96];
+    std::snprintf(r, sizeof r, "/%a,%a,%a,%a", q.x, q.y, q.z, q.w);  // exact: no two poses share a key
+    key += r;
+  }
   if (key == key_) return;
   // while the frame keeps changing (playback, a drag) measure at most 4 times a second: the file's
   // skinning and, on the GPU path, a CPU copy of the rig's skin cost a frame's worth at 1M vertices
