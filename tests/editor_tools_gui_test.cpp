@@ -397,8 +397,7 @@ TEST(EditorTools, SelectLimbFacesAndOnlyTheseFaces) {
   EXPECT_EQ(edits[0].at("point").get<int>(), 20000);
   EXPECT_TRUE(edits[0].value("only", false));
   EXPECT_GT(edits[0].at("include").size(), 10u) << "the forearm's faces hold many elements";
-  std::ifstream log(dir / "tools_limb.log");
-  std::string text((std::istreambuf_iterator<char>(log)), std::istreambuf_iterator<char>());
+  const std::string text = read_file(dir / "tools_limb.log");
   EXPECT_EQ(text.find("error"), std::string::npos) << text;
 }
 
@@ -413,8 +412,7 @@ TEST(EditorTools, RemovingAPointsOwnFacesRemovesThemFromItsSet) {
   write_script(script, "clip rest\nwait 2\nmode skin_vertices\nselect_skin_vertex 13849\nlog_set 13849\nselect_set_faces\n"
                        "set_edit remove\nwait 2\nlog_set 13849\nsave " + p.string() + "\n");
   screenshot("--script " + script.string(), "tools_remove_set");
-  std::ifstream log(dir / "tools_remove_set.log");
-  std::string text((std::istreambuf_iterator<char>(log)), std::istreambuf_iterator<char>());
+  const std::string text = read_file(dir / "tools_remove_set.log");
   auto sets = [&] {
     std::vector<std::vector<uint32_t>> out;
     for (size_t at = text.find("set of skin vertex 13849:"); at != std::string::npos;
