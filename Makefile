@@ -12,7 +12,7 @@ JOBS         ?= $(shell nproc)
 CMAKE_FLAGS  ?=
 SHARED_ASSETS ?= $(abspath ../shared/assets)
 
-.PHONY: all setup build run test check test-sanitize fuzz bench bench-gpu bench-peers clean
+.PHONY: all setup build run test check test-sanitize test-sanitize-full fuzz bench bench-gpu bench-peers clean
 
 all: build
 
@@ -46,7 +46,18 @@ $(BUILD_SAN)/build.ninja:
 	# Debug (assertions on) at -O1: the sanitizers' usual level, several times faster than -O0
 	cmake -S . -B $(BUILD_SAN) -G Ninja -DCMAKE_BUILD_TYPE=Debug "-DCMAKE_CXX_FLAGS_DEBUG=-g -O1" -DCAGEWRAP_SANITIZE=ON -DCAGEWRAP_GUI=OFF -DCAGEWRAP_SHARED_ASSETS=$(SHARED_ASSETS) $(CMAKE_FLAGS)
 
+# Left out of the sanitizer run (they run in make check; make test-sanitize-full runs them too), to keep
+# make test under 50 minutes on two cores: the tests that kill processes in a loop (they test atomic
+# saves, not memory; 144 s under ASan) and the tests of rig quality figures on whole characters (the
+# same code runs under the sanitizers in the smaller tests of tests/stencil_smooth_test.cpp,
+# attachment_fit_test.cpp and auto_cage_test.cpp; about 250 s).
+SANITIZE_SKIP ?= ^Robustness\.Killed|^DefaultRig\.SmoothedStencilKeepsTheDemoWithinTheThresholds$$|^FittedAttachment\.(IsCloserToTheFilesSkinningThanTheTransferredWeights|TheEdgeTermLowersTheWorstStretch)$$|^MannequinDefaultRig\.|^AutoCage\.Mannequin(CageDeformsTheSkinLikeItsSkinning|FailingPointsAreThoseTheBindingMisses)$$|^DemoVariants\.TailWaveCurlsEveryTailBoneAndEveryFinger$$
+
 test-sanitize: setup $(BUILD_SAN)/build.ninja
+	cmake --build $(BUILD_SAN) -j $(JOBS)
+	cd $(BUILD_SAN) && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 ctest --output-on-failure -j $(JOBS) -E '$(SANITIZE_SKIP)'
+
+test-sanitize-full: setup $(BUILD_SAN)/build.ninja
 	cmake --build $(BUILD_SAN) -j $(JOBS)
 	cd $(BUILD_SAN) && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 ctest --output-on-failure -j $(JOBS)
 

@@ -2,6 +2,7 @@
 
 #include "core/text_mesh_readers.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -10,6 +11,8 @@
 #include <memory>
 #include <mutex>
 #include <sstream>
+#include <streambuf>
+#include <string>
 
 #include <fcntl.h>
 #include <sys/mman.h>
@@ -103,6 +106,36 @@ class RawImporter final : public IO::BaseImporter {
   PolyMesh& mesh_;
 };
 
+// A stream buffer that keeps the first kKeep characters written to it and counts the rest: a reader
+// that reports one problem per word of a hostile file cannot grow it without bound (OpenMesh's PLY
+// header reader printed errors until memory ran out on a 141-byte file: found by fuzzing).
+class BoundedTextBuffer final : public std::streambuf {
+ public:
+  static constexpr size_t kKeep = 4096;
+  std::string str() const { return dropped_ ? text_ + " ..." : text_; }
+
+ protected:
+  int_type overflow(int_type c) override {
+    if (traits_type::eq_int_type(c, traits_type::eof())) return traits_type::not_eof(c);
+    if (text_.size() < kKeep)
+      text_.push_back(traits_type::to_char_type(c));
+    else
+      dropped_ = true;
+    return c;
+  }
+  std::streamsize xsputn(const char* s, std::streamsize n) override {
+    const size_t room = kKeep - std::min(kKeep, text_.size());
+    const size_t take = std::min(room, static_cast<size_t>(n));
+    text_.append(s, take);
+    if (take < static_cast<size_t>(n)) dropped_ = true;
+    return n;
+  }
+
+ private:
+  std::string text_;
+  bool dropped_ = false;
+};
+
 // OpenMesh reports problems on its global omerr() stream (and chatter on omlog()); while it reads, both
 // write into a buffer of ours instead. The streams' buffers are swapped rather than their targets
 // connected and disconnected: OpenMesh 9's multiplex_streambuf::disconnect never deletes the target
@@ -126,7 +159,7 @@ class CaptureOpenMeshErrors {
   }
 
  private:
-  std::stringbuf buffer_, discard_;
+  BoundedTextBuffer buffer_, discard_;
   std::streambuf* err_;
   std::streambuf* log_;
 };

@@ -509,7 +509,9 @@ Status check_ascii_ply(std::string_view data, const std::string& path) {
       PlyElement e;
       std::string_view count;
       int64_t n = 0;
-      if (!tokens.next(e.name) || !tokens.next(count) || parse_int(count, n) != Num::kOk || n < 0)
+      std::string_view extra;
+      if (!tokens.next(e.name) || !tokens.next(count) || parse_int(count, n) != Num::kOk || n < 0 ||
+          tokens.next(extra))
         return make_error(ErrorCode::kParse, where + "the element line should read 'element <name> <count>'");
       e.count = static_cast<uint64_t>(n);
       elements.push_back(e);
@@ -531,6 +533,11 @@ Status check_ascii_ply(std::string_view data, const std::string& path) {
       if (!ply_type(type, p.type))
         return make_error(ErrorCode::kParse, where + "unknown property type " + quoted(type));
       if (!tokens.next(p.name)) return make_error(ErrorCode::kParse, where + "a property without a name");
+      // OpenMesh reads the header word by word: words after the name would be read as the next line's
+      // (a tab-joined 'element vertex 4\tproperty <junk>' made it print errors without end: fuzzing)
+      if (std::string_view extra; tokens.next(extra))
+        return make_error(ErrorCode::kParse, where + "unexpected " + quoted(extra) + " after property " +
+                                                 quoted(p.name));
       elements.back().properties.push_back(p);
     } else if (keyword == "end_header") {
       ended = true;

@@ -29,6 +29,9 @@ rm -rf "$BUILD/seeds"
 status=0
 for harness in gltf mesh project set_edits patch; do
   corpus="$BUILD/corpus/$harness"
+  # a fixed run (FUZZ_RUNS) starts from the seeds alone, as on a clean checkout: what earlier runs added
+  # to the corpus would make this machine's run differ from CI's (a mesh OOM CI found was missed here)
+  [ -n "${FUZZ_RUNS:-}" ] && corpus="$BUILD/corpus-fixed/$harness" && rm -rf "$corpus"
   artifacts="$BUILD/artifacts/$harness"
   mkdir -p "$corpus" "$artifacts"
   # checked-in regression inputs (crashes found before) run first, as seeds
