@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <istream>
 #include <memory>
 #include <mutex>
 #include <sstream>
@@ -169,8 +170,28 @@ std::mutex& openmesh_mutex() {
   return m;
 }
 
-// PLY, STL and binary OFF through OpenMesh's readers, every vertex and face kept by RawImporter.
-Result<PolyMesh> read_with_openmesh(const std::string& path) {
+// An input stream over bytes in memory (no copy), seekable: OpenMesh's readers seek.
+class MemoryInput final : public std::streambuf {
+ public:
+  explicit MemoryInput(std::string& bytes) { setg(bytes.data(), bytes.data(), bytes.data() + bytes.size()); }
+
+ protected:
+  pos_type seekoff(off_type off, std::ios_base::seekdir dir, std::ios_base::openmode which) override {
+    if (!(which & std::ios_base::in)) return pos_type(off_type(-1));
+    const off_type base = dir == std::ios_base::beg ? 0 : dir == std::ios_base::cur ? gptr() - eback() : egptr() - eback();
+    const off_type at = base + off;
+    if (at < 0 || at > egptr() - eback()) return pos_type(off_type(-1));
+    setg(eback(), eback() + at, egptr());
+    return pos_type(at);
+  }
+  pos_type seekpos(pos_type pos, std::ios_base::openmode which) override {
+    return seekoff(off_type(pos), std::ios_base::beg, which);
+  }
+};
+
+// PLY, STL and binary OFF through OpenMesh's readers, every vertex and face kept by RawImporter:
+// from the file, or from `bytes` (a PLY file with its header rewritten, check_ascii_ply).
+Result<PolyMesh> read_with_openmesh(const std::string& path, std::string* bytes = nullptr) {
   PolyMesh mesh;
   RawImporter importer(mesh);
   IO::Options options;
@@ -179,7 +200,13 @@ Result<PolyMesh> read_with_openmesh(const std::string& path) {
   {
     std::lock_guard lock(openmesh_mutex());
     CaptureOpenMeshErrors capture;
-    read_ok = IO::IOManager().read(path, importer, options);
+    if (bytes) {
+      MemoryInput buffer(*bytes);
+      std::istream in(&buffer);
+      read_ok = IO::IOManager().read(in, ".ply", importer, options);
+    } else {
+      read_ok = IO::IOManager().read(path, importer, options);
+    }
     om_errors = capture.text();
   }
   if (!read_ok)
@@ -261,13 +288,15 @@ Result<PolyMesh> load_mesh(const std::string& path) {
     mesh = read_off(data, path);
   } else {
     // OpenMesh must never see a bad number in a text file: its readers go on from a failed stream
+    // and its PLY header reader is not robust to junk: it reads the header as we checked it
+    std::string canonical_ply;
     if (ply) {
-      if (auto s = check_ascii_ply(data, path); !s) return s.error();
+      if (auto s = check_ascii_ply(data, path, &canonical_ply); !s) return s.error();
     } else if (stl) {
       if (auto s = check_ascii_stl(data, path); !s) return s.error();
     }
     file.reset();
-    mesh = read_with_openmesh(path);
+    mesh = read_with_openmesh(path, ply ? &canonical_ply : nullptr);
   }
   if (!mesh) return mesh.error();
   if (mesh->positions.empty()) return make_error(ErrorCode::kEmpty, path + ": has no vertices");

@@ -480,13 +480,14 @@ class Stream {
 
 }  // namespace
 
-Status check_ascii_ply(std::string_view data, const std::string& path) {
+Status check_ascii_ply(std::string_view data, const std::string& path, std::string* canonical) {
   Lines lines(data);
   std::string_view line, token;
   if (!lines.next(line) || !Tokens(line).next(token) || token != "ply")
     return make_error(ErrorCode::kParse,
                       path + ": could not be parsed as PLY (the file does not start with 'ply')");
   std::vector<PlyElement> elements;
+  std::string_view format_name;
   bool ascii = false, have_format = false, ended = false;
   while (!ended && lines.next(line)) {
     Tokens tokens(line);
@@ -498,6 +499,7 @@ Status check_ascii_ply(std::string_view data, const std::string& path) {
       tokens.next(format);
       if (!tokens.next(version) || version != "1.0" || tokens.next(extra))
         return make_error(ErrorCode::kParse, where + "the format line should read 'format <type> 1.0'");
+      format_name = format;
       if (format == "ascii")
         ascii = true;
       else if (format != "binary_little_endian" && format != "binary_big_endian")
@@ -550,6 +552,18 @@ Status check_ascii_ply(std::string_view data, const std::string& path) {
   // OpenMesh's reader assumes a vertex element (it crashed on a header without one: found by fuzzing)
   if (std::none_of(elements.begin(), elements.end(), [](const PlyElement& e) { return e.name == "vertex"; }))
     return make_error(ErrorCode::kParse, path + ": the PLY header declares no vertex element");
+  if (canonical) {
+    std::string& out = *canonical;
+    out = "ply\nformat " + std::string(format_name) + " 1.0\n";
+    for (const PlyElement& e : elements) {
+      out += "element " + std::string(e.name) + " " + std::to_string(e.count) + "\n";
+      for (const PlyProperty& p : e.properties)
+        out += std::string("property ") + (p.list ? std::string("list ") + ply_type_name(p.count_type) + " " : "") +
+               ply_type_name(p.type) + " " + std::string(p.name) + "\n";
+    }
+    out += "end_header\n";
+    out.append(lines.position(), data.data() + data.size());
+  }
   if (!ascii) return Ok{};
 
   uint64_t num_vertices = 0;

@@ -39,7 +39,11 @@ Result<PolyMesh> read_off(std::string_view text, const std::string& path);
 // range, integers within their type, list counts non-negative, face indices non-negative) and that
 // the file holds as many elements as the header promises. Binary PLY passes unchecked (its values
 // are exact; validate_mesh catches non-finite ones). Not starting with "ply" is a parse error.
-Status check_ascii_ply(std::string_view data, const std::string& path);
+// `canonical` (optional) receives the file with its header rewritten from what was checked (one
+// element or property per line, canonical type names, comments and obj_info left out), for OpenMesh:
+// its own header reader is not robust to junk (fuzzing found headers that made it print errors or add
+// elements without end, until memory ran out).
+Status check_ascii_ply(std::string_view data, const std::string& path, std::string* canonical = nullptr);
 
 // STL: when the file is not binary (a binary STL is 84 + 50 * triangle-count bytes long), checks
 // that every `vertex` line holds three finite float numbers and every `facet normal` three numbers.

@@ -526,6 +526,39 @@ TEST_F(MeshIoTest, NonFiniteCoordinateInBinaryPlyNamesTheVertex) {
   }
 }
 
+// OpenMesh is given the header as it was checked (check_ascii_ply's canonical copy): comment and
+// obj_info lines holding header words, control bytes and odd spacing change nothing (one such header
+// made OpenMesh add elements until memory ran out: fuzz_mesh), for a text and for a binary body.
+TEST_F(MeshIoTest, PlyCommentsWithHeaderWordsDoNotChangeWhatIsRead) {
+  const std::string junk = "comment element face 99\nobj_info fl=\xff element\x0bpf \x01 property list uchar int x\n";
+  const std::string head = "ply\r\nformat   ascii 1.0\n" + junk +
+                           "element vertex 4\nproperty float x\nproperty float y\n" + junk +
+                           "property float z\nelement face 2\nproperty list uchar int vertex_indices\n" + junk +
+                           "end_header\n";
+  const std::string p = write("junk.ply", head + "0 0 0\n1 0 0\n0 1 0\n1 1 0\n3 0 1 2\n3 1 3 2\n");
+  auto r = load_mesh_guarded(p);
+  ASSERT_TRUE(r.finished) << r.how;
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  EXPECT_EQ(r.vertices, 4u);
+
+  std::string binary = "ply\nformat binary_little_endian 1.0\n" + junk +
+                       "element vertex 3\nproperty float x\nproperty float y\nproperty float z\n" + junk +
+                       "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
+  const float xyz[9] = {0, 0, 0, 2, 0, 0, 0, 3, 0};
+  binary.append(reinterpret_cast<const char*>(xyz), sizeof xyz);
+  const uint8_t n = 3;
+  const int32_t idx[3] = {0, 1, 2};
+  binary.append(reinterpret_cast<const char*>(&n), 1);
+  binary.append(reinterpret_cast<const char*>(idx), sizeof idx);
+  const std::string pb = write("junk_binary.ply", binary);
+  auto m = load_mesh(pb);
+  ASSERT_TRUE(m.ok()) << m.error().message;
+  ASSERT_EQ(m->positions.size(), 3u);
+  EXPECT_EQ(m->positions[1], glm::vec3(2, 0, 0));
+  EXPECT_EQ(m->positions[2], glm::vec3(0, 3, 0));
+  EXPECT_EQ(m->face_start.size(), 2u);
+}
+
 // OpenMesh's text readers parse numbers with operator>>, which fails on "nan", "inf" and on values
 // beyond double range; the loader must still report a non-finite coordinate at that vertex, not drop
 // the vertex (which shifts every later index), keep a stale value, or read on from a failed stream
