@@ -1,5 +1,5 @@
 // cagewrap make-demo --out assets/demo_character.glb: generates the default document's character.
-// --variant arms-down|tail|arms-down+tail makes the hard test characters, --units cm writes it in
+// --variant arms-down|tail|arms-down+tail|quadruped makes the hard test characters, --units cm writes it in
 // centimetres (core/demo_character.h).
 #include <cstdio>
 
@@ -22,10 +22,10 @@ void add_make_demo_command(CLI::App& app, int& exit_code) {
   auto* cmd = app.add_subcommand("make-demo", "generate the demo character (deterministic) as a .glb");
   cmd->add_option("--out", args->out, "output .glb")->capture_default_str();
   cmd->add_option("--cell-size", args->options.cell_size,
-                  "polygonizer grid spacing in metres (sets the vertex count; default 0.015, 0.011 for the tail variants)");
+                  "polygonizer grid spacing in metres (sets the vertex count; default 0.015, 0.011 for the tail variants and the quadruped)");
   cmd->add_option("--variant", args->variant,
                   "default | arms-down (hands at the thighs, legs together) | tail (fingers and a 12-bone tail) | "
-                  "arms-down+tail")
+                  "arms-down+tail | quadruped (four legs, a tail)")
       ->capture_default_str();
   cmd->add_option("--units", args->units, "scene units of the file: m | cm (the same mesh, scaled by 100)")
       ->capture_default_str();
@@ -37,7 +37,7 @@ void add_make_demo_command(CLI::App& app, int& exit_code) {
     }
     auto variant = parse_demo_variant(args->variant);
     if (!variant) {
-      std::fprintf(stderr, "error: --variant %s: expected default, arms-down, tail or arms-down+tail\n",
+      std::fprintf(stderr, "error: --variant %s: expected default, arms-down, tail, arms-down+tail or quadruped\n",
                    args->variant.c_str());
       return;
     }

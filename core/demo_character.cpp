@@ -32,15 +32,17 @@ struct JointSpec {
 struct Shape {
   bool arms_down = false;  // arms hanging, hands at the thighs, legs together
   bool extras = false;     // fingers and a tail
-  bool grouped() const { return arms_down || extras; }
+  bool quadruped = false;  // four legs under a level body, a tail
+  bool grouped() const { return arms_down || extras || quadruped; }
 };
 
 Shape shape_of(DemoVariant v) {
   return {v == DemoVariant::kArmsDown || v == DemoVariant::kArmsDownTail,
-          v == DemoVariant::kTail || v == DemoVariant::kArmsDownTail};
+          v == DemoVariant::kTail || v == DemoVariant::kArmsDownTail, v == DemoVariant::kQuadruped};
 }
 
 constexpr int kTailBones = 12;
+constexpr int kQuadrupedTailBones = 8;
 struct FingerLayout {
   const char* name;
   double across;       // offset across the palm, in finger spacings (+ toward the thumb)
@@ -96,7 +98,49 @@ void add_fingers(std::vector<JointSpec>& j, double side) {
 }
 
 // The rest skeleton, A-pose: arms 45 degrees below horizontal.
+// The quadruped's skeleton: a level spine from the hips (back) to the chest (front), facing +Z, the
+// front legs (shoulder blade, upper arm, forearm, paw) children of the chest, the hind legs of the
+// hips, the same joint names as the biped's so that the groups and clips find them; legs 0.2 m apart,
+// the elbows against the chest and the thighs against the belly.
+std::vector<JointSpec> quadruped_specs() {
+  std::vector<JointSpec> j;
+  j.push_back({"hips", -1, {0, 0.62, -0.30}, {0, 0.63, -0.10}, false});
+  j.push_back({"spine", 0, {0, 0.63, -0.10}, {0, 0.645, 0.12}, false});
+  j.push_back({"chest", 1, {0, 0.645, 0.12}, {0, 0.65, 0.30}, false});
+  j.push_back({"neck", 2, {0, 0.65, 0.30}, {0, 0.79, 0.43}, false});
+  j.push_back({"head", 3, {0, 0.79, 0.43}, {0, 0.80, 0.62}, false});
+  for (double side : {1.0, -1.0}) {
+    const std::string sfx = side > 0 ? ".L" : ".R";
+    const int base = static_cast<int>(j.size());
+    j.push_back({"shoulder" + sfx, 2, {side * 0.07, 0.66, 0.22}, {side * 0.10, 0.50, 0.27}, false});
+    j.push_back({"upper_arm" + sfx, base, {side * 0.10, 0.50, 0.27}, {side * 0.10, 0.30, 0.23}, false});
+    j.push_back({"forearm" + sfx, base + 1, {side * 0.10, 0.30, 0.23}, {side * 0.10, 0.07, 0.25}, false});
+    j.push_back({"hand" + sfx, base + 2, {side * 0.10, 0.07, 0.25}, {side * 0.10, 0.025, 0.32}, false});
+  }
+  for (double side : {1.0, -1.0}) {
+    const std::string sfx = side > 0 ? ".L" : ".R";
+    const int base = static_cast<int>(j.size());
+    j.push_back({"thigh" + sfx, 0, {side * 0.09, 0.60, -0.28}, {side * 0.10, 0.37, -0.19}, false});
+    j.push_back({"shin" + sfx, base, {side * 0.10, 0.37, -0.19}, {side * 0.10, 0.15, -0.33}, false});
+    j.push_back({"foot" + sfx, base + 1, {side * 0.10, 0.15, -0.33}, {side * 0.10, 0.035, -0.29}, false});
+    j.push_back({"toes" + sfx, base + 2, {side * 0.10, 0.035, -0.29}, {side * 0.10, 0.025, -0.22}, false});
+  }
+  // The tail: from the top of the rump, backward and a little up, 0.55 m.
+  dvec3 p(0, 0.67, -0.41);
+  for (int i = 0; i < kQuadrupedTailBones; ++i) {
+    const double angle = (25.0 - 5.0 * i) * std::numbers::pi / 180.0;  // above the horizontal
+    dvec3 next = p + 0.07 * dvec3(0, std::sin(angle), -std::cos(angle));
+    char name[16];
+    std::snprintf(name, sizeof name, "tail_%02d", i + 1);
+    j.push_back({name, i == 0 ? 0 : static_cast<int>(j.size()) - 1, p, next, false,
+                 0.035 - 0.025 * i / kQuadrupedTailBones, 0.035 - 0.025 * (i + 1) / kQuadrupedTailBones});
+    p = next;
+  }
+  return j;
+}
+
 std::vector<JointSpec> joint_specs(const Shape& shape) {
+  if (shape.quadruped) return quadruped_specs();
   const double s = std::sqrt(0.5);
   auto arm = [&](double side, dvec3 shoulder, double len) { return shoulder + len * dvec3(side * s, -s, 0); };
   std::vector<JointSpec> j;
@@ -198,8 +242,36 @@ struct Body {
   }
 };
 
+// The quadruped's capsules: a barrel of a body, a neck and a muzzle, legs thinning to the paws.
+std::vector<Part> quadruped_parts(const std::vector<JointSpec>& j,
+                                  const std::function<int(const std::string&)>& idx) {
+  std::vector<Part> parts;
+  parts.push_back({{0, 0.625, -0.33}, {0, 0.63, -0.12}, 0.105, 0.11, 1.0, idx("hips")});
+  parts.push_back({{0, 0.63, -0.10}, {0, 0.64, 0.12}, 0.11, 0.12, 1.0, idx("spine")});
+  parts.push_back({{0, 0.635, 0.12}, {0, 0.64, 0.30}, 0.125, 0.115, 1.0, idx("chest")});
+  parts.push_back({{0, 0.68, 0.31}, {0, 0.79, 0.44}, 0.07, 0.055, 1.0, idx("neck")});
+  parts.push_back({{0, 0.81, 0.44}, {0, 0.78, 0.63}, 0.07, 0.035, 1.0, idx("head")});
+  for (const char* s : {".L", ".R"}) {
+    auto bone = [&](const std::string& n) { return idx(n + s); };
+    auto capsule = [&](const char* n, double ra, double rb) {
+      const JointSpec& b = j[bone(n)];
+      parts.push_back({b.head, b.tail, ra, rb, 1.0, bone(n)});
+    };
+    capsule("shoulder", 0.055, 0.05);
+    capsule("upper_arm", 0.048, 0.036);
+    capsule("forearm", 0.032, 0.026);
+    capsule("hand", 0.028, 0.026);
+    capsule("thigh", 0.07, 0.045);
+    capsule("shin", 0.04, 0.03);
+    capsule("foot", 0.028, 0.026);
+    capsule("toes", 0.028, 0.025);
+  }
+  return parts;
+}
+
 std::vector<Part> default_parts(const std::vector<JointSpec>& j, const Shape& shape,
                                 const std::function<int(const std::string&)>& idx) {
+  if (shape.quadruped) return quadruped_parts(j, idx);
   std::vector<Part> parts;
   if (!shape.arms_down)
     parts.push_back({{-0.075, 0.93, 0}, {0.075, 0.93, 0}, 0.115, 0.115, 0.8, idx("hips")});
@@ -266,7 +338,7 @@ Body body_parts(const std::vector<JointSpec>& j, const Shape& shape) {
     else
       p.group = kTorso;
   }
-  if (!shape.extras) return body;
+  if (!shape.extras && !shape.quadruped) return body;
   for (size_t b = 0; b < j.size(); ++b) {
     const JointSpec& s = j[b];
     const bool finger = s.name.starts_with("finger_");
@@ -590,15 +662,93 @@ Clip tail_wave_clip(const Skeleton& sk) {
   return clip;
 }
 
+// The quadruped's walk (1 s loop): a four-beat gait (left hind, left fore, right hind, right fore a
+// quarter cycle apart), each upper leg swinging +-22 degrees, the lower leg folding on the forward
+// swing; the spine sways, the head nods, the tail swings side to side.
+Clip quadruped_walk_clip(const Skeleton& sk) {
+  Clip clip;
+  clip.name = "walk";
+  const double T = 1.0;
+  const int keys = 41;
+  const double two_pi = 2 * std::numbers::pi;
+  auto n = [&](const std::string& name) { return static_cast<uint32_t>(sk.find(name)); };
+  struct Leg {
+    const char* upper;
+    const char* lower;
+    const char* end;
+    double phase;
+  };
+  const Leg legs[] = {{"thigh.L", "shin.L", "foot.L", 0.0},
+                      {"upper_arm.L", "forearm.L", "hand.L", 0.25},
+                      {"thigh.R", "shin.R", "foot.R", 0.5},
+                      {"upper_arm.R", "forearm.R", "hand.R", 0.75}};
+  for (const Leg& leg : legs) {
+    const double off = two_pi * leg.phase;
+    add_rotation_channel(clip, sk, n(leg.upper), T, keys,
+                         [&](double t) { return about(-22.0 * std::sin(two_pi * t / T + off), {1, 0, 0}); });
+    add_rotation_channel(clip, sk, n(leg.lower), T, keys, [&](double t) {
+      const double c = 0.5 + 0.5 * std::cos(two_pi * t / T + off - 0.3);
+      return about(5.0 + 55.0 * c * c, {1, 0, 0});
+    });
+    add_rotation_channel(clip, sk, n(leg.end), T, keys,
+                         [&](double t) { return about(-15.0 * std::sin(two_pi * t / T + off + 1.0), {1, 0, 0}); });
+  }
+  add_rotation_channel(clip, sk, n("spine"), T, keys,
+                       [&](double t) { return about(5.0 * std::sin(two_pi * t / T), {0, 1, 0}); });
+  add_rotation_channel(clip, sk, n("neck"), T, keys,
+                       [&](double t) { return about(6.0 * std::sin(2 * two_pi * t / T), {1, 0, 0}); });
+  for (int i = 0; i < kQuadrupedTailBones; ++i) {
+    char name[16];
+    std::snprintf(name, sizeof name, "tail_%02d", i + 1);
+    add_rotation_channel(clip, sk, n(name), T, keys, [&](double t) {
+      return about(12.0 * std::sin(two_pi * t / T - i * std::numbers::pi / kQuadrupedTailBones), {0, 0, 1});
+    });
+  }
+  clip.duration = T;
+  return clip;
+}
+
+// Sitting down and up again (2 s): the body tilts 35 degrees nose up about the hips, the hind legs
+// fold under it (the haunch pressed against the belly, the hock at 115 degrees), the front legs stay
+// upright, the tail curls down along the ground.
+Clip quadruped_sit_clip(const Skeleton& sk) {
+  Clip clip;
+  clip.name = "sit";
+  const double T = 2.0;
+  const int keys = 61;
+  auto u = [&](double t) { return 0.5 - 0.5 * std::cos(2 * std::numbers::pi * t / T); };  // 0 -> 1 -> 0
+  auto n = [&](const std::string& name) { return static_cast<uint32_t>(sk.find(name)); };
+  add_rotation_channel(clip, sk, n("hips"), T, keys, [&](double t) { return about(-35.0 * u(t), {1, 0, 0}); });
+  for (const std::string sfx : {".L", ".R"}) {
+    add_rotation_channel(clip, sk, n("thigh" + sfx), T, keys, [&](double t) { return about(-45.0 * u(t), {1, 0, 0}); });
+    add_rotation_channel(clip, sk, n("shin" + sfx), T, keys, [&](double t) { return about(115.0 * u(t), {1, 0, 0}); });
+    add_rotation_channel(clip, sk, n("foot" + sfx), T, keys, [&](double t) { return about(-60.0 * u(t), {1, 0, 0}); });
+    add_rotation_channel(clip, sk, n("upper_arm" + sfx), T, keys, [&](double t) { return about(30.0 * u(t), {1, 0, 0}); });
+    add_rotation_channel(clip, sk, n("forearm" + sfx), T, keys, [&](double t) { return about(5.0 * u(t), {1, 0, 0}); });
+  }
+  add_rotation_channel(clip, sk, n("neck"), T, keys, [&](double t) { return about(20.0 * u(t), {1, 0, 0}); });
+  for (int i = 0; i < kQuadrupedTailBones; ++i) {
+    char name[16];
+    std::snprintf(name, sizeof name, "tail_%02d", i + 1);
+    add_rotation_channel(clip, sk, n(name), T, keys, [&](double t) { return about(12.0 * u(t), {1, 0, 0}); });
+  }
+  clip.duration = T;
+  return clip;
+}
+
 }  // namespace
 
-double demo_default_cell_size(DemoVariant variant) { return shape_of(variant).extras ? 0.011 : 0.015; }
+double demo_default_cell_size(DemoVariant variant) {
+  const Shape shape = shape_of(variant);
+  return shape.extras || shape.quadruped ? 0.011 : 0.015;
+}
 
 std::optional<DemoVariant> parse_demo_variant(std::string_view name) {
   if (name == "default") return DemoVariant::kDefault;
   if (name == "arms-down") return DemoVariant::kArmsDown;
   if (name == "tail") return DemoVariant::kTail;
   if (name == "arms-down+tail" || name == "tail+arms-down") return DemoVariant::kArmsDownTail;
+  if (name == "quadruped") return DemoVariant::kQuadruped;
   return std::nullopt;
 }
 
@@ -608,6 +758,7 @@ const char* demo_variant_name(DemoVariant variant) {
     case DemoVariant::kArmsDown: return "arms-down";
     case DemoVariant::kTail: return "tail";
     case DemoVariant::kArmsDownTail: return "arms-down+tail";
+    case DemoVariant::kQuadruped: return "quadruped";
   }
   return "default";
 }
@@ -730,6 +881,11 @@ Character make_demo_character(const DemoCharacterOptions& options) {
     prim.influence_start.push_back(static_cast<uint32_t>(prim.influence_joint.size()));
   }
   c.primitives.push_back(std::move(prim));
+  if (shape.quadruped) {
+    c.clips.push_back(quadruped_walk_clip(c.skeleton));
+    c.clips.push_back(quadruped_sit_clip(c.skeleton));
+    return c;
+  }
   c.clips.push_back(walk_clip(c.skeleton, unit));
   c.clips.push_back(arm_raise_clip(c.skeleton));
   if (shape.extras) c.clips.push_back(tail_wave_clip(c.skeleton));

@@ -15,6 +15,10 @@
 //              0.011 m (about 70,000 vertices): the fingers (radius 11 -> 9.7 mm, a little thick)
 //              stay whole at that cell, while 0.008 m would make about 130,000 vertices.
 //   arms-down+tail  both.
+//   quadruped  a four-legged animal (a dog's proportions, 0.8 m tall at the head, 1.3 m long with
+//              its tail): a level body, the front legs against the chest, the thighs against the
+//              belly, an 8-bone tail. 29 joints; clips "walk" (four-beat gait, 1 s loop) and "sit"
+//              (2 s: the hind legs fold under the tilted body).
 // In the variants the body is a tree of groups (torso, pelvis, arms, legs, fingers, tail): parts
 // of one group and a group with its parent group blend smoothly; groups that merely touch (a hand
 // and a thigh, the two thighs, two fingers) meet in a crease, and the weight diffusion does not
@@ -32,7 +36,7 @@
 
 namespace cagewrap {
 
-enum class DemoVariant { kDefault, kArmsDown, kTail, kArmsDownTail };
+enum class DemoVariant { kDefault, kArmsDown, kTail, kArmsDownTail, kQuadruped };
 
 struct DemoCharacterOptions {
   double cell_size = 0.0;           // grid spacing of the polygonizer, metres; 0: demo_default_cell_size
@@ -45,9 +49,10 @@ struct DemoCharacterOptions {
   double unit_scale = 1.0;
 };
 
-// 0.015 m (about 35,000 vertices); 0.011 m for the variants with fingers.
+// 0.015 m (about 35,000 vertices); 0.011 m for the variants with fingers and the quadruped (whose
+// tail tip is 1 cm thick).
 double demo_default_cell_size(DemoVariant variant);
-// "default", "arms-down", "tail", "arms-down+tail" (also "tail+arms-down").
+// "default", "arms-down", "tail", "arms-down+tail" (also "tail+arms-down"), "quadruped".
 std::optional<DemoVariant> parse_demo_variant(std::string_view name);
 const char* demo_variant_name(DemoVariant variant);
 

@@ -279,7 +279,8 @@ const Character& tail_character() {
 }
 
 TEST(DemoVariants, NamesParseAndTheDefaultOptionsAreUnchanged) {
-  for (DemoVariant v : {DemoVariant::kDefault, DemoVariant::kArmsDown, DemoVariant::kTail, DemoVariant::kArmsDownTail})
+  for (DemoVariant v : {DemoVariant::kDefault, DemoVariant::kArmsDown, DemoVariant::kTail, DemoVariant::kArmsDownTail,
+                        DemoVariant::kQuadruped})
     EXPECT_EQ(parse_demo_variant(demo_variant_name(v)), v);
   EXPECT_FALSE(parse_demo_variant("arms_down").has_value());
   EXPECT_DOUBLE_EQ(demo_default_cell_size(DemoVariant::kDefault), 0.015);
@@ -445,6 +446,57 @@ TEST(DemoVariants, CombinedArmsDownAndTailIsOneClosedSkin) {
   expect_closed_surface(c);
   EXPECT_EQ(c.num_joints(), 63u);
   EXPECT_EQ(c.clips.size(), 3u);
+}
+
+// The quadruped: one closed skin over a level body, four legs standing on the ground, each leg's
+// skin its own (the left legs carry no weight of the right ones), an 8-bone tail; the walk swings
+// every leg and the sit folds the hind legs under the body.
+TEST(DemoVariants, QuadrupedStandsOnFourLegsThatKeepTheirOwnWeights) {
+  const Character c = make_demo_character({.cell_size = 0.014, .variant = DemoVariant::kQuadruped});
+  expect_closed_surface(c);
+  const Primitive& p = c.primitives[0];
+  EXPECT_EQ(c.num_joints(), 29u);
+  auto g = c.skeleton.global_transforms(c.skeleton.rest_pose());
+  const glm::vec3 hips = g[joint(c, "hips")][3], chest = g[joint(c, "chest")][3];
+  EXPECT_NEAR(hips.y, chest.y, 0.05f) << "a level body";
+  EXPECT_GT(chest.z - hips.z, 0.3f) << "facing +Z";
+  const Aabb box = bounding_box(p.positions);
+  EXPECT_LT(box.lo.y, 0.03) << "the paws reach the ground";
+  EXPECT_GT(box.hi.z - box.lo.z, 1.0);
+  for (const char* paw : {"hand.L", "hand.R", "toes.L", "toes.R"})
+    EXPECT_LT(g[joint(c, paw)][3].y, 0.1f) << paw;
+  // Each leg's skin is its own: no weight of the other side's leg of the same pair.
+  const std::pair<const char*, const char*> pairs[] = {{"upper_arm", "forearm"}, {"thigh", "shin"}};
+  for (const auto& [upper, lower] : pairs) {
+    const uint32_t ul = joint(c, std::string(upper) + ".L"), ll = joint(c, std::string(lower) + ".L");
+    const uint32_t ur = joint(c, std::string(upper) + ".R"), lr = joint(c, std::string(lower) + ".R");
+    size_t leg_vertices = 0;
+    for (size_t v = 0; v < p.num_vertices(); ++v) {
+      const uint16_t d = dominant(p, v);
+      if (d == ll || d == lr) {
+        ++leg_vertices;
+        const bool left = d == ll;
+        ASSERT_LT(weight_of(p, v, left ? ur : ul) + weight_of(p, v, left ? lr : ll), 0.01f)
+            << "vertex " << v << " of " << lower << (left ? ".L" : ".R") << " follows the other leg";
+      }
+    }
+    EXPECT_GT(leg_vertices, 500u) << lower;
+  }
+  for (int i = 1; i <= 8; ++i) {
+    char name[16];
+    std::snprintf(name, sizeof name, "tail_%02d", i);
+    EXPECT_GT(dominated_by(c, p.positions, joint(c, name)).size(), 20u) << name << " drives no skin";
+  }
+  const int32_t walk = c.find_clip("walk"), sit = c.find_clip("sit");
+  ASSERT_GE(walk, 0);
+  ASSERT_GE(sit, 0);
+  for (const char* leg : {"thigh.L", "thigh.R", "upper_arm.L", "upper_arm.R"})
+    EXPECT_GT(range_deg(clip_joint_angles(c, walk, joint(c, leg), {1, 0, 0}, 81)), 40.0) << leg;
+  for (const char* hock : {"shin.L", "shin.R"})
+    EXPECT_GT(range_deg(clip_joint_angles(c, sit, joint(c, hock), {1, 0, 0}, 121)), 110.0) << hock;
+  // Sitting lifts the chest: the front of the body rises by more than 20 cm.
+  auto seated = c.skeleton.global_transforms(sample_pose(c, sit, 1.0));
+  EXPECT_GT(seated[joint(c, "chest")][3].y - chest.y, 0.2f);
 }
 
 TEST(DemoVariants, CentimetresScaleTheWholeCharacterByAHundred) {

@@ -111,6 +111,15 @@ inline Document demo_document() {
 }
 
 // The demo with the cage the default path builds (`cagewrap cage`, the editor's automatic cage).
+// The default path on any character: the automatic cage at its default settings.
+inline Document with_automatic_cage(Document doc) {
+  auto built = build_auto_cage(*doc.character);
+  EXPECT_TRUE(built.ok()) << built.error().message;
+  auto cage = make_cage(built->cage, "automatic cage");
+  EXPECT_TRUE(cage.ok());
+  return with_cage(doc, std::make_shared<const Cage>(std::move(cage).value()));
+}
+
 inline Document demo_with_automatic_cage() {
   const Document demo = demo_document();
   auto built = build_auto_cage(*demo.character);

@@ -9,6 +9,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "core/attachment_fit.h"
+#include "core/demo_character.h"
 #include "core/fidelity.h"
 #include "core/mesh.h"
 #include "core/rig.h"
@@ -187,6 +188,37 @@ TEST(DefaultRig, SmoothedStencilKeepsTheDemoWithinTheThresholds) {
                                         heaviest_joints(*doc.character), r->diagonal, o.min_edge);
   EXPECT_GT(f.stretch, 2.0 * r->overall.stretch.stretch);
 }
+
+// The default path (automatic cage, character's skin weights, fitted and smoothed) on the hard
+// generated characters the issue names: arms at the sides and legs together, and a four-legged
+// animal. Worst vertex and RMS within the thresholds on every clip. The edge-stretch target (2x)
+// is not met on them yet (3.1x and 3.7x at the default cell; docs/algorithm-notes.md): the bound
+// here, 5x, catches a return of the torn sheets (16x) the default path once made.
+class DefaultRigOnHardCharacters : public ::testing::TestWithParam<DemoVariant> {};
+
+TEST_P(DefaultRigOnHardCharacters, StaysWithinTheVertexThresholdsOnEveryClip) {
+  Document doc;
+  doc.character = std::make_shared<const Character>(make_demo_character({.cell_size = 0.016, .variant = GetParam()}));
+  doc.character_hash = demo_variant_name(GetParam());
+  doc.revision = next_revision();
+  doc = test::with_automatic_cage(std::move(doc));
+  auto rig = Rig::create(doc);
+  ASSERT_TRUE(rig.ok()) << rig.error().message;
+  FidelityOptions o;
+  o.fps = 5;
+  auto r = check_fidelity(doc, *rig, o);
+  ASSERT_TRUE(r.ok());
+  ASSERT_EQ(r->clips.size(), doc.character->clips.size() + 1);
+  for (const ClipFidelity& c : r->clips) {
+    EXPECT_LT(c.worst.worst, 0.05) << c.name << " at " << c.worst.time << " s";
+    EXPECT_LT(c.rms.rms, 0.01) << c.name;
+    EXPECT_LT(c.stretch.stretch, 5.0) << c.name << " at " << c.stretch.time << " s";
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Variants, DefaultRigOnHardCharacters,
+                         ::testing::Values(DemoVariant::kArmsDown, DemoVariant::kQuadruped),
+                         [](const auto& info) { return info.param == DemoVariant::kArmsDown ? "ArmsDown" : "Quadruped"; });
 
 }  // namespace
 }  // namespace cagewrap
