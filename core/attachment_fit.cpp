@@ -194,17 +194,24 @@ Status fit_attachment(const Character& character, const Binding& binding, const 
 Result<std::optional<Binding>> fit_rig(const Character& character, const Binding& registration,
                                        const AttachmentSettings& settings, CageAttachment& att) {
   if (auto f = fit_attachment(character, registration, settings, att); !f) return f.error();
-  if (registration.params.variant != Variant::kExtended || registration.num_points > kSmoothMaxPoints ||
-      registration.num_points != character.num_vertices())
+  if (registration.params.variant != Variant::kExtended || registration.num_points != character.num_vertices())
     return std::optional<Binding>();
-  const SkinGraph graph = character_skin_graph(character);
-  const std::vector<float> excess = rig_weight_excess(registration, graph, character, att);
-  const StencilSmoothing options;
-  if (std::none_of(excess.begin(), excess.end(), [&](float x) { return x > options.jump_low; }))
-    return std::optional<Binding>();
-  std::optional<Binding> smoothed = registration;
-  smooth_stencil(*smoothed, graph, options, excess, related_to_file_weights(graph, character, att));
-  return smoothed;
+  std::optional<Binding> rig = registration;
+  if (registration.num_points <= kSmoothMaxPoints) {
+    const SkinGraph graph = character_skin_graph(character);
+    const std::vector<float> excess = rig_weight_excess(registration, graph, character, att);
+    const StencilSmoothing options;
+    if (std::any_of(excess.begin(), excess.end(), [&](float x) { return x > options.jump_low; }))
+      smooth_stencil(*rig, graph, options, excess, related_to_file_weights(graph, character, att));
+  }
+  reweight_rows(*rig, character, att);
+  // then the cage weights are fitted to the re-weighted rows and the rows re-weighted again: each
+  // round brings W w closer to T (docs/algorithm-notes.md, "Re-weighting each row")
+  for (int round = 0; round < kRigFitRounds; ++round) {
+    if (auto f = fit_attachment(character, *rig, settings, att); !f) return f.error();
+    reweight_rows(*rig, character, att);
+  }
+  return rig;
 }
 
 }  // namespace cagewrap

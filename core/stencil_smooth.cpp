@@ -343,4 +343,162 @@ void smooth_stencil(Binding& b, const SkinGraph& g, const StencilSmoothing& opt,
   b.weights = std::move(weights);
 }
 
+namespace {
+
+// Cholesky factor (lower, in place) of the symmetric positive definite n x n block of G (row stride
+// `stride`) over the indices `free`; false when it is not positive definite.
+bool cholesky(const std::vector<double>& G, size_t stride, const std::vector<uint32_t>& free, std::vector<double>& L) {
+  const size_t n = free.size();
+  L.assign(n * n, 0.0);
+  for (size_t i = 0; i < n; ++i)
+    for (size_t j = 0; j <= i; ++j) {
+      double x = G[free[i] * stride + free[j]];
+      for (size_t k = 0; k < j; ++k) x -= L[i * n + k] * L[j * n + k];
+      if (i == j) {
+        if (!(x > 0)) return false;
+        L[i * n + i] = std::sqrt(x);
+      } else {
+        L[i * n + j] = x / L[j * n + j];
+      }
+    }
+  return true;
+}
+
+// Solves L L^T x = b in place.
+void cholesky_solve(const std::vector<double>& L, size_t n, std::vector<double>& x) {
+  for (size_t i = 0; i < n; ++i) {
+    for (size_t k = 0; k < i; ++k) x[i] -= L[i * n + k] * x[k];
+    x[i] /= L[i * n + i];
+  }
+  for (size_t i = n; i-- > 0;) {
+    for (size_t k = i + 1; k < n; ++k) x[i] -= L[k * n + i] * x[k];
+    x[i] /= L[i * n + i];
+  }
+}
+
+// min a^T G a / 2 - c^T a over the simplex {a >= 0, sum a = 1}, G (m x m) positive definite, by the
+// primal active-set method from the feasible `a` (the result replaces it): each step solves the
+// problem with the working set's entries held at zero, walks toward its solution until an entry
+// reaches zero, and frees the entry whose multiplier is most negative when none does. Finite; a
+// handful of steps for the rows here (m <= 64).
+void solve_simplex_qp(const std::vector<double>& G, const std::vector<double>& c, uint32_t m, std::vector<double>& a,
+                      std::vector<double>& u, std::vector<double>& v, std::vector<double>& grad) {
+  grad.assign(m, 0.0);
+  std::vector<uint8_t> fixed(m, 0);
+  for (uint32_t k = 0; k < m; ++k) fixed[k] = !(a[k] > 0);
+  std::vector<uint32_t> free;
+  std::vector<double> L;
+  for (uint32_t step = 0; step < 8 * m + 8; ++step) {
+    for (uint32_t k = 0; k < m; ++k) {
+      double x = -c[k];
+      for (uint32_t l = 0; l < m; ++l) x += G[k * m + l] * a[l];
+      grad[k] = x;
+    }
+    free.clear();
+    for (uint32_t k = 0; k < m; ++k)
+      if (!fixed[k]) free.push_back(k);
+    const size_t n = free.size();
+    double mu = 0.0;
+    std::vector<double>& p = u;  // the step on the free entries
+    p.assign(n, 0.0);
+    if (n > 0) {
+      if (!cholesky(G, m, free, L)) return;
+      // p = -G^-1 (g + mu 1) with sum p = 0: mu = -(1^T G^-1 g) / (1^T G^-1 1)
+      v.assign(n, 0.0);
+      for (size_t i = 0; i < n; ++i) p[i] = grad[free[i]], v[i] = 1.0;
+      cholesky_solve(L, n, p);
+      cholesky_solve(L, n, v);
+      double num = 0.0, den = 0.0;
+      for (size_t i = 0; i < n; ++i) num += p[i], den += v[i];
+      mu = -num / den;
+      for (size_t i = 0; i < n; ++i) p[i] = -(p[i] + mu * v[i]);
+    }
+    double size = 0.0;
+    for (size_t i = 0; i < n; ++i) size = std::max(size, std::abs(p[i]));
+    if (size < 1e-12) {
+      // optimal on this working set: multipliers of the fixed entries, g_k + mu >= 0
+      if (n == 0) return;
+      int worst = -1;
+      double most = -1e-12;
+      for (uint32_t k = 0; k < m; ++k)
+        if (fixed[k] && grad[k] + mu < most) most = grad[k] + mu, worst = static_cast<int>(k);
+      if (worst < 0) return;
+      fixed[static_cast<uint32_t>(worst)] = 0;
+      continue;
+    }
+    double alpha = 1.0;
+    int blocking = -1;
+    for (size_t i = 0; i < n; ++i)
+      if (p[i] < 0) {
+        const double t = -a[free[i]] / p[i];
+        if (t < alpha) alpha = t, blocking = static_cast<int>(free[i]);
+      }
+    for (size_t i = 0; i < n; ++i) a[free[i]] = std::max(0.0, a[free[i]] + alpha * p[i]);
+    if (blocking >= 0) {
+      a[static_cast<uint32_t>(blocking)] = 0.0;
+      fixed[static_cast<uint32_t>(blocking)] = 1;
+    }
+  }
+}
+
+}  // namespace
+
+void reweight_rows(Binding& b, const Character& ch, const CageAttachment& att, double lambda) {
+  if (b.params.variant != Variant::kExtended || b.num_points != ch.num_vertices() || att.skin >= ch.skins.size() ||
+      att.influence_start.size() != size_t(b.num_cage_vertices) + 1 || b.offsets.size() != size_t(b.num_points) + 1 ||
+      !(lambda > 0))
+    return;
+  const Skin& skin = ch.skins[att.skin];
+  const PointJoints T = point_joint_nodes(ch);
+  if (T.start.size() != size_t(b.num_points) + 1) return;
+  tbb::parallel_for(tbb::blocked_range<uint32_t>(0, b.num_points, 512), [&](const tbb::blocked_range<uint32_t>& r) {
+    std::vector<uint32_t> joints;  // skeleton nodes of the point's problem
+    std::vector<double> A, t, G, c, a, u, v, grad;
+    for (uint32_t p = r.begin(); p != r.end(); ++p) {
+      const uint32_t begin = b.offsets[p], m = b.offsets[p + 1] - begin;
+      if (m < 2) continue;
+      joints.clear();
+      for (uint32_t i = T.start[p]; i < T.start[p + 1]; ++i) joints.push_back(T.node[i]);
+      for (uint32_t k = 0; k < m; ++k) {
+        const uint32_t cv = b.ids[begin + k];
+        if (cv >= b.num_cage_vertices) continue;
+        for (uint32_t i = att.influence_start[cv]; i < att.influence_start[cv + 1]; ++i)
+          if (att.influence_joint[i] < skin.joints.size()) joints.push_back(skin.joints[att.influence_joint[i]]);
+      }
+      std::sort(joints.begin(), joints.end());
+      joints.erase(std::unique(joints.begin(), joints.end()), joints.end());
+      const size_t nj = joints.size();
+      auto index = [&](uint32_t j) { return size_t(std::lower_bound(joints.begin(), joints.end(), j) - joints.begin()); };
+      A.assign(nj * m, 0.0);  // column k: cage vertex k's joint weights
+      t.assign(nj, 0.0);      // the file's weights
+      for (uint32_t i = T.start[p]; i < T.start[p + 1]; ++i) t[index(T.node[i])] += T.weight[i];
+      for (uint32_t k = 0; k < m; ++k) {
+        const uint32_t cv = b.ids[begin + k];
+        if (cv >= b.num_cage_vertices) continue;
+        for (uint32_t i = att.influence_start[cv]; i < att.influence_start[cv + 1]; ++i)
+          if (att.influence_joint[i] < skin.joints.size())
+            A[index(skin.joints[att.influence_joint[i]]) * m + k] += att.influence_weight[i];
+      }
+      // G = A^T A + lambda I, c = A^T t + lambda a0: minimize a^T G a / 2 - c^T a on the simplex
+      a.assign(m, 0.0);
+      for (uint32_t k = 0; k < m; ++k) a[k] = b.weights[begin + k];
+      G.assign(size_t(m) * m, 0.0);
+      c.assign(m, 0.0);
+      for (uint32_t k = 0; k < m; ++k) {
+        for (uint32_t l = k; l < m; ++l) {
+          double x = 0.0;
+          for (size_t j = 0; j < nj; ++j) x += A[j * m + k] * A[j * m + l];
+          G[k * m + l] = G[l * m + k] = x;
+        }
+        G[k * m + k] += lambda;
+        double x = lambda * a[k];
+        for (size_t j = 0; j < nj; ++j) x += A[j * m + k] * t[j];
+        c[k] = x;
+      }
+      solve_simplex_qp(G, c, m, a, u, v, grad);
+      for (uint32_t k = 0; k < m; ++k) b.weights[begin + k] = static_cast<float>(a[k]);
+    }
+  });
+}
+
 }  // namespace cagewrap

@@ -3,6 +3,7 @@
 // graph welds seams but not jumps of the file's weights, only the flagged region changes, and on the
 // demo's automatic cage the rig stretches the skin far less than with the registration's rows.
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include <gtest/gtest.h>
@@ -174,6 +175,8 @@ TEST(DefaultRig, SmoothedStencilKeepsTheDemoWithinTheThresholds) {
   EXPECT_LT(r->overall.worst.worst, 0.05);
   EXPECT_LT(r->overall.rms.rms, 0.01);
   EXPECT_LT(r->overall.stretch.stretch, 2.0);
+  // the re-weighted rows: 0.22% at the worst vertex (1.43% with the smoothed rows alone)
+  EXPECT_LT(r->overall.worst.worst, 0.005);
   // the registration's rows, the same cage weights, arm_raise at 1 s
   const int32_t arm_raise = doc.character->find_clip("arm_raise");
   ASSERT_GE(arm_raise, 0);
@@ -189,16 +192,133 @@ TEST(DefaultRig, SmoothedStencilKeepsTheDemoWithinTheThresholds) {
   EXPECT_GT(f.stretch, 2.0 * r->overall.stretch.stretch);
 }
 
-// The default path (automatic cage, character's skin weights, fitted and smoothed) on the hard
-// generated characters the issue names: arms at the sides and legs together, and a four-legged
-// animal. Worst vertex and RMS within the thresholds on every clip. The edge-stretch target (2x)
-// is not met on them yet (3.1x and 3.7x at the default cell; docs/algorithm-notes.md): the bound
-// here, 5x, catches a return of the torn sheets (16x) the default path once made.
+// Points on the chain character's skeleton (upper, lower, hand) with the given file weights (skin
+// joint, weight) and no triangles: what reweight_rows reads.
+Character weighted_points(const std::vector<std::vector<std::pair<uint16_t, float>>>& weights) {
+  Character c = test::chain_character();
+  Primitive prim;
+  prim.mesh_name = "points";
+  prim.node = 3;
+  prim.skin = 0;
+  prim.influence_start.assign(1, 0);
+  for (size_t i = 0; i < weights.size(); ++i) {
+    prim.positions.emplace_back(float(i), 0.0f, 0.0f);
+    for (const auto& [j, w] : weights[i]) {
+      prim.influence_joint.push_back(j);
+      prim.influence_weight.push_back(w);
+    }
+    prim.influence_start.push_back(static_cast<uint32_t>(prim.influence_joint.size()));
+  }
+  c.primitives.push_back(std::move(prim));
+  return c;
+}
+
+// E_p (skin joint -> weight, dense over the three skin joints) of row p.
+std::array<double, 3> rig_weights_of(const Binding& b, const CageAttachment& att, uint32_t p) {
+  std::array<double, 3> e{};
+  for (uint32_t k = b.offsets[p]; k < b.offsets[p + 1]; ++k) {
+    const uint32_t v = b.ids[k];
+    for (uint32_t i = att.influence_start[v]; i < att.influence_start[v + 1]; ++i)
+      e[att.influence_joint[i]] += double(b.weights[k]) * att.influence_weight[i];
+  }
+  return e;
+}
+
+// Three cage vertices: v0 on `upper`, v1 on `lower`, v2 half and half. A point weighted to `upper`
+// alone whose row leans on v1 and v2 moves its weight onto v0 (its rig weights come to the file's);
+// a point whose rig weights already are the file's keeps its row; rows keep their vertices, stay
+// non-negative and sum to one; and the row follows the file's weights continuously (halving a
+// change of T halves the change of the row).
+TEST(ReweightRows, BringsTheRigWeightsToTheFilesContinuouslyAndKeepsExactRows) {
+  const float d = 1e-3f;
+  const Character c = weighted_points({{{0, 1.0f}},
+                                       {{0, 0.5f}, {1, 0.5f}},
+                                       {{0, 0.5f + d}, {1, 0.5f - d}},
+                                       {{0, 0.5f + d / 2}, {1, 0.5f - d / 2}}});
+  Binding b;
+  b.params.variant = Variant::kExtended;
+  b.num_points = 4;
+  b.num_cage_vertices = 3;
+  b.offsets = {0, 3, 5, 7, 9};
+  b.ids = {0, 1, 2, 0, 1, 0, 1, 0, 1};
+  b.weights = {0.2f, 0.3f, 0.5f, 0.5f, 0.5f, 0.5f, 0.5f, 0.5f, 0.5f};
+  CageAttachment att;
+  att.skin = 0;
+  att.joint = att.label_joint = {0, 1, 0};
+  att.influence_start = {0, 1, 2, 4};
+  att.influence_joint = {0, 1, 0, 1};
+  att.influence_weight = {1.0f, 1.0f, 0.5f, 0.5f};
+  const Binding before = b;
+  // a larger lambda holds the row nearer to where it was
+  Binding held = b;
+  reweight_rows(held, c, att, 1.0);
+  reweight_rows(b, c, att, 0.01);
+  ASSERT_EQ(b.ids, before.ids);
+  ASSERT_EQ(b.offsets, before.offsets);
+  for (uint32_t p = 0; p < 4; ++p) {
+    double sum = 0.0;
+    for (uint32_t k = b.offsets[p]; k < b.offsets[p + 1]; ++k) {
+      EXPECT_GE(b.weights[k], 0.0f);
+      sum += b.weights[k];
+    }
+    EXPECT_NEAR(sum, 1.0, 1e-6) << p;
+  }
+  const auto e0 = rig_weights_of(before, att, 0), e = rig_weights_of(b, att, 0);
+  EXPECT_NEAR(e0[0], 0.45, 1e-6);
+  EXPECT_GT(e[0], 0.98) << "the point's row moved onto the upper arm's vertex";
+  EXPECT_GT(b.weights[0], 0.95f);
+  const double held_e = rig_weights_of(held, att, 0)[0];
+  EXPECT_GT(held_e, e0[0] + 0.1);
+  EXPECT_LT(held_e, e[0] - 0.1);
+  for (uint32_t k = b.offsets[1]; k < b.offsets[2]; ++k) EXPECT_NEAR(b.weights[k], 0.5f, 1e-6) << "already exact";
+  const double step = std::abs(double(b.weights[b.offsets[2]]) - b.weights[b.offsets[1]]);
+  const double half = std::abs(double(b.weights[b.offsets[3]]) - b.weights[b.offsets[1]]);
+  EXPECT_GT(step, 0.5 * d);
+  EXPECT_LT(step, 2.0 * d);
+  EXPECT_NEAR(step / half, 2.0, 0.1) << "the row changes in proportion to T: continuous";
+}
+
+// On the demo's rig: no point's rig weights get farther from the file's (the problem's own row is a
+// candidate), and over the skin they come much closer.
+TEST(ReweightRows, NoPointMovesAwayFromTheFilesWeightsOnTheDemo) {
+  DemoRig d;
+  const Character& ch = *d.doc.character;
+  const CageAttachment& att = *d.rig.attachment();
+  const Binding& before = d.rig.binding();
+  Binding after = before;
+  reweight_rows(after, ch, att);
+  const PointJoints T = point_joint_nodes(ch);
+  const Skin& skin = ch.skins[att.skin];
+  auto distance = [&](const Binding& b, uint32_t p) {
+    std::vector<double> e(ch.skeleton.size(), 0.0);
+    for (uint32_t k = b.offsets[p]; k < b.offsets[p + 1]; ++k)
+      for (uint32_t i = att.influence_start[b.ids[k]]; i < att.influence_start[b.ids[k] + 1]; ++i)
+        e[skin.joints[att.influence_joint[i]]] += double(b.weights[k]) * att.influence_weight[i];
+    for (uint32_t i = T.start[p]; i < T.start[p + 1]; ++i) e[T.node[i]] -= T.weight[i];
+    double sq = 0.0;
+    for (double x : e) sq += x * x;
+    return sq;
+  };
+  double sum_before = 0.0, sum_after = 0.0;
+  for (uint32_t p = 0; p < before.num_points; ++p) {
+    const double x = distance(before, p), y = distance(after, p);
+    ASSERT_LE(y, x + 1e-6) << "point " << p;
+    sum_before += x;
+    sum_after += y;
+  }
+  EXPECT_LT(sum_after, 0.25 * sum_before);
+}
+
+// The default path (automatic cage, character's skin weights, fitted, smoothed and re-weighted) on
+// the hard generated characters the issue names: arms at the sides and legs together, and a
+// four-legged animal: within all three thresholds (5% worst, 1% RMS, 2x stretch) on every clip.
+// Measured (5 fps): arms-down 0.49% / 0.03% / 1.65x, quadruped 0.10% / 0.01% / 1.12x; without the
+// re-weighting and its fit rounds the stretch was 3.7x and 3.1x (docs/algorithm-notes.md).
 class DefaultRigOnHardCharacters : public ::testing::TestWithParam<DemoVariant> {};
 
 TEST_P(DefaultRigOnHardCharacters, StaysWithinTheVertexThresholdsOnEveryClip) {
   Document doc;
-  doc.character = std::make_shared<const Character>(make_demo_character({.cell_size = 0.016, .variant = GetParam()}));
+  doc.character = std::make_shared<const Character>(make_demo_character({.variant = GetParam()}));
   doc.character_hash = demo_variant_name(GetParam());
   doc.revision = next_revision();
   doc = test::with_automatic_cage(std::move(doc));
@@ -212,7 +332,7 @@ TEST_P(DefaultRigOnHardCharacters, StaysWithinTheVertexThresholdsOnEveryClip) {
   for (const ClipFidelity& c : r->clips) {
     EXPECT_LT(c.worst.worst, 0.05) << c.name << " at " << c.worst.time << " s";
     EXPECT_LT(c.rms.rms, 0.01) << c.name;
-    EXPECT_LT(c.stretch.stretch, 5.0) << c.name << " at " << c.stretch.time << " s";
+    EXPECT_LT(c.stretch.stretch, 2.0) << c.name << " at " << c.stretch.time << " s";
   }
 }
 
