@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <string>
 #include <numbers>
 #include <unordered_map>
 
@@ -43,6 +44,9 @@ Shape shape_of(DemoVariant v) {
 
 constexpr int kTailBones = 12;
 constexpr int kQuadrupedTailBones = 8;
+
+// "tail_01" for i = 0.
+std::string tail_bone_name(int i) { return (i < 9 ? "tail_0" : "tail_") + std::to_string(i + 1); }
 struct FingerLayout {
   const char* name;
   double across;       // offset across the palm, in finger spacings (+ toward the thumb)
@@ -130,8 +134,7 @@ std::vector<JointSpec> quadruped_specs() {
   for (int i = 0; i < kQuadrupedTailBones; ++i) {
     const double angle = (25.0 - 5.0 * i) * std::numbers::pi / 180.0;  // above the horizontal
     dvec3 next = p + 0.07 * dvec3(0, std::sin(angle), -std::cos(angle));
-    char name[16];
-    std::snprintf(name, sizeof name, "tail_%02d", i + 1);
+    const std::string name = tail_bone_name(i);
     j.push_back({name, i == 0 ? 0 : static_cast<int>(j.size()) - 1, p, next, false,
                  0.035 - 0.025 * i / kQuadrupedTailBones, 0.035 - 0.025 * (i + 1) / kQuadrupedTailBones});
     p = next;
@@ -188,8 +191,7 @@ std::vector<JointSpec> joint_specs(const Shape& shape) {
   for (int i = 0; i < kTailBones; ++i) {
     const double angle = (50.0 - 5.0 * i) * std::numbers::pi / 180.0;  // below the horizontal
     dvec3 next = p + 0.085 * dvec3(0, -std::sin(angle), -std::cos(angle));
-    char name[16];
-    std::snprintf(name, sizeof name, "tail_%02d", i + 1);
+    const std::string name = tail_bone_name(i);
     j.push_back({name, i == 0 ? 0 : static_cast<int>(j.size()) - 1, p, next, false,
                  0.04 - 0.03 * i / kTailBones, 0.04 - 0.03 * (i + 1) / kTailBones});
     p = next;
@@ -644,8 +646,7 @@ Clip tail_wave_clip(const Skeleton& sk) {
   const int keys = 61;
   const double two_pi = 2 * std::numbers::pi;
   for (int i = 0; i < kTailBones; ++i) {
-    char name[16];
-    std::snprintf(name, sizeof name, "tail_%02d", i + 1);
+    const std::string name = tail_bone_name(i);
     add_rotation_channel(clip, sk, static_cast<uint32_t>(sk.find(name)), T, keys, [&](double t) {
       return about(18.0 * std::sin(two_pi * t / T - i * std::numbers::pi / kTailBones), {1, 0, 0});
     });
@@ -698,8 +699,7 @@ Clip quadruped_walk_clip(const Skeleton& sk) {
   add_rotation_channel(clip, sk, n("neck"), T, keys,
                        [&](double t) { return about(6.0 * std::sin(2 * two_pi * t / T), {1, 0, 0}); });
   for (int i = 0; i < kQuadrupedTailBones; ++i) {
-    char name[16];
-    std::snprintf(name, sizeof name, "tail_%02d", i + 1);
+    const std::string name = tail_bone_name(i);
     add_rotation_channel(clip, sk, n(name), T, keys, [&](double t) {
       return about(12.0 * std::sin(two_pi * t / T - i * std::numbers::pi / kQuadrupedTailBones), {0, 0, 1});
     });
@@ -728,8 +728,7 @@ Clip quadruped_sit_clip(const Skeleton& sk) {
   }
   add_rotation_channel(clip, sk, n("neck"), T, keys, [&](double t) { return about(20.0 * u(t), {1, 0, 0}); });
   for (int i = 0; i < kQuadrupedTailBones; ++i) {
-    char name[16];
-    std::snprintf(name, sizeof name, "tail_%02d", i + 1);
+    const std::string name = tail_bone_name(i);
     add_rotation_channel(clip, sk, n(name), T, keys, [&](double t) { return about(12.0 * u(t), {1, 0, 0}); });
   }
   clip.duration = T;
