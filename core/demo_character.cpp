@@ -47,6 +47,9 @@ constexpr int kQuadrupedTailBones = 8;
 
 // "tail_01" for i = 0.
 std::string tail_bone_name(int i) { return (i < 9 ? "tail_0" : "tail_") + std::to_string(i + 1); }
+
+// 0 -> 1 -> 0 over a clip of length T (a raised cosine).
+double rise_and_return(double t, double T) { return 0.5 - 0.5 * std::cos(2 * std::numbers::pi * t / T); }
 struct FingerLayout {
   const char* name;
   double across;       // offset across the palm, in finger spacings (+ toward the thumb)
@@ -617,7 +620,7 @@ Clip arm_raise_clip(const Skeleton& sk) {
   clip.name = "arm_raise";
   const double T = 2.0;
   const int keys = 61;
-  auto up = [&](double t) { return 0.5 - 0.5 * std::cos(2 * std::numbers::pi * t / T); };  // 0 -> 1 -> 0
+  auto up = [&](double t) { return rise_and_return(t, T); };
   auto n = [&](const std::string& name) { return static_cast<uint32_t>(sk.find(name)); };
   for (int side = 0; side < 2; ++side) {
     const std::string sfx = side == 0 ? ".L" : ".R";
@@ -716,7 +719,7 @@ Clip quadruped_sit_clip(const Skeleton& sk) {
   clip.name = "sit";
   const double T = 2.0;
   const int keys = 61;
-  auto u = [&](double t) { return 0.5 - 0.5 * std::cos(2 * std::numbers::pi * t / T); };  // 0 -> 1 -> 0
+  auto u = [&](double t) { return rise_and_return(t, T); };
   auto n = [&](const std::string& name) { return static_cast<uint32_t>(sk.find(name)); };
   add_rotation_channel(clip, sk, n("hips"), T, keys, [&](double t) { return about(-35.0 * u(t), {1, 0, 0}); });
   for (const std::string sfx : {".L", ".R"}) {
