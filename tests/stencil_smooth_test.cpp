@@ -226,7 +226,8 @@ std::array<double, 3> rig_weights_of(const Binding& b, const CageAttachment& att
 
 // Three cage vertices: v0 on `upper`, v1 on `lower`, v2 half and half. A point weighted to `upper`
 // alone whose row leans on v1 and v2 moves its weight onto v0 (its rig weights come to the file's);
-// a point whose rig weights already are the file's keeps its row; rows keep their vertices, stay
+// a point whose rig weights already are the file's keeps its row, and so does one weighted to a
+// joint no vertex of its row carries; rows keep their vertices, stay
 // non-negative and sum to one; and the row follows the file's weights continuously (halving a
 // change of T halves the change of the row).
 TEST(ReweightRows, BringsTheRigWeightsToTheFilesContinuouslyAndKeepsExactRows) {
@@ -234,14 +235,15 @@ TEST(ReweightRows, BringsTheRigWeightsToTheFilesContinuouslyAndKeepsExactRows) {
   const Character c = weighted_points({{{0, 1.0f}},
                                        {{0, 0.5f}, {1, 0.5f}},
                                        {{0, 0.5f + d}, {1, 0.5f - d}},
-                                       {{0, 0.5f + d / 2}, {1, 0.5f - d / 2}}});
+                                       {{0, 0.5f + d / 2}, {1, 0.5f - d / 2}},
+                                       {{2, 1.0f}}});
   Binding b;
   b.params.variant = Variant::kExtended;
-  b.num_points = 4;
+  b.num_points = 5;
   b.num_cage_vertices = 3;
-  b.offsets = {0, 3, 5, 7, 9};
-  b.ids = {0, 1, 2, 0, 1, 0, 1, 0, 1};
-  b.weights = {0.2f, 0.3f, 0.5f, 0.5f, 0.5f, 0.5f, 0.5f, 0.5f, 0.5f};
+  b.offsets = {0, 3, 5, 7, 9, 11};
+  b.ids = {0, 1, 2, 0, 1, 0, 1, 0, 1, 0, 1};
+  b.weights = {0.2f, 0.3f, 0.5f, 0.5f, 0.5f, 0.5f, 0.5f, 0.5f, 0.5f, 0.3f, 0.7f};
   CageAttachment att;
   att.skin = 0;
   att.joint = att.label_joint = {0, 1, 0};
@@ -255,7 +257,7 @@ TEST(ReweightRows, BringsTheRigWeightsToTheFilesContinuouslyAndKeepsExactRows) {
   reweight_rows(b, c, att, 0.01);
   ASSERT_EQ(b.ids, before.ids);
   ASSERT_EQ(b.offsets, before.offsets);
-  for (uint32_t p = 0; p < 4; ++p) {
+  for (uint32_t p = 0; p < 5; ++p) {
     double sum = 0.0;
     for (uint32_t k = b.offsets[p]; k < b.offsets[p + 1]; ++k) {
       EXPECT_GE(b.weights[k], 0.0f);
@@ -271,6 +273,9 @@ TEST(ReweightRows, BringsTheRigWeightsToTheFilesContinuouslyAndKeepsExactRows) {
   EXPECT_GT(held_e, e0[0] + 0.1);
   EXPECT_LT(held_e, e[0] - 0.1);
   for (uint32_t k = b.offsets[1]; k < b.offsets[2]; ++k) EXPECT_NEAR(b.weights[k], 0.5f, 1e-6) << "already exact";
+  // weighted to `hand`, which no vertex of its row carries: the row cannot come closer and stays
+  EXPECT_EQ(b.weights[9], 0.3f);
+  EXPECT_EQ(b.weights[10], 0.7f);
   const double step = std::abs(double(b.weights[b.offsets[2]]) - b.weights[b.offsets[1]]);
   const double half = std::abs(double(b.weights[b.offsets[3]]) - b.weights[b.offsets[1]]);
   EXPECT_GT(step, 0.5 * d);
