@@ -120,14 +120,7 @@ inline Document with_automatic_cage(Document doc) {
   return with_cage(doc, std::make_shared<const Cage>(std::move(cage).value()));
 }
 
-inline Document demo_with_automatic_cage() {
-  const Document demo = demo_document();
-  auto built = build_auto_cage(*demo.character);
-  EXPECT_TRUE(built.ok()) << built.error().message;
-  auto cage = make_cage(built->cage, "automatic cage");
-  EXPECT_TRUE(cage.ok());
-  return with_cage(demo, std::make_shared<const Cage>(std::move(cage).value()));
-}
+inline Document demo_with_automatic_cage() { return with_automatic_cage(demo_document()); }
 
 // A biceps bulge on the demo character (core/demo_character.h) and its cage (assets/demo_cage.obj):
 // the cage vertices of the left upper arm's front, mid-bone, pushed 2 cm outwards (bind space),
