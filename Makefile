@@ -12,7 +12,7 @@ JOBS         ?= $(shell nproc)
 CMAKE_FLAGS  ?=
 SHARED_ASSETS ?= $(abspath ../shared/assets)
 
-.PHONY: all setup build run test check test-sanitize test-sanitize-full fuzz bench bench-gpu bench-peers clean
+.PHONY: all setup build run test check soak test-sanitize test-sanitize-full fuzz bench bench-gpu bench-peers clean
 
 all: build
 
@@ -40,6 +40,12 @@ endif
 # the suite alone (the quick check while developing)
 check: build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+
+# the editor soak for longer than make test's short run (SOAK_CYCLES cycles, two runs; about 20 s a cycle
+# here: 20 cycles are about 13 minutes)
+SOAK_CYCLES ?= 20
+soak: build
+	CAGEWRAP_SOAK_CYCLES=$(SOAK_CYCLES) ./$(BUILD)/cagewrap_tests --gtest_filter='EditorSoak.*'
 
 $(BUILD_SAN)/build.ninja:
 	# the editor is left out: Mesa and X11 keep allocations to exit, which LeakSanitizer reports.

@@ -13,6 +13,7 @@
 #include "app/cli_common.h"
 #include "app/commands.h"
 #include "core/deformer.h"
+#include "core/lipschitz_probe.h"
 #include "core/mesh_io.h"
 #include "core/subdivide.h"
 #include "core/twist.h"
@@ -37,7 +38,12 @@ struct BenchResult {
   Fidelity twist;
   size_t affected_points = 0, affected_elements = 0;
   std::optional<GpuBenchFigures> gpu;
+  ProbeReport lipschitz;  // the automatic probe lines (core/lipschitz_probe.h) at kBenchProbeSamples
 };
+
+// Samples per probe line for the bench's Lipschitz line: the probe binds only its own points (a few
+// tens of lines of 3 x samples points): about 0.3 s per variant, whatever the skin.
+constexpr uint32_t kBenchProbeSamples = 1025;
 
 }  // namespace
 
@@ -214,6 +220,15 @@ void add_bench_command(CLI::App& app, int& exit_code) {
         }
         r.gpu = *g;
       }
+      // the Lipschitz figure (issue 18) on the bench's own cages: the automatic probe lines only
+      const auto& rest = cage->polygons.positions;
+      const auto lines = automatic_probe_lines(*cage, rest, opts.params, probe_scale(*cage, rest, opts.params));
+      auto probe = probe_lipschitz(*cage, rest, posed->positions, opts.params, lines, kBenchProbeSamples);
+      if (!probe) {
+        report_error({probe.error().code, args->cage + ": " + probe.error().message});
+        return;
+      }
+      r.lipschitz = std::move(probe).value();
       results.push_back(r);
     }
     if (args->json) {
@@ -236,6 +251,13 @@ void add_bench_command(CLI::App& app, int& exit_code) {
                          {"affected_points", r.affected_points},
                          {"affected_elements", r.affected_elements}};
         if (r.has_twist) v["twist"] = {{"rms", r.twist.rms}, {"max", r.twist.max}};
+        v["lipschitz"] = {{"worst_step_ratio", r.lipschitz.worst_ratio},
+                          {"cage_stretch", r.lipschitz.cage.stretch},
+                          {"ratio_over_stretch", r.lipschitz.figure()},
+                          {"worst_shrink", r.lipschitz.worst_shrink},
+                          {"lines", r.lipschitz.lines.size()},
+                          {"samples", r.lipschitz.samples},
+                          {"seconds", r.lipschitz.seconds}};
         if (r.gpu)
           v["gpu"] = {{"deform_median_ms", r.gpu->deform_ms},
                       {"normals_median_ms", r.gpu->normals_ms},
@@ -281,6 +303,11 @@ void add_bench_command(CLI::App& app, int& exit_code) {
         }
       }
       std::printf("peak memory %.0f MB\n", peak_rss_mb());
+      for (const auto& r : results)
+        std::printf("lipschitz: worst step ratio %.3f (%.3f x the cage's largest stretch %.3f) over %zu probe lines "
+                    "(%s, %u samples, worst shrink %.3f, %.2f s)\n",
+                    r.lipschitz.worst_ratio, r.lipschitz.figure(), r.lipschitz.cage.stretch, r.lipschitz.lines.size(),
+                    r.variant.c_str(), r.lipschitz.samples, r.lipschitz.worst_shrink, r.lipschitz.seconds);
     }
     exit_code = 0;
   });

@@ -35,7 +35,7 @@ struct BindParams {
   double epsilon = 0.1;         // relative weight threshold: keep w_k >= epsilon * max w
   uint32_t max_elements = 8;    // K: at most this many strongest elements per point
   double scale = 0.0;           // h: distances are measured in units of h; 0 = mean cage edge length
-  double max_distance = 0.0;    // world units; elements farther than this never drive a point; 0 = none
+  double max_distance = 0.0;    // world units; elements farther than this drive a point only where they nearly tie its nearest element (registration.h Taper); 0 = none
   double close_distance = 1.0;  // in units of h: "close" for the cage-quality figure (algorithm.md section 4)
   Variant variant = Variant::kExtended;  // most faithful in the bench (docs/benchmarks.md)
   // Automatic separation (beyond the paper; docs/algorithm-notes.md): an element may drive a point
@@ -55,10 +55,10 @@ Status check_skin(std::span<const glm::vec3> skin);
 
 // User edits of contributing sets, an input of registration (so editing is a parameter, not a patch).
 // Exclusions act before the threshold (an excluded element does not exist for that point), inclusions
-// after it (an included element joins the set whatever its weight, beyond K).
-// `only`: the set may hold nothing but the `include` elements (every other element is excluded; the
-// included ones then pass the threshold like any other, and join after it if they do not), a compact
-// form of "exclude the rest" for the "make these the only ones" edit. core/set_editing.h builds
+// apart from it: an included element joins the set with its own eq. 1 weight f(d), never tapered and
+// not counted in K, so that its weight does not jump as it crosses the rule's threshold or the K-th rank.
+// `only`: the set may hold nothing but the `include` elements (every other element is excluded), a
+// compact form of "exclude the rest" for the "make these the only ones" edit. core/set_editing.h builds
 // canonical edits (one per point, sorted lists, no element in both, `exclude` empty when `only`).
 struct SetEdit {
   uint32_t point;

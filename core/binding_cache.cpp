@@ -7,6 +7,7 @@
 #include "core/binding_io.h"
 #include "core/check.h"
 #include "core/file_hash.h"
+#include "core/registration.h"
 
 namespace cagewrap {
 
@@ -46,7 +47,8 @@ std::string binding_cache_path(const std::string& project_path) { return project
 BindingInputs binding_inputs(const Document& doc) {
   CAGEWRAP_CHECK(doc.cage, "a binding's inputs need a cage");
   BindingInputs in;
-  in.program = std::string("cagewrap ") + CAGEWRAP_VERSION;
+  // the weight rule is part of the program: a binding cached before the tie band (issue 18) is stale
+  in.program = std::string("cagewrap ") + CAGEWRAP_VERSION + " (weights: tie band " + std::to_string(kTieBand) + ")";
   in.character = doc.character_hash;
   const PolyMesh& cage = doc.cage->polygons;
   in.cage = Hasher().list(cage.face_start).list(cage.face_vertices).list(cage.positions).text();

@@ -109,7 +109,7 @@ Result<Binding> bind_skin_to_patches(std::span<const glm::vec3> skin, const Patc
   tbb::parallel_for(tbb::blocked_range<size_t>(0, blocks), [&](const tbb::blocked_range<size_t>& r) {
     std::vector<std::pair<double, uint32_t>> near;
     std::vector<std::pair<double, uint32_t>> cands;
-    double dist[65], w[65];
+    std::vector<double> dist, w;
     for (size_t blk = r.begin(); blk != r.end(); ++blk) {
       if (cancelled.load(std::memory_order_relaxed)) return;
       if (stopped()) {
@@ -119,30 +119,36 @@ Result<Binding> bind_skin_to_patches(std::span<const glm::vec3> skin, const Patc
       Block& o = out[blk];
       for (size_t i = blk * block; i < std::min(n, (blk + 1) * block); ++i) {
         const glm::dvec3 p(skin[i]);
-        grid.nearest(p, K + 1, near);
-        cands.clear();
-        for (const auto& [d2, local] : near) {
-          const uint32_t k = valid_ids[local];
-          cands.push_back({glm::length(p - position[k]) / h, k});  // exact, in double
+        // the K + 1 nearest samples, or up to kMaxTiedMembers + 1 where the (K+1)-th is in the tie band
+        auto gather = [&](size_t count) {
+          grid.nearest(p, count, near);
+          cands.clear();
+          for (const auto& [d2, local] : near) {
+            const uint32_t k = valid_ids[local];
+            cands.push_back({glm::length(p - position[k]) / h, k});  // exact, in double
+          }
+          std::sort(cands.begin(), cands.end());
+        };
+        gather(K + 1);
+        if (cands.size() > K) {
+          const double band = std::sqrt(tie_band2(params, 1.0, cands.front().first * cands.front().first));
+          if (cands[K].first <= band) gather(std::max<size_t>(K + 1, kMaxTiedMembers + 1));
         }
-        std::sort(cands.begin(), cands.end());
+        // (beyond the max distance the nearest samples still drive: the tie band keeps them)
         const double nearest = cands.front().first;
         inside[i] = nearest <= params.close_distance;
         const double radius = threshold_radius(nearest, params.local, params.epsilon);
-        std::erase_if(cands, [&](const auto& c) {
-          return c.first > radius || (params.max_distance > 0 && c.first * h > params.max_distance);
-        });
-        if (cands.empty()) {  // beyond max_distance: the nearest sample alone
-          o.count.push_back(1);
-          o.ids.push_back(valid_ids[near.front().second]);
-          o.weights.push_back(1.f);
-          continue;
-        }
-        const double cut = taper_cut(params, h, nearest, cands.size() > K ? cands[K].first : -1.0);
-        if (cands.size() > K) cands.resize(K);
+        std::erase_if(cands, [&](const auto& c) { return c.first > radius; });  // the max distance: Taper
+        dist.resize(cands.size());
         for (size_t j = 0; j < cands.size(); ++j) dist[j] = cands[j].first;
-        const double sum = tapered_weights(std::span(dist, cands.size()), cands.size(), cut, params.local,
-                                           std::span(w, cands.size()));
+        const Taper taper(params, h, dist);
+        w.resize(cands.size());
+        double sum = 0.0;
+        for (size_t j = 0; j < cands.size(); ++j) sum += (w[j] = taper.weight(j));
+        if (taper.all_at_cut()) {  // every candidate at the cut: plain weights over the first K
+          sum = 0.0;
+          for (size_t j = 0; j < cands.size(); ++j) sum += (w[j] = j < K ? taper.raw(dist[j]) : 0.0);
+        }
         uint32_t m = 0;
         for (size_t j = 0; j < cands.size(); ++j) {
           if (w[j] <= 0.0) continue;  // at the cut: contributes nothing

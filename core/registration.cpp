@@ -86,28 +86,51 @@ double power(double d, double local) {
 
 double falloff(double d, double local) { return 1.0 / (1.0 + power(d, local)); }
 
-double taper_cut(const BindParams& prm, double h, double nearest, double beyond) {
-  double cut = prm.epsilon * falloff(nearest, prm.local);
-  if (beyond >= 0.0) cut = std::max(cut, falloff(beyond, prm.local));
-  if (prm.max_distance > 0) cut = std::max(cut, falloff(prm.max_distance / h, prm.local));
-  return cut;
+Taper::Taper(const BindParams& prm, double h, std::span<const double> dist) : dist_(dist), local_(prm.local) {
+  if (dist.empty()) return;
+  d1_ = dist.front();
+  // the scale max(1, d_1^local): beyond d_1 = 1 every p is taken relative to d_1^local, so that no
+  // member's p overflows whatever `local` (they are within a few times d_1's weight)
+  scaled_ = d1_ > 1.0 && local_ > 0.0;
+  u_ = scaled_ ? power(1.0 / d1_, local_) : 1.0;  // 1 / scale
+  const double r1 = ratio(d1_);
+  const double K = static_cast<double>(prm.max_elements);
+  double q = (u_ + r1) / prm.epsilon - u_;  // the relative threshold: epsilon f(d_1)
+  // the tie band: p up to (1 + kTieBand) times the nearest's (and a floor of kTieFloor h for skin on the cage)
+  const double tie = (1.0 + kTieBand) * r1 + kTieBand * (scaled_ ? power(kTieFloor / d1_, local_) : power(kTieFloor, local_));
+  // the strongest element left out by K, and the max distance: never above the tie band's cut
+  double out = dist.size() > K ? ratio(dist[prm.max_elements]) : std::numeric_limits<double>::infinity();
+  if (prm.max_distance > 0) out = std::min(out, ratio(prm.max_distance / h));
+  q = std::min(q, std::max(out, tie));
+  if (dist.size() > kMaxTiedMembers) q = std::min(q, ratio(dist[kMaxTiedMembers]));
+  q_ = q;
+  for (size_t i = 0; i < dist.size(); ++i) sum_ += weight(i);
 }
 
-double tapered_weights(std::span<const double> dist, size_t automatic, double cut, double local, std::span<double> w) {
-  CAGEWRAP_CHECK(w.size() == dist.size(), "one weight per distance");
-  double sum = 0.0, raw_sum = 0.0;
-  for (size_t i = 0; i < dist.size(); ++i) {
-    const double raw = falloff(dist[i], local);
-    // user inclusions keep their own weight: they are outside the rule by the user's choice
-    w[i] = i < automatic ? std::max(raw - cut, 0.0) : raw;
-    sum += w[i];
-    raw_sum += raw;
-  }
-  if (!(sum > 1e-12 * raw_sum)) {  // every member sits at the cut (epsilon = 1, ties): no taper
-    for (size_t i = 0; i < dist.size(); ++i) w[i] = falloff(dist[i], local);
-    sum = raw_sum;
-  }
-  return sum;
+double Taper::ratio(double d) const { return scaled_ ? power(d / d1_, local_) : power(d, local_); }
+
+double Taper::weight(size_t i) const {
+  const double r = ratio(dist_[i]);
+  if (!(r < q_)) return 0.0;  // at or beyond the cut (an overflowed r too)
+  return (q_ - r) / ((u_ + r) * (u_ + q_));
+}
+
+double Taper::raw(double d) const { return 1.0 / (u_ + ratio(d)); }
+
+double tie_band2(const BindParams& prm, double h, double best2) {
+  const double l = prm.local, d1 = std::sqrt(best2) / h;
+  if (!(l > 0)) return std::numeric_limits<double>::infinity();  // constant weights: every element ties
+  // d^l = (1 + a) d1^l + a floor^l, factored by the larger of d1 and the floor (no overflow)
+  const double r = d1 > kTieFloor ? d1 * std::pow(1.0 + kTieBand + kTieBand * power(kTieFloor / d1, l), 1.0 / l)
+                                  : kTieFloor * std::pow((1.0 + kTieBand) * power(d1 / kTieFloor, l) + kTieBand, 1.0 / l);
+  return std::max(h * h * r * r, best2);
+}
+
+double needed_radius2(const BindParams& prm, double h, double best2, double next2, double last2, double radius2) {
+  const double md2 = prm.max_distance > 0 ? prm.max_distance * prm.max_distance : std::numeric_limits<double>::infinity();
+  const double out2 = std::min(next2, md2);  // K or fewer candidates and no max distance: the threshold radius
+  if (!std::isfinite(out2)) return radius2;
+  return std::min({radius2, std::max(out2, tie_band2(prm, h, best2)), last2});
 }
 
 double threshold_radius(double d_min, double local, double epsilon) {
@@ -231,12 +254,23 @@ bool closer(const Candidate& x, const Candidate& y) {
 
 bool excluded(const SetEdit* edit, uint32_t e) { return edit && edit->excludes(e); }
 
+bool included(const SetEdit* edit, uint32_t e) {
+  return edit && std::binary_search(edit->include.begin(), edit->include.end(), e);
+}
+
+// Whether the point's automatic rule leaves element e out of its candidates: an exclusion, or an
+// inclusion (inclusions join the set with their own weight, apart from the rule and its K).
+bool outside_rule(const SetEdit* edit, uint32_t e) { return edit && (edit->excludes(e) || included(edit, e)); }
+
 // The squared distance within which every allowed element must be known for the point's result to
-// be exact: its threshold radius, and no farther than its (K+1)-th nearest allowed element (the
-// last one the taper looks at). `out` is sorted; radius2 follows the nearest element.
+// be exact (needed_radius2: the threshold radius, the (K+1)-th candidate, the tie band, the M+1-th).
+// `out` is sorted; radius2 follows the nearest element.
 double needed_bound2(const Context& ctx, const std::vector<Candidate>& out, double radius2) {
-  if (out.size() > ctx.params.max_elements) return std::min(radius2, out[ctx.params.max_elements].dist2);
-  return radius2;
+  const double inf = std::numeric_limits<double>::infinity();
+  const size_t k = ctx.params.max_elements;
+  if (out.empty()) return radius2;
+  return needed_radius2(ctx.params, ctx.h, out.front().dist2, out.size() > k ? out[k].dist2 : inf,
+                        out.size() > kMaxTiedMembers ? out[kMaxTiedMembers].dist2 : inf, radius2);
 }
 
 double radius2_of(const Context& ctx, double best2) {
@@ -255,28 +289,31 @@ void finish_point(const Context& ctx, uint32_t point, const glm::dvec3& p, std::
   // rounded up, so that the stored reach never falls short of the exact one
   const float reach = static_cast<float>(std::sqrt(need2));
   out.reach.push_back(std::nextafter(reach, std::numeric_limits<float>::infinity()));
-  if (prm.max_distance > 0) {
-    const double md2 = prm.max_distance * prm.max_distance;
-    std::erase_if(cands, [&](const Candidate& c) { return c.dist2 > md2; });
-  }
   // Taper (decision, see docs/algorithm-notes.md): the weight at which an element would leave the set
-  // (the relative threshold, the strongest element left out by K, the max distance) is subtracted from
-  // every member's weight, so that elements enter and leave sets at zero weight and the map is
-  // continuous in P. `cands` holds up to K + 1 elements: the (K+1)-th only sets the cut.
-  double w_cut = 0.0;
-  if (!cands.empty())
-    w_cut = taper_cut(prm, ctx.h, std::sqrt(cands.front().dist2) / ctx.h,
-                      cands.size() > prm.max_elements ? std::sqrt(cands[prm.max_elements].dist2) / ctx.h : -1.0);
-  if (cands.size() > prm.max_elements) cands.resize(prm.max_elements);
-  const size_t automatic = cands.size();  // members chosen by the rule; inclusions follow
-  if (edit) {
+  // (the relative threshold; the strongest element left out by K and the max distance, unless they
+  // nearly tie the nearest) is subtracted from every member's weight, so that elements enter and leave sets at
+  // zero weight and the map is continuous in P.
+  thread_local std::vector<double> dist, w;
+  dist.resize(cands.size());
+  for (size_t i = 0; i < cands.size(); ++i) dist[i] = std::sqrt(cands[i].dist2) / ctx.h;
+  const Taper taper(prm, ctx.h, dist);
+  w.resize(cands.size());
+  size_t kept = 0;
+  if (taper.all_at_cut()) {  // every candidate at the cut (epsilon = 1, exact ties beyond M): plain weights
+    kept = std::min<size_t>(cands.size(), prm.max_elements);
+    for (size_t i = 0; i < kept; ++i) w[i] = taper.raw(dist[i]);
+  } else {
+    for (size_t i = 0; i < cands.size(); ++i)
+      if ((w[i] = taper.weight(i)) > 0.0) kept = i + 1;  // members are a prefix of the sorted candidates
+  }
+  cands.resize(kept);
+  w.resize(kept);
+  if (edit) {  // inclusions: their own eq. 1 weight, on the taper's scale
     for (uint32_t e : edit->include) {
       if (!ctx.valid[e]) continue;
-      bool present = false;
-      for (const auto& c : cands) present = present || c.element == e;
-      if (present) continue;
       ClosestPoint cp = closest_on(ctx.rest, ctx.cage->elements[e], p);
       cands.push_back({e, cp.dist2, cp.bary});
+      w.push_back(taper.raw(std::sqrt(cp.dist2) / ctx.h));
     }
   }
   if (prm.variant == Variant::kExtended) out.set_counts.push_back(0);
@@ -306,11 +343,9 @@ void finish_point(const Context& ctx, uint32_t point, const glm::dvec3& p, std::
     return;
   }
 
-  double dist[128], w[128];
-  const size_t n = std::min<size_t>(cands.size(), 128);
-  cands.resize(n);
-  for (size_t i = 0; i < n; ++i) dist[i] = std::sqrt(cands[i].dist2) / ctx.h;
-  const double sum = tapered_weights(std::span(dist, n), automatic, w_cut, prm.local, std::span(w, n));
+  const size_t n = cands.size();
+  double sum = 0.0;
+  for (size_t i = 0; i < n; ++i) sum += w[i];
   // the set: members with a weight (an element at the cut contributes nothing and is left out)
   bool inside = false;
   uint32_t members = 0;
@@ -332,8 +367,10 @@ void finish_point(const Context& ctx, uint32_t point, const glm::dvec3& p, std::
       out.set_weights.push_back(static_cast<float>(w[i] / sum));
     }
     // W_j = sum_k u_k b_kj over the corners j of each contributing element
-    uint32_t vid[384];
-    double vw[384];
+    thread_local std::vector<uint32_t> vid;
+    thread_local std::vector<double> vw;
+    vid.clear();
+    vw.clear();
     size_t m = 0;
     for (size_t i = 0; i < n; ++i) {
       const Tri& t = ctx.cage->elements[cands[i].element];
@@ -343,8 +380,9 @@ void finish_point(const Context& ctx, uint32_t point, const glm::dvec3& p, std::
         size_t j = 0;
         while (j < m && vid[j] != t[static_cast<size_t>(c)]) ++j;
         if (j == m) {
-          vid[m] = t[static_cast<size_t>(c)];
-          vw[m++] = 0.0;
+          vid.push_back(t[static_cast<size_t>(c)]);
+          vw.push_back(0.0);
+          ++m;
         }
         vw[j] += wv;
       }
@@ -779,17 +817,19 @@ class ChunkedBvhSource {
                   std::vector<Candidate>& out, double& need2) {
     out.clear();
     rejected_.clear();
-    // Only the K nearest elements within the threshold radius survive, so once K are known the
-    // K-th distance bounds the search too (ties are kept: the final order breaks them by id).
+    // Only the K nearest elements within the threshold radius survive, with those in the tie band
+    // (Taper), so once K + 1 are known the (K+1)-th distance or the band bounds the search too (ties
+    // are kept: the final order breaks them by id).
     const size_t k = ctx.params.max_elements + 1;  // the (K+1)-th sets the taper's cut
-    double best2 = 1e300, radius2 = 1e300, kth2 = 1e300;
+    double best2 = 1e300, radius2 = 1e300, kth2 = 1e300, band2 = 1e300;
+    size_t prune_at = 2 * k;
     for (size_t i = 0; i < sorted_.size(); ++i) {
-      const double bound2 = std::min(radius2, kth2);
+      const double bound2 = std::min(radius2, std::max(kth2, band2));
       // keys are lower bounds of the distance from any point of the chunk: the rest are farther
       if (sorted_keys_[i] > 0 && sorted_keys_[i] * sorted_keys_[i] > bound2) break;
       const auto& e = sorted_[i];
       if (ElementBvh::box_dist2(p, e.lo, e.hi) > bound2) continue;
-      if (excluded(edit, e.id)) continue;
+      if (outside_rule(edit, e.id)) continue;
       ClosestPoint cp = closest_point_on_triangle(p, e.a, e.b, e.c);
       if (cp.dist2 > bound2) continue;
       if (!ctx.allowed(point, e.id)) {
@@ -800,13 +840,16 @@ class ChunkedBvhSource {
       if (cp.dist2 < best2) {
         best2 = cp.dist2;
         radius2 = radius2_of(ctx, best2);
+        band2 = tie_band2(ctx.params, ctx.h, best2);
       }
-      if (out.size() >= 2 * k) {
+      if (out.size() >= prune_at) {
         std::nth_element(out.begin(), out.begin() + static_cast<std::ptrdiff_t>(k - 1), out.end(), closer);
         kth2 = out[k - 1].dist2;
+        const double keep2 = std::max(kth2, band2);
         out.erase(std::remove_if(out.begin() + static_cast<std::ptrdiff_t>(k), out.end(),
-                                 [&](const Candidate& x) { return x.dist2 > kth2; }),
+                                 [&](const Candidate& x) { return x.dist2 > keep2; }),
                   out.end());
+        prune_at = std::max(2 * k, 2 * out.size());  // many in the band: prune again only when doubled
       }
     }
     std::erase_if(out, [&](const Candidate& x) { return x.dist2 > radius2; });
@@ -823,7 +866,7 @@ class ChunkedBvhSource {
   // The point's own query of the whole hierarchy.
   uint32_t direct(const Context& ctx, uint32_t point, const glm::dvec3& p, const SetEdit* edit,
                   std::vector<Candidate>& out, double& need2) {
-    auto skip = [&](uint32_t e) { return excluded(edit, e) || !ctx.allowed(point, e); };
+    auto skip = [&](uint32_t e) { return outside_rule(edit, e) || !ctx.allowed(point, e); };
     auto radius = [&](double d) {
       return ctx.h * threshold_radius(d / ctx.h, ctx.params.local, ctx.params.epsilon);
     };
@@ -833,7 +876,7 @@ class ChunkedBvhSource {
     bvh_.boxes_within(p, std::sqrt(need2) * (1 + 1e-9), direct_elems_);
     uint32_t count = 0;
     for (const auto& e : direct_elems_)
-      if (!excluded(edit, e.id) && !ctx.allowed(point, e.id) && closest_point_on_triangle(p, e.a, e.b, e.c).dist2 <= need2)
+      if (!outside_rule(edit, e.id) && !ctx.allowed(point, e.id) && closest_point_on_triangle(p, e.a, e.b, e.c).dist2 <= need2)
         ++count;
     return count;
   }
@@ -857,7 +900,7 @@ struct BruteForceSource {
     rejected.clear();
     double best = 1e300;
     for (uint32_t e : ctx.valid_ids) {
-      if (excluded(edit, e)) continue;
+      if (outside_rule(edit, e)) continue;
       ClosestPoint cp = closest_on(ctx.rest, ctx.cage->elements[e], p);
       if (!ctx.allowed(point, e)) {
         rejected.push_back(cp.dist2);

@@ -126,17 +126,50 @@ std::vector<uint32_t> morton_order(std::span<const glm::vec3> points);
 
 // Weight function of eq. 1 on a distance already divided by h.
 double falloff(double d, double local);
-// The taper (docs/algorithm-notes.md): the weight at which an element enters or leaves a point's set,
-// subtracted from every automatic member's weight so that sets change at zero weight. `nearest`: the
-// nearest candidate's distance, `beyond`: the (K+1)-th candidate's within the threshold radius (or
-// negative when there is none), both in units of h; the max distance counts too.
-double taper_cut(const BindParams& params, double h, double nearest, double beyond);
-// Eq. 1 weights of one point's candidates with the taper `cut`: `dist` in units of h, the first
-// `automatic` chosen by the rule (they lose the cut), the rest user inclusions (they keep their
-// weight); plain eq. 1 weights when every member sits at the cut. Writes the unnormalised weights
-// into `w` (#dist; 0 = at the cut, no member) and returns their sum. Polygon and sample elements
-// (core/patch_binding.h) share it.
-double tapered_weights(std::span<const double> dist, size_t automatic, double cut, double local, std::span<double> w);
+// Ties at the cap (docs/algorithm-notes.md "Near-ties at the cap"): where the (K+1)-th candidate, or the
+// max distance, nearly ties the nearest element (d^local within a factor 1 + kTieBand of the nearest's),
+// the cut of the taper is held at that band's edge, and every element inside it joins the set (K is
+// exceeded there, up to kMaxTiedMembers, and so is the max distance). The nearest member then always
+// keeps a weight of the order of its own, and the normalised weights never divide tiny differences.
+// kTieFloor (units of h) keeps a band for skin lying on the cage.
+inline constexpr double kTieBand = 7.0;  // d within a factor 8^(1/local) of the nearest: 1.68 at local 4
+inline constexpr double kTieFloor = 1e-2;
+inline constexpr size_t kMaxTiedMembers = 64;
+
+// The taper (docs/algorithm-notes.md): the weight c at which an element enters or leaves a point's set,
+// subtracted from every automatic member's weight so that sets change at zero weight:
+//   c = max(epsilon f(d_1), min(max(f(d_K+1), f(max distance)), f(d_tie))),  d_tie^local = (1 + kTieBand) d_1^local
+//                                                                            + kTieBand kTieFloor^local,
+// raised to f(d_M+1) where more than M = kMaxTiedMembers elements pass. With p = d^local, f = 1 / (1 + p)
+// and c = 1 / (1 + q), a member's weight f - c = (q - p) / ((1 + p)(1 + q)) is computed in that form (no
+// cancellation for skin on the cage), and in units of max(1, d_1^local) (no overflow for any `local`).
+class Taper {
+ public:
+  // `dist`: the point's automatic candidates (user inclusions apart), ascending, in units of h: every
+  // element within needed_radius of it (more are harmless).
+  Taper(const BindParams& params, double h, std::span<const double> dist);
+  // The weight of automatic candidate i (0: not a member), on the common scale of raw().
+  double weight(size_t i) const;
+  // Eq. 1 weight f(d) of a user inclusion at distance d (units of h), on the same scale: inclusions keep
+  // their own weight and are never tapered.
+  double raw(double d) const;
+  // Whether no automatic candidate has a weight (every one at the cut: epsilon = 1, or more than
+  // kMaxTiedMembers exact ties); the point then takes plain eq. 1 weights over its first K candidates.
+  bool all_at_cut() const { return !(sum_ > 0); }
+
+ private:
+  double ratio(double d) const;  // d^local in units of the scale
+  std::span<const double> dist_;
+  double local_ = 0, d1_ = 0, u_ = 1, q_ = 0, sum_ = 0;
+  bool scaled_ = false;
+};
+// Squared radius (world units) within which every automatic candidate of a point must be known for its
+// weights to be exact. Squared distances: `best2` of the nearest candidate, `next2` of the (K+1)-th and
+// `last2` of the (kMaxTiedMembers+1)-th (infinite where there are not that many), `radius2` the threshold
+// radius of the nearest.
+double needed_radius2(const BindParams& params, double h, double best2, double next2, double last2, double radius2);
+// The tie band's squared radius (world units) given the nearest candidate's squared distance.
+double tie_band2(const BindParams& params, double h, double best2);
 // Largest distance (in units of h) an element may have and still pass the relative threshold,
 // given the nearest distance d_min: w_k >= eps * w_max  <=>  d_k <= radius.
 double threshold_radius(double d_min, double local, double epsilon);

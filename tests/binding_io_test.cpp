@@ -58,8 +58,8 @@ Cage cage_with_bad_elements() {
   return std::move(make_cage(std::move(m), "cage with bad elements")).value();
 }
 
-Binding bind_or_die(const PolyMesh& skin, const Cage& cage, const BindParams& p) {
-  auto b = bind_skin(skin.positions, cage, cage.polygons.positions, p);
+Binding bind_or_die(const PolyMesh& skin, const Cage& cage, const BindParams& p, std::span<const SetEdit> edits = {}) {
+  auto b = bind_skin(skin.positions, cage, cage.polygons.positions, p, edits);
   EXPECT_TRUE(b.ok()) << (b.ok() ? "" : b.error().message);
   return std::move(b).value();
 }
@@ -221,7 +221,7 @@ TEST_F(BindingIoTest, RoundTripIsIdenticalAndDeformsBitForBitForEveryVariant) {
   }
 }
 
-// Fallback points (empty sets, from a max distance shorter than some points' nearest element) and
+// Fallback points (empty sets, from edits that leave a point no element) and
 // skipped elements travel through the file too.
 TEST_F(BindingIoTest, RoundTripKeepsFallbackPointsAndSkippedElements) {
   Scene s;
@@ -231,8 +231,10 @@ TEST_F(BindingIoTest, RoundTripKeepsFallbackPointsAndSkippedElements) {
     SCOPED_TRACE(variant_name(v));
     BindParams p;
     p.variant = v;
-    p.max_distance = 0.6;
-    Binding b = bind_or_die(s.skin, cage, p);
+    const auto edits = fixtures::empty_set_edits(s.skin.num_vertices(), 5);
+    auto bound = bind_skin(s.skin.positions, cage, cage.polygons.positions, p, edits);
+    ASSERT_TRUE(bound.ok()) << bound.error().message;
+    Binding b = std::move(bound).value();
     ASSERT_FALSE(b.rigid_points.empty()) << "fixture should give some points an empty set";
     ASSERT_LT(b.rigid_points.size(), b.num_points) << "fixture should give some points a set";
     ASSERT_EQ(b.invalid_elements.size(), 3u) << "the zero-area triangle and the two halves of the copied quad";
@@ -366,7 +368,7 @@ TEST_F(BindingIoTest, EveryTruncationFailsCleanly) {
   BindParams p;
   p.variant = Variant::kClamped;
   p.max_distance = 0.6;
-  Binding b = bind_or_die(s.skin, cage_with_bad_elements(), p);
+  Binding b = bind_or_die(s.skin, cage_with_bad_elements(), p, fixtures::empty_set_edits(s.skin.num_vertices(), 5));
   ASSERT_FALSE(b.rigid_points.empty());
   ASSERT_FALSE(b.bary.empty());
   auto bytes = saved(b);
@@ -404,7 +406,7 @@ TEST_F(BindingIoTest, InflatedTableCountsFailWithoutAllocating) {
   BindParams p;
   p.variant = Variant::kClamped;
   p.max_distance = 0.6;
-  Binding b = bind_or_die(s.skin, cage_with_bad_elements(), p);
+  Binding b = bind_or_die(s.skin, cage_with_bad_elements(), p, fixtures::empty_set_edits(s.skin.num_vertices(), 5));
   auto bytes = saved(b);
   Layout at(b);
   const std::pair<const char*, size_t> tables[] = {
@@ -508,7 +510,7 @@ TEST_F(BindingIoTest, OutOfRangeCageVertexOrFallbackIsRejectedByTheDeformer) {
   BindParams p;
   p.variant = Variant::kBasic;
   p.max_distance = 0.6;
-  Binding b = bind_or_die(s.skin, s.cage, p);
+  Binding b = bind_or_die(s.skin, s.cage, p, fixtures::empty_set_edits(s.skin.num_vertices(), 5));
   ASSERT_FALSE(b.rigid_points.empty());
   auto bytes = saved(b);
   Layout at(b);

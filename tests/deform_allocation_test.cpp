@@ -44,8 +44,10 @@ TEST(DeformAllocation, DeformDoesNotAllocatePerCall) {
   for (Variant v : {Variant::kBasic, Variant::kClamped, Variant::kExtended}) {
     BindParams p;
     p.variant = v;
-    p.max_distance = 0.25;  // some points fall back to the rigid path too
-    Binding b = std::move(bind_skin(skin.positions, cage, cage.polygons.positions, p)).value();
+    p.max_distance = 0.25;
+    // some points fall back to the rigid path too
+    const auto edits = fixtures::empty_set_edits(skin.num_vertices(), 13);
+    Binding b = std::move(bind_skin(skin.positions, cage, cage.polygons.positions, p, edits)).value();
     ASSERT_FALSE(b.rigid_points.empty());
     Deformer d = std::move(Deformer::create(b, skin.positions)).value();
     std::vector<glm::vec3> out(skin.num_vertices());

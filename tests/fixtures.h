@@ -8,10 +8,19 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/mat3x3.hpp>
 
+#include "core/binding.h"
 #include "core/cage.h"
 #include "core/mesh.h"
 
 namespace cagewrap::fixtures {
+
+// Set edits that empty the set of every `every`-th of `points` skin points ("only these elements", and
+// none named), so that those points follow their nearest valid element rigidly (the fallback).
+inline std::vector<SetEdit> empty_set_edits(size_t points, size_t every) {
+  std::vector<SetEdit> edits;
+  for (size_t i = 0; i < points; i += every) edits.push_back({static_cast<uint32_t>(i), {}, {}, true});
+  return edits;
+}
 
 // Closed capped cylinder along +x from 0 to length, `around` x `along` quads split into triangles.
 inline PolyMesh cylinder_skin(double radius = 0.5, double length = 4.0, int around = 32, int along = 40) {

@@ -23,6 +23,7 @@
 #include "core/rig.h"
 #include "core/skinning.h"
 #include "core/twist.h"
+#include "tests/fixtures.h"
 #include "tests/test_assets.h"
 
 #if CAGEWRAP_GUI
@@ -240,8 +241,11 @@ TEST_F(GpuDeformerTest, FallbackPointsAgree) {
   for (Variant v : kVariants) {
     BindParams params;
     params.variant = v;
-    params.max_distance = 0.004 * t.skin.diagonal;  // points deeper inside than this get no element
-    const Binding b = bind_triplet(t, params);
+    params.max_distance = 0.004 * t.skin.diagonal;  // points deeper inside than this: their nearest element
+    auto bound = bind_skin(t.skin.rest, *t.cage, t.cage->polygons.positions, params,
+                           fixtures::empty_set_edits(t.skin.rest.size(), 97));  // and the rigid fallback
+    ASSERT_TRUE(bound.ok()) << bound.error().message;
+    const Binding b = std::move(bound).value();
     ASSERT_GT(b.rigid_points.size(), 20u) << "the case must exercise the fallback pass";
     ASSERT_LT(b.rigid_points.size(), t.skin.rest.size() / 2);
     auto d = Deformer::create(b, t.skin.rest);

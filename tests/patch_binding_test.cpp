@@ -59,7 +59,7 @@ TEST(PatchBinding, TheTableIsOverSamplesWithNormalizedWeights) {
     EXPECT_TRUE(validate_binding(t).ok());
     for (uint32_t i = 0; i < t.num_points; ++i) {
       ASSERT_GT(t.offsets[i + 1], t.offsets[i]) << "point " << i;
-      ASSERT_LE(t.offsets[i + 1] - t.offsets[i], t.params.max_elements);
+      ASSERT_LE(t.offsets[i + 1] - t.offsets[i], kMaxTiedMembers);  // K, more only near ties
       double sum = 0;
       for (uint32_t e = t.offsets[i]; e < t.offsets[i + 1]; ++e) sum += t.weights[e];
       ASSERT_NEAR(sum, 1.0, 1e-6) << "point " << i;
@@ -67,7 +67,8 @@ TEST(PatchBinding, TheTableIsOverSamplesWithNormalizedWeights) {
   }
 }
 
-// The weights are eq. 1 with the taper over the samples within the threshold radius, at most K:
+// The weights are eq. 1 with the taper over the samples within the threshold radius, at most K (more
+// only in the tie band):
 // the same rule as polygon elements, checked against a loop over every sample.
 TEST(PatchBinding, WeightsFollowEquationOneOverAllSamples) {
   BindParams params;
@@ -85,8 +86,14 @@ TEST(PatchBinding, WeightsFollowEquationOneOverAllSamples) {
     std::vector<std::pair<double, uint32_t>> in;
     for (const auto& c : all)
       if (c.first <= radius) in.push_back(c);
-    const double cut = taper_cut(params, b.binding.h, in[0].first, in.size() > 6 ? in[6].first : -1.0);
-    in.resize(std::min<size_t>(in.size(), 6));
+    // the cut, written out from its definition (registration.h Taper): the relative threshold, the
+    // (K+1)-th unless it is in the tie band, held at the band's edge there
+    const double f1 = falloff(in[0].first, params.local);
+    const double l = params.local;
+    const double tie = std::pow((1 + kTieBand) * std::pow(in[0].first, l) + kTieBand * std::pow(kTieFloor, l), 1 / l);
+    double cut = params.epsilon * f1;
+    if (in.size() > 6) cut = std::max(cut, std::min(falloff(in[6].first, l), falloff(tie, l)));
+    std::erase_if(in, [&](const auto& c) { return !(falloff(c.first, params.local) > cut); });
     size_t e = b.binding.offsets[i];
     double total = 0;
     for (const auto& c : in) total += std::max(falloff(c.first, params.local) - cut, 0.0);
