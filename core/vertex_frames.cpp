@@ -24,6 +24,19 @@ void vertex_normals(std::span<const glm::dvec3> positions, std::span<const Tri> 
 namespace {
 // The one-ring is flat when its second moment's smallest eigenvalue is this small relative to the largest.
 constexpr double kFlatRatio = 1e-6;
+// A nearly flat ring (issue 18): the normal column of L = B A^-1 comes from the ring's small relief and
+// amplifies any out-of-plane motion by about 1 / relief. Below kReliefFull (eigenvalue ratio) the fit is
+// regularised toward mapping the rest normal to the posed one scaled like the ring, with a weight of
+// kReliefWeight times the ring's second moment; the weight fades to 0 at kReliefNone, where the relief
+// itself determines the normal column (affine maps stay exact there).
+constexpr double kReliefFull = 0.005, kReliefNone = 0.05, kReliefWeight = 0.03;
+
+double relief_weight(double ratio) {
+  if (ratio <= kReliefFull) return kReliefWeight;
+  if (ratio >= kReliefNone) return 0.0;
+  const double t = (kReliefNone - ratio) / (kReliefNone - kReliefFull);
+  return kReliefWeight * t * t * (3 - 2 * t);
+}
 }  // namespace
 
 OneRingFit::OneRingFit(std::span<const glm::vec3> rest, std::span<const Tri> triangles)
@@ -50,6 +63,7 @@ OneRingFit::OneRingFit(std::span<const glm::vec3> rest, std::span<const Tri> tri
   vertex_normals(rest_, triangles_, rest_normal_);
   ring_scale2_.assign(n, 0.0);
   flat_.assign(n, 0);
+  relief_.assign(n, 0.0);
   for (size_t v = 0; v < n; ++v) {
     Eigen::Matrix3d a = Eigen::Matrix3d::Zero();
     double len = 0;
@@ -64,7 +78,8 @@ OneRingFit::OneRingFit(std::span<const glm::vec3> rest, std::span<const Tri> tri
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(a, Eigen::EigenvaluesOnly);
     auto ev = eig.eigenvalues();
     flat_[v] = !(ev(0) > kFlatRatio * ev(2));
-    any_flat_ = any_flat_ || flat_[v];
+    relief_[v] = flat_[v] ? 0.0 : relief_weight(ev(0) / ev(2)) * a.trace();
+    any_flat_ = any_flat_ || flat_[v] || relief_[v] > 0;
   }
   posed_.resize(n);
   posed_normal_.resize(n);
@@ -84,8 +99,8 @@ void OneRingFit::fit(std::span<const glm::vec3> posed, std::span<glm::dmat3> out
       a += er * er.transpose();
       b += ed * er.transpose();
     }
-    if (flat_[v]) {
-      double s2 = ring_scale2_[v] > 0 ? ring_scale2_[v] : 1.0;
+    if (flat_[v] || relief_[v] > 0) {
+      double s2 = flat_[v] ? (ring_scale2_[v] > 0 ? ring_scale2_[v] : 1.0) : relief_[v];
       const glm::dvec3& nr = rest_normal_[v];
       const glm::dvec3& nd = posed_normal[v];
       Eigen::Vector3d er(nr.x, nr.y, nr.z), ed(nd.x, nd.y, nd.z);

@@ -18,8 +18,9 @@ class OneRingFit {
   OneRingFit(std::span<const glm::vec3> rest, std::span<const Tri> triangles);
 
   // L_v = least-squares linear map taking rest one-ring edge vectors to posed ones. Exact for every
-  // affine map where the one-ring spans 3-D; where it is (numerically) flat the free direction is fixed
-  // by mapping the rest vertex normal to the posed one. #Vc maps written to `out`.
+  // affine map where the one-ring spans 3-D with a relief of about a sixth of its edges or more; where it
+  // is (numerically) flat the free direction is fixed by mapping the rest vertex normal to the posed one,
+  // and where it is nearly flat the fit leans toward that (no amplification of out-of-plane motion). #Vc maps written to `out`.
   // Uses preallocated scratch: no allocation per call, one call at a time.
   void fit(std::span<const glm::vec3> posed, std::span<glm::dmat3> out);
 
@@ -30,6 +31,7 @@ class OneRingFit {
   std::vector<glm::dvec3> rest_normal_;
   std::vector<double> ring_scale2_;  // squared mean edge length per vertex
   std::vector<uint8_t> flat_;        // one-ring spans less than 3-D
+  std::vector<double> relief_;       // nearly flat one-ring: weight of the normal's regularisation (0: none)
   bool any_flat_ = false;
   std::vector<glm::dvec3> posed_, posed_normal_;  // scratch
 };
