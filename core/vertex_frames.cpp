@@ -115,11 +115,14 @@ void OneRingFit::fit(std::span<const glm::vec3> posed, std::span<glm::dmat3> out
       a += s2 * er * er.transpose();
       b += s2 * scale * ed * er.transpose();
       // still singular (a vertex on a lone edge, or no ring): keep the remaining directions unchanged
-      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(a, Eigen::EigenvaluesOnly);
-      if (!(eig.eigenvalues()(0) > kFlatRatio * std::max(eig.eigenvalues()(2), 1e-300))) {
-        double lambda = 1e-6 * std::max(a.trace(), 1e-30);
-        a += lambda * Eigen::Matrix3d::Identity();
-        b += lambda * Eigen::Matrix3d::Identity();
+      // (a nearly flat ring spans 3-D already)
+      if (flat_[v]) {
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(a, Eigen::EigenvaluesOnly);
+        if (!(eig.eigenvalues()(0) > kFlatRatio * std::max(eig.eigenvalues()(2), 1e-300))) {
+          double lambda = 1e-6 * std::max(a.trace(), 1e-30);
+          a += lambda * Eigen::Matrix3d::Identity();
+          b += lambda * Eigen::Matrix3d::Identity();
+        }
       }
     }
     Eigen::Matrix3d l = b * a.inverse();

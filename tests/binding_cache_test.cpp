@@ -318,7 +318,8 @@ TEST(BindingInputs, EachInputIsNamedWhenItChanges) {
   d.cage = std::make_shared<const Cage>(fixtures::box_cage(1.0, 1));
   const BindingInputs a = binding_inputs(d);
   EXPECT_EQ(changed_inputs(a, a), "");
-  EXPECT_EQ(a.program, std::string("cagewrap ") + CAGEWRAP_VERSION);
+  // the program and its weight rule (a binding cached before the tie band is stale)
+  EXPECT_EQ(a.program.rfind(std::string("cagewrap ") + CAGEWRAP_VERSION + " (weights: tie band", 0), 0u) << a.program;
   Document e = d;
   e.params.separate = false;  // without separation the attachment does not reach the bind
   const BindingInputs b = binding_inputs(e);

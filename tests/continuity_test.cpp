@@ -10,7 +10,9 @@
 #include "core/lipschitz_probe.h"
 #include "core/registration.h"
 #include "core/vertex_frames.h"
+#include "core/mesh_io.h"
 #include "tests/fixtures.h"
+#include "tests/test_assets.h"
 
 namespace cagewrap {
 namespace {
@@ -225,6 +227,37 @@ TEST(Continuity, NearlyFlatRingsDoNotAmplifyTheNormal) {
     std::printf("relief %.0e: |L n| = %.4f, ring stretch %.4f\n", relief, ln, stretch);
     EXPECT_LE(ln, stretch * 1.05) << "relief " << relief;
     EXPECT_GE(ln, 0.8) << "relief " << relief;  // the normal is not collapsed either
+  }
+}
+
+}  // namespace
+}  // namespace cagewrap
+
+namespace cagewrap {
+namespace {
+
+// Point 2: no pop in time. The bench triplets' cages move from rest to their pose in 200 steps: no skin
+// point's largest step exceeds 3x its average step, for every variant.
+TEST(Continuity, NoSkinPointPopsAsTheCageMovesToItsPose) {
+  CAGEWRAP_REQUIRE_ASSETS(assets);
+  for (const char* triplet : {"mannequiny/mesh_7136.obj", "armadillo/mesh_10001.obj"}) {
+    const std::string dir = assets + "/bench/" + std::string(triplet).substr(0, std::string(triplet).find('/'));
+    auto skin = load_mesh(assets + "/bench/" + triplet);
+    auto rest = load_mesh(dir + "/cage.obj");
+    auto posed = load_mesh(dir + "/cage_posed.obj");
+    ASSERT_TRUE(skin.ok() && rest.ok() && posed.ok()) << triplet;
+    auto cage = make_cage(*rest, "cage");
+    ASSERT_TRUE(cage.ok());
+    for (Variant v : {Variant::kBasic, Variant::kClamped, Variant::kExtended}) {
+      BindParams p;
+      p.variant = v;
+      auto r = probe_time_steps(*cage, cage->polygons.positions, posed->positions, p, skin->positions);
+      ASSERT_TRUE(r.ok()) << r.error().message;
+      std::printf("%s, %s: worst step / average step %.3f (point %u, step %u) over %zu points\n", triplet,
+                  variant_name(v), r->worst_ratio, r->worst_point, r->worst_step, r->measured);
+      EXPECT_GT(r->measured, skin->positions.size() / 2) << triplet;
+      EXPECT_LE(r->worst_ratio, 3.0) << triplet << " " << variant_name(v);
+    }
   }
 }
 
