@@ -105,6 +105,18 @@ std::optional<Cage> load_cage_or_report(const std::string& path) {
   return std::move(c).value();
 }
 
+std::optional<PolyMesh> load_posed_cage_or_report(const std::string& path, const Cage& cage, const std::string& cage_path) {
+  auto posed = load_mesh_or_report(path);
+  if (!posed) return std::nullopt;
+  if (posed->num_vertices() != cage.num_vertices() || posed->num_faces() != cage.polygons.num_faces()) {
+    std::fprintf(stderr, "error: %s: the posed cage has %zu vertices and %zu faces but the cage %s has %zu and %zu\n",
+                 path.c_str(), posed->num_vertices(), posed->num_faces(), cage_path.c_str(), cage.num_vertices(),
+                 cage.polygons.num_faces());
+    return std::nullopt;
+  }
+  return posed;
+}
+
 void print_bind_summary(const Binding& b, const std::string& cage_path, size_t num_polygons) {
   std::printf("points            %u\n", b.num_points);
   std::printf("elements          %zu (triangles of %zu polygons)\n", b.elements.size(), num_polygons);

@@ -38,6 +38,8 @@ std::string bind_options_differing(const BindOptions& opts, const BindParams& bo
 // Loads a mesh or cage, printing "error: <message>" on failure.
 std::optional<PolyMesh> load_mesh_or_report(const std::string& path);
 std::optional<Cage> load_cage_or_report(const std::string& path);
+// A posed copy of `cage` (loaded from `cage_path`): the same vertex and face counts, or a message naming both files.
+std::optional<PolyMesh> load_posed_cage_or_report(const std::string& path, const Cage& cage, const std::string& cage_path);
 // Loads a project, printing "error: <message>" on failure and "warning: <message>" for each warning.
 std::optional<ProjectLoad> load_project_or_report(const std::string& path);
 

@@ -98,14 +98,8 @@ void add_probe_command(CLI::App& app, int& exit_code) {
     }
     auto cage = load_cage_or_report(args->cage);
     if (!cage) return;
-    auto posed = load_mesh_or_report(args->posed);
+    auto posed = load_posed_cage_or_report(args->posed, *cage, args->cage);
     if (!posed) return;
-    if (posed->num_vertices() != cage->num_vertices() || posed->num_faces() != cage->polygons.num_faces()) {
-      std::fprintf(stderr, "error: %s: the posed cage has %zu vertices and %zu faces but the cage %s has %zu and %zu\n",
-                   args->posed.c_str(), posed->num_vertices(), posed->num_faces(), args->cage.c_str(),
-                   cage->num_vertices(), cage->polygons.num_faces());
-      return;
-    }
     std::vector<glm::vec3> skin;
     std::vector<SetEdit> edits;
     if (!args->skin.empty()) {
