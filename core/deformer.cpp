@@ -294,27 +294,43 @@ size_t Deformer::bytes_read_per_call() const {
          rigid_maps_.size() * sizeof(RigidMap) + b.rigid_points.size() * 16;
 }
 
-void combine_displacements(std::span<const glm::vec3> rest, std::span<const std::span<const glm::vec3>> deformed,
-                           CombineMode mode, double m, std::span<glm::vec3> out) {
-  const float mf = static_cast<float>(m);
+Status combine_displacements(std::span<const glm::vec3> rest, std::span<const std::span<const glm::vec3>> deformed,
+                             CombineMode mode, double m, std::span<glm::vec3> out) {
+  if (mode == CombineMode::kWeighted && !(m >= 0 && std::isfinite(m)))
+    return make_error(ErrorCode::kInvalidArgument,
+                      "the Wires blend's exponent m must be a finite number >= 0, not " + std::to_string(m));
+  if (out.size() != rest.size())
+    return make_error(ErrorCode::kInvalidArgument, "the output has " + std::to_string(out.size()) +
+                                                       " points but the skin has " + std::to_string(rest.size()));
+  for (size_t k = 0; k < deformed.size(); ++k)
+    if (deformed[k].size() != rest.size())
+      return make_error(ErrorCode::kInvalidArgument, "deformer " + std::to_string(k) + " gives " +
+                                                         std::to_string(deformed[k].size()) + " points but the skin has " +
+                                                         std::to_string(rest.size()));
   tbb::parallel_for(tbb::blocked_range<size_t>(0, rest.size(), 8192), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t i = r.begin(); i != r.end(); ++i) {
-      glm::vec3 sum(0.f);
+      const glm::dvec3 p(rest[i]);
+      glm::dvec3 sum(0.0);
       if (mode == CombineMode::kSum) {
-        for (const auto& d : deformed) sum += d[i] - rest[i];
+        for (const auto& d : deformed) sum += glm::dvec3(d[i]) - p;
       } else {
-        float wsum = 0.f;
-        for (const auto& d : deformed) {
-          glm::vec3 dp = d[i] - rest[i];
-          float w = std::pow(glm::length(dp), mf);
-          sum += w * dp;
-          wsum += w;
+        double largest = 0.0;
+        for (const auto& d : deformed) largest = std::max(largest, glm::length(glm::dvec3(d[i]) - p));
+        if (largest > 0.0) {
+          double wsum = 0.0;
+          for (const auto& d : deformed) {
+            const glm::dvec3 dp = glm::dvec3(d[i]) - p;
+            const double w = m == 0.0 ? 1.0 : std::pow(glm::length(dp) / largest, m);  // in [0, 1], the largest 1
+            sum += w * dp;
+            wsum += w;
+          }
+          sum /= wsum;  // >= 1
         }
-        sum = wsum > 0.f ? sum / wsum : glm::vec3(0.f);
       }
-      out[i] = rest[i] + sum;
+      out[i] = glm::vec3(p + sum);
     }
   });
+  return Ok{};
 }
 
 }  // namespace cagewrap

@@ -102,8 +102,10 @@ class Deformer {
 
 // Several deformers on one skin (section 6): combine their displacements dP_i = P_i - P.
 enum class CombineMode { kSum, kWeighted };
-// kSum: P + sum dP_i. kWeighted (Singh & Fiume, Wires): P + sum dP_i |dP_i|^m / sum |dP_i|^m.
-void combine_displacements(std::span<const glm::vec3> rest, std::span<const std::span<const glm::vec3>> deformed,
-                           CombineMode mode, double m, std::span<glm::vec3> out);
+// kSum: P + sum dP_i. kWeighted (Singh & Fiume, Wires): P + sum dP_i |dP_i|^m / sum |dP_i|^m, computed in
+// double with |dP_i| taken relative to the largest (no overflow or underflow for any m; m = 0 is the
+// mean). Errors: m negative or not finite (kWeighted), sizes that differ.
+Status combine_displacements(std::span<const glm::vec3> rest, std::span<const std::span<const glm::vec3>> deformed,
+                             CombineMode mode, double m, std::span<glm::vec3> out);
 
 }  // namespace cagewrap

@@ -563,21 +563,34 @@ TEST(Combine, SumAndMagnitudeWeightedBlend) {
   std::vector<glm::vec3> b = {{0, 3, 0}, {1, 1, 3}};   // dP = (0,3,0), (0,0,2)
   std::vector<std::span<const glm::vec3>> both = {a, b};
   std::vector<glm::vec3> out(2);
-  combine_displacements(rest, both, CombineMode::kSum, 0, out);
+  ASSERT_TRUE(combine_displacements(rest, both, CombineMode::kSum, 0, out).ok());
   EXPECT_EQ(out[0], glm::vec3(1, 3, 0));
   EXPECT_EQ(out[1], glm::vec3(1, 1, 3));
-  combine_displacements(rest, both, CombineMode::kWeighted, 1.0, out);
+  ASSERT_TRUE(combine_displacements(rest, both, CombineMode::kWeighted, 1.0, out).ok());
   // |dP| = 1 and 3: (1*(1,0,0) + 3*(0,3,0)) / 4
   EXPECT_NEAR(out[0].x, 0.25f, 1e-6f);
   EXPECT_NEAR(out[0].y, 2.25f, 1e-6f);
   EXPECT_EQ(out[1], glm::vec3(1, 1, 3));  // one deformer does not move it: the other wins fully
-  combine_displacements(rest, both, CombineMode::kWeighted, 0.0, out);  // m = 0: the mean
+  ASSERT_TRUE(combine_displacements(rest, both, CombineMode::kWeighted, 0.0, out).ok());  // m = 0: the mean
   EXPECT_NEAR(out[0].x, 0.5f, 1e-6f);
   EXPECT_NEAR(out[0].y, 1.5f, 1e-6f);
   std::vector<glm::vec3> still = rest;
   std::vector<std::span<const glm::vec3>> none = {still, still};
-  combine_displacements(rest, none, CombineMode::kWeighted, 2.0, out);
+  ASSERT_TRUE(combine_displacements(rest, none, CombineMode::kWeighted, 2.0, out).ok());
   EXPECT_EQ(out[0], rest[0]);  // no displacement anywhere: no division by zero
+  // issue 18: a large m tends to the largest displacement (no overflow: before, float pow gave NaN or
+  // inf), a negative m is refused with a message (before: NaN where a deformer did not move the point)
+  ASSERT_TRUE(combine_displacements(rest, both, CombineMode::kWeighted, 16.0, out).ok());
+  EXPECT_NEAR(out[0].y, 3.f, 1e-6f);
+  EXPECT_NEAR(out[0].x, std::pow(1.0 / 3.0, 16.0) * 1.0, 1e-6);
+  std::vector<glm::vec3> tiny = {{1e-30f, 0, 0}, {1, 1, 1}}, huge = {{0, 1e30f, 0}, {1, 1, 1}};
+  std::vector<std::span<const glm::vec3>> extreme = {tiny, huge};
+  ASSERT_TRUE(combine_displacements(rest, extreme, CombineMode::kWeighted, 16.0, out).ok());
+  EXPECT_TRUE(std::isfinite(out[0].x) && std::isfinite(out[0].y)) << out[0].x << " " << out[0].y;
+  EXPECT_EQ(out[1], rest[1]);
+  auto bad = combine_displacements(rest, both, CombineMode::kWeighted, -1.0, out);
+  ASSERT_FALSE(bad.ok());
+  EXPECT_NE(bad.error().message.find("exponent m"), std::string::npos) << bad.error().message;
 }
 
 // The real bench triplets (skipped without ../shared/assets).
