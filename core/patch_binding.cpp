@@ -143,9 +143,8 @@ Result<Binding> bind_skin_to_patches(std::span<const glm::vec3> skin, const Patc
         for (size_t j = 0; j < cands.size(); ++j) dist[j] = cands[j].first;
         const Taper taper(params, h, dist);
         w.resize(cands.size());
-        double sum = 0.0;
-        for (size_t j = 0; j < cands.size(); ++j) sum += (w[j] = taper.weight(j));
-        if (taper.all_at_cut()) {  // every candidate at the cut: plain weights over the first K
+        double sum = taper.weights(w);
+        if (!(sum > 0)) {  // every candidate at the cut: plain weights over the first K
           sum = 0.0;
           for (size_t j = 0; j < cands.size(); ++j) sum += (w[j] = j < K ? taper.raw(dist[j]) : 0.0);
         }

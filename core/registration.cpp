@@ -94,17 +94,15 @@ Taper::Taper(const BindParams& prm, double h, std::span<const double> dist) : di
   scaled_ = d1_ > 1.0 && local_ > 0.0;
   u_ = scaled_ ? power(1.0 / d1_, local_) : 1.0;  // 1 / scale
   const double r1 = ratio(d1_);
-  const double K = static_cast<double>(prm.max_elements);
   double q = (u_ + r1) / prm.epsilon - u_;  // the relative threshold: epsilon f(d_1)
   // the tie band: p up to (1 + kTieBand) times the nearest's (and a floor of kTieFloor h for skin on the cage)
   const double tie = (1.0 + kTieBand) * r1 + kTieBand * (scaled_ ? power(kTieFloor / d1_, local_) : power(kTieFloor, local_));
   // the strongest element left out by K, and the max distance: never above the tie band's cut
-  double out = dist.size() > K ? ratio(dist[prm.max_elements]) : std::numeric_limits<double>::infinity();
+  double out = dist.size() > prm.max_elements ? ratio(dist[prm.max_elements]) : std::numeric_limits<double>::infinity();
   if (prm.max_distance > 0) out = std::min(out, ratio(prm.max_distance / h));
   q = std::min(q, std::max(out, tie));
   if (dist.size() > kMaxTiedMembers) q = std::min(q, ratio(dist[kMaxTiedMembers]));
   q_ = q;
-  for (size_t i = 0; i < dist.size(); ++i) sum_ += weight(i);
 }
 
 double Taper::ratio(double d) const { return scaled_ ? power(d / d1_, local_) : power(d, local_); }
@@ -113,6 +111,13 @@ double Taper::weight(size_t i) const {
   const double r = ratio(dist_[i]);
   if (!(r < q_)) return 0.0;  // at or beyond the cut (an overflowed r too)
   return (q_ - r) / ((u_ + r) * (u_ + q_));
+}
+
+double Taper::weights(std::span<double> w) const {
+  CAGEWRAP_CHECK(w.size() == dist_.size(), "one weight per candidate");
+  double sum = 0.0;
+  for (size_t i = 0; i < w.size(); ++i) sum += (w[i] = weight(i));
+  return sum;
 }
 
 double Taper::raw(double d) const { return 1.0 / (u_ + ratio(d)); }
@@ -299,12 +304,12 @@ void finish_point(const Context& ctx, uint32_t point, const glm::dvec3& p, std::
   const Taper taper(prm, ctx.h, dist);
   w.resize(cands.size());
   size_t kept = 0;
-  if (taper.all_at_cut()) {  // every candidate at the cut (epsilon = 1, exact ties beyond M): plain weights
+  if (!(taper.weights(w) > 0)) {  // every candidate at the cut (epsilon = 1, exact ties beyond M): plain weights
     kept = std::min<size_t>(cands.size(), prm.max_elements);
     for (size_t i = 0; i < kept; ++i) w[i] = taper.raw(dist[i]);
   } else {
     for (size_t i = 0; i < cands.size(); ++i)
-      if ((w[i] = taper.weight(i)) > 0.0) kept = i + 1;  // members are a prefix of the sorted candidates
+      if (w[i] > 0.0) kept = i + 1;  // members are a prefix of the sorted candidates
   }
   cands.resize(kept);
   w.resize(kept);

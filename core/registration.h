@@ -150,17 +150,18 @@ class Taper {
   Taper(const BindParams& params, double h, std::span<const double> dist);
   // The weight of automatic candidate i (0: not a member), on the common scale of raw().
   double weight(size_t i) const;
+  // Every candidate's weight into `w` (#dist); returns their sum. 0 when no candidate has a weight
+  // (every one at the cut: epsilon = 1, or more than kMaxTiedMembers exact ties); the point then takes
+  // plain eq. 1 weights (raw) over its first K candidates.
+  double weights(std::span<double> w) const;
   // Eq. 1 weight f(d) of a user inclusion at distance d (units of h), on the same scale: inclusions keep
   // their own weight and are never tapered.
   double raw(double d) const;
-  // Whether no automatic candidate has a weight (every one at the cut: epsilon = 1, or more than
-  // kMaxTiedMembers exact ties); the point then takes plain eq. 1 weights over its first K candidates.
-  bool all_at_cut() const { return !(sum_ > 0); }
 
  private:
   double ratio(double d) const;  // d^local in units of the scale
   std::span<const double> dist_;
-  double local_ = 0, d1_ = 0, u_ = 1, q_ = 0, sum_ = 0;
+  double local_ = 0, d1_ = 0, u_ = 1, q_ = 0;
   bool scaled_ = false;
 };
 // Squared radius (world units) within which every automatic candidate of a point must be known for its
