@@ -32,6 +32,10 @@ Result<Cage> make_cage(PolyMesh polygons, const std::string& what);
 std::vector<ElementStatus> classify_elements(const Cage& cage, std::span<const glm::vec3> positions);
 
 // Relative area below which an element is degenerate: |e1 x e2| <= kDegenerateRatio * longest_edge^2.
-inline constexpr double kDegenerateRatio = 1e-7;
+// Positions are floats (a unit roundoff of 6e-8 of each coordinate), so the cross product of a triangle's
+// edges carries an error of a few 1e-7 of longest_edge^2: at 1e-7 (the earlier threshold) a sliver's normal
+// could be rounding noise. At 1e-5 the normal's direction is good to about a degree, and the eq. 2 frame's
+// inverse amplifies the posed corners' rounding by at most ~1e-2 (a sliver 1 m long is 10 um high).
+inline constexpr double kDegenerateRatio = 1e-5;
 
 }  // namespace cagewrap

@@ -4,6 +4,10 @@
 
 #include <cmath>
 
+#include <algorithm>
+
+#include <Eigen/LU>
+#include <Eigen/SVD>
 #include <glm/geometric.hpp>
 #include <glm/matrix.hpp>
 #include <tbb/parallel_for.h>
@@ -20,24 +24,56 @@ glm::dmat3 eq2_frame(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3&
   return glm::dmat3(b - a, c - a, n);  // columns e1, e2, e3
 }
 
-// Orthonormal frame from e1 and e3 (the clamped variant's rigid carrier).
-glm::dmat3 rigid_frame(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& n) {
-  glm::dvec3 x = b - a;
-  double len = glm::length(x);
-  x = len > 0 ? x / len : glm::dvec3(1, 0, 0);
-  glm::dvec3 y = glm::cross(n, x);
-  return glm::dmat3(x, y, n);
-}
-
-glm::dvec3 unit_normal(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, const glm::dvec3& fallback) {
-  glm::dvec3 n = glm::cross(b - a, c - a);
-  double len = glm::length(n);
-  return len > 0 && std::isfinite(len) ? n / len : fallback;
+// The rotation of the polar decomposition m = R S (S symmetric, positive semi-definite): the rotation nearest
+// to m. For the clamped variant's rigid carrier it depends on the element's map only, not on which corner
+// comes first (a frame built from e1 turns with that edge under shear). With det m <= 0 the nearest proper
+// rotation (the smallest singular direction flipped).
+glm::dmat3 polar_rotation(const glm::dmat3& m) {
+  Eigen::Matrix3d a;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) a(r, c) = m[c][r];
+  Eigen::JacobiSVD<Eigen::Matrix3d> svd(a, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix3d u = svd.matrixU();
+  const Eigen::Matrix3d& v = svd.matrixV();
+  if ((u * v.transpose()).determinant() < 0) u.col(2) *= -1.0;
+  const Eigen::Matrix3d rot = u * v.transpose();
+  glm::dmat3 out;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) out[c][r] = rot(r, c);
+  return out;
 }
 
 void store(Affine& out, const glm::dmat3& m, const glm::dvec3& t) { out = make_affine(m, t); }
 
 }  // namespace
+
+void element_normals(const Binding& b, std::span<const glm::vec3> pos, std::span<const glm::dvec3> fallback,
+                     std::vector<glm::dvec3>& ring, std::vector<glm::dvec3>& out) {
+  const size_t ne = b.elements.size();
+  out.assign(ne, glm::dvec3(0.0));
+  ring.assign(pos.size(), glm::dvec3(0.0));
+  for (size_t e = 0; e < ne; ++e) {
+    if (b.element_status[e] != ElementStatus::kValid) continue;
+    const Tri& t = b.elements[e];
+    const glm::dvec3 a(pos[t[0]]);
+    out[e] = glm::cross(glm::dvec3(pos[t[1]]) - a, glm::dvec3(pos[t[2]]) - a);  // the cross, for now
+    for (uint32_t v : t) ring[v] += out[e];
+  }
+  for (size_t e = 0; e < ne; ++e) {
+    if (b.element_status[e] != ElementStatus::kValid) {
+      out[e] = fallback[e];
+      continue;
+    }
+    const Tri& t = b.elements[e];
+    const glm::dvec3 p0(pos[t[0]]), p1(pos[t[1]]), p2(pos[t[2]]);
+    const double longest2 =
+        std::max({glm::dot(p1 - p0, p1 - p0), glm::dot(p2 - p0, p2 - p0), glm::dot(p2 - p1, p2 - p1)});
+    glm::dvec3 r = ring[t[0]] + ring[t[1]] + ring[t[2]];
+    const double rl = glm::length(r);
+    r = rl > 0 && std::isfinite(rl) ? r / rl : fallback[e];
+    out[e] = lean_normal(out[e], longest2, r);
+  }
+}
 
 Affine make_affine(const glm::dmat3& m, const glm::dvec3& t) {
   Affine out;
@@ -64,17 +100,14 @@ Result<Deformer> Deformer::create(const Binding& b, std::span<const glm::vec3> s
   d.skin_ = skin_rest;
   const size_t ne = b.elements.size();
   d.rest_frame_inv_.assign(ne, glm::dmat3(1.0));
-  d.rest_rigid_.assign(ne, glm::dmat3(1.0));
-  d.rest_normal_.assign(ne, glm::dvec3(0, 0, 1));
+  const std::vector<glm::dvec3> up(ne, glm::dvec3(0, 0, 1));
+  element_normals(b, b.rest_cage, up, d.ring_, d.rest_normal_);
   for (size_t e = 0; e < ne; ++e) {
     if (b.element_status[e] != ElementStatus::kValid) continue;
     const Tri& t = b.elements[e];
     glm::dvec3 p0 = glm::dvec3(b.rest_cage[t[0]]) - b.origin, p1 = glm::dvec3(b.rest_cage[t[1]]) - b.origin,
                p2 = glm::dvec3(b.rest_cage[t[2]]) - b.origin;
-    glm::dvec3 n = unit_normal(p0, p1, p2, glm::dvec3(0, 0, 1));
-    d.rest_normal_[e] = n;
-    d.rest_frame_inv_[e] = glm::inverse(eq2_frame(p0, p1, p2, n));
-    d.rest_rigid_[e] = rigid_frame(p0, p1, n);
+    d.rest_frame_inv_[e] = glm::inverse(eq2_frame(p0, p1, p2, d.rest_normal_[e]));
   }
   std::vector<uint8_t> used(b.num_cage_vertices, 0);
   for (size_t e = 0; e < ne; ++e)
@@ -117,6 +150,7 @@ Status Deformer::check_cage(std::span<const glm::vec3> posed) const {
 
 void Deformer::build_element_maps(std::span<const glm::vec3> posed) {
   const Binding& b = *binding_;
+  element_normals(b, posed, rest_normal_, ring_, normal_);
   for (size_t e = 0; e < b.elements.size(); ++e) {
     if (b.element_status[e] != ElementStatus::kValid) {
       store(maps_[e], glm::dmat3(1.0), glm::dvec3(0.0));
@@ -125,8 +159,7 @@ void Deformer::build_element_maps(std::span<const glm::vec3> posed) {
     const Tri& t = b.elements[e];
     glm::dvec3 q0 = glm::dvec3(posed[t[0]]) - b.origin, q1 = glm::dvec3(posed[t[1]]) - b.origin,
                q2 = glm::dvec3(posed[t[2]]) - b.origin;
-    glm::dvec3 n = unit_normal(q0, q1, q2, rest_normal_[e]);
-    glm::dmat3 m = eq2_frame(q0, q1, q2, n) * rest_frame_inv_[e];
+    glm::dmat3 m = eq2_frame(q0, q1, q2, normal_[e]) * rest_frame_inv_[e];
     glm::dvec3 p0 = glm::dvec3(b.rest_cage[t[0]]) - b.origin;
     store(maps_[e], m, q0 - m * p0);
   }
@@ -134,6 +167,7 @@ void Deformer::build_element_maps(std::span<const glm::vec3> posed) {
 
 void Deformer::build_rigid_maps(std::span<const glm::vec3> posed) {
   const Binding& b = *binding_;
+  if (b.params.variant != Variant::kBasic) element_normals(b, posed, rest_normal_, ring_, normal_);
   for (size_t e = 0; e < b.elements.size(); ++e) {
     RigidMap& a = rigid_maps_[e];
     glm::dmat3 g(1.0);
@@ -145,8 +179,7 @@ void Deformer::build_rigid_maps(std::span<const glm::vec3> posed) {
         v[i] = glm::dvec3(posed[t[i]]) - b.origin;
         p[i] = glm::dvec3(b.rest_cage[t[i]]) - b.origin;
       }
-      glm::dvec3 n = unit_normal(v[0], v[1], v[2], rest_normal_[e]);
-      g = rigid_frame(v[0], v[1], n) * glm::transpose(rest_rigid_[e]);
+      g = polar_rotation(eq2_frame(v[0], v[1], v[2], normal_[e]) * rest_frame_inv_[e]);
       for (size_t i = 0; i < 3; ++i) q[i] = v[i] - g * p[i];
     }
     for (int r = 0; r < 3; ++r)

@@ -88,10 +88,10 @@ class Deformer {
 
   const Binding* binding_ = nullptr;
   std::span<const glm::vec3> skin_;
-  // per element, rest: inverse of the eq. 2 frame [e1 e2 e3], and orthonormal rigid frame (clamped)
+  // per element, rest: inverse of the eq. 2 frame [e1 e2 e3] and the normal e3 (element_normals)
   std::vector<glm::dmat3> rest_frame_inv_;
-  std::vector<glm::dmat3> rest_rigid_;
   std::vector<glm::dvec3> rest_normal_;
+  std::vector<glm::dvec3> normal_, ring_;  // scratch: posed element normals, per-vertex sums of crosses
   std::vector<Affine> maps_;        // per element (basic) or per vertex (extended), per change
   std::vector<RigidMap> rigid_maps_;  // per element (clamped variant and fallback points)
   std::vector<glm::dmat3> vertex_linear_;  // scratch for the one-ring fit
@@ -99,6 +99,14 @@ class Deformer {
   std::vector<uint32_t> used_vertices_;  // vertices of valid elements
   bool need_rigid_ = false;
 };
+
+// Unit normals e3 of the binding's valid elements at `pos` (#E; `fallback[e]` for the others): the element's
+// own, except where it is nearly collapsed (kCollapseRatio), where it leans continuously toward the
+// area-weighted normal of the triangles around its corners, reaching it at zero area, and toward
+// `fallback[e]` where that vanishes too. So an element that flattens as the cage moves keeps a normal that
+// turns with its neighbours instead of jumping. `ring` is scratch (#V).
+void element_normals(const Binding& b, std::span<const glm::vec3> pos, std::span<const glm::dvec3> fallback,
+                     std::vector<glm::dvec3>& ring, std::vector<glm::dvec3>& out);
 
 // Several deformers on one skin (section 6): combine their displacements dP_i = P_i - P.
 enum class CombineMode { kSum, kWeighted };

@@ -7,6 +7,7 @@
 #include <tiny_gltf.h>
 
 #include "core/gltf_loader.h"
+#include "core/digits.h"
 
 #include <algorithm>
 #include <cctype>
@@ -109,26 +110,42 @@ class AccessorReader {
     if (nc > 4 && !is_float)
       return fail(ErrorCode::kParse, label + ": integer matrices are not supported (use FLOAT)");
     const size_t count = a.count;
-    std::vector<double> out(count * nc, 0.0);
     const size_t elem = static_cast<size_t>(nc) * cs;
+    // Every size is checked against the file's bytes before anything is allocated: a small file may
+    // claim a billion elements.
+    const uint8_t* data = nullptr;
+    size_t stride = elem;
     if (a.bufferView >= 0) {
       auto view = view_bytes(a.bufferView, label);
       if (!view) return view.error();
-      const auto [data, length, declared_stride] = *view;
-      size_t stride = declared_stride ? declared_stride : elem;
+      const auto [bytes, length, declared_stride] = *view;
+      data = bytes;
+      stride = declared_stride ? declared_stride : elem;
       if (declared_stride && declared_stride < elem)
         return fail(ErrorCode::kParse, label + ": bufferView " + std::to_string(a.bufferView) + " has byteStride " +
                                            std::to_string(declared_stride) + ", smaller than one element (" +
                                            std::to_string(elem) + " bytes)");
       if (count > 0) {
-        uint64_t need = uint64_t(a.byteOffset) + uint64_t(stride) * (count - 1) + elem;
+        const unsigned __int128 need =
+            (unsigned __int128)a.byteOffset + (unsigned __int128)stride * (count - 1) + elem;
         if (need > length)
           return fail(ErrorCode::kIndexOutOfRange,
-                      label + " reaches byte " + std::to_string(need) + " of bufferView " +
-                          std::to_string(a.bufferView) + ", which is only " + std::to_string(length) +
-                          " bytes long (count " + std::to_string(count) + ", byteOffset " +
-                          std::to_string(a.byteOffset) + ")");
+                      label + " needs " + group_digits(need) + " bytes but bufferView " +
+                          std::to_string(a.bufferView) + " holds " + group_digits(length) + " (count " +
+                          group_digits(count) + ", " + std::to_string(stride) + " bytes apart from byteOffset " +
+                          group_digits(a.byteOffset) + ")");
       }
+    } else if (count > zero_filled_limit()) {
+      // no bufferView: the elements start as zeros (a sparse accessor's base). A real one is as long as
+      // the data it goes with (a morph target's positions), so its count is bounded by the buffers' size.
+      return fail(ErrorCode::kIndexOutOfRange,
+                  label + " has no bufferView and claims " + group_digits(count) + " elements (" +
+                      group_digits((unsigned __int128)count * nc * sizeof(double)) +
+                      " bytes to read), more than the file's buffers (" + group_digits(buffer_bytes()) +
+                      " bytes) could go with");
+    }
+    std::vector<double> out(count * nc, 0.0);
+    if (data) {
       for (size_t i = 0; i < count; ++i) {
         const uint8_t* p = data + a.byteOffset + i * stride;
         for (int c = 0; c < nc; ++c) out[i * nc + c] = read_component(p + c * cs, a.componentType, a.normalized);
@@ -182,6 +199,15 @@ class AccessorReader {
   size_t count(int index) const { return m_.accessors[index].count; }
 
  private:
+  // The most elements an accessor without a bufferView may claim: one per 4 bytes of the file's buffers
+  // (a float each), and at least 65,536 (8 MB of doubles for a 16-component element).
+  size_t zero_filled_limit() const { return std::max<size_t>(size_t(1) << 16, buffer_bytes() / 4); }
+  size_t buffer_bytes() const {
+    size_t total = 0;
+    for (const auto& b : m_.buffers) total += b.data.size();
+    return total;
+  }
+
   // Pointer, byte length and byteStride of a buffer view, after checking it lies in its buffer.
   Result<std::tuple<const uint8_t*, size_t, size_t>> view_bytes(int view, const std::string& label) const {
     if (view < 0 || view >= static_cast<int>(m_.bufferViews.size()))

@@ -21,6 +21,16 @@ void vertex_normals(std::span<const glm::dvec3> positions, std::span<const Tri> 
   }
 }
 
+glm::dvec3 lean_normal(const glm::dvec3& n, double scale2, const glm::dvec3& toward) {
+  const double len = glm::length(n), floor = kCollapseRatio * scale2;
+  if (!std::isfinite(len) || !std::isfinite(floor)) return toward;
+  if (len >= floor && len > 0) return n / len;
+  // |n / floor| = s < 1 of the element's own direction, 1 - s of `toward`: continuous at s = 1 and at n = 0
+  const glm::dvec3 m = n / floor + (1.0 - len / floor) * toward;
+  const double ml = glm::length(m);
+  return ml > 0 && std::isfinite(ml) ? m / ml : toward;
+}
+
 namespace {
 // The one-ring is flat when its second moment's smallest eigenvalue is this small relative to the largest.
 constexpr double kFlatRatio = 1e-6;
@@ -83,6 +93,29 @@ OneRingFit::OneRingFit(std::span<const glm::vec3> rest, std::span<const Tri> tri
   }
   posed_.resize(n);
   posed_normal_.resize(n);
+  posed_cross_.resize(n);
+}
+
+void OneRingFit::posed_normals() {
+  const size_t n = rest_.size();
+  std::fill(posed_cross_.begin(), posed_cross_.end(), glm::dvec3(0.0));
+  for (const Tri& t : triangles_) {
+    const glm::dvec3 c = glm::cross(posed_[t[1]] - posed_[t[0]], posed_[t[2]] - posed_[t[0]]);
+    for (uint32_t v : t) posed_cross_[v] += c;
+  }
+  // a vertex whose triangles collapse leans toward the normal of its ring's vertices (their triangles)
+  for (size_t v = 0; v < n; ++v) {
+    double longest2 = 0.0;
+    glm::dvec3 around = posed_cross_[v];
+    for (uint32_t k = ring_start_[v]; k < ring_start_[v + 1]; ++k) {
+      const glm::dvec3 e = posed_[ring_[k]] - posed_[v];
+      longest2 = std::max(longest2, glm::dot(e, e));
+      around += posed_cross_[ring_[k]];
+    }
+    const double al = glm::length(around);
+    const glm::dvec3 toward = al > 0 && std::isfinite(al) ? around / al : rest_normal_[v];
+    posed_normal_[v] = lean_normal(posed_cross_[v], longest2, toward);
+  }
 }
 
 void OneRingFit::fit(std::span<const glm::vec3> posed, std::span<glm::dmat3> out) {
@@ -90,7 +123,7 @@ void OneRingFit::fit(std::span<const glm::vec3> posed, std::span<glm::dmat3> out
   auto& posed_d = posed_;
   auto& posed_normal = posed_normal_;
   for (size_t i = 0; i < n; ++i) posed_d[i] = glm::dvec3(posed[i]);
-  if (any_flat_) vertex_normals(posed_d, triangles_, posed_normal);
+  if (any_flat_) posed_normals();
   for (size_t v = 0; v < n; ++v) {
     Eigen::Matrix3d a = Eigen::Matrix3d::Zero(), b = Eigen::Matrix3d::Zero();
     for (uint32_t k = ring_start_[v]; k < ring_start_[v + 1]; ++k) {

@@ -33,8 +33,20 @@ class OneRingFit {
   std::vector<uint8_t> flat_;        // one-ring spans less than 3-D
   std::vector<double> relief_;       // nearly flat one-ring: weight of the normal's regularisation (0: none)
   bool any_flat_ = false;
-  std::vector<glm::dvec3> posed_, posed_normal_;  // scratch
+  // posed vertex normals (flat and nearly flat rings), leaning toward the ring's where they collapse
+  void posed_normals();
+  std::vector<glm::dvec3> posed_, posed_normal_, posed_cross_;  // scratch
 };
+
+// Below this relative size, |n| < kCollapseRatio * longest edge^2, a normal taken from cross products of
+// float corners (an element's, or a vertex's sum) counts as nearly collapsed. The corners put a few 1e-7 of
+// longest^2 of rounding into a cross product: above 1e-4 the normal's direction is good to 0.1 degree.
+inline constexpr double kCollapseRatio = 1e-4;
+
+// `n` normalised where |n| >= kCollapseRatio * scale2 (scale2: the longest edge squared); below, leaning
+// continuously toward the unit vector `toward`, all of it at n = 0. So a normal that shrinks to nothing as
+// the cage moves (a triangle collapsing) turns to `toward` instead of jumping to a fixed fallback.
+glm::dvec3 lean_normal(const glm::dvec3& n, double scale2, const glm::dvec3& toward);
 
 // Area-weighted vertex normals (unit, or zero where no valid triangle touches the vertex).
 void vertex_normals(std::span<const glm::dvec3> positions, std::span<const Tri> triangles,

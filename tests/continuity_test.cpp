@@ -236,6 +236,103 @@ TEST(Continuity, NearlyFlatRingsDoNotAmplifyTheNormal) {
 namespace cagewrap {
 namespace {
 
+// A posed triangle that collapses: a strip of 4 triangles turns 40 degrees about the x axis while the
+// corner c of the first slides (in the turning plane) onto its edge on that axis, reaching zero area at
+// the last of 200 frames. Before, a zero cross product fell back to the unturned rest normal (and a
+// near-zero one to rounding noise): the points over that triangle jumped in the last step (basic and
+// clamped). Now the normal of a nearly collapsed element leans toward its ring's, which is where the
+// element's own normal was heading.
+TEST(Continuity, ACollapsingPosedTriangleKeepsTurningWithItsNeighbours) {
+  PolyMesh m;
+  m.positions = {{-1, 0, 0}, {0, 0, 0}, {-1, 0, 1}, {0, 0, 1}, {1, 0, 0}, {1, 0, 1}};
+  m.add_face({0, 1, 2});
+  m.add_face({1, 3, 2});
+  m.add_face({1, 4, 3});
+  m.add_face({4, 5, 3});
+  const Cage cage = std::move(make_cage(m, "strip")).value();
+  std::vector<glm::vec3> skin;
+  for (float y : {-0.15f, 0.15f})
+    for (int i = 0; i <= 8; ++i)
+      for (int k = 0; k <= 4; ++k) skin.push_back({-0.9f + 0.225f * i, y, 0.1f + 0.2f * k});
+  const int steps = 200;
+  for (Variant v : {Variant::kBasic, Variant::kClamped, Variant::kExtended}) {
+    BindParams p;
+    p.variant = v;
+    auto b = bind_skin(skin, cage, m.positions, p);
+    ASSERT_TRUE(b.ok()) << b.error().message;
+    auto d = Deformer::create(*b, skin);
+    ASSERT_TRUE(d.ok()) << d.error().message;
+    std::vector<glm::vec3> prev(skin.size()), out(skin.size()), posed(m.positions.size());
+    std::vector<double> path(skin.size(), 0.0), largest(skin.size(), 0.0);
+    for (int k = 0; k <= steps; ++k) {
+      const double t = double(k) / steps;
+      const glm::dmat3 turn = fixtures::rotation(40 * t, {1, 0, 0});
+      for (size_t i = 0; i < posed.size(); ++i) posed[i] = glm::vec3(turn * glm::dvec3(m.positions[i]));
+      posed[2] = glm::vec3(turn * glm::mix(glm::dvec3(m.positions[2]), glm::dvec3(-0.5, 0, 0), t));
+      ASSERT_TRUE(d->deform(posed, out).ok());
+      if (k > 0)
+        for (size_t i = 0; i < skin.size(); ++i) {
+          const double step = glm::length(glm::dvec3(out[i]) - glm::dvec3(prev[i]));
+          path[i] += step;
+          largest[i] = std::max(largest[i], step);
+        }
+      std::swap(prev, out);
+    }
+    double worst = 0;
+    size_t worst_i = 0;
+    for (size_t i = 0; i < skin.size(); ++i) {
+      ASSERT_GT(path[i], 0.0) << i;
+      const double ratio = largest[i] / (path[i] / steps);
+      if (ratio > worst) worst = ratio, worst_i = i;
+    }
+    EXPECT_LE(worst, 3.0) << variant_name(v) << ": point " << worst_i;
+  }
+}
+
+// The clamped variant's rigid carrier under in-plane shear does not depend on which corner of the element
+// comes first (before: a frame built from the edge v0 -> v1, which turns differently for each corner).
+TEST(Continuity, ClampedRotationDoesNotDependOnVertexOrder) {
+  const std::vector<glm::vec3> rest = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  std::vector<glm::vec3> posed;
+  for (const auto& q : rest) posed.push_back({q.x + 0.6f * q.y, 1.1f * q.y, q.z});  // shear and stretch in plane
+  std::vector<glm::vec3> skin;  // around the triangle, off its plane and beyond its edges (clamped anchors)
+  for (float z : {-0.3f, 0.0f, 0.3f})
+    for (int i = -2; i <= 6; ++i)
+      for (int k = -2; k <= 6; ++k) skin.push_back({0.25f * i, 0.25f * k, z});
+  std::vector<std::vector<glm::vec3>> results;
+  for (std::array<uint32_t, 3> order : {std::array<uint32_t, 3>{0, 1, 2}, {1, 2, 0}, {2, 0, 1}, {0, 2, 1}}) {
+    PolyMesh m;
+    m.positions = rest;
+    m.add_face({order[0], order[1], order[2]});
+    const Cage cage = std::move(make_cage(m, "triangle")).value();
+    BindParams p;
+    p.variant = Variant::kClamped;
+    auto b = bind_skin(skin, cage, rest, p);
+    ASSERT_TRUE(b.ok()) << b.error().message;
+    auto d = Deformer::create(*b, skin);
+    ASSERT_TRUE(d.ok()) << d.error().message;
+    std::vector<glm::vec3> out(skin.size());
+    ASSERT_TRUE(d->deform(posed, out).ok());
+    results.push_back(out);
+  }
+  for (size_t k = 1; k < results.size(); ++k)
+    for (size_t i = 0; i < skin.size(); ++i)
+      EXPECT_LT(glm::length(results[k][i] - results[0][i]), 1e-5f) << "order " << k << ", point " << i;
+}
+
+// The sliver threshold sits above float resolution: a triangle whose cross product is 1e-6 of its longest
+// edge squared (its normal a few float roundings from noise) is degenerate; one at 1e-3 is not.
+TEST(Continuity, SliversBelowFloatResolutionAreDegenerate) {
+  for (double ratio : {1e-6, 1e-3}) {
+    PolyMesh m;
+    m.positions = {{0, 0, 0}, {1, 0, 0}, {0.5f, float(ratio), 0}};
+    m.add_face({0, 1, 2});
+    const Cage cage = std::move(make_cage(m, "sliver")).value();
+    const auto status = classify_elements(cage, cage.polygons.positions);
+    EXPECT_EQ(status[0] == ElementStatus::kValid, ratio > 1e-5) << ratio;
+  }
+}
+
 // Point 2: no pop in time. The bench triplets' cages move from rest to their pose in 200 steps: no skin
 // point's largest step exceeds 3x its average step, for every variant.
 TEST(Continuity, NoSkinPointPopsAsTheCageMovesToItsPose) {

@@ -205,11 +205,14 @@ TEST(DeformerReference, BasicAndClampedMatchEquationsTwoAndThree) {
         } else {
           ClosestPoint cp = closest_point_on_triangle(P, A, B, C);
           glm::dvec3 close2 = cp.bary.x * A2 + cp.bary.y * B2 + cp.bary.z * C2;
-          auto rigid = [](const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
-            glm::dvec3 x = glm::normalize(b - a), n = glm::normalize(glm::cross(b - a, c - a));
-            return glm::dmat3(x, glm::cross(n, x), n);
-          };
-          pk = close2 + rigid(A2, B2, C2) * glm::transpose(rigid(A, B, C)) * (P - cp.point);
+          // the rotation of the element's eq. 2 map (its polar decomposition), carried rigidly
+          const Eigen::Matrix3d map = frame(A2, B2, C2) * frame(A, B, C).inverse();
+          Eigen::JacobiSVD<Eigen::Matrix3d> svd(map, Eigen::ComputeFullU | Eigen::ComputeFullV);
+          const Eigen::Matrix3d rot = svd.matrixU() * svd.matrixV().transpose();
+          ASSERT_GT(rot.determinant(), 0.0);
+          const glm::dvec3 off = P - cp.point;
+          const Eigen::Vector3d r = rot * Eigen::Vector3d(off.x, off.y, off.z);
+          pk = close2 + glm::dvec3(r.x(), r.y(), r.z());
         }
         sum += double(b.weights[e]) * pk;
       }

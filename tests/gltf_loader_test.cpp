@@ -290,10 +290,28 @@ TEST(GltfLoader, UnusableFilesNameTheObjectAndIndex) {
     b.doc["accessors"][0]["count"] = 40;
     b.write_embedded(dir + "/past.gltf");
     std::string e = load_error(dir + "/past.gltf");
-    EXPECT_NE(e.find("accessor 0 (mesh 0 ('plate') primitive 0 POSITION) reaches byte 480 of bufferView 0, which is "
-                     "only 48 bytes long"),
+    EXPECT_NE(e.find("accessor 0 (mesh 0 ('plate') primitive 0 POSITION) needs 480 bytes but bufferView 0 holds 48 "
+                     "(count 40, 12 bytes apart from byteOffset 0)"),
               std::string::npos)
         << e;
+  }
+  // A billion elements claimed by a file of a few hundred bytes: refused before anything is allocated,
+  // with the sizes grouped by thousands.
+  {
+    GltfBuilder b = single_primitive(grid_positions(2), {0, 1, 3});
+    b.doc["accessors"][0]["count"] = 1000000000;
+    b.write_embedded(dir + "/billion.gltf");
+    std::string e = load_error(dir + "/billion.gltf");
+    EXPECT_NE(e.find("POSITION) needs 12,000,000,000 bytes but bufferView 0 holds 48"), std::string::npos) << e;
+  }
+  // No bufferView (zeros, a sparse accessor's base): the count is bounded by the file's buffers.
+  {
+    GltfBuilder b = single_primitive(grid_positions(2), {0, 1, 3});
+    b.doc["accessors"][0].erase("bufferView");
+    b.doc["accessors"][0]["count"] = 3000000000ull;
+    b.write_embedded(dir + "/zeros.gltf");
+    std::string e = load_error(dir + "/zeros.gltf");
+    EXPECT_NE(e.find("has no bufferView and claims 3,000,000,000 elements"), std::string::npos) << e;
   }
   // Buffer view past its buffer.
   {
