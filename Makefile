@@ -59,8 +59,10 @@ $(BUILD_SAN)/build.ninja:
 # same code runs under the sanitizers in the smaller tests of tests/stencil_smooth_test.cpp,
 # attachment_fit_test.cpp and auto_cage_test.cpp; about 250 s) and the command-line scripts that run whole
 # characters through auto cage, bind, fit, pose, export and simulation (about 710 s under ASan; the bad-input,
-# character-loading and robustness scripts stay).
-SANITIZE_SKIP ?= ^Robustness\.Killed|^DefaultRig\.SmoothedStencilKeepsTheDemoWithinTheThresholds$$|^FittedAttachment\.(IsCloserToTheFilesSkinningThanTheTransferredWeights|TheEdgeTermLowersTheWorstStretch)$$|^MannequinDefaultRig\.|^AutoCage\.Mannequin(CageDeformsTheSkinLikeItsSkinning|FailingPointsAreThoseTheBindingMisses)$$|^DemoVariants\.TailWaveCurlsEveryTailBoneAndEveryFinger$$|^Variants/DefaultRigOnHardCharacters\.|^cli\.(auto_cage|export|check|pose|simulate|project_storage|new_project)$$
+# character-loading and robustness scripts stay), and the automatic cages of whole characters (the demo, the
+# mannequin, the demo's variants with fingers and a tail: about 330 s under ASan; the same builder runs under
+# the sanitizers on the sphere, the deterministic, joint-detail and cancel tests and the smaller variants).
+SANITIZE_SKIP ?= ^Robustness\.Killed|^DefaultRig\.SmoothedStencilKeepsTheDemoWithinTheThresholds$$|^FittedAttachment\.(IsCloserToTheFilesSkinningThanTheTransferredWeights|TheEdgeTermLowersTheWorstStretch)$$|^MannequinDefaultRig\.|^AutoCage\.Mannequin(CageDeformsTheSkinLikeItsSkinning|FailingPointsAreThoseTheBindingMisses)$$|^DemoVariants\.TailWaveCurlsEveryTailBoneAndEveryFinger$$|^Variants/DefaultRigOnHardCharacters\.|^AutoCage\.(JointDetailWorksOnSeparateShells|DemoCharacterCage|MannequinGetsAClosedShellPerSegment)$$|^DemoVariants\.(TailHasFiveFingersPerHandAndATwelveBoneTail|CombinedArmsDownAndTailIsOneClosedSkin)$$|^cli\.(auto_cage|export|check|pose|simulate|project_storage|new_project)$$
 
 test-sanitize: setup $(BUILD_SAN)/build.ninja
 	cmake --build $(BUILD_SAN) -j $(JOBS)
