@@ -801,7 +801,7 @@ TEST(ClassifyElements, EachKindOfBadElementIsFoundAndGoodOnesStayValid) {
       {0, 0, 0}, {1, 0, 0}, {0, 1, 0},              // 0-2: a good triangle
       {2, 0, 0},                                     // 3: collinear with 0 and 1
       {0.5f, 0.5e-7f, 0},                            // 4: needle apex, height 5e-8 of a unit edge
-      {0.5f, 1e-5f, 0},                              // 5: thin apex, height 1e-5: still valid
+      {0.5f, 3e-5f, 0},                              // 5: thin apex, height 3e-5: still valid
       {nan, 0, 5},                                   // 6: non-finite
       {0, 0, 0}, {1, 0, 0}, {0, 1, 0},               // 7-9: same positions as 0-2
       {0, 0, 1},                                     // 10
@@ -831,8 +831,9 @@ TEST(ClassifyElements, EachKindOfBadElementIsFoundAndGoodOnesStayValid) {
 // The threshold is relative: scaling the whole cage does not change which elements are degenerate.
 TEST(ClassifyElements, DegenerateThresholdIsScaleInvariant) {
   for (float scale : {1e-3f, 1.f, 1e3f}) {
-    std::vector<glm::vec3> p = {{0, 0, 0}, {scale, 0, 0}, {0.5f * scale, 0.5e-7f * scale, 0},
-                                {0.5f * scale, 2e-7f * scale, 0}};
+    // below and above kDegenerateRatio = 1e-5 (relative area |e1 x e2| / longest^2)
+    std::vector<glm::vec3> p = {{0, 0, 0}, {scale, 0, 0}, {0.5f * scale, 5e-6f * scale, 0},
+                                {0.5f * scale, 2e-5f * scale, 0}};
     Cage cage = triangle_cage(p, {{0, 1, 2}, {0, 1, 3}});
     auto s = classify_elements(cage, p);
     EXPECT_EQ(s[0], ElementStatus::kDegenerate) << "scale " << scale;
