@@ -198,6 +198,7 @@ class Editor {
   std::function<void()> pending_action_, after_save_;
   bool open_prompt_ = false;
   std::string script_answer_;  // a scripted press of the prompt's Save / Discard / Cancel
+  bool script_error_ok_ = false;  // a scripted press of the Error dialog's OK
   bool screenshot_view_only_ = false;
   int pending_screenshot_frames_ = 0;  // frames to wait (a dialog that just closed leaves the picture)
   std::shared_ptr<const Cage> shown_cage_;  // the cage the renderer and the selection were made for
@@ -1371,7 +1372,7 @@ void Editor::draw_log() {
     if (ImGui::BeginPopupModal("Error", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
       ImGui::TextUnformatted(error_modal_.c_str());
       ImGui::TextDisabled("The current document is unchanged.");
-      if (ImGui::Button("OK", ImVec2(120, 0))) {
+      if (ImGui::Button("OK", ImVec2(120, 0)) || std::exchange(script_error_ok_, false)) {
         error_modal_.clear();
         ImGui::CloseCurrentPopup();
       }
@@ -1798,6 +1799,9 @@ void Editor::run_script_step() {
       std::string p;
       std::getline(in >> std::ws, p);
       guard_unsaved([this, p] { open_path(p); });
+      script_wait_ = 1;
+    } else if (cmd == "error_ok") {  // presses OK on the open Error dialog (nothing when there is none)
+      script_error_ok_ = !error_modal_.empty();
       script_wait_ = 1;
     } else if (cmd == "answer") {  // save | discard | cancel: presses the button of the open "Save changes?"
       in >> script_answer_;

@@ -1,6 +1,7 @@
 #include "core/binding_io.h"
 
 #include "core/atomic_write.h"
+#include "core/digits.h"
 
 #include <cstring>
 #include <fstream>
@@ -43,28 +44,39 @@ class Reader {
     pos_ += sizeof(T);
     return true;
   }
+  // A table: its u64 count, checked against the bytes left before anything is allocated (a small file
+  // may claim 2^63 entries), then its entries. `table` names it in problem().
   template <class T>
-  bool array(std::vector<T>& v) {
+  bool array(std::vector<T>& v, const char* table) {
     uint64_t n;
     if (!pod(n)) return false;
-    if (n > (buf_.size() - pos_) / sizeof(T)) return false;  // count larger than what the file holds
+    if (n > (buf_.size() - pos_) / sizeof(T)) {
+      problem_ = std::string("table ") + table + " claims " + group_digits(n) + " entries of " +
+                 std::to_string(sizeof(T)) + (sizeof(T) == 1 ? " byte (" : " bytes (") +
+                 group_digits(static_cast<unsigned __int128>(n) * sizeof(T)) +
+                 " bytes) but " + group_digits(buf_.size() - pos_) + " bytes are left in the file";
+      return false;
+    }
     v.resize(n);
     if (n) std::memcpy(v.data(), buf_.data() + pos_, n * sizeof(T));  // memcpy(nullptr, ..., 0) is undefined
     pos_ += n * sizeof(T);
     return true;
   }
   bool at_end() const { return pos_ == buf_.size(); }
+  // Why the last read failed: a table larger than the file; empty when the file simply ended.
+  const std::string& problem() const { return problem_; }
 
  private:
   std::vector<char> buf_;
   size_t pos_ = 0;
+  std::string problem_;
 };
 
 }  // namespace
 
 Status validate_binding(const Binding& b) {
   auto parse_error = [](std::string m) { return Status(make_error(ErrorCode::kParse, std::move(m))); };
-  auto n = [](size_t v) { return std::to_string(v); };
+  auto n = [](size_t v) { return group_digits(v); };
   // offsets: one per point plus one, from 0, monotone, ending at the entry count
   if (b.offsets.size() != size_t(b.num_points) + 1)
     return parse_error("the binding's offset table does not match the point count (" + n(b.offsets.size()) +
@@ -213,16 +225,20 @@ Result<Binding> load_binding(const std::string& path) {
   bool ok = r.pod(b.params.local) && r.pod(b.params.epsilon) && r.pod(b.params.max_elements) &&
             r.pod(b.params.scale) && r.pod(b.params.max_distance) && r.pod(b.params.close_distance) &&
             r.pod(variant) && r.pod(b.h) && r.pod(b.origin.x) && r.pod(b.origin.y) && r.pod(b.origin.z) &&
-            r.pod(b.num_points) && r.pod(b.num_cage_vertices) && r.array(b.rest_cage) && r.array(b.elements) &&
-            r.array(b.element_status) && r.array(b.offsets) && r.array(b.ids) && r.array(b.weights) &&
-            r.array(b.bary) && r.array(b.rigid_points) && r.array(b.rigid_element) && r.array(b.rigid_bary) &&
+            r.pod(b.num_points) && r.pod(b.num_cage_vertices) && r.array(b.rest_cage, "rest_cage") &&
+            r.array(b.elements, "elements") && r.array(b.element_status, "element_status") &&
+            r.array(b.offsets, "offsets") && r.array(b.ids, "ids") && r.array(b.weights, "weights") &&
+            r.array(b.bary, "bary") && r.array(b.rigid_points, "rigid_points") &&
+            r.array(b.rigid_element, "rigid_element") && r.array(b.rigid_bary, "rigid_bary") &&
             r.pod(b.quality_inside) && r.pod(b.max_set_size) && r.pod(b.total_set_size);
   uint8_t separate = 0, applied = 0;
   if (version == 1) b.params.separate = false;  // made before automatic separation
   else
-    ok = ok && r.pod(separate) && r.pod(b.params.separation_steps) && r.pod(applied) && r.array(b.set_offsets) &&
-         r.array(b.set_ids) && r.array(b.set_weights) && r.array(b.separated);
-  if (!ok) return make_error(ErrorCode::kParse, path + ": file is cut short or a table is larger than the file");
+    ok = ok && r.pod(separate) && r.pod(b.params.separation_steps) && r.pod(applied) &&
+         r.array(b.set_offsets, "set_offsets") && r.array(b.set_ids, "set_ids") &&
+         r.array(b.set_weights, "set_weights") && r.array(b.separated, "separated");
+  if (!ok)
+    return make_error(ErrorCode::kParse, path + ": " + (r.problem().empty() ? "the file is cut short" : r.problem()));
   if (!r.at_end()) return make_error(ErrorCode::kParse, path + ": unexpected data after the last table");
   if (variant > 2) return make_error(ErrorCode::kParse, path + ": unknown variant " + std::to_string(variant));
   if (separate > 1 || applied > 1) return make_error(ErrorCode::kParse, path + ": the separation flags are not 0 or 1");

@@ -156,7 +156,7 @@ class AccessorReader {
       const std::string slabel = label + " sparse";
       if (sp.count < 0 || size_t(sp.count) > count)
         return fail(ErrorCode::kIndexOutOfRange, slabel + " count " + std::to_string(sp.count) +
-                                                     " exceeds the accessor count " + std::to_string(count));
+                                                     " exceeds the accessor count " + group_digits(count));
       const int ics = component_size(sp.indices.componentType);
       if (ics <= 0 || !unsigned_integer_type(sp.indices.componentType))
         return fail(ErrorCode::kParse, slabel + " indices have component type " +
@@ -165,15 +165,15 @@ class AccessorReader {
       if (!iview) return iview.error();
       auto vview = view_bytes(sp.values.bufferView, slabel + " values");
       if (!vview) return vview.error();
-      uint64_t ineed = uint64_t(sp.indices.byteOffset) + uint64_t(ics) * sp.count;
-      uint64_t vneed = uint64_t(sp.values.byteOffset) + uint64_t(elem) * sp.count;
+      const unsigned __int128 ineed = (unsigned __int128)sp.indices.byteOffset + (unsigned __int128)ics * sp.count;
+      const unsigned __int128 vneed = (unsigned __int128)sp.values.byteOffset + (unsigned __int128)elem * sp.count;
       if (sp.indices.byteOffset < 0 || ineed > std::get<1>(*iview))
-        return fail(ErrorCode::kIndexOutOfRange, slabel + " indices reach byte " + std::to_string(ineed) +
+        return fail(ErrorCode::kIndexOutOfRange, slabel + " indices reach byte " + group_digits(ineed) +
                                                      " of bufferView " + std::to_string(sp.indices.bufferView) +
                                                      ", which is only " + std::to_string(std::get<1>(*iview)) +
                                                      " bytes long");
       if (sp.values.byteOffset < 0 || vneed > std::get<1>(*vview))
-        return fail(ErrorCode::kIndexOutOfRange, slabel + " values reach byte " + std::to_string(vneed) +
+        return fail(ErrorCode::kIndexOutOfRange, slabel + " values reach byte " + group_digits(vneed) +
                                                      " of bufferView " + std::to_string(sp.values.bufferView) +
                                                      ", which is only " + std::to_string(std::get<1>(*vview)) +
                                                      " bytes long");
@@ -221,11 +221,12 @@ class AccessorReader {
                                                    ", but the file has " + std::to_string(m_.buffers.size()) +
                                                    " buffers");
     const tinygltf::Buffer& b = m_.buffers[bv.buffer];
-    uint64_t end = uint64_t(bv.byteOffset) + bv.byteLength;
+    // in 128 bits: a byteOffset near 2^64 must not wrap round to a small end
+    const unsigned __int128 end = (unsigned __int128)bv.byteOffset + bv.byteLength;
     if (end > b.data.size())
-      return fail(ErrorCode::kIndexOutOfRange, vlabel + " spans bytes " + std::to_string(bv.byteOffset) + ".." +
-                                                   std::to_string(end) + " of " + named("buffer", bv.buffer, b.name) +
-                                                   ", which holds only " + std::to_string(b.data.size()) + " bytes");
+      return fail(ErrorCode::kIndexOutOfRange, vlabel + " spans bytes " + group_digits(bv.byteOffset) + ".." +
+                                                   group_digits(end) + " of " + named("buffer", bv.buffer, b.name) +
+                                                   ", which holds only " + group_digits(b.data.size()) + " bytes");
     return std::tuple<const uint8_t*, size_t, size_t>{b.data.data() + bv.byteOffset, bv.byteLength, bv.byteStride};
   }
 

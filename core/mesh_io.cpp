@@ -294,6 +294,8 @@ Result<PolyMesh> load_mesh(const std::string& path) {
       if (auto s = check_ascii_ply(data, path, &canonical_ply); !s) return s.error();
     } else if (stl) {
       if (auto s = check_ascii_stl(data, path); !s) return s.error();
+    } else if (off) {
+      if (auto s = check_binary_off(data, path); !s) return s.error();
     }
     file.reset();
     mesh = read_with_openmesh(path, ply ? &canonical_ply : nullptr);

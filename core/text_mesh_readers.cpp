@@ -1,5 +1,7 @@
 #include "core/text_mesh_readers.h"
 
+#include "core/digits.h"
+
 #include <algorithm>
 #include <cctype>
 #include <charconv>
@@ -325,9 +327,9 @@ Result<PolyMesh> read_off(std::string_view text, const std::string& path) {
   const uint64_t needed = 6 * uint64_t(nv) + 8 * uint64_t(nf);
   if (needed > uint64_t(lines.remaining()) + 1)
     return make_error(ErrorCode::kParse, at_line(path, lines.number()) + "the header promises " +
-                                             std::to_string(nv) + " vertices and " + std::to_string(nf) +
-                                             " faces, more than the " + std::to_string(lines.remaining()) +
-                                             " bytes after it can hold");
+                                             group_digits(nv) + " vertices and " + group_digits(nf) +
+                                             " faces (at least " + group_digits(needed) + " bytes), more than the " +
+                                             group_digits(lines.remaining()) + " bytes after it can hold");
   PolyMesh mesh;
   mesh.positions.reserve(static_cast<size_t>(nv));
   mesh.face_start.reserve(static_cast<size_t>(nf) + 1);
@@ -373,6 +375,58 @@ Result<PolyMesh> read_off(std::string_view text, const std::string& path) {
     mesh.face_start.push_back(static_cast<uint32_t>(mesh.face_vertices.size()));  // a colour after: ignored
   }
   return mesh;
+}
+
+Status check_binary_off(std::string_view data, const std::string& path) {
+  // OpenMesh reads a file as binary OFF when its first line is [ST][C][N]OFF, one character, BINARY
+  // (anything else it reads as text: a header with two spaces made it parse the binary body as text
+  // and size a face by a number in it, found by fuzz_mesh). Then come the counts (32-bit,
+  // little-endian), each vertex (x y z as floats, a normal with N, a colour of three 32-bit integers
+  // with C, u v with ST) and each face (a corner count and that many 32-bit indices; no colour).
+  const size_t end_of_header = data.find('\n');
+  const std::string_view line = data.substr(0, end_of_header);
+  size_t at_keyword = 0, vertex_bytes = 12;
+  for (const auto& [flag, bytes] : {std::pair<std::string_view, size_t>{"ST", 8}, {"C", 12}, {"N", 12}})
+    if (line.substr(at_keyword).starts_with(flag)) {
+      at_keyword += flag.size();
+      vertex_bytes += bytes;
+    }
+  if (end_of_header == std::string_view::npos || line.size() < at_keyword + 10 ||
+      line.substr(at_keyword, 3) != "OFF" || line.substr(at_keyword + 4, 6) != "BINARY")
+    return make_error(ErrorCode::kParse, path + ": line 1: a binary OFF file must start with the line "
+                                                "'[ST][C][N]OFF BINARY' (one space; no 4 or n), not " +
+                                                quoted(line));
+  const std::string_view body = data.substr(end_of_header + 1);
+  auto u32 = [&](size_t at) {
+    uint32_t v = 0;
+    for (int k = 3; k >= 0; --k) v = v << 8 | static_cast<uint8_t>(body[at + size_t(k)]);
+    return v;
+  };
+  if (body.size() < 12)
+    return make_error(ErrorCode::kParse, path + ": the file ends before the vertex, face and edge counts");
+  const uint32_t nv = u32(0), nf = u32(4);
+  const size_t left = body.size() - 12;
+  // every face holds at least a corner count and three corners
+  const uint64_t least = uint64_t(nv) * vertex_bytes + uint64_t(nf) * 16;
+  if (least > left)
+    return make_error(ErrorCode::kParse, path + ": the header promises " + group_digits(nv) + " vertices of " +
+                                             std::to_string(vertex_bytes) + " bytes and " + group_digits(nf) +
+                                             " faces (at least " + group_digits(least) + " bytes), but " +
+                                             group_digits(left) + " bytes follow the counts");
+  size_t at = 12 + size_t(nv) * vertex_bytes;
+  for (uint32_t f = 0; f < nf; ++f) {
+    if (body.size() - at < 4)
+      return make_error(ErrorCode::kParse, path + ": the header promises " + group_digits(nf) +
+                                               " faces but the file ends at face " + std::to_string(f));
+    const uint32_t corners = u32(at);
+    at += 4;
+    if (uint64_t(corners) * 4 > body.size() - at)
+      return make_error(ErrorCode::kParse, path + ": face " + std::to_string(f) + " lists " + group_digits(corners) +
+                                               " corners (" + group_digits(uint64_t(corners) * 4) + " bytes) but " +
+                                               group_digits(body.size() - at) + " bytes are left in the file");
+    at += size_t(corners) * 4;
+  }
+  return Ok{};
 }
 
 // ------------------------------------------------------------------------------------------ PLY
@@ -442,6 +496,21 @@ void int_range(PlyType t, int64_t& lo, int64_t& hi) {
   }
 }
 
+size_t ply_type_size(PlyType t) {
+  switch (t) {
+    case PlyType::kInt8:
+    case PlyType::kUint8:
+      return 1;
+    case PlyType::kInt16:
+    case PlyType::kUint16:
+      return 2;
+    case PlyType::kFloat64:
+      return 8;
+    default:
+      return 4;
+  }
+}
+
 struct PlyProperty {
   bool list = false;
   PlyType count_type = PlyType::kUint8;
@@ -477,6 +546,71 @@ class Stream {
   const char* end_;
   size_t line_;
 };
+
+// A binary PLY body against the header: every element's fixed-size values and every list's entries
+// must lie in the bytes after the header, checked before OpenMesh reads it (it reads on past the end
+// of a file, growing its arrays as it goes: a header promising 10^9 vertices or a list of 4 * 10^9
+// entries asked for gigabytes). Element counts are checked first, then the lists walked one by one.
+Status check_binary_ply_body(const std::vector<PlyElement>& elements, bool big_endian, std::string_view body,
+                             const std::string& path) {
+  unsigned __int128 least = 0;  // bytes the elements need with every list empty
+  for (const PlyElement& e : elements) {
+    size_t per = 0;
+    for (const PlyProperty& p : e.properties) per += ply_type_size(p.list ? p.count_type : p.type);
+    least += static_cast<unsigned __int128>(e.count) * per;
+    if (least > body.size())
+      return make_error(ErrorCode::kParse,
+                        path + ": the header promises " + group_digits(e.count) + " " + std::string(e.name) +
+                            " elements of at least " + std::to_string(per) + " bytes each (" + group_digits(least) +
+                            " bytes with the elements before them), but " + group_digits(body.size()) +
+                            " bytes follow the header");
+  }
+  // an unsigned count of `type` at `at`, in the file's byte order; false when it is negative
+  auto read_count = [&](size_t at, PlyType type, uint64_t& out) {
+    const size_t n = ply_type_size(type);
+    uint64_t v = 0;
+    for (size_t k = 0; k < n; ++k) {
+      const uint64_t byte = static_cast<uint8_t>(body[at + (big_endian ? k : n - 1 - k)]);
+      v = v << 8 | byte;
+    }
+    const bool is_signed = type == PlyType::kInt8 || type == PlyType::kInt16 || type == PlyType::kInt32;
+    if (is_signed && (v >> (8 * n - 1)) != 0) return false;
+    out = v;
+    return true;
+  };
+  size_t at = 0;
+  for (const PlyElement& e : elements) {
+    // the elements before have been walked, so this one's count times its least size fits the body
+    for (uint64_t i = 0; i < e.count; ++i) {
+      for (const PlyProperty& p : e.properties) {
+        const size_t head = ply_type_size(p.list ? p.count_type : p.type);
+        if (head > body.size() - at)
+          return make_error(ErrorCode::kParse, path + ": the header promises " + group_digits(e.count) + " " +
+                                                   std::string(e.name) + " elements but the file ends at " +
+                                                   std::string(e.name) + " " + std::to_string(i));
+        if (!p.list) {
+          at += head;
+          continue;
+        }
+        uint64_t n = 0;
+        if (!read_count(at, p.count_type, n))
+          return make_error(ErrorCode::kParse, path + ": " + std::string(e.name) + " " + std::to_string(i) +
+                                                   ": a negative list length (property '" + std::string(p.name) +
+                                                   "')");
+        at += head;
+        const unsigned __int128 bytes = static_cast<unsigned __int128>(n) * ply_type_size(p.type);
+        if (bytes > body.size() - at)
+          return make_error(ErrorCode::kParse,
+                            path + ": " + std::string(e.name) + " " + std::to_string(i) + ": property '" +
+                                std::string(p.name) + "' lists " + group_digits(n) + " entries (" +
+                                group_digits(bytes) + " bytes) but " + group_digits(body.size() - at) +
+                                " bytes are left in the file");
+        at += static_cast<size_t>(bytes);
+      }
+    }
+  }
+  return Ok{};
+}
 
 }  // namespace
 
@@ -549,6 +683,11 @@ Status check_ascii_ply(std::string_view data, const std::string& path, std::stri
   }
   if (!ended) return make_error(ErrorCode::kParse, path + ": the PLY header has no end_header line");
   if (!have_format) return make_error(ErrorCode::kParse, path + ": the PLY header has no format line");
+  // an element of nothing cannot be in the file, yet reading it would take `count` steps
+  for (const PlyElement& e : elements)
+    if (e.properties.empty() && e.count > 0)
+      return make_error(ErrorCode::kParse, path + ": element " + std::string(e.name) + " has no properties but a count of " +
+                                               group_digits(e.count));
   // OpenMesh's reader assumes a vertex element (it crashed on a header without one: found by fuzzing)
   if (std::none_of(elements.begin(), elements.end(), [](const PlyElement& e) { return e.name == "vertex"; }))
     return make_error(ErrorCode::kParse, path + ": the PLY header declares no vertex element");
@@ -564,7 +703,9 @@ Status check_ascii_ply(std::string_view data, const std::string& path, std::stri
     out += "end_header\n";
     out.append(lines.position(), data.data() + data.size());
   }
-  if (!ascii) return Ok{};
+  if (!ascii)
+    return check_binary_ply_body(elements, format_name == "binary_big_endian",
+                                 data.substr(static_cast<size_t>(lines.position() - data.data())), path);
 
   uint64_t num_vertices = 0;
   bool have_vertices = false;
@@ -578,7 +719,7 @@ Status check_ascii_ply(std::string_view data, const std::string& path, std::stri
       auto next = [&](std::string_view& t) {
         if (body.next(t)) return Status(Ok{});
         return Status(make_error(ErrorCode::kParse, path + ": the header promises " +
-                                                        std::to_string(e.count) + " " + std::string(e.name) +
+                                                        group_digits(e.count) + " " + std::string(e.name) +
                                                         " elements but the file ends at " +
                                                         std::string(e.name) + " " + std::to_string(i)));
       };
@@ -641,10 +782,10 @@ Status check_ascii_ply(std::string_view data, const std::string& path, std::stri
 // ------------------------------------------------------------------------------------------ STL
 
 Status check_ascii_stl(std::string_view data, const std::string& path) {
-  if (data.size() >= 84) {  // OpenMesh's own test (in 32-bit arithmetic, as it does it)
+  if (data.size() >= 84) {  // OpenMesh's own test (in 64-bit arithmetic, as it does it)
     uint32_t triangles;
     std::memcpy(&triangles, data.data() + 80, 4);
-    if (uint32_t(84u + triangles * 50u) == uint32_t(data.size())) return Ok{};
+    if (84 + uint64_t(triangles) * 50 == data.size()) return Ok{};
   }
   Lines lines(data);
   std::string_view line;

@@ -24,8 +24,14 @@ namespace cagewrap {
 // ignored. `text` is the whole file; `path` only names it in messages.
 Result<PolyMesh> read_obj(std::string_view text, const std::string& path);
 
-// True when `text` is an OFF file with the BINARY keyword (left to OpenMesh).
+// True when `text` is an OFF file with the BINARY keyword (checked by check_binary_off, read by OpenMesh).
 bool off_is_binary(std::string_view text);
+
+// Binary OFF ('[ST][C][N]OFF BINARY' on the first line, then little-endian 32-bit numbers, as OpenMesh
+// reads it): the counts against the bytes after them, then every face's corner count against the
+// bytes left, before OpenMesh reads it (it reads on past the end of the file and sizes a face by its
+// count: a header or a face claiming 10^9 asked for gigabytes). Errors name the file and the face.
+Status check_binary_off(std::string_view data, const std::string& path);
 
 // ASCII OFF with an OFF, COFF, NOFF, CNOFF, STOFF... header: the counts, then one vertex per line
 // (the first three numbers; colours, normals and texture coordinates after them are ignored), then
@@ -37,15 +43,18 @@ Result<PolyMesh> read_off(std::string_view text, const std::string& path);
 // PLY: when the file is ASCII, walks the header and every element the way OpenMesh will and checks
 // that every token parses as its declared type (vertex values finite and within float or double
 // range, integers within their type, list counts non-negative, face indices non-negative) and that
-// the file holds as many elements as the header promises. Binary PLY passes unchecked (its values
-// are exact; validate_mesh catches non-finite ones). Not starting with "ply" is a parse error.
+// the file holds as many elements as the header promises. A binary PLY's values are exact
+// (validate_mesh catches non-finite ones), but its element counts and list lengths are checked against
+// the bytes after the header, as OpenMesh would read them (it reads on past the end of the file). An
+// element with a count but no properties is refused. Not starting with "ply" is a parse error.
 // `canonical` (optional) receives the file with its header rewritten from what was checked (one
 // element or property per line, canonical type names, comments and obj_info left out), for OpenMesh:
 // its own header reader is not robust to junk (fuzzing found headers that made it print errors or add
 // elements without end, until memory ran out).
 Status check_ascii_ply(std::string_view data, const std::string& path, std::string* canonical = nullptr);
 
-// STL: when the file is not binary (a binary STL is 84 + 50 * triangle-count bytes long), checks
+// STL: when the file is not binary (a binary STL is 84 + 50 * triangle-count bytes long, counted in 64
+// bits as OpenMesh counts: a count whose product wraps in 32 bits is no binary STL), checks
 // that every `vertex` line holds three finite float numbers and every `facet normal` three numbers.
 Status check_ascii_stl(std::string_view data, const std::string& path);
 

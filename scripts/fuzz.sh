@@ -27,7 +27,7 @@ cmake --build "$BUILD" --target fuzzers -j "$JOBS"
 rm -rf "$BUILD/seeds"
 "$BUILD/cagewrap_fuzz_seeds" "$BUILD/seeds"
 status=0
-for harness in gltf mesh project set_edits patch; do
+for harness in gltf gltf_rig mesh project set_edits patch binding; do
   corpus="$BUILD/corpus/$harness"
   # a fixed run (FUZZ_RUNS) starts from the seeds alone, as on a clean checkout: what earlier runs added
   # to the corpus would make this machine's run differ from CI's (a mesh OOM CI found was missed here)
@@ -41,8 +41,10 @@ for harness in gltf mesh project set_edits patch; do
   [ -n "${FUZZ_RUNS:-}" ] && budget=(-runs="$FUZZ_RUNS")
   [ -n "${FUZZ_SEED:-}" ] && budget+=(-seed="$FUZZ_SEED")
   echo "fuzz: $harness, ${budget[*]}"
+  # -malloc_limit_mb: a single allocation above 64 MB is a crash (no input of at most 64 KiB needs one;
+  # a loader that trusts a count in the file does: issue 19), -rss_limit_mb bounds the whole process
   if ! ASAN_OPTIONS=detect_leaks=1:allocator_may_return_null=1 UBSAN_OPTIONS=print_stacktrace=1 \
-    "$BUILD/fuzz_$harness" "${budget[@]}" -timeout=10 -rss_limit_mb=2048 -max_len=65536 \
+    "$BUILD/fuzz_$harness" "${budget[@]}" -timeout=10 -rss_limit_mb=2048 -malloc_limit_mb=64 -max_len=65536 \
     -print_final_stats=1 -artifact_prefix="$artifacts/" "$corpus" "$BUILD/seeds/$harness" "${extra[@]}" \
     >"$BUILD/fuzz_$harness.log" 2>&1; then
     echo "fuzz: $harness FAILED; see $BUILD/fuzz_$harness.log and $artifacts/"

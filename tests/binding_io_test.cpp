@@ -17,6 +17,7 @@
 
 #include "core/binding_io.h"
 #include "core/deformer.h"
+#include "core/digits.h"
 #include "core/registration.h"
 #include "tests/expect_error.h"
 #include "tests/fixtures.h"
@@ -424,6 +425,33 @@ TEST_F(BindingIoTest, InflatedTableCountsFailWithoutAllocating) {
       EXPECT_TRUE(Fails(load_binding(f), ErrorCode::kParse, {f})) << table << " count " << inflated;
     }
   }
+}
+
+// The message names the table and both sizes, grouped by thousands; a huge header count is named the
+// same way, against the table it must match (issue 19).
+TEST_F(BindingIoTest, HugeCountsNameTheTableAndBothNumbers) {
+  Scene s;
+  Binding b = bind_or_die(s.skin, s.cage, BindParams{});
+  auto bytes = saved(b);
+  Layout at(b);
+  const size_t left = bytes.size() - at.ids - 8;  // after the ids count
+  auto bad = bytes;
+  poke<uint64_t>(bad, at.ids, 1000000000);
+  const std::string ids = write("ids.cwb", bad);
+  EXPECT_TRUE(Fails(load_binding(ids), ErrorCode::kParse,
+                    {ids, "table ids claims 1,000,000,000 entries of 4 bytes (4,000,000,000 bytes) but " +
+                              group_digits(left) + " bytes are left in the file"}));
+  bad = bytes;
+  poke<uint64_t>(bad, at.set_weights, uint64_t(1) << 63);
+  const std::string weights = write("set_weights.cwb", bad);
+  EXPECT_TRUE(Fails(load_binding(weights), ErrorCode::kParse,
+                    {weights, "table set_weights claims 9,223,372,036,854,775,808 entries of 4 bytes "
+                              "(36,893,488,147,419,103,232 bytes)"}));
+  bad = bytes;
+  poke<uint32_t>(bad, Layout::kNumPoints, 4000000000u);
+  const std::string points = write("points.cwb", bad);
+  EXPECT_TRUE(Fails(load_binding(points), ErrorCode::kParse,
+                    {points, "(" + std::to_string(b.offsets.size()) + " offsets for 4,000,000,000 points)"}));
 }
 
 TEST_F(BindingIoTest, NonMonotoneOffsetsAreRejected) {

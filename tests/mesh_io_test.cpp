@@ -17,6 +17,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -524,6 +525,96 @@ TEST_F(MeshIoTest, NonFiniteCoordinateInBinaryPlyNamesTheVertex) {
     const std::string p = write("nan.ply", data);
     EXPECT_TRUE(Fails(load_mesh(p), ErrorCode::kNonFinite, {p, "vertex 3"})) << bad;
   }
+}
+
+// Binary PLY and OFF are read by OpenMesh, which reads on past the end of a file: a count the file cannot
+// hold is refused before it sees it, with the element or face and both numbers (issue 19). Each load runs
+// guarded: before the check, these asked for gigabytes.
+TEST_F(MeshIoTest, BinaryPlyAndOffCountsLargerThanTheFileAreRefusedNamingBothNumbers) {
+  std::string ply =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+      "property float z\nelement face 1\nproperty list int int vertex_indices\nend_header\n";
+  const float xyz[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  ply.append(reinterpret_cast<const char*>(xyz), sizeof xyz);
+  const size_t list_length = ply.size();
+  const int32_t face[4] = {3, 0, 1, 2};
+  ply.append(reinterpret_cast<const char*>(face), sizeof face);
+  ASSERT_TRUE(load_mesh(write("tri.ply", ply)).ok());
+  struct Case {
+    const char* name;
+    std::string bytes;
+    std::vector<std::string> parts;
+  };
+  std::string long_list = ply;
+  const int32_t two_billion = 2000000000;
+  std::memcpy(long_list.data() + list_length, &two_billion, 4);
+  std::string big_endian = ply;
+  big_endian.replace(big_endian.find("binary_little_endian"), 20, "binary_big_endian");  // 3 reads as 50,331,648
+  std::string off = "OFF BINARY\n";
+  const uint32_t counts[3] = {3, 1, 0};
+  off.append(reinterpret_cast<const char*>(counts), sizeof counts);
+  off.append(reinterpret_cast<const char*>(xyz), sizeof xyz);
+  const size_t corners = off.size();
+  off.append(reinterpret_cast<const char*>(face), sizeof face);
+  ASSERT_TRUE(load_mesh(write("tri.off", off)).ok());
+  std::string many_vertices = off, many_corners = off;
+  const uint32_t billion = 1000000000, huge_face = 2147483647;
+  std::memcpy(many_vertices.data() + 11, &billion, 4);
+  std::memcpy(many_corners.data() + corners, &huge_face, 4);
+  const Case cases[] = {
+      {"vertices.ply", [&] {
+         std::string b = ply;
+         return b.replace(b.find("vertex 3"), 8, "vertex 1000000000");
+       }(),
+       {"promises 1,000,000,000 vertex elements of at least 12 bytes each (12,000,000,000 bytes",
+        "but 52 bytes follow the header"}},
+      {"faces.ply", [&] {
+         std::string b = ply;
+         return b.replace(b.find("face 1"), 6, "face 4000000000");
+       }(),
+       {"promises 4,000,000,000 face elements of at least 4 bytes each", "but 52 bytes follow the header"}},
+      {"list.ply", long_list, {"face 0: property 'vertex_indices' lists 2,000,000,000 entries (8,000,000,000 bytes)", "but 12 bytes are left"}},
+      {"big_endian.ply", big_endian, {"face 0: property 'vertex_indices' lists 50,331,648 entries"}},
+      {"nothing.ply", [&] {
+         std::string b = ply;
+         return b.replace(b.find("element face"), 12, "element nothing 9223372036854775807\nelement face");
+       }(),
+       {"element nothing has no properties but a count of 9,223,372,036,854,775,807"}},
+      {"vertices.off", many_vertices,
+       {"promises 1,000,000,000 vertices of 12 bytes and 1 faces (at least 12,000,000,016 bytes), but 52 bytes follow"}},
+      {"corners.off", many_corners, {"face 0 lists 2,147,483,647 corners (8,589,934,588 bytes) but 12 bytes are left"}},
+      // OpenMesh reads this as text (BINARY must follow OFF after one character): its text reader then
+      // took a number of the binary body for a face's corner count (found by fuzz_mesh)
+      {"spaces.off", "OFF  " + off.substr(4), {"line 1: a binary OFF file must start with the line"}},
+  };
+  for (const Case& c : cases) {
+    const std::string p = write(c.name, c.bytes);
+    auto r = load_mesh_guarded(p);
+    ASSERT_TRUE(r.finished) << c.name << ": " << r.how;
+    EXPECT_FALSE(r.ok()) << c.name;
+    std::vector<std::string> parts = c.parts;
+    parts.push_back(p);
+    for (const std::string& part : parts)
+      EXPECT_NE(r.error().message.find(part), std::string::npos) << c.name << ": no \"" << part << "\" in \""
+                                                                 << r.error().message << "\"";
+  }
+}
+
+// A binary STL is 84 + 50 x its triangle count bytes long, counted in 64 bits as OpenMesh counts: a count
+// whose product wraps to the file's size in 32 bits (2^31 + 1 triangles, 134 bytes) makes no binary file,
+// so the text in it is checked like any ASCII STL before OpenMesh reads it as one.
+TEST_F(MeshIoTest, StlWhoseTriangleCountWrapsIn32BitsIsReadAsText) {
+  std::string stl = "solid t ";
+  stl.resize(80, 'x');
+  const uint32_t wraps = (uint32_t(1) << 31) + 1;
+  stl.append(reinterpret_cast<const char*>(&wraps), 4);
+  stl += "\nfacet normal 0 0 1\nouter loop\nvertex 1e39 0 0\n";
+  stl.resize(134, ' ');
+  ASSERT_EQ(uint32_t(84u + wraps * 50u), uint32_t(stl.size()));
+  const std::string p = write("wraps.stl", stl);
+  auto r = load_mesh_guarded(p);
+  ASSERT_TRUE(r.finished) << r.how;
+  EXPECT_TRUE(Fails(r, ErrorCode::kNonFinite, {p, "line 4", "vertex 0", "'1e39'"}));
 }
 
 // OpenMesh is given the header as it was checked (check_ascii_ply's canonical copy): comment and

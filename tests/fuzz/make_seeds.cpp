@@ -1,19 +1,24 @@
 // Writes the fuzz harnesses' seed corpora, made by the project's own writers so they follow the
-// formats as they change: `cagewrap_fuzz_seeds OUT` fills OUT/gltf, OUT/mesh, OUT/project and
-// OUT/set_edits. Run by scripts/fuzz.sh before each fuzzing run.
+// formats as they change: `cagewrap_fuzz_seeds OUT` fills OUT/<harness> for gltf, gltf_rig, mesh,
+// project, set_edits, patch and binding. Each harness's seeds also hold the hostile corpus of its
+// format (tests/tools/hostile_corpus.h: small files claiming huge counts) and the valid files they
+// were made from. Run by scripts/fuzz.sh before each fuzzing run.
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
 
+#include "core/binding_io.h"
 #include "core/document.h"
 #include "core/mesh_io.h"
 #include "core/character_embedding.h"
 #include "core/project_io.h"
 #include "core/patch_io.h"
+#include "core/registration.h"
 #include "core/set_edits_io.h"
 #include "tests/fixtures.h"
 #include "tests/fuzz/seed_fixtures.h"
+#include "tests/tools/hostile_corpus.h"
 
 namespace fs = std::filesystem;
 using namespace cagewrap;
@@ -33,7 +38,8 @@ static void fail(const std::string& what) {
 int main(int argc, char** argv) {
   if (argc != 2) fail("usage: cagewrap_fuzz_seeds OUT");
   const fs::path out = argv[1];
-  for (const char* d : {"gltf", "mesh", "project", "set_edits", "patch", "scratch"}) fs::create_directories(out / d);
+  for (const char* d : {"gltf", "gltf_rig", "mesh", "project", "set_edits", "patch", "binding", "scratch"})
+    fs::create_directories(out / d);
   const std::string scratch = (out / "scratch").string();
 
   // glTF: embedded .gltf, .glb, and a skinned one with two joints
@@ -51,6 +57,24 @@ int main(int argc, char** argv) {
     b.doc["skins"] = nlohmann::json::array({{{"name", "rig"}, {"joints", {root, child}}}});
     b.set_scene({0, root});
     b.write_glb((out / "gltf" / "skinned.glb").string());
+  }
+  // glTF rigs: a skin with inverse bind matrices and a clip, LINEAR translation; STEP rotation and
+  // CUBICSPLINE scale on the root added
+  fuzz::rig_builder().write_glb((out / "gltf_rig" / "rig.glb").string());
+  fuzz::rig_builder().write_embedded((out / "gltf_rig" / "rig.gltf").string());
+  {
+    test::GltfBuilder b = fuzz::rig_builder();
+    int times = b.add_floats({0.0f, 1.0f}, "SCALAR", true);
+    int turns = b.add_floats({0, 0, 0, 1, 0, 0.7071068f, 0, 0.7071068f}, "VEC4");
+    // CUBICSPLINE: in-tangent, value, out-tangent per key
+    int scales = b.add_floats({0, 0, 0, 1, 1, 1, 0, 0, 0, 0, 0, 0, 1.5f, 1, 1, 0, 0, 0}, "VEC3");
+    const int root = static_cast<int>(b.doc["nodes"].size()) - 1;
+    auto& anim = b.doc["animations"][0];
+    anim["samplers"].push_back({{"input", times}, {"output", turns}, {"interpolation", "STEP"}});
+    anim["samplers"].push_back({{"input", times}, {"output", scales}, {"interpolation", "CUBICSPLINE"}});
+    anim["channels"].push_back({{"sampler", 1}, {"target", {{"node", root}, {"path", "rotation"}}}});
+    anim["channels"].push_back({{"sampler", 2}, {"target", {{"node", root}, {"path", "scale"}}}});
+    b.write_glb((out / "gltf_rig" / "rig_step_cubic.glb").string());
   }
 
   // meshes: the first byte picks the format (fuzz_mesh.cpp)
@@ -130,6 +154,54 @@ int main(int argc, char** argv) {
   }
   if (auto s = save_patch((out / "patch" / "driver.cwpatch").string(), driver); !s.ok()) fail(s.error().message);
   if (auto s = write_patch_gltf((out / "patch" / "driver.gltf").string(), driver); !s.ok()) fail(s.error().message);
+
+  // bindings: a sphere bound to the box cage, extended (with its set table) and clamped (anchors, and
+  // fallback points where set edits empty a point's set)
+  {
+    const PolyMesh skin = fixtures::sphere_skin(0.5, 4, 6);
+    BindParams clamped;
+    clamped.variant = Variant::kClamped;
+    for (const auto& [name, params, edits] :
+         {std::tuple{"extended.cwb", BindParams{}, std::vector<SetEdit>{}},
+          std::tuple{"clamped.cwb", clamped, fixtures::empty_set_edits(skin.num_vertices(), 5)}}) {
+      auto b = bind_skin(skin.positions, cage, cage.polygons.positions, params, edits);
+      if (!b.ok()) fail(b.error().message);
+      write_all((out / "binding" / name).string(), binding_bytes(*b));
+    }
+  }
+
+  // the hostile corpus and its originals, each in the seeds of the harnesses that read its format
+  const hostile::Corpus corpus = hostile::hostile_corpus(scratch);
+  for (const auto* files : {&corpus.originals, &corpus.hostile})
+    for (const hostile::HostileFile& f : *files) {
+      switch (f.loader) {
+        case hostile::Loader::kCharacter:
+          write_all((out / "gltf" / f.name).string(), f.bytes);
+          write_all((out / "gltf_rig" / f.name).string(), f.bytes);
+          break;
+        case hostile::Loader::kMesh: {
+          // fuzz_mesh's first byte picks the format: 0 OBJ, 1 OFF, 2 PLY, 3 STL
+          const char format = has_extension(f.name, ".obj") ? 0 : has_extension(f.name, ".off") ? 1
+                              : has_extension(f.name, ".ply")   ? 2
+                                                                : 3;
+          write_all((out / "mesh" / f.name).string(), std::string(1, format) + f.bytes);
+          break;
+        }
+        case hostile::Loader::kProject:
+          write_all((out / "project" / f.name).string(), f.bytes);
+          break;
+        case hostile::Loader::kSetEdits:
+          write_all((out / "set_edits" / f.name).string(), f.bytes);
+          break;
+        case hostile::Loader::kPatch:
+        case hostile::Loader::kPatchGltf:  // fuzz_patch reads its input both ways
+          write_all((out / "patch" / f.name).string(), f.bytes);
+          break;
+        case hostile::Loader::kBinding:
+          write_all((out / "binding" / f.name).string(), f.bytes);
+          break;
+      }
+    }
   fs::remove_all(scratch);
   return 0;
 }
