@@ -27,8 +27,8 @@ glm::dmat3 eq2_frame(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3&
 // The rotation of the polar decomposition m = R S (S symmetric, positive semi-definite): the rotation nearest
 // to m. For the clamped variant's rigid carrier it depends on the element's map only, not on which corner
 // comes first (a frame built from e1 turns with that edge under shear). With det m <= 0 the nearest proper
-// rotation (the smallest singular direction flipped).
-glm::dmat3 polar_rotation(const glm::dmat3& m) {
+// rotation (the smallest singular direction flipped). By a 3x3 SVD.
+glm::dmat3 polar_rotation_svd(const glm::dmat3& m) {
   Eigen::Matrix3d a;
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c) a(r, c) = m[c][r];
@@ -41,6 +41,30 @@ glm::dmat3 polar_rotation(const glm::dmat3& m) {
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c) out[c][r] = rot(r, c);
   return out;
+}
+
+// The same rotation, usually by the scaled Newton iteration X <- (z X + (z X)^-T) / 2 (Higham), which
+// converges quadratically for a well-conditioned m with det m > 0: about 0.1 us against 0.7 us for the
+// SVD, per element per cage change. A map that is (nearly) singular or reflecting goes to the SVD.
+glm::dmat3 polar_rotation(const glm::dmat3& m) {
+  const double det = glm::determinant(m);
+  double norm2 = 0.0;
+  for (int c = 0; c < 3; ++c) norm2 += glm::dot(m[c], m[c]);
+  // det / |m|^3 is about s1 s2 s3 / (s1^2 + s2^2 + s3^2)^1.5: small when any singular value is
+  if (!(det > 1e-9 * norm2 * std::sqrt(norm2))) return polar_rotation_svd(m);
+  glm::dmat3 x = m;
+  for (int it = 0; it < 30; ++it) {
+    const glm::dmat3 inv_t = glm::transpose(glm::inverse(x));
+    double nx = 0.0, ni = 0.0;
+    for (int c = 0; c < 3; ++c) nx += glm::dot(x[c], x[c]), ni += glm::dot(inv_t[c], inv_t[c]);
+    const double z = std::sqrt(std::sqrt(ni / nx));  // (|X^-1|_F / |X|_F)^(1/2)
+    const glm::dmat3 next = 0.5 * (z * x + inv_t / z);
+    double change = 0.0;
+    for (int c = 0; c < 3; ++c) change += glm::dot(next[c] - x[c], next[c] - x[c]);
+    x = next;
+    if (change < 1e-26) return x;
+  }
+  return polar_rotation_svd(m);
 }
 
 void store(Affine& out, const glm::dmat3& m, const glm::dvec3& t) { out = make_affine(m, t); }
