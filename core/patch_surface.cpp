@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "core/check.h"
+#include "core/digits.h"
 
 namespace cagewrap {
 
@@ -203,7 +204,17 @@ Result<std::vector<PatchSample>> sample_patch_surface(const PatchSurface& surfac
                       "the sampling density must be between 1 and 1024 samples per span (got " +
                           std::to_string(density) + ")");
   if (auto s = validate_patch_surface(surface, "the patch driver"); !s) return s.error();
+  // counted before anything is allocated: a small file may ask for a fine density on many spans
+  uint64_t total = 0;
+  for (const PatchGrid& g : surface.grids)
+    total += (uint64_t(patch_spans(g.basis, g.cols)) * density + 1) * (uint64_t(patch_spans(g.basis, g.rows)) * density + 1);
+  if (total > kMaxPatchSamples)
+    return make_error(ErrorCode::kInvalidArgument,
+                      "the patch driver at density " + std::to_string(density) + " has " + group_digits(total) +
+                          " samples, more than " + group_digits(kMaxPatchSamples) +
+                          " (each a control element of the skin); lower the density");
   std::vector<PatchSample> out;
+  out.reserve(total);
   for (size_t gi = 0; gi < surface.grids.size(); ++gi) {
     const PatchGrid& g = surface.grids[gi];
     const uint32_t nu = patch_spans(g.basis, g.cols) * density, nv = patch_spans(g.basis, g.rows) * density;

@@ -103,7 +103,11 @@ struct PatchSample {
   uint32_t first_row = 0, first_col = 0;
   double w[16]{}, wu[16]{}, wv[16]{};  // 4 x 4, row-major (row offset, column offset)
 };
-// Errors: density 0 (or above 1024), a surface validate_patch_surface refuses.
+// The most samples a driver may have (all grids): 150,000 control elements, far more than any skin needs,
+// and at 412 bytes each under 64 MB (issue 19: a small file must not ask for more).
+inline constexpr uint64_t kMaxPatchSamples = 150000;
+// Errors: density 0 (or above 1024), more than kMaxPatchSamples samples, a surface validate_patch_surface
+// refuses.
 Result<std::vector<PatchSample>> sample_patch_surface(const PatchSurface& surface, uint32_t density);
 // Samples a surface with the given control points (grid by grid, #C) would have: a sample and its frame.
 SampleFrame sample_frame(const PatchSurface& surface, const PatchSample& sample);

@@ -152,6 +152,11 @@ TEST(PatchSurface, BadGridsAndDensitiesAreRefusedByName) {
   EXPECT_TRUE(Fails(sample_patch_surface(test::wavy_surface(), 0), ErrorCode::kInvalidArgument,
                     {"density", "got 0"}));
   EXPECT_TRUE(Fails(sample_patch_surface(nan, 2), ErrorCode::kNonFinite, {"row 2 column 5"}));
+  // a 7 x 8 B-spline grid has 4 x 5 spans: density 1024 would be 4,097 x 5,121 samples (8.6 GB); refused
+  // before anything is allocated
+  EXPECT_TRUE(Fails(sample_patch_surface(test::wavy_surface(), 1024), ErrorCode::kInvalidArgument,
+                    {"density 1024", "20,980,737 samples", "more than 150,000"}));
+  EXPECT_TRUE(sample_patch_surface(test::wavy_surface(), 64).ok());  // 257 x 321 = 82,497
 }
 
 }  // namespace
