@@ -74,12 +74,16 @@ SANITIZE_SKIP ?= ^Robustness\.Killed|^DefaultRig\.SmoothedStencilKeepsTheDemoWit
 # sanitizers in make test-sanitize-full (their whole set is about 400 s at full speed, two to three times
 # that under ASan) and at full speed in make check.
 SANITIZE_EDITOR ?= ^(EditorHostileFilesGui\.|EditorOffscreen\.|EditorGui\.(BadFileKeepsRunningAndSaysWhy|MoveCageVerticesUndoRedoSave)$$|EditorTools\.(PaintingSetsRemovesFacesFromThePointsUnderTheBrush|OpeningWithUnsavedChangesAsksFirst)$$|EditorProjectGui\.UnknownFieldsAreLoggedAndWrittenBack$$|EditorFilesGui\.CorruptPreferencesAreNamedAndReplaced$$)
+# The editor's runs have leak checking off: LeakSanitizer's own tracer crashed (signal 11, "LeakSanitizer
+# has encountered a fatal error") at the exit of 1 of 41 sanitized editor runs, with Mesa's llvmpipe
+# threads about; a crash of the checker would fail make test at random. ASan and UBSan stay on there, and
+# leaks are checked in every other sanitized test.
 SANITIZE_ENV = ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 LSAN_OPTIONS=suppressions=$(abspath tests/sanitize/lsan.supp):print_suppressions=0
 
 test-sanitize: setup $(BUILD_SAN)/build.ninja
 	cmake --build $(BUILD_SAN) -j $(JOBS)
 	cd $(BUILD_SAN) && $(SANITIZE_ENV) ctest --output-on-failure -j $(JOBS) -E '$(SANITIZE_SKIP)|^Editor'
-	cd $(BUILD_SAN) && $(SANITIZE_ENV) ctest --output-on-failure -j $(JOBS) -R '$(SANITIZE_EDITOR)'
+	cd $(BUILD_SAN) && $(SANITIZE_ENV) ASAN_OPTIONS=detect_leaks=0 ctest --output-on-failure -j $(JOBS) -R '$(SANITIZE_EDITOR)'
 
 test-sanitize-full: setup $(BUILD_SAN)/build.ninja
 	cmake --build $(BUILD_SAN) -j $(JOBS)
