@@ -6,8 +6,8 @@
 
 #include <CLI/CLI.hpp>
 
-#include "core/auto_cage.h"
-#include "core/document.h"
+#include "core/cage/auto_cage.h"
+#include "core/document/document.h"
 
 namespace cagewrap::app {
 

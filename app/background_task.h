@@ -10,7 +10,7 @@
 #include <string>
 #include <thread>
 
-#include "core/result.h"
+#include "core/base/result.h"
 
 namespace cagewrap::app {
 

@@ -4,8 +4,8 @@
 #include <chrono>
 #include <cmath>
 
-#include "core/mesh_normals.h"
-#include "core/twist.h"
+#include "core/geometry/mesh_normals.h"
+#include "core/deform/twist.h"
 
 #if CAGEWRAP_GUI
 #include "render/gpu_deformer.h"

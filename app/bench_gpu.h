@@ -9,9 +9,9 @@
 
 #include <glm/vec3.hpp>
 
-#include "core/deformer.h"
-#include "core/mesh.h"
-#include "core/result.h"
+#include "core/deform/deformer.h"
+#include "core/geometry/mesh.h"
+#include "core/base/result.h"
 
 namespace cagewrap::app {
 
@@ -22,7 +22,7 @@ struct GpuBenchFigures {
   // timer queries do not see compute work), and an upper bound on a GPU (submission included).
   double wall_deform_ms = 0, wall_normals_ms = 0;  // upload + deform pass; normals passes
   double maps_ms = 0;         // building the maps on the CPU (Deformer::update_maps), median
-  double cpu_normals_ms = 0;  // the CPU path's normals (core/mesh_normals.h), median, for comparison
+  double cpu_normals_ms = 0;  // the CPU path's normals (core/geometry/mesh_normals.h), median, for comparison
   double max_distance = 0;    // last state: largest |GPU - CPU| position, relative to the diagonal
   double max_normal_degrees = 0;  // last state: largest angle between GPU and CPU normals
   size_t gpu_bytes = 0, upload_bytes = 0;  // resident on the GPU; uploaded per cage change

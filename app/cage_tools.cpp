@@ -7,11 +7,11 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "core/cage_edit.h"
-#include "core/cage_import.h"
-#include "core/keyposes.h"
-#include "core/cage_subdivide.h"
-#include "core/skinning.h"
+#include "core/cage/cage_edit.h"
+#include "core/cage/cage_import.h"
+#include "core/rig/keyposes.h"
+#include "core/cage/cage_subdivide.h"
+#include "core/rig/skinning.h"
 
 namespace cagewrap::app {
 

@@ -5,8 +5,8 @@
 #include <cstdio>
 #include <mutex>
 
-#include "core/binding_cache.h"
-#include "core/mesh_io.h"
+#include "core/deform/binding_cache.h"
+#include "core/io/mesh_io.h"
 
 namespace cagewrap::app {
 

@@ -12,11 +12,11 @@
 #include "app/bench_gpu.h"
 #include "app/cli_common.h"
 #include "app/commands.h"
-#include "core/deformer.h"
-#include "core/lipschitz_probe.h"
-#include "core/mesh_io.h"
-#include "core/subdivide.h"
-#include "core/twist.h"
+#include "core/deform/deformer.h"
+#include "core/deform/lipschitz_probe.h"
+#include "core/io/mesh_io.h"
+#include "core/geometry/subdivide.h"
+#include "core/deform/twist.h"
 
 namespace cagewrap::app {
 
@@ -38,7 +38,7 @@ struct BenchResult {
   Fidelity twist;
   size_t affected_points = 0, affected_elements = 0;
   std::optional<GpuBenchFigures> gpu;
-  ProbeReport lipschitz;  // the automatic probe lines (core/lipschitz_probe.h) at kBenchProbeSamples
+  ProbeReport lipschitz;  // the automatic probe lines (core/deform/lipschitz_probe.h) at kBenchProbeSamples
 };
 
 // Samples per probe line for the bench's Lipschitz line: the probe binds only its own points (a few

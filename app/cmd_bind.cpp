@@ -3,9 +3,9 @@
 
 #include "app/cli_common.h"
 #include "app/commands.h"
-#include "core/binding_io.h"
-#include "core/mesh_io.h"
-#include "core/set_edits_io.h"
+#include "core/io/binding_io.h"
+#include "core/io/mesh_io.h"
+#include "core/io/set_edits_io.h"
 
 namespace cagewrap::app {
 

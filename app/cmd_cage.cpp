@@ -7,10 +7,10 @@
 #include "app/auto_cage_options.h"
 #include "app/cli_common.h"
 #include "app/commands.h"
-#include "core/atomic_write.h"
-#include "core/auto_cage.h"
-#include "core/gltf_loader.h"
-#include "core/mesh_io.h"
+#include "core/base/atomic_write.h"
+#include "core/cage/auto_cage.h"
+#include "core/io/gltf_loader.h"
+#include "core/io/mesh_io.h"
 
 namespace cagewrap::app {
 

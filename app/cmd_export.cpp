@@ -1,6 +1,6 @@
 // cagewrap export --project P [--format glb|obj|json] [--mode baked-animation|baked-skin|cage]
 //                 [--clips a,b] [--fps 30] [--keypose-steps 3] --out OUT
-// Writes a saved project's rig for engines and other tools: binary glTF (core/rig_export.h says
+// Writes a saved project's rig for engines and other tools: binary glTF (core/export/rig_export.h says
 // what each mode holds), the skin (or cage) per frame as OBJ files, or the cage, its attachment
 // and its keyposes as JSON (docs/export-json.md). Reports sizes, times and errors against the live
 // rig; long bakes show their progress on stderr when it is a terminal.
@@ -16,8 +16,8 @@
 
 #include "app/cli_common.h"
 #include "app/commands.h"
-#include "core/project_io.h"
-#include "core/rig_exporter.h"
+#include "core/io/project_io.h"
+#include "core/export/rig_exporter.h"
 
 namespace cagewrap::app {
 

@@ -8,13 +8,13 @@
 
 #include "app/cli_common.h"
 #include "app/commands.h"
-#include "core/atomic_write.h"
-#include "core/mesh_io.h"
-#include "core/patch_binding.h"
-#include "core/patch_demo.h"
-#include "core/patch_fit.h"
-#include "core/patch_io.h"
-#include "core/subdivide.h"
+#include "core/base/atomic_write.h"
+#include "core/io/mesh_io.h"
+#include "core/deform/patch_binding.h"
+#include "core/deform/patch_demo.h"
+#include "core/deform/patch_fit.h"
+#include "core/io/patch_io.h"
+#include "core/geometry/subdivide.h"
 
 namespace cagewrap::app {
 

@@ -2,17 +2,17 @@
 //               --out skin.obj|.bin [--cage-out cage.obj]
 // Writes the skin of a saved project deformed through its cage at a pose: the clip at a time, with
 // per-joint rotations on top; the cage follows the skeleton by the project's attachment settings and
-// keyposes (core/rig.h, the same path the editor takes).
+// keyposes (core/rig/rig.h, the same path the editor takes).
 #include <cmath>
 #include <cstdio>
 #include <sstream>
 
 #include "app/cli_common.h"
 #include "app/commands.h"
-#include "core/mesh_io.h"
-#include "core/project_io.h"
-#include "core/rig.h"
-#include "core/skinning.h"
+#include "core/io/mesh_io.h"
+#include "core/io/project_io.h"
+#include "core/rig/rig.h"
+#include "core/rig/skinning.h"
 
 namespace cagewrap::app {
 

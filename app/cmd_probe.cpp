@@ -1,6 +1,6 @@
 // cagewrap probe --cage REST --posed POSED [--skin S.obj|.glb [--edits E.json]] [params] [--samples N]
 //                [--steps N] [--json]
-// A Lipschitz figure for a binding (core/lipschitz_probe.h, issue 18): along lines of densely spaced
+// A Lipschitz figure for a binding (core/deform/lipschitz_probe.h, issue 18): along lines of densely spaced
 // points, the largest step of the deformed line over the spacing, next to the cage's own largest
 // stretch, and the same at half the spacing (a jump does not shrink); then the time probe (no skin
 // point's step between consecutive frames of the rest-to-pose motion larger than 3 x its average).
@@ -12,11 +12,11 @@
 
 #include "app/cli_common.h"
 #include "app/commands.h"
-#include "core/gltf_loader.h"
-#include "core/lipschitz_probe.h"
-#include "core/mesh_io.h"
-#include "core/set_edits_io.h"
-#include "core/skinning.h"
+#include "core/io/gltf_loader.h"
+#include "core/deform/lipschitz_probe.h"
+#include "core/io/mesh_io.h"
+#include "core/io/set_edits_io.h"
+#include "core/rig/skinning.h"
 
 namespace cagewrap::app {
 

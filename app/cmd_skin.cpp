@@ -4,9 +4,9 @@
 
 #include "app/cli_common.h"
 #include "app/commands.h"
-#include "core/gltf_loader.h"
-#include "core/mesh_io.h"
-#include "core/skinning.h"
+#include "core/io/gltf_loader.h"
+#include "core/io/mesh_io.h"
+#include "core/rig/skinning.h"
 
 namespace cagewrap::app {
 

@@ -35,19 +35,19 @@
 #include "app/editor_files.h"
 #include "app/editor_scene.h"
 #include "app/project_dialogs.h"
-#include "core/autosave.h"
-#include "core/binding_cache.h"
-#include "core/camera.h"
-#include "core/mesh_io.h"
-#include "core/move_gizmo.h"
-#include "core/rotate_gizmo.h"
-#include "core/soft_selection.h"
-#include "core/triangle_bvh.h"
-#include "core/picking.h"
-#include "core/project_io.h"
-#include "core/selection.h"
-#include "core/demo_character.h"
-#include "core/gltf_writer.h"
+#include "app/workspace/autosave.h"
+#include "core/deform/binding_cache.h"
+#include "app/workspace/camera.h"
+#include "core/io/mesh_io.h"
+#include "app/workspace/move_gizmo.h"
+#include "app/workspace/rotate_gizmo.h"
+#include "app/workspace/soft_selection.h"
+#include "core/geometry/triangle_bvh.h"
+#include "app/workspace/picking.h"
+#include "core/io/project_io.h"
+#include "core/geometry/selection.h"
+#include "core/rig/demo_character.h"
+#include "core/io/gltf_writer.h"
 #include "render/viewport_renderer.h"
 
 namespace cagewrap::app {
@@ -189,7 +189,7 @@ class Editor {
   ImVec2 box_start_{0, 0};
   EditorFiles files_;  // preferences, recent files, the file browser (app/editor_files.h)
   ProjectDialogs dialogs_;  // locate a moved character, recover unsaved work, embed/cache (app/project_dialogs.h)
-  std::unique_ptr<Autosave> autosave_;  // the recovery file of unsaved work (core/autosave.h)
+  std::unique_ptr<Autosave> autosave_;  // the recovery file of unsaved work (app/workspace/autosave.h)
   bool recovered_ = false;  // the document came from a recovery file and was not saved since
   // requests for the file browser: Save as, Open (Ctrl+O); quit once the Save as is done
   bool open_save_popup_ = false, open_open_popup_ = false, quit_requested_ = false;
@@ -513,7 +513,7 @@ std::vector<glm::vec3> Editor::face_centroids(std::span<const glm::vec3> positio
 double Editor::scene_size() const { return scene_ ? scene_->skin_diagonal : 1.0; }
 double Editor::mirror_tolerance() const { return mirror_tolerance_share_ * scene_size(); }
 // Keys and assignments go to the vertex nearest each mirror image: a cage that is only nearly
-// symmetric (a decimated one) needs about an edge length (core/keyposes.h mirror_keypose_set).
+// symmetric (a decimated one) needs about an edge length (core/rig/keyposes.h mirror_keypose_set).
 double Editor::rig_mirror_tolerance() const {
   return scene_ && scene_->doc().cage ? std::max(mirror_tolerance(), mean_edge_length(scene_->doc().cage->polygons)) : mirror_tolerance();
 }
@@ -1039,7 +1039,7 @@ void Editor::draw_menu() {
     if (ImGui::MenuItem("Save", "Ctrl+S", false, scene_ != nullptr)) request_save();
     if (ImGui::MenuItem("Save as...", nullptr, false, scene_ != nullptr)) open_save_popup_ = true;
     if (scene_) act_on(dialogs_.menu_items(*scene_, hooks_));
-    if (ImGui::BeginMenu("Autosave every")) {  // the recovery file of unsaved work (core/autosave.h)
+    if (ImGui::BeginMenu("Autosave every")) {  // the recovery file of unsaved work (app/workspace/autosave.h)
       const std::pair<const char*, double> choices[] = {{"1 minute", 60}, {"3 minutes", 180}, {"10 minutes", 600}, {"never", 0}};
       for (const auto& [label, seconds] : choices)
         if (ImGui::MenuItem(label, nullptr, autosave_->interval_seconds() == seconds)) {

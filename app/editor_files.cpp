@@ -6,7 +6,7 @@
 #include <cstdlib>
 #include <filesystem>
 
-#include "core/file_listing.h"
+#include "app/workspace/file_listing.h"
 
 namespace cagewrap::app {
 

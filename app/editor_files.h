@@ -1,4 +1,4 @@
-// The editor's side of files: the preferences it remembers between runs (core/preferences.h), the
+// The editor's side of files: the preferences it remembers between runs (app/workspace/preferences.h), the
 // File > Open Recent menu and the file browser (app/file_browser.h), so that app/editor.cpp only
 // asks for a file and acts on the answer.
 #pragma once
@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "app/file_browser.h"
-#include "core/preferences.h"
+#include "app/workspace/preferences.h"
 #include "render/viewport_renderer.h"
 
 namespace cagewrap::app {

@@ -1,18 +1,18 @@
 #include "app/editor_scene.h"
 
-#include "core/attachment_fit.h"
+#include "core/rig/attachment_fit.h"
 
 #include <unistd.h>
 
 #include <filesystem>
 
-#include "core/binding_cache.h"
-#include "core/gltf_loader.h"
-#include "core/mesh_io.h"
-#include "core/project_io.h"
-#include "core/part_labels.h"
-#include "core/rig.h"
-#include "core/skinning.h"
+#include "core/deform/binding_cache.h"
+#include "core/io/gltf_loader.h"
+#include "core/io/mesh_io.h"
+#include "core/io/project_io.h"
+#include "core/rig/part_labels.h"
+#include "core/rig/rig.h"
+#include "core/rig/skinning.h"
 
 namespace cagewrap::app {
 
@@ -292,7 +292,7 @@ void Scene::update_pose() {
   skin_driven_ = driven_skin && driven_skin->size() == skin_rest.size() && !show_file_skinning;
   const auto& cage = doc().cage;
   if (cage) {
-    // the driver: rest cage + the artist's offsets + keyposes, carried by the skeleton (core/rig.h)
+    // the driver: rest cage + the artist's offsets + keyposes, carried by the skeleton (core/rig/rig.h)
     pose_document_cage(doc(), attachment ? &*attachment : nullptr, pose, posed);
     sim_shown = false;
     if (ClipSimulation* sim = simulation()) {

@@ -13,19 +13,19 @@
 #include <glm/gtc/quaternion.hpp>
 
 #include "app/background_task.h"
-#include "core/animation.h"
-#include "core/cage.h"
-#include "core/cage_attachment.h"
-#include "core/character.h"
-#include "core/clip_sim.h"
-#include "core/deformer.h"
-#include "core/document.h"
-#include "core/project_io.h"
-#include "core/history.h"
-#include "core/registration.h"
-#include "core/rig.h"
-#include "core/skeleton.h"
-#include "core/soft_selection.h"
+#include "core/rig/animation.h"
+#include "core/cage/cage.h"
+#include "core/rig/cage_attachment.h"
+#include "core/rig/character.h"
+#include "core/cage/clip_sim.h"
+#include "core/deform/deformer.h"
+#include "core/document/document.h"
+#include "core/io/project_io.h"
+#include "app/workspace/history.h"
+#include "core/deform/registration.h"
+#include "core/rig/rig.h"
+#include "core/rig/skeleton.h"
+#include "app/workspace/soft_selection.h"
 
 namespace cagewrap::app {
 
@@ -33,7 +33,7 @@ namespace cagewrap::app {
 using BindJob = BackgroundTask<Binding>;
 // A background bind's progress and Cancel, as the core binds take them.
 BindProgress job_progress(const BindJob::Progress& progress, const std::atomic<bool>& cancel);
-// The default rig's fit of a bind (core/attachment_fit.h fit_rig: the fitted attachment and the
+// The default rig's fit of a bind (core/rig/attachment_fit.h fit_rig: the fitted attachment and the
 // smoothed stencil), made on the bind's worker thread so that the UI does not wait for it.
 struct RigFit {
   CageAttachment attachment;        // `transferred` fitted
@@ -47,10 +47,10 @@ struct FitRequest {
   std::shared_ptr<std::optional<RigFit>> out;
 };
 // Binds the document's skin to its cage (parameters, set edits, automatic separation by the
-// attachment's skeleton parts: core/rig.h bind_document), then fits the rig (`fit`).
+// attachment's skeleton parts: core/rig/rig.h bind_document), then fits the rig (`fit`).
 std::unique_ptr<BindJob> start_bind_job(std::vector<glm::vec3> skin, Document doc, std::optional<CageAttachment> attachment,
                                         FitRequest fit = {});
-// The document's rest cage moved since `previous` was bound (core/rig.h rebind_document): only the
+// The document's rest cage moved since `previous` was bound (core/rig/rig.h rebind_document): only the
 // skin points within reach of the moved vertices are registered again; `report` is filled when it
 // ends; then the rig is fitted (`fit`).
 std::unique_ptr<BindJob> start_rest_edit_job(std::vector<glm::vec3> skin, Document doc,
@@ -87,7 +87,7 @@ struct Scene {
   std::vector<glm::mat4> joint_globals;  // #nodes world transforms of the current pose
   std::vector<glm::dmat3> cage_linear;
   std::vector<glm::mat4> cage_skinning;  // skinning matrix of each cage vertex (blended when smooth)
-  PosedCage posed;  // the whole posing result (core/rig.h): keypose offsets, driver at rest, ...
+  PosedCage posed;  // the whole posing result (core/rig/rig.h): keypose offsets, driver at rest, ...
   std::vector<std::array<uint32_t, 2>> bones;
   double deform_ms = 0.0;
   bool skin_from_cage = false;  // false: the file's own linear blend skinning is shown
@@ -110,7 +110,7 @@ struct Scene {
   // The skin's triangles (skin_topology, whose faces are all triangles).
   std::span<const Tri> skin_triangles() const;
 
-  // The cage simulation (core/clip_sim.h) of the current clip, when the document has it on: its
+  // The cage simulation (core/cage/clip_sim.h) of the current clip, when the document has it on: its
   // frames are filled a little each UI frame (fill_simulation) and update_pose shows them once the
   // frames around the player's time are there (the plain skinned cage until then).
   SimCache sim_cache;
@@ -124,7 +124,7 @@ struct Scene {
 
   bool needs_rebind() const;
   // The deformer made again from the current binding, whenever it changes (a bind ends, a cached one
-  // is adopted, a live set edit): with a fitted attachment, the rig's fit (core/attachment_fit.h
+  // is adopted, a live set edit): with a fitted attachment, the rig's fit (core/rig/attachment_fit.h
   // fit_rig, as Rig and `cagewrap pose` make it: the attachment fitted from the transferred weights
   // and the stencil smoothed where the rig would stretch the skin) goes into `rig_binding`, which
   // the deformer reads when the fit smoothed the stencil; `binding` stays the registration (sets,
@@ -149,14 +149,14 @@ struct Scene {
   // project) when they differ, then the skin binds again.
   void rebind();
   // Set edits changed for `points` only (a brush dab, an applied edit): re-registers just those points
-  // in the current binding (core/registration.h Rebinder) so the skin updates at once; the caller
+  // in the current binding (core/deform/registration.h Rebinder) so the skin updates at once; the caller
   // has put `edits` into the document (live or committed). False (nothing done) when there is no
   // current binding for this cage; a full rebind then follows as usual.
   bool update_set_edits_live(const std::vector<SetEdit>& edits, std::span<const uint32_t> points);
   // Polls the running job; returns a message when it finished (bound, failed or cancelled).
   std::optional<std::string> poll_bind();
   // Moves cage vertices of the driver by a world-space displacement at the current pose, each by its
-  // share (soft selection, X-mirror: core/soft_selection.h), stored as offsets in each vertex's joint
+  // share (soft selection, X-mirror: app/workspace/soft_selection.h), stored as offsets in each vertex's joint
   // bind space, and returns the new document (not yet in history).
   Document moved(const Document& from, const MoveWeights& weights, const glm::dvec3& world_delta) const;
   // The same move applied to the reference (rest) cage instead: the skin stays where it is and, once
@@ -193,11 +193,11 @@ struct ProjectOpen {
   std::vector<std::string> warnings;  // each to log as a warning
   std::vector<std::string> notes;     // to log as they are (the cached binding used)
   std::string missing_character;      // the character file looked for, when it was not found
-  std::optional<RecoveryInfo> recovery;  // the file was an editor recovery file (core/autosave.h)
+  std::optional<RecoveryInfo> recovery;  // the file was an editor recovery file (app/workspace/autosave.h)
 };
 // Opens a saved project (.cagewrap), with `character_override` for a character that moved
-// (core/project_io.h load_project). Uses the project's cached binding when it is still valid
-// (core/binding_cache.h), else binds in the background and says why in the warnings.
+// (core/io/project_io.h load_project). Uses the project's cached binding when it is still valid
+// (core/deform/binding_cache.h), else binds in the background and says why in the warnings.
 Result<std::unique_ptr<Scene>> load_project_scene(const std::string& project_path, ProjectOpen& out,
                                                   const std::string& character_override = {});
 // The demo character shipped in assets/ (found beside the executable or the source tree), or

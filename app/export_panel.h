@@ -1,6 +1,6 @@
 // The editor's File > Export window: format (glb, obj, json), mode, the clips to bake, frames per
 // second, the output path (typed, or chosen with the file browser), and Export, which runs in the
-// background (bind, then core/rig_exporter.h's run_export) with a progress bar and Cancel. The
+// background (bind, then core/export/rig_exporter.h's run_export) with a progress bar and Cancel. The
 // report (what was written, frames, morph targets, size, errors against the live rig) shows in the
 // window and the log; a failure shows in the error modal, and the document is never changed.
 // ImGui only; the work is core's.
@@ -15,7 +15,7 @@
 #include "app/cage_tools.h"
 #include "app/editor_scene.h"
 #include "app/file_browser.h"
-#include "core/rig_exporter.h"
+#include "core/export/rig_exporter.h"
 
 namespace cagewrap::app {
 

@@ -8,7 +8,7 @@
 #include <chrono>
 #include <cstdio>
 
-#include "core/skinning.h"
+#include "core/rig/skinning.h"
 
 namespace cagewrap::app {
 

@@ -1,5 +1,5 @@
 // The editor's Fidelity section (Properties): how far the rig is from the character's own skinning
-// (core/fidelity.h), where an artist looks. After a bind it shows the current frame's worst vertex,
+// (core/deform/fidelity.h), where an artist looks. After a bind it shows the current frame's worst vertex,
 // RMS and largest skin-edge stretch with the joint they are at, colours the skin by its distance to
 // the file's skinning (the heat map: grey within 0.5% of the diagonal, through yellow at 1%, red at
 // 5% and beyond), and warns, naming the worst joint, when a threshold is passed. "Check all clips"
@@ -17,7 +17,7 @@
 #include "app/background_task.h"
 #include "app/cage_tools.h"
 #include "app/editor_scene.h"
-#include "core/fidelity.h"
+#include "core/deform/fidelity.h"
 
 namespace cagewrap::app {
 

@@ -1,4 +1,4 @@
-// The editor's file dialog: a Dear ImGui modal over core/file_listing.h's FileBrowserModel. The
+// The editor's file dialog: a Dear ImGui modal over app/workspace/file_listing.h's FileBrowserModel. The
 // folder path (editable), a parent button, folders then the files the purpose accepts with sizes
 // and times, double-click to enter or choose, a file name field and an overwrite question when
 // saving, a hidden-files toggle, and errors that name the folder or file.
@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "core/file_listing.h"
+#include "app/workspace/file_listing.h"
 
 namespace cagewrap::app {
 

@@ -6,8 +6,8 @@
 #include <imgui/imgui.h>
 #endif
 
-#include "core/patch_fit.h"
-#include "core/patch_io.h"
+#include "core/deform/patch_fit.h"
+#include "core/io/patch_io.h"
 
 namespace cagewrap::app {
 

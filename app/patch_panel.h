@@ -6,7 +6,7 @@
 // (import, fit, density, a move, reset, drive on/off) is one undo step. Binding runs in the
 // background with progress and Cancel; a change that needs a new binding (import, fit, density)
 // enters the document once its bind succeeds. ImGui only; the geometry is core's
-// (core/patch_binding.h, core/patch_fit.h).
+// (core/deform/patch_binding.h, core/deform/patch_fit.h).
 #pragma once
 
 #include <functional>
@@ -19,9 +19,9 @@
 #include "app/background_task.h"
 #include "app/cage_tools.h"
 #include "app/editor_scene.h"
-#include "core/patch_binding.h"
-#include "core/picking.h"
-#include "core/selection.h"
+#include "core/deform/patch_binding.h"
+#include "app/workspace/picking.h"
+#include "core/geometry/selection.h"
 #include "render/viewport_renderer.h"
 
 namespace cagewrap::app {
@@ -53,7 +53,7 @@ class PatchPanel {
   bool reset(Scene& scene, const EditorHooks& hooks);                  // the control points back to rest
   // The view's picking and move gizmo (app/editor.cpp), while the window is open: the selected
   // control point's posed position (none: no selection or the window is closed); a click within 8
-  // pixels of a control point selects it (core/picking.h pick_vertex; false when none is near);
+  // pixels of a control point selects it (app/workspace/picking.h pick_vertex; false when none is near);
   // and `from` with the selected control point moved by `total` (a drag rebuilds from its start).
   std::optional<glm::dvec3> selected_position(const Scene& scene) const;
   bool pick(const Scene& scene, const Camera& camera, Viewport viewport, glm::dvec2 pixel);

@@ -6,8 +6,8 @@
 #include <filesystem>
 #include <utility>
 
-#include "core/character_embedding.h"
-#include "core/file_hash.h"
+#include "core/rig/character_embedding.h"
+#include "core/base/file_hash.h"
 
 namespace cagewrap::app {
 

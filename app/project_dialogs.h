@@ -1,8 +1,8 @@
 // The editor's prompts around opening and keeping a project, so app/editor.cpp only acts on the
 // answers: a character file that moved ("The character X was not found. Locate..."), the unsaved
-// work an earlier run left in recovery files (core/autosave.h: "Recover unsaved work from <time>?"
+// work an earlier run left in recovery files (app/workspace/autosave.h: "Recover unsaved work from <time>?"
 // Recover / Discard / Later), and the File menu's storage toggles (embed the character in the
-// project, cache the binding beside it; core/character_embedding.h, core/binding_cache.h).
+// project, cache the binding beside it; core/rig/character_embedding.h, core/deform/binding_cache.h).
 #pragma once
 
 #include <sstream>
@@ -11,7 +11,7 @@
 
 #include "app/cage_tools.h"
 #include "app/editor_scene.h"
-#include "core/autosave.h"
+#include "app/workspace/autosave.h"
 
 namespace cagewrap::app {
 
@@ -38,7 +38,7 @@ class ProjectDialogs {
   const std::string& locating_project() const { return locating_; }
   void located() { locating_.clear(); }
 
-  // Recovery files to offer, newest first (core/autosave.h list_recovery_files).
+  // Recovery files to offer, newest first (app/workspace/autosave.h list_recovery_files).
   void offer_recovery(std::vector<RecoveryFile> files);
   bool offering_recovery() const { return !recoveries_.empty(); }
 

@@ -11,9 +11,9 @@
 
 #include <glm/geometric.hpp>
 
-#include "core/cage_attachment.h"
-#include "core/keyposes.h"
-#include "core/mirror_names.h"
+#include "core/rig/cage_attachment.h"
+#include "core/rig/keyposes.h"
+#include "core/rig/mirror_names.h"
 
 namespace cagewrap::app {
 

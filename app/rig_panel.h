@@ -11,7 +11,7 @@
 
 #include "app/cage_tools.h"
 #include "app/editor_scene.h"
-#include "core/selection.h"
+#include "core/geometry/selection.h"
 
 namespace cagewrap::app {
 

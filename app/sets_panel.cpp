@@ -8,7 +8,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "core/set_queries.h"
+#include "core/document/set_queries.h"
 
 namespace cagewrap::app {
 

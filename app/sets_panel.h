@@ -17,9 +17,9 @@
 
 #include "app/cage_tools.h"
 #include "app/editor_scene.h"
-#include "core/selection.h"
-#include "core/set_editing.h"
-#include "core/skin_brush.h"
+#include "core/geometry/selection.h"
+#include "core/document/set_editing.h"
+#include "core/document/skin_brush.h"
 
 namespace cagewrap::app {
 

@@ -1,6 +1,6 @@
 #include "render/gpu_buffers.h"
 
-#include "core/check.h"
+#include "core/base/check.h"
 
 namespace cagewrap::render {
 

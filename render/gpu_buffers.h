@@ -8,7 +8,7 @@
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
-#include "core/mesh.h"
+#include "core/geometry/mesh.h"
 
 namespace cagewrap::render {
 

@@ -7,8 +7,8 @@
 
 #include <glm/vec4.hpp>
 
-#include "core/check.h"
-#include "core/mesh_normals.h"
+#include "core/base/check.h"
+#include "core/geometry/mesh_normals.h"
 
 namespace cagewrap::render {
 

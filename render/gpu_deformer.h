@@ -1,14 +1,14 @@
 // The deformation phase on the GPU (OpenGL 4.3 compute shaders: shaders/deform.comp.glsl and
 // shaders/normals.comp.glsl).
 //
-// Bind once, deform many, as on the CPU (core/deformer.h): the binding's stencil table, the rest
+// Bind once, deform many, as on the CPU (core/deform/deformer.h): the binding's stencil table, the rest
 // skin and the skin's vertex -> triangles table are uploaded once. Per cage change only the maps
 // core's Deformer builds from the posed cage go up (Deformer::update_maps: one 3x4 map per element
 // or cage vertex, rigid maps for the clamped variant and the fallback points; a few hundred KB),
 // then one compute pass writes the deformed positions and two more write the smooth normals, straight
 // into the vertex buffers that are drawn (render::TriangleBuffer). Nothing comes back to the CPU.
 // The kernels do Deformer::deform's float32 arithmetic in the same order, and the normals are
-// core/mesh_normals.h's (tests/gpu_deformer_test.cpp holds both paths to each other).
+// core/geometry/mesh_normals.h's (tests/gpu_deformer_test.cpp holds both paths to each other).
 #pragma once
 
 #include <epoxy/gl.h>
@@ -18,9 +18,9 @@
 #include <span>
 #include <string>
 
-#include "core/deformer.h"
-#include "core/mesh.h"
-#include "core/result.h"
+#include "core/deform/deformer.h"
+#include "core/geometry/mesh.h"
+#include "core/base/result.h"
 #include "render/gl_program.h"
 #include "render/gpu_buffers.h"
 

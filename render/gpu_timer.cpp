@@ -2,7 +2,7 @@
 
 #include <cstdint>
 
-#include "core/check.h"
+#include "core/base/check.h"
 
 namespace cagewrap::render {
 

@@ -11,8 +11,8 @@
 
 #include <glm/mat4x4.hpp>
 
-#include "core/mesh.h"
-#include "core/mesh_normals.h"
+#include "core/geometry/mesh.h"
+#include "core/geometry/mesh_normals.h"
 #include "render/gl_program.h"
 #include "render/gpu_buffers.h"
 
@@ -58,7 +58,7 @@ class ViewportRenderer {
   void update_skin_points(std::span<const glm::vec3> skin_positions, std::span<const uint32_t> selected,
                           std::span<const uint32_t> flagged);
 
-  // A parametric driver's control net (core/patch_surface.h), drawn on top: `points` (#C control
+  // A parametric driver's control net (core/deform/patch_surface.h), drawn on top: `points` (#C control
   // points), `edges` (pairs of control point indices), `selected` (a control point or -1)
   // highlighted. Empty `points` hide it.
   void update_control_net(std::span<const glm::vec3> points, std::span<const std::array<uint32_t, 2>> edges,

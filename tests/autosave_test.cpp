@@ -1,4 +1,4 @@
-// Tests for core/autosave.h: the recovery file is written only while there are unsaved changes, at
+// Tests for app/workspace/autosave.h: the recovery file is written only while there are unsaved changes, at
 // most once per interval (a fake clock), atomically, into its own folder and never over the
 // project or the character; it loads as the document with a record of its project; it is removed
 // when the work is clean again; and the start-up scan offers what editors that no longer run left
@@ -15,9 +15,9 @@
 #include <filesystem>
 #include <thread>
 
-#include "core/autosave.h"
-#include "core/preferences.h"
-#include "core/project_io.h"
+#include "app/workspace/autosave.h"
+#include "app/workspace/preferences.h"
+#include "core/io/project_io.h"
 #include "tests/document_fixtures.h"
 
 namespace cagewrap {

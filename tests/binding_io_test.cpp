@@ -1,4 +1,4 @@
-// Tests for core/binding_io.h (the .cwb file) and for the checks Deformer::create and deform() make on a
+// Tests for core/io/binding_io.h (the .cwb file) and for the checks Deformer::create and deform() make on a
 // binding and a posed cage: a saved binding reloads identically and deforms bit for bit as the original;
 // a damaged file fails cleanly with an error naming the file, never a crash or a huge allocation.
 #include <gtest/gtest.h>
@@ -15,10 +15,10 @@
 #include <string>
 #include <vector>
 
-#include "core/binding_io.h"
-#include "core/deformer.h"
-#include "core/digits.h"
-#include "core/registration.h"
+#include "core/io/binding_io.h"
+#include "core/deform/deformer.h"
+#include "core/base/digits.h"
+#include "core/deform/registration.h"
 #include "tests/expect_error.h"
 #include "tests/fixtures.h"
 

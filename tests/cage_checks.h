@@ -10,9 +10,9 @@
 #include <utility>
 #include <vector>
 
-#include "core/cage.h"
-#include "core/geometry.h"
-#include "core/topology_change.h"
+#include "core/cage/cage.h"
+#include "core/geometry/geometry.h"
+#include "core/geometry/topology_change.h"
 
 namespace cagewrap::test {
 

@@ -1,6 +1,6 @@
-// Tests for core/cage_edit.h: merging and welding vertices (collapsed faces dropped and reported),
+// Tests for core/cage/cage_edit.h: merging and welding vertices (collapsed faces dropped and reported),
 // flipping faces, triangulating; the topology change each returns; every error.
-#include "core/cage_edit.h"
+#include "core/cage/cage_edit.h"
 
 #include <gtest/gtest.h>
 

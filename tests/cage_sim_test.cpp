@@ -1,4 +1,4 @@
-// The cage solver (core/cage_sim.h) on hand-built sheets: pins, hard goals, determinism, energy,
+// The cage solver (core/cage/cage_sim.h) on hand-built sheets: pins, hard goals, determinism, energy,
 // collisions, edge lengths and bad input.
 #include <cmath>
 #include <cstring>
@@ -7,8 +7,8 @@
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
-#include "core/cage_sim.h"
-#include "core/demo_sim.h"
+#include "core/cage/cage_sim.h"
+#include "core/cage/demo_sim.h"
 #include "tests/expect_error.h"
 
 namespace cagewrap {

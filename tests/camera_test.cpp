@@ -1,5 +1,5 @@
 // Orbit camera: conventions, round trips, framing, pan/orbit/zoom invariants, presets.
-#include "core/camera.h"
+#include "app/workspace/camera.h"
 
 #include <cmath>
 

@@ -1,16 +1,16 @@
-// The per-clip simulation cache (core/clip_sim.h), Rig::pose_clip and the baked-animation export
+// The per-clip simulation cache (core/cage/clip_sim.h), Rig::pose_clip and the baked-animation export
 // of a simulated cage, on the demo character with its belly jiggling through the walk
-// (core/demo_sim.h).
+// (core/cage/demo_sim.h).
 #include <cstring>
 #include <optional>
 
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
-#include "core/clip_sim.h"
-#include "core/demo_sim.h"
-#include "core/rig.h"
-#include "core/rig_export.h"
+#include "core/cage/clip_sim.h"
+#include "core/cage/demo_sim.h"
+#include "core/rig/rig.h"
+#include "core/export/rig_export.h"
 #include "tests/expect_error.h"
 #include "tests/rig_fixtures.h"
 

@@ -1,16 +1,16 @@
-// Issue 18: the deformation never jumps. Each case is a hole of the earlier weight rule (core/registration.h
-// Taper), measured with the Lipschitz probe (core/lipschitz_probe.h): a line of densely spaced points whose
+// Issue 18: the deformation never jumps. Each case is a hole of the earlier weight rule (core/deform/registration.h
+// Taper), measured with the Lipschitz probe (core/deform/lipschitz_probe.h): a line of densely spaced points whose
 // largest deformed step must halve when the spacing halves (shrink about 0.5; a jump keeps it about 1).
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdio>
 
-#include "core/deformer.h"
-#include "core/lipschitz_probe.h"
-#include "core/registration.h"
-#include "core/vertex_frames.h"
-#include "core/mesh_io.h"
+#include "core/deform/deformer.h"
+#include "core/deform/lipschitz_probe.h"
+#include "core/deform/registration.h"
+#include "core/deform/vertex_frames.h"
+#include "core/io/mesh_io.h"
 #include "tests/fixtures.h"
 #include "tests/test_assets.h"
 

@@ -6,8 +6,8 @@
 #include <cstdlib>
 #include <new>
 
-#include "core/deformer.h"
-#include "core/registration.h"
+#include "core/deform/deformer.h"
+#include "core/deform/registration.h"
 #include "tests/fixtures.h"
 
 namespace {

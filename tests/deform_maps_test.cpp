@@ -1,13 +1,13 @@
 // What the GPU kernels are handed from core: Deformer::update_maps and the maps it exposes
-// (core/deformer.h), and the comparison of two normal fields (core/mesh_normals.h). The maps, applied
+// (core/deform/deformer.h), and the comparison of two normal fields (core/geometry/mesh_normals.h). The maps, applied
 // through the stencil as shaders/deform.comp.glsl reads them, must give deform()'s result.
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "core/deformer.h"
-#include "core/mesh_normals.h"
-#include "core/registration.h"
+#include "core/deform/deformer.h"
+#include "core/geometry/mesh_normals.h"
+#include "core/deform/registration.h"
 #include "tests/expect_error.h"
 #include "tests/fixtures.h"
 

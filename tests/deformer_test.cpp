@@ -6,10 +6,10 @@
 
 #include <Eigen/Dense>
 
-#include "core/deformer.h"
-#include "core/geometry.h"
-#include "core/mesh_io.h"
-#include "core/registration.h"
+#include "core/deform/deformer.h"
+#include "core/geometry/geometry.h"
+#include "core/io/mesh_io.h"
+#include "core/deform/registration.h"
 #include "tests/fixtures.h"
 #include "tests/test_assets.h"
 

@@ -8,12 +8,12 @@
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
-#include "core/demo_character.h"
-#include "core/gltf_loader.h"
-#include "core/gltf_writer.h"
-#include "core/joint_angles.h"
-#include "core/mesh_check.h"
-#include "core/skinning.h"
+#include "core/rig/demo_character.h"
+#include "core/io/gltf_loader.h"
+#include "core/io/gltf_writer.h"
+#include "core/rig/joint_angles.h"
+#include "core/geometry/mesh_check.h"
+#include "core/rig/skinning.h"
 #include "tests/gltf_builder.h"
 
 namespace cagewrap {

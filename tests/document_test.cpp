@@ -1,4 +1,4 @@
-// Tests for core/document.h and core/file_hash.h: loading a document from files (and every error
+// Tests for core/document/document.h and core/base/file_hash.h: loading a document from files (and every error
 // naming the file), copy-on-write edits that share the big data, fresh revisions, content equality
 // bit for bit, and the FNV-1a hash against its published test vectors.
 #include <gtest/gtest.h>
@@ -6,8 +6,8 @@
 #include <cmath>
 #include <set>
 
-#include "core/document.h"
-#include "core/file_hash.h"
+#include "core/document/document.h"
+#include "core/base/file_hash.h"
 #include "tests/document_fixtures.h"
 
 namespace cagewrap {

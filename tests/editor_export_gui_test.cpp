@@ -1,6 +1,6 @@
 // File > Export in the editor under Xvfb, driven by --script (`export FORMAT MODE FPS CLIPS PATH`
 // presses the window's Export button with those settings; the script waits for the background
-// task): a baked-skin .glb of the demo's walk that loads again (core/gltf_loader.h), is skinned with
+// task): a baked-skin .glb of the demo's walk that loads again (core/io/gltf_loader.h), is skinned with
 // one morph target per frame and passes the Khronos validator; the report in the log; a bad path
 // shown as an error while the editor carries on with its document; the JSON rig; Cancel during a
 // long bake; Browse... choosing the output. The screenshots show the window with its report, its progress bar
@@ -12,8 +12,8 @@
 #include <iterator>
 #include <string>
 
-#include "core/gltf_loader.h"
-#include "core/json_reader.h"
+#include "core/io/gltf_loader.h"
+#include "core/base/json_reader.h"
 #include "tests/gltf_validator.h"
 #include "tests/gui_harness.h"
 

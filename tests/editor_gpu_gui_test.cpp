@@ -8,7 +8,7 @@
 #include <iterator>
 #include <string>
 
-#include "core/gltf_loader.h"
+#include "core/io/gltf_loader.h"
 #include "tests/gui_harness.h"
 
 namespace {

@@ -10,9 +10,9 @@
 
 #include <glm/geometric.hpp>
 
-#include "core/patch_fit.h"
-#include "core/patch_io.h"
-#include "core/mesh_io.h"
+#include "core/deform/patch_fit.h"
+#include "core/io/patch_io.h"
+#include "core/io/mesh_io.h"
 #include "tests/gui_harness.h"
 
 namespace {

@@ -18,9 +18,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/autosave.h"
-#include "core/binding_cache.h"
-#include "core/project_io.h"
+#include "app/workspace/autosave.h"
+#include "core/deform/binding_cache.h"
+#include "core/io/project_io.h"
 #include "tests/gui_harness.h"
 
 namespace cagewrap {

@@ -23,8 +23,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/document.h"
-#include "core/project_io.h"
+#include "core/document/document.h"
+#include "core/io/project_io.h"
 #include "tests/gui_harness.h"
 
 namespace cagewrap {

@@ -1,6 +1,6 @@
 // The editor's selection modes and move tool, run for real under Xvfb on the demo character at its
 // bind pose: a click picks the front-most vertex under the cursor, a plane drag of the gizmo with
-// soft selection and X-mirror moves exactly what core/soft_selection.h says (checked in the saved
+// soft selection and X-mirror moves exactly what app/workspace/soft_selection.h says (checked in the saved
 // project), a face selection moves the face's corners, and a skin selection is drawn.
 #include <gtest/gtest.h>
 
@@ -16,8 +16,8 @@
 #include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
 
-#include "core/mesh_io.h"
-#include "core/selection.h"
+#include "core/io/mesh_io.h"
+#include "core/geometry/selection.h"
 #include "tests/fixtures.h"
 #include "tests/gui_harness.h"
 

@@ -7,7 +7,7 @@
 #include <initializer_list>
 #include <string>
 
-#include "core/result.h"
+#include "core/base/result.h"
 
 namespace cagewrap {
 

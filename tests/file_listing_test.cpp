@@ -1,7 +1,7 @@
-// Tests for core/file_listing.h on a temporary folder: order (folders first, natural order),
+// Tests for app/workspace/file_listing.h on a temporary folder: order (folders first, natural order),
 // extension filter, hidden files, sizes and times, navigation, typed paths and save names, and
 // that every error names the folder or file.
-#include "core/file_listing.h"
+#include "app/workspace/file_listing.h"
 
 #include <gtest/gtest.h>
 #include <sys/stat.h>

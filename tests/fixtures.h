@@ -8,9 +8,9 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/mat3x3.hpp>
 
-#include "core/binding.h"
-#include "core/cage.h"
-#include "core/mesh.h"
+#include "core/deform/binding.h"
+#include "core/cage/cage.h"
+#include "core/geometry/mesh.h"
 
 namespace cagewrap::fixtures {
 

@@ -5,8 +5,8 @@
 #include <glm/gtc/type_ptr.hpp>
 #include <gtest/gtest.h>
 
-#include "core/gltf_loader.h"
-#include "core/skinning.h"
+#include "core/io/gltf_loader.h"
+#include "core/rig/skinning.h"
 #include "tests/gltf_builder.h"
 #include "tests/test_assets.h"
 

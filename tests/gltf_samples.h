@@ -7,7 +7,7 @@
 
 #include <glm/gtc/quaternion.hpp>
 
-#include "core/character.h"
+#include "core/rig/character.h"
 #include "tests/gltf_builder.h"
 
 namespace cagewrap::test {

@@ -8,8 +8,8 @@
 
 #include <gtest/gtest.h>
 
-#include "core/demo_character.h"
-#include "core/gltf_writer.h"
+#include "core/rig/demo_character.h"
+#include "core/io/gltf_writer.h"
 #include "tests/gltf_samples.h"
 #include "tests/gltf_validator.h"
 

@@ -2,9 +2,9 @@
 
 #include <gtest/gtest.h>
 
-#include "core/gltf_loader.h"
-#include "core/gltf_writer.h"
-#include "core/skinning.h"
+#include "core/io/gltf_loader.h"
+#include "core/io/gltf_writer.h"
+#include "core/rig/skinning.h"
 #include "tests/gltf_samples.h"
 
 namespace cagewrap {

@@ -1,4 +1,4 @@
-// The GPU deformer (render/gpu_deformer.h) against the CPU path (core/deformer.h, core/mesh_normals.h):
+// The GPU deformer (render/gpu_deformer.h) against the CPU path (core/deform/deformer.h, core/geometry/mesh_normals.h):
 // the same binding and cage states through both, read back and compared. Positions must agree within
 // 1e-5 of the skin's bounding-box diagonal (the performance issue's bar); normals within a small angle.
 // Runs in a headless EGL context (Mesa's llvmpipe in CI has compute shaders); skips with a message
@@ -13,16 +13,16 @@
 #include <string>
 #include <vector>
 
-#include "core/cage.h"
-#include "core/cage_import.h"
-#include "core/deformer.h"
-#include "core/document.h"
-#include "core/mesh_io.h"
-#include "core/mesh_normals.h"
-#include "core/registration.h"
-#include "core/rig.h"
-#include "core/skinning.h"
-#include "core/twist.h"
+#include "core/cage/cage.h"
+#include "core/cage/cage_import.h"
+#include "core/deform/deformer.h"
+#include "core/document/document.h"
+#include "core/io/mesh_io.h"
+#include "core/geometry/mesh_normals.h"
+#include "core/deform/registration.h"
+#include "core/rig/rig.h"
+#include "core/rig/skinning.h"
+#include "core/deform/twist.h"
 #include "tests/fixtures.h"
 #include "tests/test_assets.h"
 

@@ -1,10 +1,10 @@
-// Tests for core/history.h: undo/redo order and labels, one drag = one step, the dirty flag across
+// Tests for app/workspace/history.h: undo/redo order and labels, one drag = one step, the dirty flag across
 // undo, redo, save and branching, and the memory cap (shared data counted once; oldest steps go).
 #include <gtest/gtest.h>
 
 #include <memory>
 
-#include "core/history.h"
+#include "app/workspace/history.h"
 #include "tests/fixtures.h"
 #include "tests/patch_fixtures.h"
 

@@ -4,9 +4,9 @@
 #include <glm/gtc/quaternion.hpp>
 #include <gtest/gtest.h>
 
-#include "core/gltf_loader.h"
-#include "core/joint_angles.h"
-#include "core/skinning.h"
+#include "core/io/gltf_loader.h"
+#include "core/rig/joint_angles.h"
+#include "core/rig/skinning.h"
 #include "tests/gltf_builder.h"
 
 namespace cagewrap {

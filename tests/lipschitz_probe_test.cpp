@@ -1,11 +1,11 @@
-// The Lipschitz probe (core/lipschitz_probe.h): exact answers for rigid and uniformly scaled cages,
+// The Lipschitz probe (core/deform/lipschitz_probe.h): exact answers for rigid and uniformly scaled cages,
 // the halving figure on a smooth case and across a jump, the time probe on a rigid rotation, checks
 // of its inputs, and the figures of issue 18's cube case (printed, not asserted).
 #include <gtest/gtest.h>
 
 #include <cstdio>
 
-#include "core/lipschitz_probe.h"
+#include "core/deform/lipschitz_probe.h"
 #include "tests/fixtures.h"
 
 namespace cagewrap {

@@ -1,13 +1,13 @@
 // Welding, mesh checks and signed distance: exact answers on hand-built meshes.
-#include "core/mesh_check.h"
+#include "core/geometry/mesh_check.h"
 
 #include <cmath>
 
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
 
-#include "core/surface_distance.h"
-#include "core/weld.h"
+#include "core/geometry/surface_distance.h"
+#include "core/geometry/weld.h"
 #include "tests/fixtures.h"
 
 namespace cagewrap {

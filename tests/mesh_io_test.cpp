@@ -1,4 +1,4 @@
-// Tests for core/mesh_io.h, core/mesh.h and the cage helpers of core/cage.h: loading each format,
+// Tests for core/io/mesh_io.h, core/geometry/mesh.h and the cage helpers of core/cage/cage.h: loading each format,
 // writing and re-reading positions, every load error naming the file and the element, and the
 // polygon utilities (validation, triangulation, edges, element classification).
 #include <gtest/gtest.h>
@@ -30,9 +30,9 @@
 #include <glm/geometric.hpp>
 #include <glm/vec2.hpp>
 
-#include "core/cage.h"
-#include "core/mesh.h"
-#include "core/mesh_io.h"
+#include "core/cage/cage.h"
+#include "core/geometry/mesh.h"
+#include "core/io/mesh_io.h"
 
 namespace cagewrap {
 namespace {

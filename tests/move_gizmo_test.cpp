@@ -1,10 +1,10 @@
-// Tests for core/move_gizmo.h: handle hits on a known view, axis drags stay on the axis and follow
+// Tests for app/workspace/move_gizmo.h: handle hits on a known view, axis drags stay on the axis and follow
 // the cursor, plane and screen drags keep the grabbed point under the cursor, snapping.
 #include <gtest/gtest.h>
 
 #include <glm/geometric.hpp>
 
-#include "core/move_gizmo.h"
+#include "app/workspace/move_gizmo.h"
 
 namespace cagewrap {
 namespace {

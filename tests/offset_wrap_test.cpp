@@ -1,5 +1,5 @@
 // Marching tetrahedra and the offset wrap: closed, manifold, outward, at the right distance.
-#include "core/offset_wrap.h"
+#include "core/cage/offset_wrap.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,8 +7,8 @@
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
 
-#include "core/mesh_check.h"
-#include "core/surface_distance.h"
+#include "core/geometry/mesh_check.h"
+#include "core/geometry/surface_distance.h"
 #include "tests/fixtures.h"
 
 namespace cagewrap {

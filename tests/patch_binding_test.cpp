@@ -1,7 +1,7 @@
-// Binding a skin to a parametric driver and deforming it (core/patch_binding.h): the properties of
+// Binding a skin to a parametric driver and deforming it (core/deform/patch_binding.h): the properties of
 // algorithm.md section 4.1 for sample elements, locality and smoothness of a control point's pull,
 // and the sample count set by the density.
-#include "core/patch_binding.h"
+#include "core/deform/patch_binding.h"
 
 #include <gtest/gtest.h>
 
@@ -9,7 +9,7 @@
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "core/binding_io.h"
+#include "core/io/binding_io.h"
 #include "tests/expect_error.h"
 #include "tests/patch_fixtures.h"
 

@@ -1,7 +1,7 @@
-// Fitting a patch grid to selected cage faces (core/patch_fit.h): the rectangle of quads is found
+// Fitting a patch grid to selected cage faces (core/deform/patch_fit.h): the rectangle of quads is found
 // in any orientation, the fit follows the faces, and selections that are no rectangle are refused
 // naming a face.
-#include "core/patch_fit.h"
+#include "core/deform/patch_fit.h"
 
 #include <gtest/gtest.h>
 

@@ -6,7 +6,7 @@
 #include <random>
 #include <vector>
 
-#include "core/patch_surface.h"
+#include "core/deform/patch_surface.h"
 
 namespace cagewrap::test {
 

@@ -1,6 +1,6 @@
-// Patch driver files (core/patch_io.h): .cwpatch and glTF extras round trips, and bad files refused
+// Patch driver files (core/io/patch_io.h): .cwpatch and glTF extras round trips, and bad files refused
 // with messages naming the file and the control point.
-#include "core/patch_io.h"
+#include "core/io/patch_io.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>

@@ -1,5 +1,5 @@
-// Bicubic patch grids (core/patch_surface.h): basis functions, evaluation, sampling, validation.
-#include "core/patch_surface.h"
+// Bicubic patch grids (core/deform/patch_surface.h): basis functions, evaluation, sampling, validation.
+#include "core/deform/patch_surface.h"
 
 #include <gtest/gtest.h>
 

@@ -1,5 +1,5 @@
 // Picking: exact answers on hand-built scenes, the hierarchy against brute force, refit, timing.
-#include "core/picking.h"
+#include "app/workspace/picking.h"
 
 #include <chrono>
 #include <cmath>
@@ -8,8 +8,8 @@
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
 
-#include "core/gltf_loader.h"
-#include "core/skinning.h"
+#include "core/io/gltf_loader.h"
+#include "core/rig/skinning.h"
 #include "tests/fixtures.h"
 
 namespace cagewrap {

@@ -1,4 +1,4 @@
-// core/point_grid.h against a brute-force search: the same k nearest, in the same order, for
+// core/geometry/point_grid.h against a brute-force search: the same k nearest, in the same order, for
 // queries inside, on and far outside the points' box, clustered and degenerate (flat) sets.
 #include <gtest/gtest.h>
 
@@ -7,7 +7,7 @@
 
 #include <glm/geometric.hpp>
 
-#include "core/point_grid.h"
+#include "core/geometry/point_grid.h"
 
 namespace cagewrap {
 namespace {

@@ -1,8 +1,8 @@
-// Tests for core/preferences.h: save -> load gives the same preferences; a missing file gives the
+// Tests for app/workspace/preferences.h: save -> load gives the same preferences; a missing file gives the
 // defaults quietly; a corrupt file or a bad field gives the defaults and a warning naming it, never
 // a crash; fields of a newer version survive; the recent list stays short and without repeats; the
 // config folder follows CAGEWRAP_CONFIG_DIR, then XDG_CONFIG_HOME, then HOME.
-#include "core/preferences.h"
+#include "app/workspace/preferences.h"
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
 // Quad pairing: flat grids become quads, bent, concave or badly shaped pairs stay triangles, and
 // the quads triangulate back into exactly the input triangles.
-#include "core/quad_pairing.h"
+#include "core/cage/quad_pairing.h"
 
 #include <gtest/gtest.h>
 

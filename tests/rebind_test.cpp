@@ -9,10 +9,10 @@
 #include <numeric>
 #include <random>
 
-#include "core/deformer.h"
-#include "core/registration.h"
-#include "core/rest_edit.h"
-#include "core/set_editing.h"
+#include "core/deform/deformer.h"
+#include "core/deform/registration.h"
+#include "core/cage/rest_edit.h"
+#include "core/document/set_editing.h"
 #include "tests/fixtures.h"
 #include "tests/set_fixtures.h"
 

@@ -1,9 +1,9 @@
-// Tests for core/rig_json.h and core/rig_exporter.h: the JSON rig poses the driver cage exactly as
-// core/rig.h does (its attachment formula, with smooth blending, an override and sculpted
+// Tests for core/export/rig_json.h and core/export/rig_exporter.h: the JSON rig poses the driver cage exactly as
+// core/rig/rig.h does (its attachment formula, with smooth blending, an override and sculpted
 // offsets), carries the keyposes bit for bit and names nodes; the layout reads back as the same
 // JSON; run_export writes each format, refuses bad paths before any work and never the document's
 // own files.
-#include "core/rig_exporter.h"
+#include "core/export/rig_exporter.h"
 
 #include <gtest/gtest.h>
 
@@ -12,9 +12,9 @@
 #include <random>
 #include <sstream>
 
-#include "core/json_reader.h"
-#include "core/rig_json.h"
-#include "core/skinning.h"
+#include "core/base/json_reader.h"
+#include "core/export/rig_json.h"
+#include "core/rig/skinning.h"
 #include "tests/gltf_builder.h"
 #include "tests/rig_fixtures.h"
 
@@ -73,7 +73,7 @@ TEST(RigJson, PosesTheDriverCageAsTheRigDoes) {
   EXPECT_EQ(j["attachment"]["vertices"][5]["override"], true);
   size_t blended = 0;
   // D_v = (sum_i w_i global(node_i) inverse_bind_i) (positions_v + offsets_v + keyposes_v), with the
-  // keyposes' offsets at the pose from core (their interpolation is core/keyposes.h's)
+  // keyposes' offsets at the pose from core (their interpolation is core/rig/keyposes.h's)
   for (double t : {0.6, 1.4}) {
     const Pose pose = compose_pose(ch, 1, t, false);  // arm_raise: the elbow bends
     PosedCage want;

@@ -18,11 +18,11 @@
 #include <set>
 #include <thread>
 
-#include "core/gltf_loader.h"
-#include "core/mesh_io.h"
-#include "core/autosave.h"
-#include "core/project_io.h"
-#include "core/registration.h"
+#include "core/io/gltf_loader.h"
+#include "core/io/mesh_io.h"
+#include "app/workspace/autosave.h"
+#include "core/io/project_io.h"
+#include "core/deform/registration.h"
 #include "tests/document_fixtures.h"
 #include "tests/expect_error.h"
 #include "tests/fuzz/seed_fixtures.h"

@@ -1,4 +1,4 @@
-// Tests for core/rotate_gizmo.h: rings are hit on their front half, a drag along a ring gives the
+// Tests for app/workspace/rotate_gizmo.h: rings are hit on their front half, a drag along a ring gives the
 // angle the grabbed point swept (checked by rotating the grabbed point and projecting it), the view
 // ring turns about the view direction, edge-on rings still turn, snapping.
 #include <gtest/gtest.h>
@@ -8,7 +8,7 @@
 #include <glm/geometric.hpp>
 #include <glm/gtc/quaternion.hpp>
 
-#include "core/rotate_gizmo.h"
+#include "app/workspace/rotate_gizmo.h"
 
 namespace cagewrap {
 namespace {

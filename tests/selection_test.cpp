@@ -1,10 +1,10 @@
-// Tests for core/selection.h: set operations with exact answers, grow/shrink on a hand-checked
+// Tests for core/geometry/selection.h: set operations with exact answers, grow/shrink on a hand-checked
 // quad grid, their invariants on a closed cage, and mirroring across x = 0.
 #include <gtest/gtest.h>
 
 #include <random>
 
-#include "core/selection.h"
+#include "core/geometry/selection.h"
 #include "tests/fixtures.h"
 
 namespace cagewrap {

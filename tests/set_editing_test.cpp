@@ -1,15 +1,15 @@
 // Contributing-set editing and display: canonical edit lists, the four edit modes with X-mirroring,
 // what a bind makes of each mode, the display queries and the surface brush.
-#include "core/set_editing.h"
+#include "core/document/set_editing.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 
-#include "core/registration.h"
-#include "core/set_queries.h"
-#include "core/skin_brush.h"
+#include "core/deform/registration.h"
+#include "core/document/set_queries.h"
+#include "core/document/skin_brush.h"
 #include "tests/fixtures.h"
 #include "tests/set_fixtures.h"
 

@@ -1,17 +1,17 @@
 // Set edits as inputs that last: the set edits file (docs/edits-format.md) with its rules and errors,
 // the project file keeping `only` edits and the separation parameters, edits surviving a rebind with
 // other parameters, and edits made with each mode carried across cage subdivision.
-#include "core/set_edits_io.h"
+#include "core/io/set_edits_io.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <set>
 
-#include "core/cage_subdivide.h"
-#include "core/project_io.h"
-#include "core/registration.h"
-#include "core/topology_change.h"
+#include "core/cage/cage_subdivide.h"
+#include "core/io/project_io.h"
+#include "core/deform/registration.h"
+#include "core/geometry/topology_change.h"
 #include "tests/document_fixtures.h"
 #include "tests/expect_error.h"
 #include "tests/set_fixtures.h"

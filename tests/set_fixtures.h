@@ -5,9 +5,9 @@
 #include <cmath>
 #include <vector>
 
-#include "core/cage.h"
-#include "core/mesh.h"
-#include "core/registration.h"
+#include "core/cage/cage.h"
+#include "core/geometry/mesh.h"
+#include "core/deform/registration.h"
 
 namespace cagewrap::fixtures {
 

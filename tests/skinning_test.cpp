@@ -4,8 +4,8 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
 
-#include "core/gltf_loader.h"
-#include "core/skinning.h"
+#include "core/io/gltf_loader.h"
+#include "core/rig/skinning.h"
 #include "tests/gltf_samples.h"
 #include "tests/test_assets.h"
 

@@ -1,8 +1,8 @@
-// Tests for core/soft_selection.h: falloff curves, volume against surface distance, mirrored
+// Tests for app/workspace/soft_selection.h: falloff curves, volume against surface distance, mirrored
 // moves (a plane vertex keeps x = 0, a symmetric shape stays symmetric), and bad input named.
 #include <gtest/gtest.h>
 
-#include "core/soft_selection.h"
+#include "app/workspace/soft_selection.h"
 #include "tests/expect_error.h"
 #include "tests/fixtures.h"
 

@@ -1,4 +1,4 @@
-// Tests for core/subdivide.h (uniform edge refinement used by the bench) and core/twist.h (the analytic
+// Tests for core/geometry/subdivide.h (uniform edge refinement used by the bench) and core/deform/twist.h (the analytic
 // twist of the bench triplets and the fidelity measure against it).
 #include <gtest/gtest.h>
 
@@ -16,8 +16,8 @@
 #include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
 
-#include "core/subdivide.h"
-#include "core/twist.h"
+#include "core/geometry/subdivide.h"
+#include "core/deform/twist.h"
 #include "tests/expect_error.h"
 #include "tests/test_assets.h"
 

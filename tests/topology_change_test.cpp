@@ -1,8 +1,8 @@
-// Tests for core/topology_change.h: composing changes, carrying set edits, offsets and labels, the
+// Tests for core/geometry/topology_change.h: composing changes, carrying set edits, offsets and labels, the
 // errors of apply_topology_change; and the key property: a bound, edited cage subdivided (linear,
 // Loop, local) and rebound with its carried edits still reproduces the skin at rest, and the carried
 // exclusions still take effect.
-#include "core/topology_change.h"
+#include "core/geometry/topology_change.h"
 
 #include <gtest/gtest.h>
 
@@ -11,12 +11,12 @@
 #include <memory>
 #include <set>
 
-#include "core/cage_attachment.h"
-#include "core/cage_edit.h"
-#include "core/keyposes.h"
-#include "core/cage_subdivide.h"
-#include "core/deformer.h"
-#include "core/registration.h"
+#include "core/rig/cage_attachment.h"
+#include "core/cage/cage_edit.h"
+#include "core/rig/keyposes.h"
+#include "core/cage/cage_subdivide.h"
+#include "core/deform/deformer.h"
+#include "core/deform/registration.h"
 #include "tests/cage_checks.h"
 #include "tests/expect_error.h"
 #include "tests/fixtures.h"

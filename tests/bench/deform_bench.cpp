@@ -3,9 +3,9 @@
 // these track the kernels on any machine, without shared assets.
 #include <benchmark/benchmark.h>
 
-#include "core/deformer.h"
-#include "core/registration.h"
-#include "core/subdivide.h"
+#include "core/deform/deformer.h"
+#include "core/deform/registration.h"
+#include "core/geometry/subdivide.h"
 #include "tests/fixtures.h"
 
 namespace cagewrap {

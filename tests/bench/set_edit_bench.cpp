@@ -3,12 +3,12 @@
 // full bind it replaces; the brush dab and the display queries. Figures in docs/algorithm-notes.md.
 #include <benchmark/benchmark.h>
 
-#include "core/deformer.h"
-#include "core/registration.h"
-#include "core/set_editing.h"
-#include "core/set_queries.h"
-#include "core/skin_brush.h"
-#include "core/subdivide.h"
+#include "core/deform/deformer.h"
+#include "core/deform/registration.h"
+#include "core/document/set_editing.h"
+#include "core/document/set_queries.h"
+#include "core/document/skin_brush.h"
+#include "core/geometry/subdivide.h"
 #include "tests/fixtures.h"
 
 namespace cagewrap {

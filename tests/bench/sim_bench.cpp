@@ -1,6 +1,6 @@
-// The cage simulation's cost per frame (core/cage_sim.h) for a 2,000-vertex cloth cage on one
+// The cage simulation's cost per frame (core/cage/cage_sim.h) for a 2,000-vertex cloth cage on one
 // thread: a 40 x 50 sheet hanging behind the demo character, pinned along its top row and swinging
-// sideways, colliding with the character's bone capsules (core/cage_sim.h skeleton_capsules) and a
+// sideways, colliding with the character's bone capsules (core/cage/cage_sim.h skeleton_capsules) and a
 // floor. One iteration = one frame of the default settings (8 substeps of 1/240 s); the argument is
 // the edge-constraint sweeps per substep. The target is under 2 ms a frame (the CPU time column);
 // figures in docs/simulation.md.
@@ -8,9 +8,9 @@
 
 #include <benchmark/benchmark.h>
 
-#include "core/cage_sim.h"
-#include "core/demo_character.h"
-#include "core/demo_sim.h"
+#include "core/cage/cage_sim.h"
+#include "core/rig/demo_character.h"
+#include "core/cage/demo_sim.h"
 
 namespace cagewrap {
 namespace {

@@ -1,11 +1,11 @@
-// libFuzzer harness for the binding file (core/binding_io.h): load_binding, and when a binding loads
+// libFuzzer harness for the binding file (core/io/binding_io.h): load_binding, and when a binding loads
 // (validate_binding passed), a deformer made from it for a skin of its point count deforms its own
 // rest cage, as `cagewrap deform` would with the cage it was bound to. Every error must name the file.
 #include <cstdlib>
 #include <vector>
 
-#include "core/binding_io.h"
-#include "core/deformer.h"
+#include "core/io/binding_io.h"
+#include "core/deform/deformer.h"
 #include "tests/fuzz/fuzz_file.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

@@ -1,10 +1,10 @@
-// libFuzzer harness for the glTF 2.0 loader (core/gltf_loader.h): input starting with "glTF" is
+// libFuzzer harness for the glTF 2.0 loader (core/io/gltf_loader.h): input starting with "glTF" is
 // read as .glb, anything else as .gltf JSON. Any outcome but a crash, a sanitizer report or a hang
 // is fine: bad files must fail with a message naming the file.
 #include <cstdlib>
 #include <cstring>
 
-#include "core/gltf_loader.h"
+#include "core/io/gltf_loader.h"
 #include "tests/fuzz/fuzz_file.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

@@ -1,11 +1,11 @@
-// libFuzzer harness for patch driver files (core/patch_io.h): the input read as a .cwpatch and as a
+// libFuzzer harness for patch driver files (core/io/patch_io.h): the input read as a .cwpatch and as a
 // .gltf (extras.cagewrap_patch); when a driver loads, a few skin points are bound to its samples
 // and deformed by it at rest (sampling, frames, the sample binding and the kernel).
 #include <cmath>
 #include <cstdlib>
 
-#include "core/patch_binding.h"
-#include "core/patch_io.h"
+#include "core/deform/patch_binding.h"
+#include "core/io/patch_io.h"
 #include "tests/fuzz/fuzz_file.h"
 
 namespace {

@@ -1,8 +1,8 @@
-// libFuzzer harness for the set edits file (core/set_edits_io.h): load_set_edits, then, when it
+// libFuzzer harness for the set edits file (core/io/set_edits_io.h): load_set_edits, then, when it
 // parses, resolve_set_edits against a small skin and a box cage (the range checks and mirroring).
 #include <cstdlib>
 
-#include "core/set_edits_io.h"
+#include "core/io/set_edits_io.h"
 #include "tests/fixtures.h"
 #include "tests/fuzz/fuzz_file.h"
 

@@ -8,14 +8,14 @@
 #include <fstream>
 #include <string>
 
-#include "core/binding_io.h"
-#include "core/document.h"
-#include "core/mesh_io.h"
-#include "core/character_embedding.h"
-#include "core/project_io.h"
-#include "core/patch_io.h"
-#include "core/registration.h"
-#include "core/set_edits_io.h"
+#include "core/io/binding_io.h"
+#include "core/document/document.h"
+#include "core/io/mesh_io.h"
+#include "core/rig/character_embedding.h"
+#include "core/io/project_io.h"
+#include "core/io/patch_io.h"
+#include "core/deform/registration.h"
+#include "core/io/set_edits_io.h"
 #include "tests/fixtures.h"
 #include "tests/fuzz/seed_fixtures.h"
 #include "tests/tools/hostile_corpus.h"

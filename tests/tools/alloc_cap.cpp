@@ -28,13 +28,13 @@
 #include <new>
 #include <string>
 
-#include "core/binding_io.h"
-#include "core/digits.h"
-#include "core/gltf_loader.h"
-#include "core/mesh_io.h"
-#include "core/patch_io.h"
-#include "core/project_io.h"
-#include "core/set_edits_io.h"
+#include "core/io/binding_io.h"
+#include "core/base/digits.h"
+#include "core/io/gltf_loader.h"
+#include "core/io/mesh_io.h"
+#include "core/io/patch_io.h"
+#include "core/io/project_io.h"
+#include "core/io/set_edits_io.h"
 #include "tests/tools/hostile_corpus.h"
 
 extern "C" {

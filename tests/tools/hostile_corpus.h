@@ -17,17 +17,17 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/base64.h"
-#include "core/binding_io.h"
-#include "core/character_embedding.h"
-#include "core/document.h"
-#include "core/file_hash.h"
-#include "core/json_reader.h"
-#include "core/mesh_io.h"
-#include "core/patch_io.h"
-#include "core/project_io.h"
-#include "core/registration.h"
-#include "core/set_edits_io.h"
+#include "core/base/base64.h"
+#include "core/io/binding_io.h"
+#include "core/rig/character_embedding.h"
+#include "core/document/document.h"
+#include "core/base/file_hash.h"
+#include "core/base/json_reader.h"
+#include "core/io/mesh_io.h"
+#include "core/io/patch_io.h"
+#include "core/io/project_io.h"
+#include "core/deform/registration.h"
+#include "core/io/set_edits_io.h"
 #include "tests/fixtures.h"
 #include "tests/fuzz/seed_fixtures.h"
 
@@ -449,7 +449,7 @@ inline void patch_cases(const std::string& scratch, std::vector<HostileFile>& ou
 }
 
 // The byte offset of every count in a version 2 .cwb file, found by walking a valid file along the
-// layout documented in core/binding_io.h.
+// layout documented in core/io/binding_io.h.
 inline std::vector<std::pair<std::string, size_t>> binding_count_offsets(const std::string& bytes) {
   constexpr size_t kParams = 8 + 8 + 4 + 8 + 8 + 8 + 1;  // local, epsilon, K, scale, max_distance, close_distance, variant
   constexpr size_t kNumPoints = 8 + 4 + kParams + 8 + 3 * 8;  // magic, version, parameters, h, origin
@@ -474,7 +474,7 @@ inline std::vector<std::pair<std::string, size_t>> binding_count_offsets(const s
   table("set_ids", 4);
   table("set_weights", 4);
   table("separated", 4);
-  if (at != bytes.size()) throw std::runtime_error("hostile corpus: the .cwb layout changed (see core/binding_io.h)");
+  if (at != bytes.size()) throw std::runtime_error("hostile corpus: the .cwb layout changed (see core/io/binding_io.h)");
   return out;
 }
 

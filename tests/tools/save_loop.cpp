@@ -1,14 +1,14 @@
 // Test helper for the kill tests (tests/robustness_test.cpp): `cagewrap_save_loop DIR` loads
 // DIR/hero.gltf with DIR/cage_a.obj and DIR/cage_b.obj and saves DIR/big.cagewrap over and over
 // until it is killed, with the cage of the same vertex count each time (a and b differ in size).
-// `cagewrap_save_loop DIR --recovery` does the same through the editor's autosave (core/autosave.h):
+// `cagewrap_save_loop DIR --recovery` does the same through the editor's autosave (app/workspace/autosave.h):
 // the recovery file DIR/config/recovery/loop.cagewrap, the two documents edited in turn.
 #include <cstdio>
 #include <string>
 
-#include "core/autosave.h"
-#include "core/document.h"
-#include "core/project_io.h"
+#include "app/workspace/autosave.h"
+#include "core/document/document.h"
+#include "core/io/project_io.h"
 
 int main(int argc, char** argv) {
   const bool recovery = argc == 3 && std::string(argv[2]) == "--recovery";

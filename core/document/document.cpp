@@ -1,0 +1,242 @@
+#include "core/document/document.h"
+
+#include <atomic>
+#include <cstring>
+
+#include "core/base/check.h"
+#include "core/base/file_hash.h"
+#include "core/io/gltf_loader.h"
+#include "core/cage/cage_import.h"
+#include "core/io/mesh_io.h"
+
+namespace cagewrap {
+
+std::span<const glm::vec3> Document::cage_positions() const {
+  if (!cage) return {};
+  return cage->polygons.positions;
+}
+
+uint64_t next_revision() {
+  static std::atomic<uint64_t> counter{0};
+  return ++counter;
+}
+
+Result<Document> document_from_files(const std::string& character_path, const std::string& cage_path) {
+  auto character = load_character(character_path);
+  if (!character) return character.error();
+  // a file with no vertex at all (animation only, or every primitive empty) has nothing to skin
+  if (character->num_vertices() == 0)
+    return make_error(ErrorCode::kEmpty,
+                      character_path + ": has no vertices (no mesh primitive of the default scene holds any): nothing to skin");
+  auto hash = hash_file(character_path);
+  if (!hash) return hash.error();
+  Document doc;
+  doc.character = std::make_shared<const Character>(std::move(character).value());
+  doc.character_path = character_path;
+  doc.character_hash = std::move(hash).value();
+  if (!cage_path.empty()) {
+    auto mesh = load_cage_mesh(cage_path);
+    if (!mesh) return mesh.error();
+    auto cage = make_cage(std::move(mesh).value(), cage_path);
+    if (!cage) return cage.error();
+    doc.cage = std::make_shared<const Cage>(std::move(cage).value());
+  }
+  doc.revision = next_revision();
+  return doc;
+}
+
+Document with_cage_positions(const Document& doc, std::span<const glm::vec3> positions) {
+  CAGEWRAP_CHECK(doc.cage, "with_cage_positions needs a document with a cage");
+  CAGEWRAP_CHECK(positions.size() == doc.cage->num_vertices(), "one position per cage vertex");
+  auto cage = std::make_shared<Cage>(*doc.cage);
+  cage->polygons.positions.assign(positions.begin(), positions.end());
+  return with_cage(doc, std::move(cage));
+}
+
+Document with_cage(const Document& doc, std::shared_ptr<const Cage> cage) {
+  Document out = doc;
+  out.cage = std::move(cage);
+  const size_t before = doc.cage ? doc.cage->num_vertices() : 0;
+  const size_t after = out.cage ? out.cage->num_vertices() : 0;
+  if (!out.cage || out.cage_offsets.size() != after) out.cage_offsets.clear();
+  if (before != after) {
+    out.attachment.overrides.clear();
+    clear_vertex_data(out.keyposes);
+    out.sim.vertices.clear();
+  }
+  out.revision = next_revision();
+  return out;
+}
+
+Document with_cage_offsets(const Document& doc, std::vector<glm::vec3> offsets) {
+  Document out = doc;
+  out.cage_offsets = std::move(offsets);
+  out.revision = next_revision();
+  return out;
+}
+
+Document with_params(const Document& doc, const BindParams& params) {
+  Document out = doc;
+  out.params = params;
+  out.revision = next_revision();
+  return out;
+}
+
+Document with_set_edits(const Document& doc, std::vector<SetEdit> edits) {
+  Document out = doc;
+  out.set_edits = std::move(edits);
+  out.revision = next_revision();
+  return out;
+}
+
+Document with_attachment(const Document& doc, AttachmentSettings attachment) {
+  Document out = doc;
+  out.attachment = std::move(attachment);
+  out.revision = next_revision();
+  return out;
+}
+
+Document with_keyposes(const Document& doc, std::vector<KeyposeSet> keyposes) {
+  Document out = doc;
+  out.keyposes = std::move(keyposes);
+  out.revision = next_revision();
+  return out;
+}
+
+Document with_sim(const Document& doc, SimSettings sim) {
+  Document out = doc;
+  out.sim = std::move(sim);
+  out.revision = next_revision();
+  return out;
+}
+
+Document with_patch_driver(const Document& doc, std::shared_ptr<const PatchDriver> driver) {
+  Document out = doc;
+  out.patch_driver = std::move(driver);
+  out.revision = next_revision();
+  return out;
+}
+
+Document with_character(const Document& doc, std::shared_ptr<const Character> character, std::string path,
+                        std::string hash) {
+  Document out = doc;
+  out.character = std::move(character);
+  out.character_path = std::move(path);
+  out.character_hash = std::move(hash);
+  out.revision = next_revision();
+  return out;
+}
+
+Document with_embedded_character(const Document& doc, std::shared_ptr<const std::string> bytes) {
+  CAGEWRAP_CHECK(!bytes || format_hash(fnv1a64(*bytes)) == doc.character_hash,
+                 "the embedded bytes must be the document's character file");
+  Document out = doc;
+  out.embedded_character = std::move(bytes);
+  out.revision = next_revision();
+  return out;
+}
+
+Document with_cache_binding(const Document& doc, bool cache) {
+  Document out = doc;
+  out.cache_binding = cache;
+  out.revision = next_revision();
+  return out;
+}
+
+bool same_params(const BindParams& a, const BindParams& b) {
+  return a == b;
+}
+
+namespace {
+bool same_patch_driver(const PatchDriver* a, const PatchDriver* b) {
+  return a == b || (a && b && *a == *b);
+}
+}  // namespace
+
+bool same_set_edits(std::span<const SetEdit> a, std::span<const SetEdit> b) {
+  if (a.size() != b.size()) return false;
+  for (size_t i = 0; i < a.size(); ++i)
+    if (a[i] != b[i]) return false;
+  return true;
+}
+
+namespace {
+bool same_cage(const Cage* a, const Cage* b) {
+  if (a == b) return true;
+  if (!a || !b) return false;
+  const PolyMesh &pa = a->polygons, &pb = b->polygons;
+  return pa.face_start == pb.face_start && pa.face_vertices == pb.face_vertices &&
+         pa.positions.size() == pb.positions.size() &&
+         std::memcmp(pa.positions.data(), pb.positions.data(), pa.positions.size() * sizeof(glm::vec3)) == 0;
+}
+
+// bit for bit, like the cage positions
+bool same_offsets(const std::vector<glm::vec3>& a, const std::vector<glm::vec3>& b) {
+  return a.size() == b.size() &&
+         (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(glm::vec3)) == 0);
+}
+
+// Sizes, not capacities: the estimate is then the same for a snapshot and its copies.
+template <class T>
+size_t vector_bytes(const std::vector<T>& v) {
+  return v.size() * sizeof(T);
+}
+}  // namespace
+
+bool same_content(const Document& a, const Document& b) {
+  return a.character_hash == b.character_hash && !a.embedded_character == !b.embedded_character &&
+         a.cache_binding == b.cache_binding && same_cage(a.cage.get(), b.cage.get()) &&
+         same_offsets(a.cage_offsets, b.cage_offsets) && same_params(a.params, b.params) &&
+         same_set_edits(a.set_edits, b.set_edits) && a.attachment == b.attachment &&
+         a.keyposes == b.keyposes && a.sim == b.sim &&
+         same_patch_driver(a.patch_driver.get(), b.patch_driver.get()) && a.preserved_fields == b.preserved_fields;
+}
+
+bool same_cage_motion(const Document& a, const Document& b) {
+  const bool same_character =
+      a.character == b.character || (!a.character_hash.empty() && a.character_hash == b.character_hash);
+  return same_character && same_cage(a.cage.get(), b.cage.get()) && same_offsets(a.cage_offsets, b.cage_offsets) && a.attachment == b.attachment && a.keyposes == b.keyposes &&
+         a.sim == b.sim;
+}
+
+size_t estimated_bytes(const Character& c) {
+  size_t n = sizeof(Character) + c.source.size();
+  n += c.skeleton.size() * sizeof(SkeletonNode) + c.skeleton.order().size() * sizeof(uint32_t);
+  for (const Skin& s : c.skins) n += sizeof(Skin) + vector_bytes(s.joints) + vector_bytes(s.inverse_bind);
+  for (const Primitive& p : c.primitives) {
+    n += sizeof(Primitive) + vector_bytes(p.positions) + vector_bytes(p.triangles) + vector_bytes(p.influence_start) +
+         vector_bytes(p.influence_joint) + vector_bytes(p.influence_weight) + vector_bytes(p.morph_weights);
+    for (const auto& m : p.morph_targets) n += vector_bytes(m);
+  }
+  for (const Clip& clip : c.clips) {
+    n += sizeof(Clip) + vector_bytes(clip.channels);
+    for (const auto& s : clip.samplers) n += sizeof(s) + vector_bytes(s.times) + vector_bytes(s.values);
+  }
+  for (const auto& w : c.warnings) n += sizeof(w) + w.size();
+  return n;
+}
+
+size_t estimated_bytes(const Cage& cage) {
+  return sizeof(Cage) + vector_bytes(cage.polygons.positions) + vector_bytes(cage.polygons.face_start) +
+         vector_bytes(cage.polygons.face_vertices) + vector_bytes(cage.elements) + vector_bytes(cage.element_face);
+}
+
+size_t estimated_own_bytes(const Document& doc) {
+  size_t n = sizeof(Document) + doc.character_path.size() + doc.character_hash.size() +
+             doc.preserved_fields.size() + doc.project_path.size() + vector_bytes(doc.set_edits);
+  for (const SetEdit& e : doc.set_edits) n += vector_bytes(e.exclude) + vector_bytes(e.include);
+  n += vector_bytes(doc.cage_offsets) + vector_bytes(doc.attachment.overrides) + vector_bytes(doc.keyposes);
+  n += vector_bytes(doc.sim.vertices) + vector_bytes(doc.sim.colliders);
+  for (const Collider& c : doc.sim.colliders) n += c.name.size();
+  if (doc.patch_driver)
+    for (const PatchSurface* s : {&doc.patch_driver->rest, &doc.patch_driver->posed})
+      for (const PatchGrid& g : s->grids) n += sizeof(PatchGrid) + vector_bytes(g.points);
+  for (const KeyposeSet& s : doc.keyposes) {
+    n += s.name.size() + vector_bytes(s.drivers) + vector_bytes(s.keys);
+    for (const KeyposeKey& k : s.keys)
+      n += vector_bytes(k.values) + vector_bytes(k.vertices) + vector_bytes(k.offsets);
+  }
+  return n;
+}
+
+}  // namespace cagewrap

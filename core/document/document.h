@@ -1,0 +1,145 @@
+// The artist's work as a value: which character, the rest cage, the binding parameters and the
+// set edits. Copying a Document is cheap: the big immutable data (the character, the cage) sits
+// behind shared_ptr<const T> and is replaced, never mutated, so undo snapshots share it
+// (goxel's image_history_push; Blender's BKE_undo_system memory-capped steps).
+// View state (camera, selection, current clip and time, panel layout) is not part of a Document.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "core/deform/binding.h"
+#include "core/cage/cage.h"
+#include "core/rig/cage_attachment.h"
+#include "core/cage/cage_sim.h"
+#include "core/rig/character.h"
+#include "core/rig/keyposes.h"
+#include "core/deform/patch_surface.h"
+#include "core/base/result.h"
+
+namespace cagewrap {
+
+// What a binding depends on, each as a content hash ("fnv1a64:<hex>"; core/deform/binding_cache.h makes
+// them): a cached binding is used only when every one matches the document.
+struct BindingInputs {
+  std::string program;     // the program and binding format that made it
+  std::string character;   // the character file's content hash
+  std::string cage;        // rest cage topology and positions, bit for bit
+  std::string params;      // every binding parameter
+  std::string set_edits;
+  std::string attachment;  // the attachment settings (the part labels of automatic separation)
+
+  bool operator==(const BindingInputs&) const = default;
+};
+
+// The binding cache a project file records (docs/project-format.md, "binding_cache").
+struct BindingCacheRecord {
+  std::string file;       // the .cwb file, absolute; "" = nothing cached
+  std::string file_hash;  // content hash of the .cwb file's bytes when it was written
+  BindingInputs inputs;   // what it was made from
+
+  bool operator==(const BindingCacheRecord&) const = default;
+};
+
+struct Document {
+  std::shared_ptr<const Character> character;  // never null in a document made by the functions here
+  std::string character_path;  // as given (command line, file dialog) or resolved from the project file
+  std::string character_hash;  // "fnv1a64:<hex>" of the character file's bytes (core/base/file_hash.h)
+  // The character file's bytes when the project embeds the character (saved in the project file,
+  // which then needs no other file to open; core/project_storage.h); null = the project names
+  // character_path. character_path then tells where the file came from.
+  std::shared_ptr<const std::string> embedded_character;
+  std::shared_ptr<const Cage> cage;  // the rest cage R; null = no cage yet; replaced on edit
+  BindParams params;
+  std::vector<SetEdit> set_edits;
+  // #Vc offsets of the driver cage D from the posed rest cage, each in the bind space of the joint
+  // its vertex follows (so a sculpted bulge travels with the limb); empty = none.
+  std::vector<glm::vec3> cage_offsets;
+  // How the cage follows the skeleton: rigid or smooth, and per-vertex joint overrides
+  // (core/rig/cage_attachment.h).
+  AttachmentSettings attachment;
+  // Cage vertex offsets keyed against joint angles (core/rig/keyposes.h), added to cage_offsets at
+  // each pose before the cage is posed (core/rig/rig.h).
+  std::vector<KeyposeSet> keyposes;
+  // Secondary motion of the cage (core/cage/cage_sim.h): on or off, parameters, per-vertex weights
+  // (#Vc or empty) and colliders; applied per clip by core/cage/clip_sim.h.
+  SimSettings sim;
+  // The parametric driver (core/deform/patch_surface.h, docs/parametric-drivers.md); null = none. Replaced,
+  // never mutated, like the cage.
+  std::shared_ptr<const PatchDriver> patch_driver;
+  // A JSON object (text) of what the project file held that this build does not understand
+  // ("extensions" and unknown top-level fields), written back unchanged on save. "" = nothing.
+  std::string preserved_fields;
+  std::string project_path;  // the .cagewrap file it was loaded from or last saved to; "" = never saved
+  // Whether saving the project also writes its binding beside it, so that opening it needs no bind
+  // (core/deform/binding_cache.h); a project property, saved.
+  bool cache_binding = false;
+  // The cache the project file recorded when it was loaded (not part of the work: where a
+  // by-product lies, like project_path); empty when none.
+  BindingCacheRecord binding_cache;
+  // A stamp from a process-wide counter, fresh for every content change made through the helpers
+  // below: two documents with the same revision have the same content (a renderer can key GPU
+  // copies on it; History's dirty flag compares it). Code that edits fields directly must set
+  // `revision = next_revision()`.
+  uint64_t revision = 0;
+
+  bool has_cage() const { return cage != nullptr; }
+  // #V x 3 rest cage positions (empty without a cage).
+  std::span<const glm::vec3> cage_positions() const;
+};
+
+uint64_t next_revision();
+
+// A new document: the character (glTF, through load_character) and, unless `cage_path` is empty,
+// a cage (OBJ/PLY/OFF/STL through load_mesh + make_cage). Default binding parameters, no edits.
+// Errors name the file.
+Result<Document> document_from_files(const std::string& character_path, const std::string& cage_path);
+
+// Copy-on-write edits: each returns a new document with a fresh revision and leaves `doc` alone.
+// Same topology, new rest positions (#V x 3; must have exactly cage->num_vertices() entries and
+// the document must have a cage: checked, aborts otherwise).
+Document with_cage_positions(const Document& doc, std::span<const glm::vec3> positions);
+// A different cage (new topology), or none (nullptr). When the vertex count changes, the per-vertex
+// data (cage offsets, attachment overrides, keyed vertex offsets) is dropped: it named the old
+// cage's vertices. (A topology edit that knows where vertices went should carry it instead:
+// overrides_per_vertex / with_overrides_per_vertex and dense_offsets / make_key give it per vertex.)
+Document with_cage(const Document& doc, std::shared_ptr<const Cage> cage);
+Document with_cage_offsets(const Document& doc, std::vector<glm::vec3> offsets);
+Document with_params(const Document& doc, const BindParams& params);
+Document with_set_edits(const Document& doc, std::vector<SetEdit> edits);
+Document with_attachment(const Document& doc, AttachmentSettings attachment);
+Document with_keyposes(const Document& doc, std::vector<KeyposeSet> keyposes);
+Document with_sim(const Document& doc, SimSettings sim);
+Document with_patch_driver(const Document& doc, std::shared_ptr<const PatchDriver> driver);
+// The character file moved (or was replaced): new path, hash and data.
+Document with_character(const Document& doc, std::shared_ptr<const Character> character, std::string path,
+                        std::string hash);
+// The character embedded (its file's bytes, whose hash must be character_hash: checked) or not (null).
+Document with_embedded_character(const Document& doc, std::shared_ptr<const std::string> bytes);
+Document with_cache_binding(const Document& doc, bool cache);
+
+// True when the work is the same: character hash and whether it is embedded, cage (topology, and
+// positions bit for bit), cage offsets, parameters, set edits, attachment settings, keyposes,
+// whether the binding is cached, and preserved fields. Paths, the binding cache record and
+// revisions are not compared.
+bool same_content(const Document& a, const Document& b);
+bool same_params(const BindParams& a, const BindParams& b);
+// True when the driver cage moves the same at every pose: same character hash, cage, cage offsets,
+// attachment settings, keyposes and simulation settings (what a cached simulation depends on).
+bool same_cage_motion(const Document& a, const Document& b);
+bool same_set_edits(std::span<const SetEdit> a, std::span<const SetEdit> b);
+
+// Estimated heap bytes, for the undo memory cap (History counts shared data once).
+size_t estimated_bytes(const Character& character);
+size_t estimated_bytes(const Cage& cage);
+// What a snapshot owns by value: set edits, cage offsets, attachment overrides, keyposes, the
+// parametric driver's control points, paths,
+// preserved fields (not the shared data: character, cage, embedded character bytes).
+size_t estimated_own_bytes(const Document& doc);
+
+}  // namespace cagewrap

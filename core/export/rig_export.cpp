@@ -1,0 +1,669 @@
+#include "core/export/rig_export.h"
+
+#include <tbb/parallel_for.h>
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+#include <glm/geometric.hpp>
+#include <glm/mat3x3.hpp>
+#include <glm/matrix.hpp>
+#include <numeric>
+
+#include "core/rig/keyposes.h"
+#include "core/io/mesh_io.h"
+#include "core/rig/skinning.h"
+
+namespace cagewrap {
+
+const char* export_mode_name(ExportMode m) {
+  switch (m) {
+    case ExportMode::kBakedAnimation:
+      return "baked-animation";
+    case ExportMode::kBakedSkin:
+      return "baked-skin";
+    case ExportMode::kCage:
+      return "cage";
+  }
+  return "?";
+}
+
+bool parse_export_mode(const std::string& name, ExportMode& out) {
+  for (ExportMode m : {ExportMode::kBakedAnimation, ExportMode::kBakedSkin, ExportMode::kCage})
+    if (name == export_mode_name(m)) {
+      out = m;
+      return true;
+    }
+  return false;
+}
+
+std::vector<double> export_frame_times(double duration, double fps) {
+  if (!(duration > 0.0) || !(fps > 0.0)) return {0.0};
+  const size_t n = std::max<size_t>(1, static_cast<size_t>(std::ceil(duration * fps - 1e-9)));
+  std::vector<double> t(n + 1);
+  for (size_t k = 0; k <= n; ++k) t[k] = duration * double(k) / double(n);
+  return t;
+}
+
+namespace {
+
+constexpr size_t kMaxInfluences = 4;
+constexpr size_t kNearestCageVertices = 8;
+constexpr size_t kMaxCandidates = 16;
+
+// Reports a stage's items as a share of the whole export: the stage covers [from, to).
+class StageProgress {
+ public:
+  explicit StageProgress(const ExportProgress& p) : p_(p) {}
+  void begin(const char* stage, double from, double to) {
+    stage_ = stage;
+    from_ = from;
+    to_ = to;
+  }
+  // False when the export was cancelled.
+  bool step(size_t done, size_t total) const {
+    if (p_.on_progress)
+      p_.on_progress(stage_, done, total,
+                     from_ + (to_ - from_) * (total ? double(done) / double(total) : 1.0));
+    return !p_.cancelled();
+  }
+
+ private:
+  const ExportProgress& p_;
+  const char* stage_ = "";
+  double from_ = 0.0, to_ = 1.0;
+};
+
+Error cancelled() {
+  return make_error(ErrorCode::kCancelled, "export cancelled");
+}
+
+void accumulate(ExportError& e, std::span<const glm::vec3> a, std::span<const glm::vec3> b) {
+  double sum = e.mean * double(e.samples);
+  for (size_t i = 0; i < a.size(); ++i) {
+    double d = glm::length(glm::dvec3(a[i]) - glm::dvec3(b[i]));
+    sum += d;
+    e.max = std::max(e.max, d);
+  }
+  e.samples += a.size();
+  e.mean = e.samples ? sum / double(e.samples) : 0.0;
+}
+
+// Keys one-hot morph weights over `total` targets: key k sets target first + k to 1.
+AnimationSampler one_hot_weights(const std::vector<double>& times, size_t first, size_t total) {
+  AnimationSampler s;
+  s.interpolation = Interpolation::kLinear;
+  s.components = static_cast<uint32_t>(total);
+  s.times.assign(times.begin(), times.end());
+  s.values.assign(times.size() * total, 0.0f);
+  for (size_t k = 0; k < times.size(); ++k) s.values[k * total + first + k] = 1.0f;
+  return s;
+}
+
+// The source clip's node channels (morph weight channels dropped: their meshes are not exported)
+// plus, when `weights` has keys, a channel on `mesh_node` stepping through the frame targets.
+Clip export_clip(const Clip& src, bool keep_nodes, uint32_t mesh_node, const AnimationSampler* weights) {
+  Clip c;
+  c.name = src.name;
+  c.duration = src.duration;
+  if (keep_nodes) {
+    std::vector<int> index(src.samplers.size(), -1);
+    for (const AnimationChannel& ch : src.channels) {
+      if (ch.path == ChannelPath::kWeights) continue;
+      if (index[ch.sampler] < 0) {
+        index[ch.sampler] = static_cast<int>(c.samplers.size());
+        c.samplers.push_back(src.samplers[ch.sampler]);
+      }
+      c.channels.push_back({ch.node, ch.path, static_cast<uint32_t>(index[ch.sampler])});
+    }
+  }
+  if (weights) {
+    c.channels.push_back({mesh_node, ChannelPath::kWeights, static_cast<uint32_t>(c.samplers.size())});
+    c.samplers.push_back(*weights);
+  }
+  return c;
+}
+
+// The source's nodes plus a root node with identity transform for the exported mesh.
+Result<Skeleton> skeleton_with_mesh_node(const Skeleton* source, const std::string& name) {
+  std::vector<SkeletonNode> nodes = source ? source->nodes() : std::vector<SkeletonNode>{};
+  SkeletonNode n;
+  n.name = name;
+  n.parent = -1;
+  nodes.push_back(n);
+  return Skeleton::create(std::move(nodes), "export");
+}
+
+// Copies of the character's primitives as one mesh on `node`.
+std::vector<Primitive> export_primitives(const Character& ch, uint32_t node) {
+  std::vector<Primitive> out;
+  for (size_t i = 0; i < ch.primitives.size(); ++i) {
+    const Primitive& p = ch.primitives[i];
+    Primitive q;
+    q.mesh_name = "skin";
+    q.mesh = 0;
+    q.primitive = static_cast<uint32_t>(i);
+    q.node = node;
+    q.positions = p.positions;
+    q.triangles = p.triangles;
+    out.push_back(std::move(q));
+  }
+  return out;
+}
+
+// Euclidean projection onto the simplex {w >= 0, sum w = 1} (Duchi et al., ICML 2008).
+void project_simplex(Eigen::VectorXd& w) {
+  Eigen::VectorXd u = w;
+  std::sort(u.data(), u.data() + u.size(), std::greater<double>());
+  double cum = 0.0, theta = 0.0;
+  for (Eigen::Index i = 0; i < u.size(); ++i) {
+    cum += u[i];
+    double t = (cum - 1.0) / double(i + 1);
+    if (u[i] - t > 0.0) theta = t;
+  }
+  for (Eigen::Index i = 0; i < w.size(); ++i) w[i] = std::max(0.0, w[i] - theta);
+}
+
+// argmin over the simplex of w^T G w - 2 h^T w: FISTA with step 1 / (2 lambda_max(G)).
+Eigen::VectorXd fit_simplex(const Eigen::MatrixXd& G, const Eigen::VectorXd& h, int iterations) {
+  const Eigen::Index k = h.size();
+  Eigen::VectorXd w = Eigen::VectorXd::Constant(k, 1.0 / double(k));
+  if (k == 1) return w;
+  Eigen::VectorXd v = Eigen::VectorXd::Ones(k);
+  double lambda = 0.0;
+  for (int i = 0; i < 30; ++i) {
+    Eigen::VectorXd g = G * v;
+    lambda = g.norm();
+    if (!(lambda > 0.0)) return w;
+    v = g / lambda;
+  }
+  const double step = 1.0 / (2.0 * lambda * 1.01);
+  Eigen::VectorXd y = w, prev = w;
+  double t = 1.0;
+  for (int it = 0; it < iterations; ++it) {
+    Eigen::VectorXd next = y - step * 2.0 * (G * y - h);
+    project_simplex(next);
+    double tn = 0.5 * (1.0 + std::sqrt(1.0 + 4.0 * t * t));
+    y = next + ((t - 1.0) / tn) * (next - prev);
+    prev = next;
+    t = tn;
+  }
+  return prev;
+}
+
+// Weights (sorted, largest first) with sum exactly 1 in float32, summed in order as a reader would:
+// the last (smallest) becomes 1 - (the sum of the others). That partial sum is at least 3/4 (the
+// smallest of at most 4 weights is at most 1/4), so by Sterbenz's lemma 1 - partial is exact and
+// partial + (1 - partial) = 1 exactly; the smallest weight moves by a rounding error (~1e-7).
+void float_weights_summing_to_one(std::vector<float>& w) {
+  if (w.size() == 1) {
+    w[0] = 1.0f;
+    return;
+  }
+  float partial = 0.0f;
+  for (size_t i = 0; i + 1 < w.size(); ++i) partial += w[i];
+  w.back() = std::max(0.0f, 1.0f - partial);
+}
+
+// LBS influences of every exported vertex (#P), at most kMaxInfluences, largest first, 0 = unused.
+struct FittedWeights {
+  std::vector<std::array<uint16_t, kMaxInfluences>> joint;
+  std::vector<std::array<float, kMaxInfluences>> weight;
+};
+
+// The fit (see rig_export.h) of every skin point to the sampled poses: sample s has the skin's
+// joint matrices joints[s] (#J) and the rig's positions x[s] (#P). Candidates: the point's own LBS
+// joints (`original`), then the attachment joints of its nearest rest cage vertices. Runs in
+// chunks of points so that progress is reported and cancel is seen; false when cancelled.
+bool fit_weights(std::span<const glm::vec3> rest_skin, const std::vector<std::vector<uint32_t>>& original,
+                 std::span<const glm::vec3> cage_rest, const CageAttachment& att,
+                 const std::vector<const std::vector<glm::mat4>*>& joints,
+                 const std::vector<const std::vector<glm::vec3>*>& x, StageProgress& progress,
+                 FittedWeights& out) {
+  const size_t np = rest_skin.size(), S = x.size();
+  out.joint.assign(np, {});
+  out.weight.assign(np, {});
+  auto fit_point = [&](size_t v, std::vector<std::pair<float, uint32_t>>& near) {
+    // Candidates: the vertex's own LBS joints, then the joints of its nearest cage vertices.
+    std::vector<uint32_t> cand = original[v];
+    near.clear();
+    for (uint32_t c = 0; c < cage_rest.size(); ++c) {
+      glm::vec3 d = cage_rest[c] - rest_skin[v];
+      near.push_back({glm::dot(d, d), c});
+    }
+    const size_t kn = std::min(kNearestCageVertices, near.size());
+    std::partial_sort(near.begin(), near.begin() + kn, near.end());
+    for (size_t i = 0; i < kn; ++i)
+      for (uint32_t e = att.influence_start[near[i].second]; e < att.influence_start[near[i].second + 1]; ++e)
+        cand.push_back(att.influence_joint[e]);
+    std::vector<uint32_t> uniq;
+    for (uint32_t j : cand)
+      if (std::find(uniq.begin(), uniq.end(), j) == uniq.end() && uniq.size() < kMaxCandidates)
+        uniq.push_back(j);
+    auto solve = [&](const std::vector<uint32_t>& js) {
+      const Eigen::Index k = static_cast<Eigen::Index>(js.size());
+      Eigen::MatrixXd G = Eigen::MatrixXd::Zero(k, k);
+      Eigen::VectorXd h = Eigen::VectorXd::Zero(k);
+      std::vector<glm::dvec3> a(js.size());
+      const glm::vec4 p(rest_skin[v], 1.0f);
+      for (size_t s = 0; s < S; ++s) {
+        for (size_t i = 0; i < js.size(); ++i) a[i] = glm::dvec3((*joints[s])[js[i]] * p);
+        const glm::dvec3 xs((*x[s])[v]);
+        for (Eigen::Index i = 0; i < k; ++i) {
+          h[i] += glm::dot(a[i], xs);
+          for (Eigen::Index j = i; j < k; ++j) G(i, j) += glm::dot(a[i], a[j]);
+        }
+      }
+      G.triangularView<Eigen::StrictlyLower>() = G.transpose();
+      return fit_simplex(G, h, 300);
+    };
+    Eigen::VectorXd w = solve(uniq);
+    std::vector<size_t> order(uniq.size());
+    std::iota(order.begin(), order.end(), 0);
+    std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return w[a] > w[b]; });
+    std::vector<uint32_t> best;
+    for (size_t i = 0; i < order.size() && best.size() < kMaxInfluences; ++i)
+      if (best.empty() || w[order[i]] > 1e-6) best.push_back(uniq[order[i]]);
+    Eigen::VectorXd wb = best.size() < uniq.size() ? solve(best) : Eigen::VectorXd();
+    if (wb.size() == 0) {
+      wb.resize(best.size());
+      for (size_t i = 0; i < best.size(); ++i) wb[i] = w[order[i]];
+    }
+    std::vector<std::pair<float, uint32_t>> kept;
+    for (size_t i = 0; i < best.size(); ++i)
+      if (wb[i] > 1e-6) kept.push_back({static_cast<float>(wb[i]), best[i]});
+    if (kept.empty()) kept.push_back({1.0f, best[0]});
+    std::sort(kept.begin(), kept.end(), [](auto& a, auto& b) { return a.first > b.first; });
+    float sum = 0.0f;
+    for (auto& [wt, j] : kept) sum += wt;
+    std::vector<float> fw;
+    for (auto& [wt, j] : kept) fw.push_back(wt / sum);
+    float_weights_summing_to_one(fw);
+    for (size_t i = 0; i < kept.size(); ++i) {
+      out.joint[v][i] = static_cast<uint16_t>(kept[i].second);
+      out.weight[v][i] = fw[i];
+    }
+  };
+  constexpr size_t kChunk = 2048;
+  for (size_t begin = 0; begin < np; begin += kChunk) {
+    const size_t end = std::min(np, begin + kChunk);
+    tbb::parallel_for(tbb::blocked_range<size_t>(begin, end, 64),
+                      [&](const tbb::blocked_range<size_t>& range) {
+                        std::vector<std::pair<float, uint32_t>> near;
+                        for (size_t v = range.begin(); v != range.end(); ++v) fit_point(v, near);
+                      });
+    if (!progress.step(end, np)) return false;
+  }
+  return true;
+}
+
+// The export's pose at a pose of the source character: its nodes' local transforms (the export
+// adds a mesh node after them), the mesh's morph weights left at their defaults (no clip plays).
+Pose export_pose_at(const Character& exported, const Pose& source) {
+  Pose p = sample_pose(exported, -1, 0.0);
+  for (size_t i = 0; i < source.local.size() && i < p.local.size(); ++i) p.local[i] = source.local[i];
+  return p;
+}
+
+}  // namespace
+
+Result<std::vector<ExportClipFrames>> export_clip_frames(const Character& ch, const ExportOptions& options) {
+  if (!(options.fps > 0.0) || !std::isfinite(options.fps))
+    return make_error(ErrorCode::kInvalidArgument,
+                      "the frame rate must be a positive number of frames per second");
+  std::vector<int32_t> clips = options.clips;
+  if (clips.empty())
+    for (size_t i = 0; i < ch.clips.size(); ++i) clips.push_back(static_cast<int32_t>(i));
+  std::vector<ExportClipFrames> frames;
+  size_t total = 0;
+  for (int32_t c : clips) {
+    if (c < 0 || c >= static_cast<int32_t>(ch.clips.size()))
+      return make_error(ErrorCode::kInvalidArgument, "clip " + std::to_string(c) +
+                                                         " is out of range (the character has " +
+                                                         std::to_string(ch.clips.size()) + ")");
+    frames.push_back({c, export_frame_times(ch.clips[c].duration, options.fps), total});
+    total += frames.back().times.size();
+  }
+  return frames;
+}
+
+std::vector<std::string> obj_sequence_paths(const Character& ch, std::span<const ExportClipFrames> frames,
+                                            const std::string& out) {
+  namespace fs = std::filesystem;
+  const bool stem = has_extension(out, ".obj");
+  const fs::path folder = stem ? fs::path(out).parent_path() : fs::path(out);
+  const std::string prefix = stem ? fs::path(out).stem().string() + "_" : std::string();
+  std::vector<std::string> names, paths;
+  for (const ExportClipFrames& cf : frames) {
+    std::string name =
+        cf.clip >= 0 && cf.clip < static_cast<int32_t>(ch.clips.size()) ? ch.clips[cf.clip].name : "";
+    for (char& c : name)
+      if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-' && c != '_' && c != '.') c = '_';
+    if (name.empty() || name == "." || name == ".." ||
+        std::find(names.begin(), names.end(), name) != names.end())
+      name = "clip" + std::to_string(cf.clip);
+    names.push_back(name);
+    const int digits = std::max<int>(4, static_cast<int>(std::to_string(cf.times.size() - 1).size()));
+    for (size_t k = 0; k < cf.times.size(); ++k) {
+      std::string index = std::to_string(k);
+      index.insert(0, static_cast<size_t>(std::max<int>(0, digits - static_cast<int>(index.size()))), '0');
+      paths.push_back((folder / (prefix + name + "_" + index + ".obj")).string());
+    }
+  }
+  return paths;
+}
+
+Result<ObjSequence> export_obj_sequence(const Document& doc, Rig& rig, const ExportOptions& options,
+                                        const std::string& out, const ExportProgress& progress) {
+  namespace fs = std::filesystem;
+  if (!doc.character || !doc.cage)
+    return make_error(ErrorCode::kInvalidArgument,
+                      "the document needs a character and a cage to export its rig");
+  const Character& ch = *doc.character;
+  auto clip_frames = export_clip_frames(ch, options);
+  if (!clip_frames) return clip_frames.error();
+  const std::vector<ExportClipFrames>& frames = *clip_frames;
+  ObjSequence r;
+  r.files = obj_sequence_paths(ch, frames, out);
+  r.frames = r.files.size();
+  if (!has_extension(out, ".obj")) {
+    std::error_code ec;
+    fs::create_directories(out, ec);
+    if (ec || !fs::is_directory(out))
+      return make_error(ErrorCode::kWrite, out + ": the folder for the OBJ files cannot be made (" +
+                                               (ec ? ec.message() : std::string("a file is in the way")) +
+                                               ")");
+  }
+  const bool cage = options.mode == ExportMode::kCage;
+  const PolyMesh topology = cage ? doc.cage->polygons : combined_topology(ch);
+  std::vector<glm::vec3> skin(rig.num_skin_points());
+  PosedCage posed;
+  StageProgress stage(progress);
+  stage.begin("writing", 0.0, 1.0);
+  // On failure or cancel the files written so far go: no partial sequence is left behind.
+  auto fail = [&](size_t written, Error e) {
+    for (size_t i = 0; i < written; ++i) {
+      std::error_code ec;
+      fs::remove(r.files[i], ec);
+    }
+    return e;
+  };
+  for (const ExportClipFrames& cf : frames)
+    for (size_t k = 0; k < cf.times.size(); ++k) {
+      const size_t f = cf.first + k;
+      if (auto s = rig.pose_clip(doc, cf.clip, cf.times[k], {}, posed, skin); !s)
+        return fail(f, s.error());
+      const std::string& path = r.files[f];
+      if (auto s = save_obj(
+              path, cage ? std::span<const glm::vec3>(posed.positions) : std::span<const glm::vec3>(skin),
+              topology);
+          !s)
+        return fail(f, s.error());  // not ours to remove: the file may have been there before
+      std::error_code ec;
+      r.bytes += fs::file_size(path, ec);
+      if (!stage.step(f + 1, r.frames)) return fail(f + 1, cancelled());
+    }
+  return r;
+}
+
+std::vector<Pose> keypose_sweep_poses(const Character& ch, std::span<const KeyposeSet> sets, int steps) {
+  std::vector<Pose> poses;
+  const Pose rest = ch.skeleton.rest_pose();
+  for (size_t i = 0; i < sets.size(); ++i) {
+    const KeyposeSet& set = sets[i];
+    if (!keypose_set_active(sets, i) || !validate_keypose_set(set, ch.skeleton.size(), SIZE_MAX)) continue;
+    for (const KeyposeKey& key : set.keys) {
+      if (std::all_of(key.values.begin(), key.values.end(), [](double v) { return v == 0.0; })) continue;
+      for (int s = 1; s <= steps; ++s) {
+        std::vector<double> values = key.values;
+        for (double& v : values) v *= double(s) / double(steps);
+        poses.push_back(pose_at_driver_values(set, values, ch.skeleton, rest));
+      }
+    }
+  }
+  return poses;
+}
+
+Result<ExportResult> export_rig(const Document& doc, Rig& rig, const ExportOptions& options,
+                                const ExportProgress& progress) {
+  if (!doc.character || !doc.cage)
+    return make_error(ErrorCode::kInvalidArgument,
+                      "the document needs a character and a cage to export its rig");
+  const Character& ch = *doc.character;
+  const CageAttachment* att = rig.attachment();
+  if (options.mode != ExportMode::kBakedAnimation && !att)
+    return make_error(
+        ErrorCode::kInvalidArgument,
+        std::string(export_mode_name(options.mode)) +
+            " needs a skeleton the cage follows; the character has no skin (use baked-animation)");
+  auto clip_frames = export_clip_frames(ch, options);
+  if (!clip_frames) return clip_frames.error();
+  const std::vector<ExportClipFrames>& frames = *clip_frames;
+
+  ExportResult r;
+  for (const ExportClipFrames& cf : frames) r.frames += cf.times.size();
+  if (!doc.keyposes.empty() && options.mode == ExportMode::kCage)
+    r.warnings.push_back("the cage export leaves out the " + std::to_string(doc.keyposes.size()) +
+                         " keypose set(s): a skinned cage cannot carry them");
+  // Shares of the whole export by stage (posing the rig dominates; the fit is next).
+  const bool skin_fit = options.mode == ExportMode::kBakedSkin;
+  const double posed_until = skin_fit ? 0.35 : options.mode == ExportMode::kCage ? 0.8 : 0.6;
+  StageProgress stage(progress);
+
+  // The rig at every frame and every keypose pose (#F + #K x #P), its posed cages (#Vc) and the
+  // skin's joint matrices (#J).
+  const std::vector<Pose> keypose_poses = options.mode == ExportMode::kBakedAnimation || !att
+                                              ? std::vector<Pose>{}
+                                              : keypose_sweep_poses(ch, doc.keyposes, options.keypose_steps);
+  r.keypose_poses = keypose_poses.size();
+  const size_t np = rig.num_skin_points(), posed_count = r.frames + r.keypose_poses;
+  std::vector<std::vector<glm::vec3>> skins(posed_count, std::vector<glm::vec3>(np));
+  std::vector<std::vector<glm::vec3>> cages(posed_count);
+  std::vector<std::vector<glm::mat4>> joints(posed_count);
+  {
+    PosedCage posed;
+    // a clip frame (clip >= 0: with the cage's simulation when it is on) or a keypose pose
+    auto pose_rig = [&](int32_t clip, double t, const Pose* pose, size_t f) -> Status {
+      if (auto s = pose ? rig.pose(doc, *pose, posed, skins[f]) : rig.pose_clip(doc, clip, t, {}, posed, skins[f]); !s)
+        return s.error();
+      cages[f] = posed.positions;
+      if (att) {
+        joints[f].resize(ch.skins[att->skin].joints.size());
+        joint_matrices(ch.skins[att->skin], posed.globals, joints[f]);
+      }
+      return Ok{};
+    };
+    stage.begin("posing", 0.0, posed_until * double(r.frames) / double(std::max<size_t>(1, posed_count)));
+    for (const ExportClipFrames& cf : frames)
+      for (size_t k = 0; k < cf.times.size(); ++k) {
+        if (auto s = pose_rig(cf.clip, cf.times[k], nullptr, cf.first + k); !s)
+          return s.error();
+        if (!stage.step(cf.first + k + 1, r.frames)) return cancelled();
+      }
+    stage.begin("keyposes", posed_until * double(r.frames) / double(std::max<size_t>(1, posed_count)),
+                posed_until);
+    for (size_t k = 0; k < keypose_poses.size(); ++k) {
+      if (auto s = pose_rig(-1, 0.0, &keypose_poses[k], r.frames + k); !s) return s.error();
+      if (!stage.step(k + 1, keypose_poses.size())) return cancelled();
+    }
+  }
+
+  const std::string node_name = options.mode == ExportMode::kCage ? "cage" : "skin";
+  auto sk = skeleton_with_mesh_node(options.mode == ExportMode::kBakedAnimation ? nullptr : &ch.skeleton,
+                                    node_name);
+  if (!sk) return sk.error();
+  Character& out = r.character;
+  out.source = "cagewrap export (" + std::string(export_mode_name(options.mode)) + ") of " + ch.source;
+  out.skeleton = std::move(sk).value();
+  const uint32_t mesh_node = static_cast<uint32_t>(out.skeleton.size() - 1);
+  if (options.mode != ExportMode::kBakedAnimation) out.skins = ch.skins;
+  // the reports' scale (every mode, the cage's too)
+  const Aabb rest_box = bounding_box(rig.skin_rest());
+  r.diagonal = rest_box.empty() ? 0.0 : rest_box.diagonal();
+
+  if (options.mode == ExportMode::kCage) {
+    Primitive p;
+    p.mesh_name = "cage";
+    p.node = mesh_node;
+    p.skin = static_cast<int32_t>(att->skin);
+    Pose rest = ch.skeleton.rest_pose();
+    PosedCage posed;
+    pose_document_cage(doc, att, rest, posed);
+    p.positions = posed.driver_rest;
+    p.triangles = doc.cage->elements;
+    p.influence_start = att->influence_start;
+    p.influence_joint.assign(att->influence_joint.begin(), att->influence_joint.end());
+    p.influence_weight = att->influence_weight;
+    out.primitives.push_back(std::move(p));
+    for (const ExportClipFrames& cf : frames)
+      out.clips.push_back(export_clip(ch.clips[cf.clip], true, mesh_node, nullptr));
+    stage.begin("measuring", posed_until, 1.0);
+    for (size_t c = 0; c < frames.size(); ++c)
+      for (size_t k = 0; k < frames[c].times.size(); ++k) {
+        Pose pose = sample_pose(out, static_cast<int32_t>(c), frames[c].times[k]);
+        accumulate(r.at_frames, skin_character(out, pose), cages[frames[c].first + k]);
+        if (!stage.step(frames[c].first + k + 1, posed_count)) return cancelled();
+      }
+    for (size_t k = 0; k < keypose_poses.size(); ++k) {
+      accumulate(r.at_keyposes, skin_character(out, export_pose_at(out, keypose_poses[k])),
+                 cages[r.frames + k]);
+      if (!stage.step(r.frames + k + 1, posed_count)) return cancelled();
+    }
+    r.fitted = r.at_frames;
+    return r;
+  }
+
+  out.primitives = export_primitives(ch, mesh_node);
+  const std::vector<glm::vec3> rest_skin(rig.skin_rest().begin(), rig.skin_rest().end());
+  // Skinning of every exported vertex (empty for baked-animation: identity).
+  FittedWeights fitted;
+
+  if (skin_fit) {
+    const Skin& skin = ch.skins[att->skin];
+    const size_t nj = skin.joints.size();
+    // Fitting samples: the rest pose, every frame and (unless told not to) the keypose sweep.
+    std::vector<glm::mat4> rest_joints(nj);
+    joint_matrices(skin, ch.skeleton.global_transforms(ch.skeleton.rest_pose()), rest_joints);
+    std::vector<glm::vec3> rest_rig(np);
+    {
+      PosedCage posed;
+      if (auto s = rig.pose(doc, ch.skeleton.rest_pose(), posed, rest_rig); !s) return s.error();
+    }
+    std::vector<const std::vector<glm::mat4>*> sample_joints{&rest_joints};
+    std::vector<const std::vector<glm::vec3>*> sample_x{&rest_rig};
+    const size_t fitted_poses = options.fit_keyposes ? posed_count : r.frames;
+    for (size_t f = 0; f < fitted_poses; ++f) {
+      sample_joints.push_back(&joints[f]);
+      sample_x.push_back(&skins[f]);
+    }
+    // Original LBS joints per point (when the primitive uses the cage's skin).
+    std::vector<std::vector<uint32_t>> original(np);
+    {
+      size_t off = 0;
+      for (const Primitive& p : ch.primitives) {
+        if (p.skin == static_cast<int32_t>(att->skin) && !p.influence_start.empty())
+          for (size_t v = 0; v < p.num_vertices(); ++v)
+            for (uint32_t e = p.influence_start[v]; e < p.influence_start[v + 1]; ++e)
+              original[off + v].push_back(p.influence_joint[e]);
+        off += p.num_vertices();
+      }
+    }
+    stage.begin("fitting", posed_until, 0.7);
+    if (!fit_weights(rest_skin, original, doc.cage_positions(), *att, sample_joints, sample_x, stage, fitted))
+      return cancelled();
+    size_t off = 0;
+    for (Primitive& p : out.primitives) {
+      p.skin = static_cast<int32_t>(att->skin);
+      p.influence_start.assign(1, 0);
+      for (size_t v = 0; v < p.num_vertices(); ++v) {
+        for (size_t i = 0; i < kMaxInfluences; ++i)
+          if (fitted.weight[off + v][i] > 0.0f) {
+            p.influence_joint.push_back(fitted.joint[off + v][i]);
+            p.influence_weight.push_back(fitted.weight[off + v][i]);
+          }
+        p.influence_start.push_back(static_cast<uint32_t>(p.influence_joint.size()));
+      }
+      off += p.num_vertices();
+    }
+  }
+
+  // One morph target per frame: what takes the exported mesh (unskinned, or skinned with the fitted
+  // weights) to the rig's skin at that frame, in bind space.
+  r.morph_targets = r.frames;
+  for (Primitive& p : out.primitives) {
+    p.morph_targets.assign(r.frames, std::vector<glm::vec3>(p.num_vertices()));
+    p.morph_weights.assign(r.frames, 0.0f);
+  }
+  const double targets_until = skin_fit ? 0.8 : 0.7;
+  stage.begin("correctives", skin_fit ? 0.7 : posed_until, targets_until);
+  for (size_t f = 0; f < r.frames; ++f) {
+    size_t off = 0;
+    for (Primitive& p : out.primitives) {
+      tbb::parallel_for(tbb::blocked_range<size_t>(0, p.num_vertices(), 1024),
+                        [&](const tbb::blocked_range<size_t>& range) {
+                          for (size_t v = range.begin(); v != range.end(); ++v) {
+                            const size_t i = off + v;
+                            if (fitted.joint.empty()) {
+                              p.morph_targets[f][v] = skins[f][i] - rest_skin[i];
+                              continue;
+                            }
+                            glm::dmat4 m(0.0);
+                            for (size_t k = 0; k < kMaxInfluences; ++k)
+                              if (fitted.weight[i][k] > 0.0f)
+                                m += double(fitted.weight[i][k]) * glm::dmat4(joints[f][fitted.joint[i][k]]);
+                            const glm::dvec3 lbs(m * glm::dvec4(glm::dvec3(rest_skin[i]), 1.0));
+                            const glm::dvec3 residual = glm::dvec3(skins[f][i]) - lbs;
+                            const glm::dmat3 l(m);
+                            const double det = glm::determinant(l);
+                            p.morph_targets[f][v] =
+                                glm::vec3(std::abs(det) > 1e-12 ? glm::inverse(l) * residual : residual);
+                          }
+                        });
+      off += p.num_vertices();
+    }
+    if (!stage.step(f + 1, r.frames)) return cancelled();
+  }
+  for (const ExportClipFrames& cf : frames) {
+    AnimationSampler w = one_hot_weights(cf.times, cf.first, r.frames);
+    out.clips.push_back(export_clip(ch.clips[cf.clip], skin_fit, mesh_node, &w));
+    out.clips.back().duration = std::max(out.clips.back().duration, cf.times.back());
+  }
+
+  // Errors against the rig, measured on the exported character itself (what a loader sees), and
+  // against the file's own skinning at the same frames.
+  stage.begin("measuring", targets_until, 1.0);
+  PosedCage posed;
+  std::vector<glm::vec3> live(np);
+  for (size_t c = 0; c < frames.size(); ++c) {
+    const ExportClipFrames& cf = frames[c];
+    for (size_t k = 0; k < cf.times.size(); ++k) {
+      Pose pose = sample_pose(out, static_cast<int32_t>(c), cf.times[k]);
+      const std::vector<glm::vec3> exported = skin_character(out, pose);
+      accumulate(r.at_frames, exported, skins[cf.first + k]);
+      if (!ch.skins.empty()) accumulate(r.vs_file, exported, skin_character(ch, sample_pose(ch, cf.clip, cf.times[k])));
+      if (skin_fit) {
+        pose.morph_weights[mesh_node].assign(r.frames, 0.0f);
+        accumulate(r.fitted, skin_character(out, pose), skins[cf.first + k]);
+      }
+      if (k + 1 < cf.times.size()) {
+        const double mid = 0.5 * (cf.times[k] + cf.times[k + 1]);
+        if (auto s = rig.pose_clip(doc, cf.clip, mid, {}, posed, live); !s) return s.error();
+        accumulate(r.between_frames, skin_character(out, sample_pose(out, static_cast<int32_t>(c), mid)),
+                   live);
+      }
+      if (!stage.step(cf.first + k + 1, posed_count)) return cancelled();
+    }
+  }
+  for (size_t k = 0; k < keypose_poses.size(); ++k) {
+    accumulate(r.at_keyposes, skin_character(out, export_pose_at(out, keypose_poses[k])),
+               skins[r.frames + k]);
+    if (!stage.step(r.frames + k + 1, posed_count)) return cancelled();
+  }
+  if (options.mode == ExportMode::kBakedAnimation) r.fitted = r.at_frames;
+  return r;
+}
+
+}  // namespace cagewrap

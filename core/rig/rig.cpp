@@ -1,0 +1,225 @@
+#include "core/rig/rig.h"
+
+#include <optional>
+
+#include "core/rig/attachment_fit.h"
+#include "core/cage/clip_sim.h"
+#include "core/rig/part_labels.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <numbers>
+
+#include "core/base/check.h"
+#include "core/rig/skinning.h"
+
+namespace cagewrap {
+
+Pose compose_pose(const Character& character, int32_t clip, double t, bool loop,
+                  std::span<const glm::quat> overrides) {
+  Pose pose = sample_pose(character, clip, t, loop);
+  for (size_t i = 0; i < overrides.size() && i < pose.local.size(); ++i)
+    pose.local[i].rotation = glm::normalize(pose.local[i].rotation * overrides[i]);
+  return pose;
+}
+
+glm::quat rotation_xyz_degrees(double rx, double ry, double rz) {
+  constexpr double kRad = std::numbers::pi / 180.0;
+  glm::dquat q = glm::angleAxis(rz * kRad, glm::dvec3(0, 0, 1)) *
+                 glm::angleAxis(ry * kRad, glm::dvec3(0, 1, 0)) *
+                 glm::angleAxis(rx * kRad, glm::dvec3(1, 0, 0));
+  return glm::quat(glm::normalize(q));
+}
+
+void pose_document_cage(const Document& doc, const CageAttachment* attachment, const Pose& pose,
+                        PosedCage& out) {
+  CAGEWRAP_CHECK(doc.cage && doc.character, "posing a cage needs a document with a character and a cage");
+  const Character& ch = *doc.character;
+  const size_t nv = doc.cage->num_vertices();
+  out.globals.resize(ch.skeleton.size());
+  ch.skeleton.global_transforms(pose, out.globals);
+  out.keypose_offsets.resize(nv);
+  evaluate_keyposes(doc.keyposes, ch.skeleton, pose, out.keypose_offsets);
+  const auto rest = doc.cage_positions();
+  out.driver_rest.resize(nv);
+  for (size_t v = 0; v < nv; ++v) {
+    out.driver_rest[v] = rest[v] + out.keypose_offsets[v];
+    if (v < doc.cage_offsets.size()) out.driver_rest[v] += doc.cage_offsets[v];
+  }
+  out.positions.resize(nv);
+  out.linear.resize(nv);
+  out.skinning.resize(nv);
+  out.attached = attachment && attachment->joint.size() == nv && attachment->skin < ch.skins.size();
+  if (out.attached) {
+    const Skin& skin = ch.skins[attachment->skin];
+    std::vector<glm::mat4> joints(skin.joints.size());
+    joint_matrices(skin, out.globals, joints);
+    pose_cage(*attachment, joints, out.driver_rest, out.positions, out.linear, out.skinning);
+  } else {
+    out.positions = out.driver_rest;
+    std::fill(out.linear.begin(), out.linear.end(), glm::dmat3(1.0));
+    std::fill(out.skinning.begin(), out.skinning.end(), glm::mat4(1.0f));
+  }
+}
+
+std::span<const glm::dmat3> cage_vertex_frames(const Binding& binding, const PosedCage& cage) {
+  const bool frames = binding.params.variant == Variant::kExtended && cage.attached;
+  return frames ? std::span<const glm::dmat3>(cage.linear) : std::span<const glm::dmat3>();
+}
+
+Status deform_through_cage(Deformer& deformer, const PosedCage& cage, std::span<glm::vec3> skin_out) {
+  return deformer.deform(cage.positions, skin_out, cage_vertex_frames(deformer.binding(), cage));
+}
+
+struct Rig::State {
+  Document doc;  // the document the rig was made for (its cage, parameters, set edits, attachment)
+  std::vector<glm::vec3> skin_rest;  // #P
+  std::optional<CageAttachment> attachment;
+  Binding binding;                   // the registration (sets, the cache)
+  std::optional<Binding> fitted;     // the stencil the deformer reads when fit_rig smoothed it
+  std::optional<Deformer> deformer;  // refers to fitted or binding and skin_rest: State never moves
+  SimCache sims;                     // the simulated clips (pose_clip)
+};
+
+Rig::Rig() = default;
+Rig::Rig(Rig&&) noexcept = default;
+Rig& Rig::operator=(Rig&&) noexcept = default;
+Rig::~Rig() = default;
+
+namespace {
+std::optional<PartLabels> document_labels(const Document& doc, const CageAttachment* attachment) {
+  if (!doc.params.separate || !attachment || !doc.character) return std::nullopt;
+  auto l = skeleton_part_labels(*doc.character, *attachment);
+  if (!l) return std::nullopt;  // without labels the bind simply does not separate
+  return std::move(l).value();
+}
+}  // namespace
+
+Result<Binding> bind_document(const Document& doc, std::span<const glm::vec3> skin_rest, const CageAttachment* attachment,
+                              const BindProgress& progress) {
+  if (!doc.cage) return make_error(ErrorCode::kInvalidArgument, "the document has no cage to bind to");
+  const std::optional<PartLabels> labels = document_labels(doc, attachment);
+  return bind_skin(skin_rest, *doc.cage, doc.cage_positions(), doc.params, doc.set_edits, progress, labels ? &*labels : nullptr);
+}
+
+bool rest_edit_params_fit(const BindParams& bound, double h, const BindParams& now) {
+  if (!(now.scale > 0)) return false;
+  BindParams b = bound;
+  if (b.scale <= 0) b.scale = h;
+  return b == now;
+}
+
+Result<Binding> rebind_document(const Document& doc, std::span<const glm::vec3> skin_rest, const CageAttachment* attachment,
+                                Binding previous, const CageAttachment* previous_attachment,
+                                const BindProgress& progress, RestRebindReport* report) {
+  const auto start = std::chrono::steady_clock::now();
+  auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+  if (doc.cage && rest_edit_params_fit(previous.params, previous.h, doc.params) && previous.num_points == skin_rest.size()) {
+    previous.params.scale = previous.h;  // the same binding: h came out as this scale
+    const auto labels = document_labels(doc, attachment);
+    // the labels the previous binding was made with: the same unless the attachment changed (each
+    // labelling is a pass over the whole skin)
+    const bool same_attachment = attachment == previous_attachment ||
+                                 (attachment && previous_attachment && *attachment == *previous_attachment);
+    const auto before = same_attachment ? std::nullopt : document_labels(doc, previous_attachment);
+    const PartLabels* before_labels = same_attachment ? (labels ? &*labels : nullptr) : (before ? &*before : nullptr);
+    auto r = rebind_moved_rest(previous, skin_rest, *doc.cage, doc.cage_positions(), doc.set_edits,
+                               labels ? &*labels : nullptr, before_labels);
+    if (r) {
+      if (report) *report = *r, report->seconds = elapsed();
+      if (progress.on_progress) progress.on_progress(1.0);
+      return previous;
+    }
+  }
+  auto full = bind_document(doc, skin_rest, attachment, progress);
+  if (full && report) *report = {doc.cage ? doc.cage->num_vertices() : 0, full->num_points, elapsed()};
+  return full;
+}
+
+Result<Rig> Rig::create(const Document& doc, const BindProgress& progress) {
+  return make(doc, nullptr, progress);
+}
+
+Result<Rig> Rig::create(const Document& doc, Binding binding) {
+  return make(doc, &binding, {});
+}
+
+Result<Rig> Rig::make(const Document& doc, Binding* binding, const BindProgress& progress) {
+  if (!doc.character) return make_error(ErrorCode::kInvalidArgument, "the document has no character");
+  if (!doc.cage)
+    return make_error(ErrorCode::kInvalidArgument, "the document has no cage to pose the skin with");
+  Rig rig;
+  rig.state_ = std::make_unique<State>();
+  State& s = *rig.state_;
+  s.doc = doc;
+  const Character& ch = *doc.character;
+  if (!ch.skins.empty()) {
+    auto att = attach_cage(ch, doc.cage_positions(), doc.attachment, doc.cage->elements);
+    if (!att) return make_error(att.error().code, "attachment: " + att.error().message);
+    s.attachment = std::move(att).value();
+  }
+  for (const Primitive& p : ch.primitives)
+    s.skin_rest.insert(s.skin_rest.end(), p.positions.begin(), p.positions.end());
+  if (binding) {
+    s.binding = std::move(*binding);
+  } else {
+    auto bound = bind_document(doc, s.skin_rest, s.attachment ? &*s.attachment : nullptr, progress);
+    if (!bound) return make_error(bound.error().code, "bind: " + bound.error().message);
+    s.binding = std::move(bound).value();
+  }
+  if (s.attachment && doc.attachment.mode == AttachmentMode::kFitted) {
+    auto f = fit_rig(ch, s.binding, doc.attachment, *s.attachment);
+    if (!f) return make_error(f.error().code, "attachment: " + f.error().message);
+    s.fitted = std::move(f).value();
+  }
+  auto deformer = Deformer::create(s.fitted ? *s.fitted : s.binding, s.skin_rest);
+  if (!deformer) return make_error(deformer.error().code, "bind: " + deformer.error().message);
+  s.deformer.emplace(std::move(deformer).value());
+  return rig;
+}
+
+bool Rig::fits(const Document& doc) const {
+  const Document& mine = state_->doc;
+  if (!doc.cage || !doc.character) return false;
+  if (doc.character != mine.character && doc.character_hash != mine.character_hash) return false;
+  if (doc.cage != mine.cage) {
+    const PolyMesh &a = doc.cage->polygons, &b = mine.cage->polygons;
+    if (a.face_start != b.face_start || a.face_vertices != b.face_vertices ||
+        a.positions.size() != b.positions.size() ||
+        std::memcmp(a.positions.data(), b.positions.data(), a.positions.size() * sizeof(glm::vec3)) != 0)
+      return false;
+  }
+  return same_params(doc.params, mine.params) && same_set_edits(doc.set_edits, mine.set_edits) &&
+         doc.attachment == mine.attachment;
+}
+
+Status Rig::pose(const Document& doc, const Pose& pose, PosedCage& cage, std::span<glm::vec3> skin_out) {
+  CAGEWRAP_CHECK(fits(doc),
+                 "Rig::pose: the document has another cage, binding parameters or attachment than the rig");
+  CAGEWRAP_CHECK(skin_out.size() == state_->skin_rest.size(), "one output position per skin point");
+  pose_document_cage(doc, state_->attachment ? &*state_->attachment : nullptr, pose, cage);
+  return deform_through_cage(*state_->deformer, cage, skin_out);
+}
+
+Status Rig::pose_clip(const Document& doc, int32_t clip, double t, std::span<const glm::quat> overrides,
+                      PosedCage& cage, std::span<glm::vec3> skin_out) {
+  CAGEWRAP_CHECK(fits(doc),
+                 "Rig::pose_clip: the document has another cage, binding parameters or attachment than the rig");
+  CAGEWRAP_CHECK(skin_out.size() == state_->skin_rest.size(), "one output position per skin point");
+  const Character& ch = *doc.character;
+  if (clip >= 0) t = clip_time(t, ch.clips[static_cast<size_t>(clip)].duration, false);
+  if (auto s = pose_simulated_cage(state_->sims, doc, attachment(), clip, t, compose_pose(ch, clip, t, false, overrides),
+                                   cage);
+      !s)
+    return s;
+  return deform_through_cage(*state_->deformer, cage, skin_out);
+}
+
+size_t Rig::num_skin_points() const { return state_->skin_rest.size(); }
+std::span<const glm::vec3> Rig::skin_rest() const { return state_->skin_rest; }
+const Binding& Rig::binding() const { return state_->binding; }
+const Binding& Rig::deformer_binding() const { return state_->fitted ? *state_->fitted : state_->binding; }
+const CageAttachment* Rig::attachment() const { return state_->attachment ? &*state_->attachment : nullptr; }
+
+}  // namespace cagewrap
