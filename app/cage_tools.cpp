@@ -1,4 +1,5 @@
 #include "app/cage_tools.h"
+#include "app/ui_text.h"
 
 #if CAGEWRAP_GUI
 #include <imgui/imgui.h>
@@ -29,8 +30,7 @@ void CageTools::commit_cage(Scene& scene, std::shared_ptr<const Cage> cage, cons
   std::vector<KeyposeSet> sets = d.keyposes;  // drivers and key values stay, their vertices go
   clear_vertex_data(sets);
   if (sets != d.keyposes) d = with_keyposes(d, std::move(sets));
-  scene.history.push(label, std::move(d));
-  scene.document_changed();
+  scene.apply(label, std::move(d));
 }
 
 void CageTools::start_auto_cage(Scene& scene) {
@@ -119,8 +119,7 @@ bool CageTools::apply_edit(Scene& scene, Result<CageEdit> edit, const std::strin
   }
   for (const auto& w : edit->warnings) hooks.log("warning: " + label + ": " + w, false);
   const size_t before = scene.doc().cage->polygons.num_faces();
-  scene.history.push(label, std::move(doc).value());
-  scene.document_changed();
+  scene.apply(label, std::move(doc).value());
   failing_.clear();  // they were found for the old cage
   hooks.log(label + ": " + std::to_string(before) + " -> " + std::to_string(scene.doc().cage->polygons.num_faces()) + " faces, " +
                 std::to_string(scene.doc().cage->num_vertices()) + " vertices",
@@ -223,11 +222,11 @@ void CageTools::draw_windows(Scene& scene, const EditorHooks&) {
       ImGui::Text("largest skin-to-cage distance %.4g; %u skin points outside (worst by %.3g)", r.max_distance, r.outside_points, r.max_outside);
       const bool good = r.quality >= 0.95;
       ImGui::TextColored(good ? ImVec4(0.5f, 0.9f, 0.5f, 1) : ImVec4(1, 0.7f, 0.3f, 1), "cage quality %.1f%%", 100.0 * r.quality);
-      ImGui::TextDisabled("share of skin points close to an element and projecting inside it (algorithm.md section 4)");
+      hint("share of skin points close to an element and projecting inside it (algorithm.md section 4)");
       if (!failing_.empty()) {
         ImGui::Checkbox("show the failing points in the viewport (red)", &show_failing_);
         ImGui::SameLine();
-        ImGui::TextDisabled("%zu points", failing_.size());
+        hint("%zu points", failing_.size());
       }
       ImGui::TextWrapped("%s", r.check.summary().c_str());
       for (const auto& w : r.warnings) {

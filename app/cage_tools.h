@@ -11,8 +11,8 @@
 #include <utility>
 #include <vector>
 
-#include "app/background_task.h"
-#include "app/editor_scene.h"
+#include "app/workspace/background_task.h"
+#include "app/workspace/scene.h"
 #include "core/cage/auto_cage.h"
 #include "core/geometry/topology_change.h"
 #include "core/geometry/selection.h"

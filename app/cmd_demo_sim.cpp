@@ -8,7 +8,7 @@
 
 #include "app/cli_common.h"
 #include "app/commands.h"
-#include "app/editor_scene.h"
+#include "app/workspace/scene.h"
 #include "core/cage/demo_sim.h"
 #include "core/io/gltf_loader.h"
 #include "core/io/gltf_writer.h"

@@ -24,5 +24,8 @@ struct EditorOptions {
 
 // Returns the process exit code.
 int run_editor(const EditorOptions& options);
+// The editor's action table (menus, shortcuts, panels and --script run it) as a Markdown table:
+// the workspace's actions and the window's. Opens no window.
+std::string editor_action_reference();
 
 }  // namespace cagewrap::app

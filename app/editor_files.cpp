@@ -70,6 +70,12 @@ void EditorFiles::remember(const render::ViewportStyle& style, int window_width,
   }
 }
 
+void EditorFiles::remember_panels(float left, float right, float bottom) {
+  prefs_.panel_left = static_cast<int>(left + 0.5f);
+  prefs_.panel_right = static_cast<int>(right + 0.5f);
+  prefs_.panel_bottom = static_cast<int>(bottom + 0.5f);
+}
+
 void EditorFiles::browse(FilePurpose purpose, const std::string& near_path, const std::string& file_name) {
   std::string dir = prefs_.last_directory;
   if (!near_path.empty()) dir = parent_directory(absolute_path(near_path));

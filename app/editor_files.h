@@ -26,6 +26,7 @@ class EditorFiles {
   // The display toggles and window size remembered, into and out of the editor.
   void apply(render::ViewportStyle& style) const;
   void remember(const render::ViewportStyle& style, int window_width, int window_height);
+  void remember_panels(float left, float right, float bottom);  // the splitters (app/workspace/panel_layout.h)
 
   // Opens the browser: in the folder of `near_path` when given, else the last folder browsed, else
   // the current folder; `file_name` prefills the name field when saving.

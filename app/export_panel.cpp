@@ -208,13 +208,25 @@ void ExportPanel::draw(Scene& scene, const EditorHooks& hooks) {
     ImGui::TextUnformatted("clips");
     ImGui::SameLine(110);
     if (clip_on_.size() != ch.clips.size()) clip_on_.assign(ch.clips.size(), 1);
+    // the check boxes wrap within the field column, so that many clips make the window taller, not
+    // wider than the screen; a long name is shortened (the tooltip has it whole)
+    const float right = ImGui::GetCursorScreenPos().x + kFieldWidth;
     for (size_t c = 0; c < ch.clips.size(); ++c) {
-      if (c) ImGui::SameLine();
       bool on = clip_on_[c] != 0;
+      const std::string& name = ch.clips[c].name;
+      const std::string shown = name.size() > 24 ? name.substr(0, 22) + ".." : name;
       char label[160];
-      std::snprintf(label, sizeof label, "%s (%.1f s)##clip%zu", ch.clips[c].name.c_str(),
-                    ch.clips[c].duration, c);
+      std::snprintf(label, sizeof label, "%s (%.1f s)##clip%zu", shown.c_str(), ch.clips[c].duration, c);
+      const float w = ImGui::GetFrameHeight() + ImGui::GetStyle().ItemInnerSpacing.x + ImGui::CalcTextSize(label, nullptr, true).x;
+      if (c) {
+        ImGui::SameLine();
+        if (ImGui::GetCursorScreenPos().x + w > right) {
+          ImGui::NewLine();
+          ImGui::SameLine(110);
+        }
+      }
       if (ImGui::Checkbox(label, &on)) clip_on_[c] = on;
+      if (shown != name && ImGui::IsItemHovered()) ImGui::SetTooltip("%s", name.c_str());
     }
     if (ch.clips.empty()) ImGui::TextDisabled("the character has no clips");
     float fps = static_cast<float>(request_.options.fps);
@@ -238,6 +250,7 @@ void ExportPanel::draw(Scene& scene, const EditorHooks& hooks) {
   ImGui::SameLine(110);
   ImGui::SetNextItemWidth(kFieldWidth);
   if (ImGui::InputText("##out", out_field_, sizeof out_field_)) request_.out = out_field_;
+  if (ImGui::IsItemHovered() && ImGui::CalcTextSize(out_field_).x > kFieldWidth) ImGui::SetTooltip("%s", out_field_);
   if (ImGui::IsItemHovered() && !request_.out.empty()) ImGui::SetTooltip("%s", request_.out.c_str());
   ImGui::SameLine();
   if (ImGui::Button("Browse...", ImVec2(80, 0))) browse_requested_ = true;

@@ -11,9 +11,9 @@
 #include <string>
 #include <vector>
 
-#include "app/background_task.h"
+#include "app/workspace/background_task.h"
 #include "app/cage_tools.h"
-#include "app/editor_scene.h"
+#include "app/workspace/scene.h"
 #include "app/file_browser.h"
 #include "core/export/rig_exporter.h"
 

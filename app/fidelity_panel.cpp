@@ -1,4 +1,5 @@
 #include "app/fidelity_panel.h"
+#include "app/ui_text.h"
 
 // The panel lives in the editor only (a build without the GUI has none).
 #if CAGEWRAP_GUI
@@ -170,7 +171,7 @@ void FidelityPanel::draw_warning(const Scene& scene, float x, float y) {
   if (stretch)
     ImGui::TextColored(bad, "A skin edge stretched %.1fx the file's skinning near joint '%s'", f.stretch,
                        joint_label(scene, f.stretch_joint).c_str());
-  ImGui::TextDisabled("Properties > Fidelity: heat map, check all clips; L shows the file's skinning");
+  hint("Properties > Fidelity: heat map, check all clips; L shows the file's skinning");
   ImGui::End();
 }
 
@@ -196,7 +197,7 @@ void FidelityPanel::draw(Scene& scene, const EditorHooks& hooks) {
       ImGui::TextColored(good, "within the thresholds");
     }
   } else {
-    ImGui::TextDisabled(scene.show_file_skinning ? "showing the file's skinning (L)" : "not bound yet");
+    hint(scene.show_file_skinning ? "showing the file's skinning (L)" : "not bound yet");
   }
   ImGui::Checkbox("heat map (distance to the file's skinning)", &heat_map);
   if (job_) {
@@ -208,7 +209,7 @@ void FidelityPanel::draw(Scene& scene, const EditorHooks& hooks) {
   }
   if (report_) {
     const FidelityReport& r = *report_;
-    if (report_key_ != doc_key(scene)) ImGui::TextDisabled("(of an earlier rig: check again)");
+    if (report_key_ != doc_key(scene)) hint("(of an earlier rig: check again)");
     if (ImGui::BeginTable("fidelity_clips", 4, ImGuiTableFlags_SizingStretchProp | ImGuiTableFlags_RowBg)) {
       ImGui::TableSetupColumn("clip");
       ImGui::TableSetupColumn("worst%");
@@ -239,7 +240,7 @@ void FidelityPanel::draw(Scene& scene, const EditorHooks& hooks) {
     for (const std::string& f : r.failures(scene.doc().character->skeleton)) ImGui::TextColored(bad, "%s", f.c_str());
     ImGui::PopTextWrapPos();
   } else if (!last_outcome_.empty()) {
-    ImGui::TextDisabled("last check: %s", last_outcome_.c_str());
+    hint("last check: %s", last_outcome_.c_str());
   }
 }
 

@@ -14,9 +14,9 @@
 
 #include <glm/vec4.hpp>
 
-#include "app/background_task.h"
+#include "app/workspace/background_task.h"
 #include "app/cage_tools.h"
-#include "app/editor_scene.h"
+#include "app/workspace/scene.h"
 #include "core/deform/fidelity.h"
 
 namespace cagewrap::app {

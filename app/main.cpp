@@ -50,6 +50,7 @@ int main(int argc, char** argv) {
   cagewrap::app::add_patch_command(app, exit_code);
   cagewrap::app::add_check_command(app, exit_code);
   cagewrap::app::add_probe_command(app, exit_code);
+  cagewrap::app::add_actions_command(app, exit_code);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,4 +1,5 @@
 #include "app/patch_panel.h"
+#include "app/ui_text.h"
 
 #include <utility>
 
@@ -93,8 +94,7 @@ void PatchPanel::new_driver(Scene& scene, PatchSurface rest, const std::string& 
 }
 
 void PatchPanel::commit(Scene& scene, std::shared_ptr<const PatchDriver> driver, const std::string& label) {
-  scene.history.push(label, with_patch_driver(scene.doc(), std::move(driver)));
-  scene.document_changed();
+  scene.apply(label, with_patch_driver(scene.doc(), std::move(driver)));
 }
 
 bool PatchPanel::change_driver(Scene& scene, const std::function<void(PatchDriver&)>& change, const std::string& label,
@@ -196,8 +196,7 @@ bool PatchPanel::move(Scene& scene, const glm::dvec3& delta, const EditorHooks& 
     hooks.log("error: parametric driver: select a control point to move", true);
     return false;
   }
-  scene.history.push("Move control point " + std::to_string(selected_), moved(scene.doc(), delta));
-  scene.document_changed();
+  scene.apply("Move control point " + std::to_string(selected_), moved(scene.doc(), delta));
   return true;
 }
 
@@ -269,14 +268,14 @@ void PatchPanel::draw(Scene& scene, const Selection& selection, const EditorHook
   ImGui::BeginDisabled(selection.cage_faces.empty());
   if (ImGui::Button("Fit patches to selected faces")) fit(scene, selection, hooks);
   ImGui::EndDisabled();
-  if (selection.cage_faces.empty()) ImGui::TextDisabled("(select a rectangle of cage quads, F6)");
+  if (selection.cage_faces.empty()) hint("(select a rectangle of cage quads, F6)");
   if (job_) {
     ImGui::ProgressBar(static_cast<float>(job_->progress()), ImVec2(-70, 0), "binding");
     ImGui::SameLine();
     if (ImGui::Button("Cancel")) job_->cancel();
   }
   if (!driver) {
-    ImGui::TextDisabled("No driver yet.");
+    hint("No driver yet.");
     ImGui::End();
     return;
   }
@@ -296,14 +295,10 @@ void PatchPanel::draw(Scene& scene, const Selection& selection, const EditorHook
     float v[3] = {float(p.x), float(p.y), float(p.z)};
     // one drag of the fields = one undo step
     if (ImGui::DragFloat3("position", v, 0.005f)) {
-      if (!scene.live) scene.history.begin(scene.doc());
-      scene.live = moved(scene.doc(), glm::dvec3(v[0], v[1], v[2]) - p);
+      if (!scene.dragging()) scene.begin_drag();
+      scene.drag(moved(scene.doc(), glm::dvec3(v[0], v[1], v[2]) - p));
     }
-    if (ImGui::IsItemDeactivated() && scene.live) {
-      scene.history.commit("Move control point " + std::to_string(selected_), *scene.live);
-      scene.live.reset();
-      scene.document_changed();
-    }
+    if (ImGui::IsItemDeactivated() && scene.dragging()) scene.commit_drag("Move control point " + std::to_string(selected_));
   }
   if (ImGui::Button("Reset the control points")) reset(scene, hooks);
   ImGui::End();

@@ -16,9 +16,9 @@
 #include <string>
 #include <vector>
 
-#include "app/background_task.h"
+#include "app/workspace/background_task.h"
 #include "app/cage_tools.h"
-#include "app/editor_scene.h"
+#include "app/workspace/scene.h"
 #include "core/deform/patch_binding.h"
 #include "app/workspace/picking.h"
 #include "core/geometry/selection.h"

@@ -112,7 +112,7 @@ void ProjectDialogs::set_embedded(Scene& scene, bool embed, const EditorHooks& h
       hooks.show_error(e.error().message);
       return;
     }
-    scene.history.push("Embed the character", std::move(e).value());
+    scene.apply("Embed the character", std::move(e).value());
     hooks.log("embedded the character " + doc.character_path + " in the project (" +
                   std::to_string(scene.doc().embedded_character->size()) + " bytes); save to keep it",
               false);
@@ -127,9 +127,7 @@ void ProjectDialogs::set_embedded(Scene& scene, bool embed, const EditorHooks& h
       return;
     }
     unembed_to(scene, doc.character_path, hooks);
-    return;
   }
-  scene.document_changed();
 }
 
 void ProjectDialogs::unembed_to(Scene& scene, const std::string& path, const EditorHooks& hooks) {
@@ -138,13 +136,12 @@ void ProjectDialogs::unembed_to(Scene& scene, const std::string& path, const Edi
     hooks.show_error(u.error().message);
     return;
   }
-  scene.history.push("Take the character out of the project", std::move(u).value());
-  scene.document_changed();
+  scene.apply("Take the character out of the project", std::move(u).value());
   hooks.log("the project names the character file " + scene.doc().character_path + " again; save to keep it", false);
 }
 
 void ProjectDialogs::set_cache_binding(Scene& scene, bool cache, const EditorHooks& hooks) {
-  scene.history.push(cache ? "Cache the binding" : "Stop caching the binding", with_cache_binding(scene.doc(), cache));
+  scene.apply(cache ? "Cache the binding" : "Stop caching the binding", with_cache_binding(scene.doc(), cache));
   hooks.log(cache ? "the binding will be saved beside the project (opening it then needs no bind)"
                   : "the binding will no longer be saved beside the project",
             false);

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "app/cage_tools.h"
-#include "app/editor_scene.h"
+#include "app/workspace/scene.h"
 #include "app/workspace/autosave.h"
 
 namespace cagewrap::app {

@@ -1,4 +1,5 @@
 #include "app/rig_panel.h"
+#include "app/ui_text.h"
 
 #if CAGEWRAP_GUI
 #include <imgui/imgui.h>
@@ -18,8 +19,7 @@
 namespace cagewrap::app {
 
 void RigPanel::commit(Scene& scene, Document doc, const std::string& label) {
-  scene.history.push(label, std::move(doc));
-  scene.document_changed();
+  scene.apply(label, std::move(doc));
 }
 
 bool RigPanel::set_attachment_mode(Scene& scene, AttachmentMode mode, double width, const EditorHooks&) {
@@ -144,7 +144,7 @@ void RigPanel::draw(Scene& scene, const Selection& sel, bool mirror, double tole
   const Document& doc = scene.doc();
   const Skeleton& sk = doc.character->skeleton;
   if (!doc.cage) {
-    ImGui::TextDisabled("no cage");
+    hint("no cage");
     ImGui::End();
     return;
   }
@@ -154,7 +154,7 @@ void RigPanel::draw(Scene& scene, const Selection& sel, bool mirror, double tole
                            "skin weights, fitted to the file's skinning"};
     int mode = static_cast<int>(doc.attachment.mode);
     float width = static_cast<float>(doc.attachment.smooth_width);
-    ImGui::SetNextItemWidth(220);
+    ImGui::SetNextItemWidth(doc.attachment.mode == AttachmentMode::kSmooth ? 220 : width_beside("cage follows"));
     bool changed = ImGui::Combo("cage follows", &mode, modes, 4);
     if (doc.attachment.mode == AttachmentMode::kSmooth) {
       ImGui::SameLine();
@@ -162,7 +162,7 @@ void RigPanel::draw(Scene& scene, const Selection& sel, bool mirror, double tole
       changed |= ImGui::InputFloat("width", &width, 0.0f, 0.0f, "%.2f", ImGuiInputTextFlags_EnterReturnsTrue);
     }
     if (changed && width > 0.f) set_attachment_mode(scene, static_cast<AttachmentMode>(mode), width, hooks);
-    ImGui::TextDisabled("%zu vertices assigned by hand", doc.attachment.overrides.size());
+    hint("%zu vertices assigned by hand", doc.attachment.overrides.size());
     const bool can = !sel.cage_vertices.empty();
     ImGui::BeginDisabled(!can || sel.joints.size() != 1);
     if (ImGui::Button("Assign to selected joint")) assign(scene, sel, false, mirror, tolerance, hooks);
@@ -171,7 +171,7 @@ void RigPanel::draw(Scene& scene, const Selection& sel, bool mirror, double tole
     ImGui::BeginDisabled(!can);
     if (ImGui::Button("Restore automatic")) assign(scene, sel, true, mirror, tolerance, hooks);
     ImGui::EndDisabled();
-    ImGui::TextDisabled("select cage vertices (F5) and a joint (outliner); X-mirror applies too");
+    hint("select cage vertices (F5) and a joint (outliner); X-mirror applies too");
   }
   if (ImGui::CollapsingHeader("Keyposes", ImGuiTreeNodeFlags_DefaultOpen)) {
     ImGui::BeginDisabled(sel.joints.size() != 1);
@@ -182,9 +182,9 @@ void RigPanel::draw(Scene& scene, const Selection& sel, bool mirror, double tole
     if (ImGui::Button("Z")) add_set(scene, sel, 2, hooks);
     ImGui::EndDisabled();
     ImGui::SameLine();
-    ImGui::TextDisabled("(rotation of the selected joint)");
+    hint("(rotation of the selected joint)");
     if (doc.keyposes.empty()) {
-      ImGui::TextDisabled("no keypose sets");
+      hint("no keypose sets");
     } else {
       current_ = std::min(current_, doc.keyposes.size() - 1);
       if (ImGui::BeginListBox("##sets", ImVec2(-1, 70))) {

@@ -10,7 +10,7 @@
 #include <glm/vec3.hpp>
 
 #include "app/cage_tools.h"
-#include "app/editor_scene.h"
+#include "app/workspace/scene.h"
 #include "core/geometry/selection.h"
 
 namespace cagewrap::app {

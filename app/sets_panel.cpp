@@ -1,4 +1,5 @@
 #include "app/sets_panel.h"
+#include "app/ui_text.h"
 
 #if CAGEWRAP_GUI
 #include <imgui/imgui.h>
@@ -56,19 +57,19 @@ bool SetsPanel::apply(Scene& scene, const Selection& sel, const IndexSet& points
   if (r->changed_points.empty()) return true;
   Document next = with_set_edits(doc, r->edits);
   if (stroking_) {
-    scene.live = std::move(next);
+    scene.drag(std::move(next));
+    if (!scene.update_set_edits_live(scene.doc().set_edits, r->changed_points)) scene.document_changed();  // a full rebind
   } else {
-    scene.history.push(std::string("Sets: ") + set_edit_mode_name(mode_) + " on " + std::to_string(points.size()) + " points",
-                       std::move(next));
+    scene.apply_set_edits(std::string("Sets: ") + set_edit_mode_name(mode_) + " on " + std::to_string(points.size()) + " points",
+                          std::move(next), r->changed_points);
   }
-  if (!scene.update_set_edits_live(scene.doc().set_edits, r->changed_points)) scene.document_changed();  // a full rebind
   colors_key_.clear();
   return true;
 }
 
 void SetsPanel::begin_stroke(Scene& scene) {
   brush_ = SkinBrush(scene.skin_posed(), scene.skin_triangles());
-  scene.history.begin(scene.doc());
+  scene.begin_drag();
   stroking_ = true;
 }
 
@@ -83,9 +84,8 @@ void SetsPanel::dab(Scene& scene, const Selection& sel, uint32_t triangle, const
 void SetsPanel::end_stroke(Scene& scene) {
   if (!stroking_) return;
   stroking_ = false;
-  if (scene.live) scene.history.commit(std::string("Paint sets: ") + set_edit_mode_name(mode_), *scene.live);
-  else scene.history.cancel();
-  scene.live.reset();
+  // the stroke's edits are in the binding already (update_set_edits_live): nothing to refresh
+  scene.commit_drag(std::string("Paint sets: ") + set_edit_mode_name(mode_), /*refresh=*/false);
 }
 
 const std::vector<glm::vec4>& SetsPanel::colors(const Scene& scene, const Selection& sel) {
@@ -178,7 +178,7 @@ void SetsPanel::draw(Scene& scene, const Selection& sel, const EditorHooks& hook
   }
   const Binding* b = scene.binding.get();
   if (!b || !scene.doc().cage) {
-    ImGui::TextDisabled("bind a cage first");
+    hint("bind a cage first");
     ImGui::End();
     return;
   }
@@ -195,7 +195,7 @@ void SetsPanel::draw(Scene& scene, const Selection& sel, const EditorHooks& hook
     }
     ImGui::Dummy(ImVec2(w, h));
     ImGui::SameLine();
-    ImGui::TextDisabled(map_ == SetMap::kInfluence ? "0 .. 1" : "low .. high");
+    hint(map_ == SetMap::kInfluence ? "0 .. 1" : "low .. high");
   } else if (map_ == SetMap::kFlags) {
     ImGui::TextColored(ImVec4(0.9f, 0.1f, 0.1f, 1), "empty");
     ImGui::SameLine();
@@ -203,7 +203,7 @@ void SetsPanel::draw(Scene& scene, const Selection& sel, const EditorHooks& hook
     ImGui::SameLine();
     ImGui::TextColored(ImVec4(1, 0.65f, 0.1f, 1), "projects outside every element");
   }
-  if (b->separation_applied) ImGui::TextDisabled("separation kept %llu element-point pairs apart", static_cast<unsigned long long>(b->total_separated));
+  if (b->separation_applied) hint("separation kept %llu element-point pairs apart", static_cast<unsigned long long>(b->total_separated));
   ImGui::Separator();
   if (sel.skin_vertices.size() == 1) {
     const uint32_t p = sel.skin_vertices.indices()[0];
@@ -213,7 +213,7 @@ void SetsPanel::draw(Scene& scene, const Selection& sel, const EditorHooks& hook
       for (const auto& m : ps->members) ImGui::BulletText("element %u (face %u): weight %.3f", m.element, m.face, m.weight);
     }
   } else {
-    ImGui::TextDisabled("select one skin vertex (F7) to list its elements and weights");
+    hint("select one skin vertex (F7) to list its elements and weights");
   }
   ImGui::Separator();
   int mode = static_cast<int>(mode_);
@@ -221,7 +221,7 @@ void SetsPanel::draw(Scene& scene, const Selection& sel, const EditorHooks& hook
   ImGui::Combo("edit", &mode, modes, 4);
   mode_ = static_cast<SetEditMode>(mode);
   ImGui::Checkbox("mirror (X)", &mirror_);
-  ImGui::TextDisabled("%zu cage faces selected (F6), %zu skin vertices (F7)", sel.cage_faces.size(), sel.skin_vertices.size());
+  hint("%zu cage faces selected (F6), %zu skin vertices (F7)", sel.cage_faces.size(), sel.skin_vertices.size());
   ImGui::BeginDisabled(sel.joints.empty());
   if (ImGui::Button("Select the faces of the selected joints' limbs")) select_limb_ = true;
   ImGui::EndDisabled();
@@ -240,7 +240,7 @@ void SetsPanel::draw(Scene& scene, const Selection& sel, const EditorHooks& hook
   } else if (ImGui::SliderFloat("brush radius", &r, 1e-3f * size, 0.3f * size, "%.4f", ImGuiSliderFlags_Logarithmic)) {
     brush_radius_ = r;
   }
-  ImGui::TextDisabled("%zu points have edited sets", scene.doc().set_edits.size());
+  hint("%zu points have edited sets", scene.doc().set_edits.size());
   ImGui::End();
 }
 

@@ -16,7 +16,7 @@
 #include <glm/vec4.hpp>
 
 #include "app/cage_tools.h"
-#include "app/editor_scene.h"
+#include "app/workspace/scene.h"
 #include "core/geometry/selection.h"
 #include "core/document/set_editing.h"
 #include "core/document/skin_brush.h"

@@ -1,4 +1,5 @@
 #include "app/sim_panel.h"
+#include "app/ui_text.h"
 
 #if CAGEWRAP_GUI
 #include <imgui/imgui.h>
@@ -17,8 +18,7 @@ bool SimPanel::commit(Scene& scene, SimSettings sim, const std::string& label, c
     hooks.show_error(v.error().message);  // the document is kept as it was
     return false;
   }
-  scene.history.push(label, with_sim(doc, std::move(sim)));
-  scene.document_changed();
+  scene.apply(label, with_sim(doc, std::move(sim)));
   return true;
 }
 
@@ -101,7 +101,7 @@ void SimPanel::draw(Scene& scene, std::span<const std::pair<uint32_t, float>> we
   }
   const Document& doc = scene.doc();
   if (!doc.cage) {
-    ImGui::TextDisabled("no cage");
+    hint("no cage");
     ImGui::End();
     return;
   }
@@ -117,13 +117,13 @@ void SimPanel::draw(Scene& scene, std::span<const std::pair<uint32_t, float>> we
       std::vector<double> ms;
       for (const SimFrameStats& s : sim->stats()) ms.push_back(s.ms);
       std::nth_element(ms.begin(), ms.begin() + static_cast<ptrdiff_t>(ms.size() / 2), ms.end());
-      ImGui::TextDisabled("%zu free of %zu vertices, %zu edges; %.3f ms a frame (median)", sim->solver().num_free(),
+      hint("%zu free of %zu vertices, %zu edges; %.3f ms a frame (median)", sim->solver().num_free(),
                           sim->solver().num_vertices(), sim->solver().num_edges(), ms[ms.size() / 2]);
     }
   } else if (on && !scene.sim_error.empty()) {
     ImGui::TextColored(ImVec4(1, 0.4f, 0.3f, 1), "%s", scene.sim_error.c_str());
   } else if (on) {
-    ImGui::TextDisabled("plays with a clip (choose one in the timeline)");
+    hint("plays with a clip (choose one in the timeline)");
   }
 
   if (ImGui::CollapsingHeader("Parameters", ImGuiTreeNodeFlags_DefaultOpen)) {
@@ -174,7 +174,7 @@ void SimPanel::draw(Scene& scene, std::span<const std::pair<uint32_t, float>> we
   if (ImGui::CollapsingHeader("Weights", ImGuiTreeNodeFlags_DefaultOpen)) {
     size_t free = 0;
     for (const SimVertex& w : doc.sim.vertices) free += !w.pinned && w.stiffness < 1.0f;
-    ImGui::TextDisabled("%zu of %zu cage vertices simulated; %zu selected", free, doc.cage->num_vertices(), weights.size());
+    hint("%zu of %zu cage vertices simulated; %zu selected", free, doc.cage->num_vertices(), weights.size());
     ImGui::PushItemWidth(70);
     ImGui::DragFloat("mass", &mass_, 0.01f, 0.01f, 100.0f, "%.2f");
     ImGui::SameLine();
@@ -185,7 +185,7 @@ void SimPanel::draw(Scene& scene, std::span<const std::pair<uint32_t, float>> we
     ImGui::SameLine();
     if (ImGui::Button("Pin selected")) set_weights(scene, weights, true, mass_, stiffness_, hooks);
     ImGui::EndDisabled();
-    ImGui::TextDisabled("soft selection (B) blends the weights in; colours: grey pinned, yellow stiff, red soft");
+    hint("soft selection (B) blends the weights in; colours: grey pinned, yellow stiff, red soft");
   }
 
   if (ImGui::CollapsingHeader("Colliders", ImGuiTreeNodeFlags_DefaultOpen)) {
@@ -208,7 +208,7 @@ void SimPanel::draw(Scene& scene, std::span<const std::pair<uint32_t, float>> we
     ImGui::SameLine();
     if (ImGui::Button("Add capsule"))
       add_collider(scene, {"capsule", ColliderKind::kCapsule, {-0.4, 0.9, 0.4}, {0.4, 0.9, 0.4}, 0.08, -1}, hooks);
-    ImGui::TextDisabled("%s", doc.sim.params.skeleton_colliders ? "and the skeleton's bone capsules" : "");
+    hint("%s", doc.sim.params.skeleton_colliders ? "and the skeleton's bone capsules" : "");
   }
   ImGui::End();
 }

@@ -12,7 +12,7 @@
 #include <glm/vec4.hpp>
 
 #include "app/cage_tools.h"
-#include "app/editor_scene.h"
+#include "app/workspace/scene.h"
 
 namespace cagewrap::app {
 

@@ -20,7 +20,7 @@
 #include <algorithm>
 #include <vector>
 
-#include "app/editor_scene.h"
+#include "app/workspace/scene.h"
 #include "render/gpu_deformer.h"
 #include "render/gpu_timer.h"
 #include "render/viewport_renderer.h"

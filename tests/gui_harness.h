@@ -15,6 +15,8 @@
 
 #include <stb_image.h>
 
+#include "app/workspace/panel_layout.h"
+
 namespace cagewrap::test {
 
 struct Image {
@@ -108,8 +110,11 @@ inline Image screenshot(const std::string& args, const std::string& name) {
   return img;
 }
 
-// The 3-D view: what the fixed panels leave free (see app/editor.cpp).
-constexpr int kLeft = 262, kRight = 302, kTop = 21, kBottom = 172;
+// The 3-D view in a fresh configuration: what the panels leave free at their default sizes (read
+// from the editor's own layout, app/workspace/panel_layout.h), 2 pixels in from their borders.
+constexpr cagewrap::app::PanelLayout kDefaultLayout{};
+constexpr int kLeft = static_cast<int>(kDefaultLayout.left) + 2, kRight = static_cast<int>(kDefaultLayout.right) + 2,
+              kTop = static_cast<int>(cagewrap::app::PanelLayout::kMenuHeight) + 2, kBottom = static_cast<int>(kDefaultLayout.bottom) + 2;
 
 // A rectangle of window pixels [x0, x1) x [y0, y1).
 struct PixelRect {
@@ -117,7 +122,8 @@ struct PixelRect {
   bool contains(int x, int y) const { return x >= x0 && x < x1 && y >= y0 && y < y1; }
 };
 // Where the stats overlay (fps, frame times: different on every run) sits in the view's top left.
-constexpr PixelRect kStatsOverlay{kLeft, kTop, kLeft + 420, kTop + 200};
+// (below the toolbar when the view is too narrow for both side by side, as at 1280 x 720)
+constexpr PixelRect kStatsOverlay{kLeft, kTop, kLeft + 420, kTop + 270};
 
 // Share of the view's pixels (those outside `exclude`: by default the stats overlay, whose timings
 // differ on every run) that differ by more than `tolerance` in a channel.

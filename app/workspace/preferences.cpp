@@ -18,6 +18,7 @@ namespace {
 
 constexpr const char* kFormat = "cagewrap-preferences";
 constexpr int kMinWindow = 200, kMaxWindow = 16384;
+constexpr int kMinPanel = 100;  // pixels: a panel narrower than this shows nothing useful
 constexpr double kMaxAutosaveSeconds = 24 * 3600;
 
 struct Flag {
@@ -88,6 +89,25 @@ void read_known_fields(Json& j, Preferences& p, const std::string& path, std::ve
       j.erase(it);
     }
   }
+  if (auto it = j.find("panels"); it != j.end()) {
+    if (it->is_object()) {
+      for (auto [key, member] : {std::pair{"left", &Preferences::panel_left}, std::pair{"right", &Preferences::panel_right},
+                                 std::pair{"bottom", &Preferences::panel_bottom}}) {
+        auto f = it->find(key);
+        if (f == it->end()) continue;
+        if (f->is_number_integer() && f->get<int64_t>() >= kMinPanel && f->get<int64_t>() <= kMaxWindow)
+          p.*member = f->get<int>();
+        else
+          bad(std::string("panels.") + key, "is not a whole number of pixels from " + std::to_string(kMinPanel) + " to " +
+                                                std::to_string(kMaxWindow));
+        it->erase(f);
+      }
+      if (it->empty()) j.erase(it);
+    } else {
+      bad("panels", "is not an object");
+      j.erase(it);
+    }
+  }
   if (auto it = j.find("autosave"); it != j.end()) {
     if (it->is_object()) {
       if (auto f = it->find("interval_seconds"); f != it->end()) {
@@ -141,6 +161,7 @@ bool operator==(const Preferences& a, const Preferences& b) {
   for (const Flag& f : kDisplayFlags) flags = flags && a.*f.member == b.*f.member;
   return flags && a.recent_files == b.recent_files && a.window_width == b.window_width &&
          a.window_height == b.window_height && a.last_directory == b.last_directory &&
+         a.panel_left == b.panel_left && a.panel_right == b.panel_right && a.panel_bottom == b.panel_bottom &&
          a.autosave_seconds == b.autosave_seconds &&
          a.preserved_fields == b.preserved_fields;
 }
@@ -219,6 +240,7 @@ std::string preferences_to_json(const Preferences& prefs) {
   for (const auto& r : prefs.recent_files)
     if (json_can_hold(r)) j["recent_files"].push_back(r);
   j["window"] = {{"width", prefs.window_width}, {"height", prefs.window_height}};
+  j["panels"] = {{"left", prefs.panel_left}, {"right", prefs.panel_right}, {"bottom", prefs.panel_bottom}};
   j["last_directory"] = json_can_hold(prefs.last_directory) ? prefs.last_directory : std::string();
   Json display = Json::object();
   for (const Flag& f : kDisplayFlags) display[f.key] = prefs.*f.member;

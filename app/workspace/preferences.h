@@ -18,6 +18,9 @@ inline constexpr size_t kMaxRecentFiles = 10;
 struct Preferences {
   std::vector<std::string> recent_files;  // absolute paths, most recent first, at most kMaxRecentFiles
   int window_width = 1600, window_height = 900;
+  // the editor's panel sizes in pixels (app/workspace/panel_layout.h: the defaults, and how a small
+  // window shrinks them)
+  int panel_left = 260, panel_right = 340, panel_bottom = 170;
   std::string last_directory;  // the folder the file browser showed last; "" = the current folder
   // display toggles (View menu)
   bool show_skin = true, show_cage = true, show_skeleton = true, show_grid = true;

@@ -1,5 +1,5 @@
 // Posing a document: the one path from a skeleton pose to a posed cage and a deformed skin,
-// shared by the editor (app/editor_scene.cpp) and `cagewrap pose`.
+// shared by the editor (app/workspace/scene.cpp) and `cagewrap pose`.
 //
 //   keypose_v = evaluate_keyposes(doc.keyposes, skeleton, pose)            (bind space)
 //   driver_rest_v = rest_v + doc.cage_offsets[v] + keypose_v                (bind space)

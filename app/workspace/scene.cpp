@@ -1,4 +1,4 @@
-#include "app/editor_scene.h"
+#include "app/workspace/scene.h"
 
 #include "core/rig/attachment_fit.h"
 
@@ -148,8 +148,59 @@ void Scene::start_bind() {
 
 void Scene::rebind() {
   if (!doc().cage || job || live) return;
-  if (!(params == doc().params)) history.push("Change binding parameters", with_params(doc(), params));
+  if (!(params == doc().params)) history_.push("Change binding parameters", with_params(doc(), params));
   start_bind();
+}
+
+bool Scene::apply(std::string label, Document next) {
+  if (!history_.push(std::move(label), std::move(next))) return false;
+  document_changed();
+  return true;
+}
+
+bool Scene::apply_set_edits(std::string label, Document next, std::span<const uint32_t> points) {
+  if (!history_.push(std::move(label), std::move(next))) return false;
+  if (!update_set_edits_live(doc().set_edits, points)) document_changed();  // a full rebind
+  return true;
+}
+
+void Scene::begin_drag() {
+  live.reset();
+  history_.begin(doc());
+}
+
+bool Scene::commit_drag(std::string label, bool refresh) {
+  bool changed = false;
+  if (live) changed = history_.commit(std::move(label), *live);
+  else history_.cancel();
+  live.reset();
+  if (changed && refresh) document_changed();
+  return changed;
+}
+
+void Scene::cancel_drag() {
+  const bool had = live.has_value();
+  history_.cancel();
+  live.reset();
+  if (had) document_changed();
+}
+
+std::string Scene::undo() {
+  if (!history_.can_undo()) return {};
+  std::string label = history_.undo_label();
+  live.reset();
+  history_.undo();
+  document_changed();
+  return label;
+}
+
+std::string Scene::redo() {
+  if (!history_.can_redo()) return {};
+  std::string label = history_.redo_label();
+  live.reset();
+  history_.redo();
+  document_changed();
+  return label;
 }
 
 void Scene::document_changed() {

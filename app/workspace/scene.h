@@ -12,7 +12,7 @@
 
 #include <glm/gtc/quaternion.hpp>
 
-#include "app/background_task.h"
+#include "app/workspace/background_task.h"
 #include "core/rig/animation.h"
 #include "core/cage/cage.h"
 #include "core/rig/cage_attachment.h"
@@ -59,10 +59,35 @@ std::unique_ptr<BindJob> start_rest_edit_job(std::vector<glm::vec3> skin, Docume
                                              std::shared_ptr<RestRebindReport> report, FitRequest fit = {});
 
 struct Scene {
-  explicit Scene(Document doc) : history(std::move(doc)) {}
-  History history;  // the document and its undo steps
+  explicit Scene(Document doc) : history_(std::move(doc)) {}
   std::optional<Document> live;  // during a drag: the document being edited (history holds its start)
-  const Document& doc() const { return live ? *live : history.current(); }
+  const Document& doc() const { return live ? *live : history_.current(); }
+
+  // ---- Changing the document: the only place that records undo steps and refreshes what derives
+  // from the document (attachment, binding, deformer). Panels and tools change it only through these.
+  // One edit, one undo step ("Move cage vertices"); then everything derived is brought up to date
+  // (document_changed). False when `next` is the current document (nothing recorded).
+  bool apply(std::string label, Document next);
+  // The same for a set edit of `points`: re-registers only those points when it can
+  // (update_set_edits_live), else rebinds.
+  bool apply_set_edits(std::string label, Document next, std::span<const uint32_t> points);
+  // A drag (gizmo, brush stroke, slider): begin_drag remembers the document before it; `live` holds
+  // the document while it changes (drag); commit_drag makes the whole drag one undo step (false when
+  // it changed nothing) and cancel_drag restores the start. `refresh`: call document_changed after.
+  void begin_drag();
+  void drag(Document next) { live = std::move(next); }
+  bool dragging() const { return history_.dragging(); }
+  bool commit_drag(std::string label, bool refresh = true);
+  void cancel_drag();
+  // Undo and redo one step; return the step's label ("" when there was none).
+  std::string undo();
+  std::string redo();
+  // The undo steps (read-only: labels, dirty state, memory).
+  const History& history() const { return history_; }
+  // The document was written to `path` (the save point) / came from a recovery file (dirty until saved).
+  void mark_saved(const std::string& path) { history_.mark_saved(path); }
+  void mark_unsaved() { history_.mark_unsaved(); }
+  bool dirty() const { return history_.dirty(doc()); }
 
   std::vector<glm::vec3> skin_rest;  // #V bind pose, every primitive in file order
   double skin_diagonal = 1.0;        // of skin_rest's bounding box (grid, tolerances; never 0)
@@ -166,6 +191,7 @@ struct Scene {
   Document moved_rest(const Document& from, const MoveWeights& weights, const glm::dvec3& world_delta) const;
 
  private:
+  History history_;  // the document and its undo steps
   std::shared_ptr<const Cage> pending_cage_;   // the cage the running job binds
   std::vector<SetEdit> pending_edits_, bound_edits_;  // the set edits of the running job / the binding
   std::optional<CageAttachment> pending_attachment_data_, bound_attachment_data_;  // the attachment they used

@@ -1,0 +1,395 @@
+#include "app/editor_window.h"
+#include "app/ui_text.h"
+
+#if CAGEWRAP_GUI
+
+namespace cagewrap::app {
+
+// A docked panel: placed every frame, resized by the artist through its free edges (ImGui's window
+// borders; the min and max sizes keep the other edges where they are).
+ImVec2 Editor::begin_panel(const char* name, ImVec2 pos, ImVec2 size, ImVec2 min, ImVec2 max) {
+  ImGui::SetNextWindowPos(pos, ImGuiCond_Always);
+  ImGui::SetNextWindowSize(size, ImGuiCond_Always);
+  ImGui::SetNextWindowSizeConstraints(min, ImVec2(std::max(min.x, max.x), std::max(min.y, max.y)));
+  ImGui::Begin(name, nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoCollapse);
+  return ImGui::GetWindowSize();
+}
+
+// The skeleton as the outliner shows it: joints under their nearest joint ancestor, in parent-child
+// order; nodes that are no skin's joint (meshes, cameras, lights, groups) apart. Made once per character.
+const Editor::OutlinerTree& Editor::outliner_tree(const Character& ch) {
+  if (outliner_tree_.character == &ch) return outliner_tree_;
+  OutlinerTree t;
+  t.character = &ch;
+  const size_t n = ch.skeleton.size();
+  std::vector<uint8_t> joint(n, 0);
+  t.mesh_node.assign(n, 0);
+  for (const Skin& s : ch.skins)
+    for (uint32_t j : s.joints)
+      if (j < n) joint[j] = 1;
+  for (const Primitive& p : ch.primitives)
+    if (p.node < n) t.mesh_node[p.node] = 1;
+  t.children.assign(n, {});
+  for (uint32_t i = 0; i < n; ++i) {
+    if (!joint[i]) {
+      t.other_nodes.push_back(i);
+      continue;
+    }
+    ++t.joint_count;
+    int32_t p = ch.skeleton.node(i).parent;
+    while (p >= 0 && !joint[static_cast<size_t>(p)]) p = ch.skeleton.node(static_cast<size_t>(p)).parent;
+    if (p < 0) t.joint_roots.push_back(i);
+    else t.children[static_cast<size_t>(p)].push_back(i);
+  }
+  outliner_tree_ = std::move(t);
+  return outliner_tree_;
+}
+
+void Editor::draw_joint_tree(const Character& ch, const OutlinerTree& tree, uint32_t node) {
+  const bool leaf = tree.children[node].empty();
+  const bool selected = ws_.view.selection.joints.contains(node);
+  ImGuiTreeNodeFlags flags = ImGuiTreeNodeFlags_OpenOnArrow | ImGuiTreeNodeFlags_OpenOnDoubleClick | ImGuiTreeNodeFlags_DefaultOpen |
+                             ImGuiTreeNodeFlags_SpanAvailWidth;
+  if (leaf) flags |= ImGuiTreeNodeFlags_Leaf | ImGuiTreeNodeFlags_NoTreePushOnOpen;
+  if (selected) flags |= ImGuiTreeNodeFlags_Selected;
+  const bool open = ImGui::TreeNodeEx(reinterpret_cast<void*>(static_cast<uintptr_t>(node) + 1), flags, "%s", ch.skeleton.node(node).name.c_str());
+  if (ImGui::IsItemClicked() && !ImGui::IsItemToggledOpen()) {
+    uint32_t idx[1] = {node};
+    if (ImGui::GetIO().KeyCtrl) ws_.view.selection.joints.toggle(idx);
+    else ws_.view.selection.joints.set(idx);
+  }
+  if (leaf || !open) return;
+  for (uint32_t c : tree.children[node]) draw_joint_tree(ch, tree, c);
+  ImGui::TreePop();
+}
+
+void Editor::draw_outliner() {
+  const ImVec2 d = ImGui::GetIO().DisplaySize;
+  const float h = d.y - PanelLayout::kMenuHeight - layout_.bottom;
+  layout_.left = begin_panel("Outliner", ImVec2(0, PanelLayout::kMenuHeight), ImVec2(layout_.left, h), ImVec2(PanelLayout::kMinPanel, h),
+                             ImVec2(d.x - layout_.right - PanelLayout::kMinView, h)).x;
+  if (ws_.scene()) {
+    const Character& ch = *ws_.scene()->doc().character;
+    if (ImGui::TreeNodeEx("Character", ImGuiTreeNodeFlags_DefaultOpen)) {
+      ImGui::TextDisabled("%s", std::filesystem::path(ch.source).filename().string().c_str());
+      for (const auto& p : ch.primitives) {
+        ImGui::Bullet();
+        hint("%s: %zu vertices", p.label().c_str(), p.num_vertices());
+      }
+      ImGui::TreePop();
+    }
+    const OutlinerTree& tree = outliner_tree(ch);
+    if (ImGui::TreeNodeEx("Skeleton", ImGuiTreeNodeFlags_DefaultOpen, "Skeleton (%zu joints)", tree.joint_count)) {
+      if (tree.joint_count == 0) ImGui::TextDisabled("no joints: the character is not skinned");
+      for (uint32_t r : tree.joint_roots) draw_joint_tree(ch, tree, r);
+      ImGui::TreePop();
+    }
+    if (!tree.other_nodes.empty() &&
+        ImGui::TreeNodeEx("Other nodes", 0, "Other nodes (%zu)", tree.other_nodes.size())) {
+      hint("not joints of any skin: meshes, cameras, lights, groups");
+      for (uint32_t n : tree.other_nodes)
+        ImGui::BulletText("%s%s", ch.skeleton.node(n).name.c_str(), tree.mesh_node[n] ? " (mesh)" : "");
+      ImGui::TreePop();
+    }
+    if (ImGui::TreeNodeEx("Cage", ImGuiTreeNodeFlags_DefaultOpen)) {
+      if (ws_.scene()->doc().cage) {
+        ImGui::Text("%zu vertices, %zu faces", ws_.scene()->doc().cage->num_vertices(), ws_.scene()->doc().cage->polygons.num_faces());
+        ImGui::TextDisabled("%zu control elements", ws_.scene()->doc().cage->num_elements());
+      } else {
+        ImGui::TextDisabled("no cage");
+      }
+      ImGui::TreePop();
+    }
+    if (ImGui::TreeNodeEx("Binding", ImGuiTreeNodeFlags_DefaultOpen)) {
+      if (ws_.scene()->binding) ImGui::Text("%s, %u points", variant_name(ws_.scene()->binding->params.variant), ws_.scene()->binding->num_points);
+      else ImGui::TextDisabled(ws_.scene()->job ? "binding..." : "not bound");
+      ImGui::TreePop();
+    }
+  }
+  ImGui::End();
+}
+
+void Editor::draw_properties() {
+  const ImVec2 d = ImGui::GetIO().DisplaySize;
+  const float h = d.y - PanelLayout::kMenuHeight - layout_.bottom;
+  // dragging its left edge moves the left edge: the right edge stays at the window's
+  layout_.right = begin_panel("Properties", ImVec2(d.x - layout_.right, PanelLayout::kMenuHeight), ImVec2(layout_.right, h),
+                              ImVec2(PanelLayout::kMinPanel, h), ImVec2(d.x - layout_.left - PanelLayout::kMinView, h)).x;
+  if (ImGui::GetWindowPos().x + layout_.right < d.x - 0.5f) layout_.right = d.x - ImGui::GetWindowPos().x;
+  // the fields take what the longest label leaves, so that no label is cut at any panel width
+  ImGui::PushItemWidth(-(ImGui::CalcTextSize("K (max elements)").x + 2 * ImGui::GetStyle().ItemInnerSpacing.x));
+  draw_move_tool();
+  draw_pose_panel();
+  if (ws_.scene() && ws_.scene()->doc().cage) {
+    BindParams& p = ws_.scene()->params;
+    ImGui::TextUnformatted("Binding");
+    ImGui::Separator();
+    int variant = static_cast<int>(p.variant);
+    const char* variants[] = {"basic", "clamped", "extended"};
+    if (ImGui::Combo("variant", &variant, variants, 3)) p.variant = static_cast<Variant>(variant);
+    float local = static_cast<float>(p.local), eps = static_cast<float>(p.epsilon), scale = static_cast<float>(p.scale),
+          maxd = static_cast<float>(p.max_distance);
+    int k = static_cast<int>(p.max_elements);
+    if (ImGui::SliderFloat("local", &local, 0.5f, 12.0f, "%.2f")) p.local = local;
+    if (ImGui::SliderFloat("epsilon", &eps, 0.005f, 1.0f, "%.3f", ImGuiSliderFlags_Logarithmic)) p.epsilon = eps;
+    if (ImGui::SliderInt("K (max elements)", &k, 1, 32)) p.max_elements = static_cast<uint32_t>(k);
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("The most cage elements that drive one skin point");
+    if (ImGui::DragFloat("scale h", &scale, 0.001f, 0.0f, 100.0f, scale > 0 ? "%.4f" : "auto")) p.scale = std::max(0.f, scale);
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("The distance scale of the weights; 0 = auto (from the cage's mean edge length)");
+    if (ImGui::DragFloat("max distance", &maxd, 0.001f, 0.0f, 100.0f, maxd > 0 ? "%.4f" : "none")) p.max_distance = std::max(0.f, maxd);
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("Elements farther than this from a point never drive it; 0 = no limit");
+    ImGui::Checkbox("separate unrelated parts", &p.separate);
+    if (ImGui::IsItemHovered())
+      ImGui::SetTooltip("An element drives a point only when the bones they follow are the same or neighbours\n"
+                        "(within the steps below): the right thigh's cage does not pull the left thigh");
+    int steps = static_cast<int>(p.separation_steps);
+    ImGui::BeginDisabled(!p.separate);
+    if (ImGui::SliderInt("separation steps", &steps, 0, 4)) p.separation_steps = static_cast<uint32_t>(steps);
+    ImGui::EndDisabled();
+    if (ws_.scene()->job) {
+      ImGui::ProgressBar(static_cast<float>(ws_.scene()->job->progress()), ImVec2(-70, 0), "binding");
+      ImGui::SameLine();
+      if (ImGui::Button("Cancel")) ws_.scene()->job->cancel();
+    } else {
+      if (ws_.scene()->needs_rebind()) {
+        ImGui::TextColored(ImVec4(1.0f, 0.75f, 0.2f, 1), "Parameters changed: rebind to apply");
+      }
+      if (ImGui::Button(ws_.scene()->binding ? "Rebind" : "Bind", ImVec2(-1, 0))) ws_.scene()->rebind();
+    }
+    if (ws_.scene()->binding) {
+      const Binding& b = *ws_.scene()->binding;
+      ImGui::Spacing();
+      ImGui::TextUnformatted("Result");
+      ImGui::Separator();
+      ImGui::Text("mean set %.2f, max %u", b.num_points ? double(b.total_set_size) / b.num_points : 0.0, b.max_set_size);
+      ImGui::Text("%.1f bytes per skin vertex", double(b.bytes()) / std::max(1u, b.num_points));
+      ImGui::Text("cage quality %.1f%%", 100.0 * b.quality());
+      if (!b.invalid_elements.empty())
+        ImGui::TextColored(ImVec4(1, 0.6f, 0.3f, 1), "%zu elements skipped (see log)", b.invalid_elements.size());
+      if (!b.rigid_points.empty())
+        ImGui::TextColored(ImVec4(1, 0.6f, 0.3f, 1), "%zu points follow their nearest element", b.rigid_points.size());
+      if (b.separation_applied) ImGui::Text("separation kept %zu element-point pairs apart", static_cast<size_t>(b.total_separated));
+      ImGui::Text("bound in %.2f s", b.seconds);
+      fidelity_panel_.draw(*ws_.scene(), hooks_);
+    }
+  } else if (ws_.scene()) {
+    ImGui::TextWrapped("No cage: the skin shows the file's own linear blend skinning. Open with --cage to bind a cage.");
+  }
+  ImGui::PopItemWidth();
+  ImGui::End();
+}
+
+// Selection mode buttons along the top of the 3-D view.
+void Editor::draw_toolbar() {
+  ImGui::SetNextWindowPos(ImVec2(view_x_ + view_w_ - 10, view_y_ + 10), ImGuiCond_Always, ImVec2(1, 0));
+  ImGui::SetNextWindowBgAlpha(0.55f);
+  ImGui::Begin("toolbar", nullptr, ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoSavedSettings |
+                                       ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoNav);
+  toolbar_rect_ = ImVec4(ImGui::GetWindowPos().x, ImGui::GetWindowPos().y, ImGui::GetWindowSize().x, ImGui::GetWindowSize().y);
+  const char* labels[] = {"Vertices", "Faces", "Skin", "Joints"};
+  const char* tips[] = {"Select cage vertices (F5)", "Select cage faces (F6)", "Select skin vertices (F7)", "Select joints (F8)"};
+  for (int k = 0; k < 4; ++k) {
+    if (k) ImGui::SameLine();
+    const bool on = ws_.view.mode == static_cast<SelectMode>(k);
+    if (on) ImGui::PushStyleColor(ImGuiCol_Button, ImVec4(0.85f, 0.5f, 0.1f, 1));
+    if (ImGui::Button(labels[k])) ws_.view.mode = static_cast<SelectMode>(k);
+    if (on) ImGui::PopStyleColor();
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", tips[k]);
+  }
+  ImGui::SameLine();
+  ImGui::TextDisabled("|");
+  ImGui::SameLine();
+  ImGui::Checkbox("Soft", &ws_.view.soft.enabled);
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("Soft selection (B); radius with [ and ]");
+  ImGui::SameLine();
+  ImGui::Checkbox("Mirror X", &ws_.view.mirror.enabled);
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("X-mirror editing (Shift+X)");
+  ImGui::SameLine();
+  ImGui::Checkbox("Edit rest", &ws_.view.move_rest);
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip("Moves edit the reference (rest) cage: the skin stays, and only the skin points\n"
+                      "near the moved vertices are registered again");
+  if (ws_.scene()) {
+    const IndexSet& s = ws_.active_set();
+    ImGui::TextDisabled("%zu %s selected", s.size(), select_mode_name(ws_.view.mode));
+  }
+  ImGui::End();
+}
+
+// Posing: the selected joint's rotation on top of the clip as angles, reset buttons, comparison.
+void Editor::draw_pose_panel() {
+  if (!ws_.scene()) return;
+  if (!ImGui::CollapsingHeader("Pose", ImGuiTreeNodeFlags_DefaultOpen)) return;
+  const Character& ch = *ws_.scene()->doc().character;
+  if (ws_.view.selection.joints.size() == 1 && ws_.view.selection.joints.indices()[0] < ch.skeleton.size()) {
+    const uint32_t j = ws_.view.selection.joints.indices()[0];
+    ImGui::Text("%s", ch.skeleton.node(j).name.c_str());
+    const auto& o = ws_.scene()->pose_override;
+    const glm::quat q = j < o.size() ? o[j] : glm::quat(1, 0, 0, 0);
+    glm::vec3 euler = glm::degrees(glm::eulerAngles(q));
+    if (ImGui::DragFloat3("rotate (deg)", &euler.x, 0.5f, -180.0f, 180.0f, "%.1f")) ws_.set_pose_override(j, glm::quat(glm::radians(euler)));
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("About the joint's local X, Y, Z, on top of the clip");
+    if (ImGui::Button("Reset joint")) ws_.set_pose_override(j, glm::quat(1, 0, 0, 0));
+    ImGui::SameLine();
+  } else {
+    ImGui::PushTextWrapPos(0.0f);
+    ImGui::TextDisabled("Select one joint (F8) to pose it with the rings or here.");
+    ImGui::PopTextWrapPos();
+  }
+  if (ImGui::Button("Reset pose")) ws_.scene()->pose_override.clear();
+  ImGui::Checkbox("show the file's own skinning (L)", &ws_.scene()->show_file_skinning);
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("Compare the cage deformation with the character's linear blend skinning");
+  ImGui::Spacing();
+}
+
+// Settings of the move tool: soft selection and X-mirror.
+void Editor::draw_move_tool() {
+  if (!ws_.scene() || !ws_.scene()->doc().cage) return;
+  if (!ImGui::CollapsingHeader("Move tool", ImGuiTreeNodeFlags_DefaultOpen)) return;
+  ImGui::Checkbox("soft selection (B)", &ws_.view.soft.enabled);
+  ImGui::BeginDisabled(!ws_.view.soft.enabled);
+  float r = static_cast<float>(ws_.view.soft.radius);
+  const float size = static_cast<float>(ws_.scene_size());
+  if (ImGui::SliderFloat("radius", &r, 1e-3f * size, size, "%.4f", ImGuiSliderFlags_Logarithmic)) ws_.view.soft.radius = r;
+  int falloff = static_cast<int>(ws_.view.soft.falloff);
+  const char* falloffs[] = {"smooth", "linear", "sharp", "constant"};
+  if (ImGui::Combo("falloff", &falloff, falloffs, 4)) ws_.view.soft.falloff = static_cast<Falloff>(falloff);
+  int dist = static_cast<int>(ws_.view.soft.distance);
+  const char* dists[] = {"volume (straight line)", "surface (along edges)"};
+  if (ImGui::Combo("distance", &dist, dists, 2)) ws_.view.soft.distance = static_cast<FalloffDistance>(dist);
+  ImGui::EndDisabled();
+  ImGui::Checkbox("X-mirror editing (Shift+X)", &ws_.view.mirror.enabled);
+  ImGui::BeginDisabled(!ws_.view.mirror.enabled);
+  float tol = static_cast<float>(ws_.view.mirror_tolerance_share * 100.0);
+  if (ImGui::SliderFloat("tolerance %", &tol, 0.01f, 2.0f, "%.2f", ImGuiSliderFlags_Logarithmic))
+    ws_.view.mirror_tolerance_share = tol / 100.0;
+  ImGui::EndDisabled();
+  ImGui::TextDisabled("snap step (Ctrl while dragging): %g", ws_.grid_spacing());
+  ImGui::Spacing();
+}
+
+void Editor::draw_timeline() {
+  const ImVec2 d = ImGui::GetIO().DisplaySize;
+  const float w = d.x * (1.0f - layout_.log_share), top = d.y - layout_.bottom;
+  // its top edge sets the bottom row's height, its right edge the log's share
+  const ImVec2 size = begin_panel("Timeline", ImVec2(0, top), ImVec2(w, layout_.bottom), ImVec2(d.x * 0.15f, PanelLayout::kMinBottom),
+                                  ImVec2(d.x * 0.85f, d.y - PanelLayout::kMenuHeight - PanelLayout::kMinView * 0.5f));
+  if (ImGui::GetWindowPos().y != top) layout_.bottom = d.y - ImGui::GetWindowPos().y;
+  layout_.log_share = 1.0f - size.x / d.x;
+  if (ws_.scene() && !ws_.scene()->doc().character->clips.empty()) {
+    const auto& clips = ws_.scene()->doc().character->clips;
+    if (ImGui::BeginCombo("clip", ws_.scene()->clip >= 0 ? clips[static_cast<size_t>(ws_.scene()->clip)].name.c_str() : "(rest pose)")) {
+      if (ImGui::Selectable("(rest pose)", ws_.scene()->clip < 0)) {
+        ws_.scene()->clip = -1;
+        ws_.scene()->player = ClipPlayer(0.0);
+      }
+      for (size_t i = 0; i < clips.size(); ++i)
+        if (ImGui::Selectable(clips[i].name.c_str(), ws_.scene()->clip == static_cast<int>(i))) {
+          bool playing = ws_.scene()->player.playing();
+          ws_.scene()->clip = static_cast<int32_t>(i);
+          ws_.scene()->player = ClipPlayer(clips[i].duration);
+          if (playing) ws_.scene()->player.play();
+        }
+      ImGui::EndCombo();
+    }
+    ClipPlayer& pl = ws_.scene()->player;
+    if (ImGui::Button("|<")) pl.scrub(0);
+    ImGui::SameLine();
+    if (ImGui::Button("<")) pl.scrub(pl.time() - 1.0 / 30.0);
+    ImGui::SameLine();
+    if (ImGui::Button(pl.playing() ? "Pause" : "Play", ImVec2(60, 0))) pl.playing() ? pl.pause() : pl.play();
+    ImGui::SameLine();
+    if (ImGui::Button(">")) pl.scrub(pl.time() + 1.0 / 30.0);
+    ImGui::SameLine();
+    bool loop = pl.looping();
+    if (ImGui::Checkbox("loop", &loop)) pl.set_loop(loop);
+    float t = static_cast<float>(pl.time());
+    if (ImGui::SliderFloat("time", &t, 0.0f, static_cast<float>(std::max(pl.duration(), 1e-3)), "%.3f s")) pl.scrub(t);
+  } else {
+    ImGui::TextDisabled("no clips");
+  }
+  ImGui::End();
+}
+
+void Editor::draw_log() {
+  const ImVec2 d = ImGui::GetIO().DisplaySize;
+  ImGui::SetNextWindowPos(ImVec2(d.x * (1.0f - layout_.log_share), d.y - layout_.bottom), ImGuiCond_Always);
+  ImGui::SetNextWindowSize(ImVec2(d.x * layout_.log_share, layout_.bottom), ImGuiCond_Always);
+  ImGui::Begin("Log", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
+  ImGui::PushTextWrapPos(0.0f);  // long paths wrap instead of running off the panel
+  for (const auto& l : ws_.log_lines()) {
+    ImVec4 c = l.error ? ImVec4(1, 0.4f, 0.35f, 1) : (l.text.rfind("warning", 0) == 0 ? ImVec4(1, 0.8f, 0.3f, 1) : ImVec4(0.85f, 0.85f, 0.85f, 1));
+    if (l.repeats > 1) ImGui::TextColored(c, "%s (and %d similar)", l.text.c_str(), l.repeats - 1);
+    else ImGui::TextColored(c, "%s", l.text.c_str());
+  }
+  ImGui::PopTextWrapPos();
+  if (ImGui::GetScrollY() >= ImGui::GetScrollMaxY()) ImGui::SetScrollHereY(1.0f);
+  ImGui::End();
+  if (!error_modal_.empty()) {
+    ImGui::OpenPopup("Error");
+    if (ImGui::BeginPopupModal("Error", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+      ImGui::TextUnformatted(error_modal_.c_str());
+      ImGui::TextDisabled("The current document is unchanged.");
+      if (ImGui::Button("OK", ImVec2(120, 0)) || std::exchange(script_error_ok_, false)) {
+        error_modal_.clear();
+        ImGui::CloseCurrentPopup();
+      }
+      ImGui::EndPopup();
+    }
+  }
+}
+
+void Editor::draw_stats() {
+  ImGuiIO& io = ImGui::GetIO();
+  // top left of the view; below the toolbar (top right) when the view is too narrow for both
+  const bool overlap = view_x_ + 10 + stats_width_ + 10 > toolbar_rect_.x;
+  ImGui::SetNextWindowPos(ImVec2(view_x_ + 10, overlap ? toolbar_rect_.y + toolbar_rect_.w + 6 : view_y_ + 10), ImGuiCond_Always);
+  ImGui::SetNextWindowBgAlpha(0.35f);
+  ImGui::Begin("stats", nullptr, ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoInputs |
+                                     ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoNav);
+  if (!ws_.scene()) ImGui::Text("%.0f fps", fps_);
+  if (ws_.scene()) {
+    ImGui::Text("skin %zu vertices", ws_.scene()->skin_rest.size());
+    if (ws_.scene()->doc().cage) ImGui::Text("cage %zu vertices, %zu faces", ws_.scene()->doc().cage->num_vertices(), ws_.scene()->doc().cage->polygons.num_faces());
+    skin_display_.draw_stats(*ws_.scene());
+  }
+  (void)io;
+  stats_width_ = ImGui::GetWindowSize().x;
+  ImGui::End();
+}
+
+void Editor::draw_help() {
+  if (!show_help_) return;
+  ImGui::Begin("Shortcuts", &show_help_, ImGuiWindowFlags_AlwaysAutoResize);
+  const char* rows[][2] = {{"Alt+LMB drag / RMB drag", "orbit"},
+                           {"MMB drag (Alt optional)", "pan"},
+                           {"wheel / Alt+RMB drag", "zoom"},
+                           {"F", "frame everything"},
+                           {"1 / 3 / 7 (numpad too)", "front / side / top view (Ctrl: opposite)"},
+                           {"F5 F6 F7 F8", "select cage vertices / cage faces / skin vertices / joints"},
+                           {"click, drag a box", "select (Shift adds, Ctrl removes)"},
+                           {"Ctrl+A / Esc / Ctrl+I", "select all / none / invert"},
+                           {"Num+ Num- (or . ,)", "grow / shrink selection"},
+                           {"Ctrl+M", "add the mirror (X) of the selection"},
+                           {"gizmo: arrow / square / centre", "move along an axis / in a plane / in the view"},
+                           {"Ctrl while dragging", "snap to the grid"},
+                           {"B, [ ]", "soft selection on/off, smaller/larger radius"},
+                           {"Shift+X", "X-mirror editing on/off"},
+                           {"Ctrl+Z / Ctrl+Shift+Z, Ctrl+Y", "undo / redo"},
+                           {"Ctrl+O / Ctrl+S / Ctrl+Q", "open / save / quit"},
+                           {"F12", "screenshot"},                           {"L", "show the file's own skinning"},                   {"C", "colour the cage by bone (joint mode: the selected joints' vertices light up)"},
+                           {"Space", "play / pause"},
+                           {"W", "wireframe"},
+                           {"Alt+X", "X-ray"},
+                           {"F1", "this window"}};
+  for (auto& r : rows) {
+    ImGui::TextUnformatted(r[0]);
+    ImGui::SameLine(250);
+    ImGui::TextDisabled("%s", r[1]);
+  }
+  ImGui::End();
+}
+
+}  // namespace cagewrap::app
+
+#endif

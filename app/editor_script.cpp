@@ -1,0 +1,464 @@
+#include "app/editor_window.h"
+
+#if CAGEWRAP_GUI
+
+namespace cagewrap::app {
+
+// --script FILE: one action of the table per line (app/workspace/actions.h; `cagewrap actions`
+// lists them all, docs/editor-actions.md). An action may make the script wait frames
+// (Action::script_frames, `wait N`), and a background job it starts (an automatic cage, an export,
+// a fidelity check, a bind) holds the script until it ends.
+void Editor::run_script_step() {
+  if (script_wait_ > 0) {
+    --script_wait_;
+    return;
+  }
+  while (script_pos_ < script_.size() && script_wait_ == 0)
+    ws_.run(script_[script_pos_++], "script line " + std::to_string(script_pos_));
+}
+
+// The window's own actions: what needs the window, its panels or its file browser. The workspace
+// registered the rest (app/workspace/workspace_actions.cpp).
+void Editor::add_window_actions() {
+  ActionTable& t = ws_.actions;
+  ws_.after_action = [this](const Action& a) { script_wait_ = std::max(script_wait_, a.script_frames); };
+  // a file's name is the rest of the line (names may hold spaces)
+  auto rest_of_line = [](std::istringstream& in) {
+    std::string arg;
+    std::getline(in >> std::ws, arg);
+    arg.erase(arg.find_last_not_of(" \t\r") + 1);
+    return arg;
+  };
+  auto add = [&t](std::string name, std::string usage, std::string help, std::function<void(std::istringstream&)> run,
+                  bool needs_document = true, int frames = 0) {
+    t.add({std::move(name), std::move(usage), std::move(help), needs_document, frames, std::move(run)});
+  };
+  auto fail = [this](const std::string& text) { log("error: script line " + std::to_string(script_pos_) + ": " + text, true); };
+
+  // ---- the script itself
+  add("wait", "N", "Waits N frames before the next line.", [this](std::istringstream& in) { in >> script_wait_; }, false);
+  add("screenshot", "PATH", "Saves the window as a PNG once this frame is drawn.",
+      [this](std::istringstream& in) { in >> pending_screenshot_; }, false, 1);
+  add("memory", "PATH [LABEL]", "Appends resident memory and the undo history's size to PATH (the soak test).",
+      [this](std::istringstream& in) { script_memory(in); }, false);
+
+  // ---- files
+  add("open", "PATH", "Opens a character or a project (no question about unsaved work).",
+      [this, rest_of_line](std::istringstream& in) { open_path(rest_of_line(in)); }, false);
+  add("open_asking", "PATH", "Opens as File > Open does: asks first when there are unsaved changes.",
+      [this, rest_of_line](std::istringstream& in) {
+        std::string p = rest_of_line(in);
+        guard_unsaved([this, p] { open_path(p); });
+      }, false, 1);
+  add("import_cage", "PATH", "Imports a cage file (OBJ, PLY, OFF, STL, glTF) as one undo step.",
+      [this, rest_of_line](std::istringstream& in) { import_cage(rest_of_line(in)); }, false);
+  add("save", "PATH", "Saves the project to PATH.", [this](std::istringstream& in) {
+    std::string p;
+    in >> p;
+    save_project_to(p);
+  });
+  add("browse", "open|save|import_cage|screenshot [DIR]", "Opens the file browser for that purpose.",
+      [this, rest_of_line, fail](std::istringstream& in) {
+        std::string arg = rest_of_line(in), dir;
+        const size_t space = arg.find(' ');
+        if (space != std::string::npos) dir = arg.substr(arg.find_first_not_of(' ', space));
+        arg.resize(std::min(space, arg.size()));
+        const std::pair<const char*, FilePurpose> purposes[] = {{"open", FilePurpose::kOpen}, {"save", FilePurpose::kSaveProject},
+                                                                {"import_cage", FilePurpose::kImportCage}, {"screenshot", FilePurpose::kScreenshot}};
+        auto it = std::find_if(std::begin(purposes), std::end(purposes), [&](const auto& p) { return arg == p.first; });
+        if (it == std::end(purposes)) return fail("browse open|save|import_cage|screenshot [DIR]");
+        browse(it->second, dir);
+      }, false);
+  add("browser_select", "NAME", "Selects NAME in the file browser.", [this, rest_of_line](std::istringstream& in) {
+    const std::string arg = rest_of_line(in);
+    if (!files_.browser().select(arg)) log("error: script: no " + arg + " in " + files_.browser().directory(), true);
+  }, false);
+  add("browser_name", "NAME", "Types NAME into the file browser's name field.",
+      [this, rest_of_line](std::istringstream& in) { files_.browser().set_file_name(rest_of_line(in)); }, false);
+  add("browser_confirm", "", "Presses the file browser's Open / Save.", [this](std::istringstream&) { files_.browser().confirm(); }, false);
+  add("browser_cancel", "", "Presses the file browser's Cancel.", [this](std::istringstream&) { files_.browser().cancel(); }, false);
+  add("error_ok", "", "Presses OK on the open Error dialog (nothing when there is none).",
+      [this](std::istringstream&) { script_error_ok_ = !error_modal_.empty(); }, false, 1);
+  add("answer", "save|discard|cancel", "Presses that button of the open \"Save changes?\" dialog.",
+      [this](std::istringstream& in) { in >> script_answer_; }, false, 1);
+  const std::array<std::array<const char*, 3>, 4> dialogs = {{
+      {"answer_missing", "locate|cancel", "Answers the \"character not found\" prompt of a project."},
+      {"answer_recovery", "recover|discard|later", "Answers the prompt for a recovery file of unsaved work."},
+      {"embed", "on|off", "Embeds the character in the project, or takes it out."},
+      {"cache_binding", "on|off", "Saves the binding beside the project (opening it then needs no bind)."}}};
+  for (const auto& [name, usage, help] : dialogs) {
+    add(name, usage, help, [this, name = name](std::istringstream& in) {
+          ProjectDialogs::Request request;
+          dialogs_.script_command(name, in, ws_.scene(), hooks_, request);
+          act_on(request);
+        }, false, 1);
+  }
+
+  // ---- the view
+  add("log_layout", "", "Logs the 3-D view's rectangle and every open floating window's (window pixels).", [this](std::istringstream&) {
+    char buf[320];
+    std::snprintf(buf, sizeof buf, "layout: view %.0f %.0f %.0f %.0f, display %.0f %.0f", view_x_, view_y_, view_w_, view_h_,
+                  ImGui::GetIO().DisplaySize.x, ImGui::GetIO().DisplaySize.y);
+    log(buf);
+    for (const ImGuiWindow* w : ImGui::GetCurrentContext()->Windows)
+      if ((w->Active || w->WasActive) && placed_.count(w->ID)) {
+        std::snprintf(buf, sizeof buf, "layout: window '%s' %.0f %.0f %.0f %.0f", w->Name, w->Pos.x, w->Pos.y, w->Size.x, w->Size.y);
+        log(buf);
+      }
+  }, false);
+  add("toggle", "wireframe|xray|skin|cage|skeleton|grid|gpu_deform", "Turns a view option on or off.",
+      [this, rest_of_line, fail](std::istringstream& in) {
+        const std::string arg = rest_of_line(in);
+        bool* flags[] = {&style_.wireframe, &style_.xray, &style_.show_skin, &style_.show_cage, &style_.show_skeleton,
+                         &style_.show_grid, &skin_display_.use_gpu()};
+        const char* names[] = {"wireframe", "xray", "skin", "cage", "skeleton", "grid", "gpu_deform"};
+        auto it = std::find(std::begin(names), std::end(names), arg);
+        if (it == std::end(names)) return fail("unknown view option '" + arg + "'");
+        bool* f = flags[it - std::begin(names)];
+        *f = !*f;
+      }, false);
+  add("heatmap", "on|off", "The fidelity heat map on the skin.", [this](std::istringstream& in) {
+    std::string v;
+    in >> v;
+    fidelity_panel_.heat_map = v != "off";
+  });
+
+  // ---- clicks and drags where a person would make them (they exercise picking and the gizmos)
+  auto click_at = [this](const glm::dvec3& p) {
+    glm::dvec2 px = ws_.view.camera.project(p, view_w_, view_h_).pixel;
+    click_select(ImVec2(view_x_ + static_cast<float>(px.x), view_y_ + static_cast<float>(px.y)), false, false);
+  };
+  add("click_cage_vertex", "I", "Clicks at cage vertex I's projection.", [this, click_at](std::istringstream& in) {
+    uint32_t i = 0;
+    in >> i;
+    if (i < ws_.scene()->cage_posed.size()) click_at(glm::dvec3(ws_.scene()->cage_posed[i]));
+  });
+  add("click_skin_vertex", "I", "Clicks at skin vertex I's projection (in skin-vertex mode).", [this, click_at](std::istringstream& in) {
+    uint32_t i = 0;
+    in >> i;
+    ws_.view.mode = SelectMode::kSkinVertices;
+    if (i < ws_.scene()->skin_posed().size()) click_at(glm::dvec3(ws_.scene()->skin_posed()[i]));
+  });
+  add("click_patch_point", "I", "Clicks at the parametric driver's control point I (`move` then moves it).",
+      [this, click_at](std::istringstream& in) {
+        uint32_t i = 0;
+        in >> i;
+        const auto& driver = ws_.scene()->doc().patch_driver;
+        if (driver && i < driver->posed.num_control_points()) click_at(driver->posed.control_points()[i]);
+      });
+  // the workspace's `move` moves the cage selection; with a control point picked it moves that
+  add("move", "DX DY DZ", "Moves the selection (cage vertices, faces' corners, or the picked control point) by a world displacement: one undo step.",
+      [this, fail](std::istringstream& in) {
+        glm::dvec3 d(0.0);
+        if (!(in >> d.x >> d.y >> d.z)) return fail("move DX DY DZ");
+        if (begin_move(GizmoHandle::kScreen, glm::dvec2(0.0))) {
+          apply_move(d);
+          end_move();
+        }
+      });
+  add("gizmo_drag", "x|y|z|yz|xz|xy|screen DX DY", "Drags a handle of the move gizmo by DX DY pixels.",
+      [this](std::istringstream& in) { script_gizmo_drag(in); });
+  add("rotate_drag", "x|y|z|view DEGREES", "Drags a ring of the rotate gizmo of the selected joint.",
+      [this](std::istringstream& in) { script_rotate_drag(in); });
+
+  // ---- cage tools
+  add("auto_cage", "[FACES]", "Builds an automatic cage in the background; the script waits for it.", [this](std::istringstream& in) {
+    uint32_t faces;
+    if (in >> faces) cage_tools_.auto_params().target_faces = faces;
+    cage_tools_.open_auto_cage_dialog();
+    cage_tools_.start_auto_cage(*ws_.scene());
+  }, true, 1);
+  add("cage_op", "merge|weld D|flip|flip_all|linear [N]|loop [N]|refine|triangulate", "A Cage menu operation on the selection.",
+      [this](std::istringstream& in) {
+        std::string op;
+        double arg = 0.0;
+        in >> op >> arg;
+        cage_tools_.run_operation(*ws_.scene(), ws_.view.selection, op, arg, hooks_);
+      });
+
+  // ---- export and fidelity
+  add("export_window", "", "Opens the Export window.", [this](std::istringstream&) { export_panel_.open(*ws_.scene()); });
+  add("export", "MODE PATH [options]", "Exports the rig; the script waits for it.", [this](std::istringstream& in) {
+    script_waits_for_export_ = true;
+    script_export(in);
+  });
+  add("export_nowait", "MODE PATH [options]", "Exports the rig; the script goes on meanwhile.", [this](std::istringstream& in) {
+    script_waits_for_export_ = false;
+    script_export(in);
+  });
+  add("export_cancel", "", "Cancels the running export.", [this](std::istringstream&) { export_panel_.cancel(); });
+  add("export_browse", "", "The Export window's Browse.", [this](std::istringstream&) { export_panel_.press_browse(); });
+  add("export_press", "", "The Export window's Export; the script waits for it.", [this](std::istringstream&) {
+    script_waits_for_export_ = true;
+    export_panel_.press_export(*ws_.scene(), hooks_);
+  });
+  add("fidelity_check", "", "Checks all clips against the file's skinning; the script waits for it.", [this](std::istringstream&) {
+    script_waits_for_fidelity_ = true;
+    fidelity_panel_.start_check(*ws_.scene(), hooks_);
+  });
+  add("fidelity_check_nowait", "", "The same; the script goes on meanwhile.", [this](std::istringstream&) {
+    script_waits_for_fidelity_ = false;
+    fidelity_panel_.start_check(*ws_.scene(), hooks_);
+  });
+  add("fidelity_cancel", "", "Cancels the running check.", [this](std::istringstream&) { fidelity_panel_.cancel(); });
+  add("fidelity_frame", "", "Logs this frame's fidelity figures.", [this](std::istringstream&) {
+    fidelity_panel_.update(*ws_.scene());
+    if (const auto& f = fidelity_panel_.frame()) {
+      char buf[256];
+      const Skeleton& sk = ws_.scene()->doc().character->skeleton;
+      std::snprintf(buf, sizeof buf, "fidelity, this frame: worst %.4f%% (vertex %u, joint '%s'), RMS %.4f%%, stretch %.3fx",
+                    100 * f->worst, f->worst_vertex,
+                    f->worst_joint >= 0 ? sk.node(static_cast<size_t>(f->worst_joint)).name.c_str() : "-", 100 * f->rms, f->stretch);
+      log(buf);
+    } else {
+      log("fidelity, this frame: not measured (no binding, or the file's skinning is shown)");
+    }
+  });
+
+  // ---- rig: attachment and keyposes
+  add("rig_panel", "", "Opens the Rig window.", [this](std::istringstream&) { rig_panel_.visible() = true; });
+  add("attach", "rigid|smooth [WIDTH]|skin_weights|joint|auto",
+      "How cage vertices follow the skeleton; `joint`: the selected vertices to the selected joint.", [this](std::istringstream& in) {
+        std::string what;
+        in >> what;
+        AttachmentMode mode;
+        if (parse_attachment_mode(what, mode)) {
+          double width = ws_.scene()->doc().attachment.smooth_width;
+          in >> width;
+          rig_panel_.set_attachment_mode(*ws_.scene(), mode, width, hooks_);
+        } else {
+          rig_panel_.assign(*ws_.scene(), ws_.view.selection, what == "auto", ws_.view.mirror.enabled, ws_.rig_mirror_tolerance(), hooks_);
+        }
+      });
+  add("keyset", "x|y|z", "A keypose set driven by the selected joint's rotation about that axis.", [this](std::istringstream& in) {
+    std::string axis;
+    in >> axis;
+    rig_panel_.add_set(*ws_.scene(), ws_.view.selection, axis == "y" ? 1 : axis == "z" ? 2 : 0, hooks_);
+  });
+  add("key", "", "Keys the cage's pose offsets at the driver's current angle.", [this](std::istringstream&) {
+    ws_.scene()->update_pose();
+    rig_panel_.key(*ws_.scene(), hooks_);
+  });
+  add("mirror_keyset", "", "Mirrors the active keypose set to the other side.",
+      [this](std::istringstream&) { rig_panel_.mirror_set(*ws_.scene(), ws_.rig_mirror_tolerance(), hooks_); });
+
+  // ---- simulation
+  add("sim_panel", "", "Opens the Simulation window.", [this](std::istringstream&) { sim_panel_.visible() = true; });
+  add("sim", "on|off", "The cage simulation of the clips.", [this](std::istringstream& in) {
+    std::string what;
+    in >> what;
+    sim_panel_.set_enabled(*ws_.scene(), what != "off", hooks_);
+  });
+  add("sim_weights", "pin|free [MASS STIFFNESS]", "Paints the selected cage vertices pinned or free.", [this](std::istringstream& in) {
+    std::string what;
+    float mass = 1.0f, stiffness = 0.3f;
+    in >> what >> mass >> stiffness;
+    sim_panel_.set_weights(*ws_.scene(), ws_.sim_paint_weights(), what == "pin", mass, stiffness, hooks_);
+  });
+  add("sim_param", "gravity|damping|goal_frequency|iterations|substeps|preroll|margin|skeleton|edges VALUE",
+      "A simulation setting.", [this](std::istringstream& in) {
+        std::string name;
+        double value = 0.0;
+        in >> name >> value;
+        SimParams p = ws_.scene()->doc().sim.params;
+        if (name == "gravity") p.gravity.y = value;
+        else if (name == "damping") p.damping = value;
+        else if (name == "goal_frequency") p.goal_frequency = value;
+        else if (name == "iterations") p.iterations = static_cast<int>(value);
+        else if (name == "substeps") p.substeps = static_cast<int>(value);
+        else if (name == "preroll") p.preroll = value;
+        else if (name == "margin") p.collision_margin = value;
+        else if (name == "skeleton") p.skeleton_colliders = value != 0.0;
+        else if (name == "edges") p.edges = value != 0.0;
+        else log("error: script: unknown simulation parameter '" + name + "'", true);
+        sim_panel_.set_params(*ws_.scene(), p, hooks_);
+      });
+  add("sim_collider", "plane|sphere|capsule AX AY AZ BX BY BZ R", "Adds a collider.", [this](std::istringstream& in) {
+    std::string kind;
+    Collider c;
+    in >> kind >> c.a.x >> c.a.y >> c.a.z >> c.b.x >> c.b.y >> c.b.z >> c.radius;
+    if (!parse_collider_kind(kind, c.kind)) log("error: script: unknown collider kind '" + kind + "'", true);
+    else sim_panel_.add_collider(*ws_.scene(), c, hooks_);
+  });
+  add("sim_remove_collider", "I", "Removes collider I.", [this](std::istringstream& in) {
+    size_t i = 0;
+    in >> i;
+    sim_panel_.remove_collider(*ws_.scene(), i, hooks_);
+  });
+
+  // ---- contributing sets
+  add("sets_panel", "[none|influence|size|flags|separated]", "Opens the Sets window with that map.", [this](std::istringstream& in) {
+    std::string m;
+    in >> m;
+    sets_panel_.visible() = true;
+    const char* maps[] = {"none", "influence", "size", "flags", "separated"};
+    for (int k = 0; k < 5; ++k)
+      if (m == maps[k]) sets_panel_.map() = static_cast<SetMap>(k);
+  });
+  add("set_edit", "remove|add|only|reset [mirror]", "A set edit on the selected skin vertices with the selected faces.",
+      [this, fail](std::istringstream& in) {
+        std::string m, mirror;
+        in >> m >> mirror;
+        SetEditMode mode;
+        if (!parse_set_edit_mode(m, mode)) return fail("unknown set edit mode '" + m + "'");
+        sets_panel_.mode() = mode;
+        sets_panel_.mirror() = mirror == "mirror";
+        sets_panel_.apply(*ws_.scene(), ws_.view.selection, ws_.view.selection.skin_vertices, hooks_);
+      });
+  add("select_limb_faces", "", "Selects the cage faces following the selected joints.",
+      [this](std::istringstream&) { ws_.view.selection.cage_faces = SetsPanel::limb_faces(*ws_.scene(), ws_.view.selection.joints); });
+  add("paint_at_skin_vertex", "I [RADIUS]", "One brush stroke of one dab at skin vertex I.", [this](std::istringstream& in) {
+    uint32_t i;
+    double r = 0.0;
+    in >> i >> r;
+    if (r > 0) sets_panel_.set_brush_radius(r);
+    if (i < ws_.scene()->skin_posed().size()) {
+      const auto& fv = ws_.scene()->skin_topology.face_vertices;
+      uint32_t tri = 0;
+      for (size_t k = 0; k < fv.size(); ++k)
+        if (fv[k] == i) {
+          tri = static_cast<uint32_t>(k / 3);
+          break;
+        }
+      sets_panel_.begin_stroke(*ws_.scene());
+      sets_panel_.dab(*ws_.scene(), ws_.view.selection, tri, glm::dvec3(ws_.scene()->skin_posed()[i]), hooks_);
+      sets_panel_.end_stroke(*ws_.scene());
+    }
+  });
+
+  // ---- the parametric driver (app/patch_panel.h)
+  for (const char* name : {"patch_import", "patch_export", "patch_cancel", "patch_fit", "patch_density", "patch_select", "patch_move",
+                           "patch_reset", "patch_drive", "patch_panel"})
+    add(name, "", "The parametric driver window (app/patch_panel.h).", [this, name](std::istringstream& in) {
+      patch_panel_.script_command(name, in, *ws_.scene(), ws_.view.selection, hooks_);
+    }, true, 1);
+}
+
+void Editor::script_gizmo_drag(std::istringstream& in) {
+  std::string name;
+  glm::dvec2 d(0.0);
+  in >> name >> d.x >> d.y;
+  const char* names[] = {"x", "y", "z", "yz", "xz", "xy", "screen"};
+  int h = -1;
+  for (int k = 0; k < 7; ++k)
+    if (name == names[k]) h = k;
+  const GizmoLayout g = gizmo();
+  if (h < 0 || !g.visible) {
+    log("error: script line " + std::to_string(script_pos_) + ": no gizmo handle '" + name + "' to drag", true);
+    return;
+  }
+  glm::dvec2 grab = g.centre;  // where a person grabs each handle
+  if (h < 3) grab = g.centre + 0.75 * (g.axis_end[h] - g.centre);
+  else if (h < 6) grab = 0.25 * (g.plane[h - 3][0] + g.plane[h - 3][1] + g.plane[h - 3][2] + g.plane[h - 3][3]);
+  const GizmoHandle hit = gizmo_hit(g, grab);
+  if (hit != static_cast<GizmoHandle>(h)) {
+    log("error: script line " + std::to_string(script_pos_) + ": the click meant for handle '" + name + "' hit another", true);
+    return;
+  }
+  if (!begin_move(hit, grab)) return;
+  for (int step = 1; step <= 4; ++step) {  // a few mouse-move events, as a real drag sends
+    auto total = gizmo_drag(ws_.view.camera, Viewport{view_w_, view_h_}, hit, drag_centre_, grab, grab + d * (step / 4.0));
+    if (total) apply_move(*total);
+  }
+  end_move();
+}
+
+// Grabs a ring at its point nearest the viewer (the view ring at its right) and drags it along
+// the ring by the given angle, through the same hit test and angle code as the mouse.
+void Editor::script_rotate_drag(std::istringstream& in) {
+  std::string name;
+  double degrees = 0.0;
+  in >> name >> degrees;
+  const char* names[] = {"x", "y", "z", "view"};
+  int h = -1;
+  for (int k = 0; k < 4; ++k)
+    if (name == names[k]) h = k;
+  const RotateGizmoLayout g = rotate_gizmo();
+  if (h < 0 || !g.visible) {
+    log("error: script line " + std::to_string(script_pos_) + ": no rotation ring '" + name + "' (select one joint in joint mode)", true);
+    return;
+  }
+  const RotateHandle handle = static_cast<RotateHandle>(h);
+  const glm::dvec3 axis = rotate_handle_axis(ws_.view.camera, g, handle);
+  // the grab point: on the ring, nearest the viewer (view ring: any point)
+  const glm::dvec3 to_eye = glm::normalize(ws_.view.camera.eye() - g.world_centre);
+  glm::dvec3 radial = to_eye - glm::dot(to_eye, axis) * axis;
+  if (h == 3 || glm::length(radial) < 1e-6) radial = glm::dvec3(ws_.view.camera.right());
+  radial = glm::normalize(radial);
+  const double r = h == 3 ? g.world_radius * kRotateViewRingShare : g.world_radius;
+  auto pixel_at = [&](double a) {
+    const glm::dvec3 p = g.world_centre + r * (std::cos(a) * radial + std::sin(a) * glm::cross(axis, radial));
+    return ws_.view.camera.project(p, view_w_, view_h_).pixel;
+  };
+  const glm::dvec2 grab = pixel_at(0.0);
+  const RotateHandle hit = rotate_gizmo_hit(g, grab);
+  if (hit != handle) {
+    log("error: script line " + std::to_string(script_pos_) + ": the click meant for ring '" + name + "' hit another", true);
+    return;
+  }
+  begin_rotate(hit, grab);
+  for (int step = 1; step <= 4; ++step) {
+    auto a = rotate_gizmo_angle(ws_.view.camera, Viewport{view_w_, view_h_}, rot_layout_, hit, grab, pixel_at(glm::radians(degrees) * step / 4.0));
+    if (a) apply_rotate(*a);
+  }
+  rot_handle_ = RotateHandle::kNone;
+}
+
+// export FORMAT MODE|- FPS all|CLIP[,CLIP...] PATH: File > Export's Export button with these
+// settings (clips by name); the script waits until it is done.
+void Editor::script_export(std::istringstream& in) {
+  if (!export_panel_.visible()) {  // open the window first and press Export on the next frame, as a
+    export_panel_.open(*ws_.scene());   // person would (a window first shown under the error modal that
+    --script_pos_;                 // a refused export opens trips an ImGui assertion)
+    script_wait_ = 1;
+    return;
+  }
+  std::string format, mode, clips, path;
+  double fps = 0.0;
+  in >> format >> mode >> fps >> clips;
+  std::getline(in >> std::ws, path);
+  ExportRequest request;
+  request.out = path;
+  request.options.fps = fps;
+  const std::string where = "error: script line " + std::to_string(script_pos_) + ": export: ";
+  if (!parse_export_format(format, request.format)) return log(where + "format '" + format + "' is not glb, obj or json", true);
+  if (mode != "-" && !parse_export_mode(mode, request.options.mode)) return log(where + "unknown mode '" + mode + "'", true);
+  const Character& ch = *ws_.scene()->doc().character;
+  if (clips == "all")
+    for (size_t c = 0; c < ch.clips.size(); ++c) request.options.clips.push_back(static_cast<int32_t>(c));
+  for (size_t start = 0; clips != "all" && start < clips.size();) {
+    const size_t comma = std::min(clips.find(',', start), clips.size());
+    const std::string name = clips.substr(start, comma - start);
+    const int32_t c = ch.find_clip(name);
+    if (c < 0) return log(where + "no clip '" + name + "'", true);
+    request.options.clips.push_back(c);
+    start = comma + 1;
+  }
+  export_panel_.start(*ws_.scene(), request, hooks_);
+}
+
+// Resident memory of this process in KiB (/proc/self/statm's second field, in pages); 0 where it
+// cannot be read.
+long resident_kib() {
+  std::ifstream in("/proc/self/statm");
+  long size = 0, resident = 0;
+  if (!(in >> size >> resident)) return 0;
+  return resident * (sysconf(_SC_PAGESIZE) / 1024);
+}
+
+// memory PATH [LABEL]: appends "LABEL rss_kib=N history_bytes=N undo_steps=N redo_steps=N" to PATH
+// (the soak test reads it: tests/editor_soak_gui_test.cpp).
+void Editor::script_memory(std::istringstream& in) {
+  std::string path, label;
+  in >> path;
+  std::getline(in >> std::ws, label);
+  std::ofstream out(path, std::ios::app);
+  const History* h = ws_.scene() ? &ws_.scene()->history() : nullptr;
+  out << (label.empty() ? "-" : label) << " rss_kib=" << resident_kib() << " history_bytes=" << (h ? h->memory_bytes() : 0)
+      << " undo_steps=" << (h ? h->undo_steps() : 0) << " redo_steps=" << (h ? h->redo_steps() : 0) << "\n";
+  if (!out.flush()) log("error: " + path + ": cannot append the memory figures", true);
+}
+
+}  // namespace cagewrap::app
+
+#endif

@@ -1,0 +1,117 @@
+// The editor without a window: the open document (Scene: the document, its undo steps and what is
+// derived from it), the view state, the log and the action table. Everything the editor does to the
+// document or the selection is a method here or an action in the table, so that tests drive the
+// editor in-process (tests/workspace_test.cpp) and the window only draws and routes input.
+//
+//   Workspace ws;
+//   ws.set_scene(load_scene(path, "").value());
+//   ws.run("mode cage_vertices"); ws.run("select all"); ws.run("move 0 0.1 0"); ws.run("undo");
+//
+// A drag (the move gizmo) is begin_move / update_move per mouse event / end_move: one undo step.
+#pragma once
+
+#include <deque>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "app/workspace/actions.h"
+#include "app/workspace/scene.h"
+#include "app/workspace/view_state.h"
+
+namespace cagewrap::app {
+
+struct LogLine {
+  std::string text;
+  int repeats = 1;
+  bool error = false;
+};
+
+class Workspace {
+ public:
+  Workspace();
+  Workspace(const Workspace&) = delete;
+  Workspace& operator=(const Workspace&) = delete;
+
+  // ---- the document
+  Scene* scene() { return scene_.get(); }
+  const Scene* scene() const { return scene_.get(); }
+  // Replaces the open document (the selection is cleared, the view kept).
+  void set_scene(std::unique_ptr<Scene> scene);
+  std::unique_ptr<Scene> take_scene() { return std::move(scene_); }
+
+  ViewState view;
+  ActionTable actions;
+
+  // ---- the log: every message for the artist (stdout/stderr as well, so a crash keeps it)
+  void log(std::string text, bool error = false);
+  const std::deque<LogLine>& log_lines() const { return log_; }
+  // Runs one line of the action table ("select all"); unknown actions and actions that need a
+  // document are logged as errors naming `where` ("script line 4"). False when it did not run.
+  bool run(const std::string& line, const std::string& where = "action");
+  // Called after each action that ran (the window uses it to wait frames in scripts).
+  std::function<void(const Action&)> after_action;
+
+  // ---- selection
+  IndexSet& active_set();
+  uint32_t active_count() const;  // elements of the active mode
+  void edit_selection(SelectOp op);
+  // The cage faces' centroids at `positions` (cage vertex positions).
+  std::vector<glm::vec3> face_centroids(std::span<const glm::vec3> positions) const;
+  double scene_size() const { return scene_ ? scene_->skin_diagonal : 1.0; }
+  double mirror_tolerance() const { return view.mirror_tolerance_share * scene_size(); }
+  // Keys and assignments go to the vertex nearest each mirror image: about an edge length.
+  double rig_mirror_tolerance() const;
+  double grid_spacing() const;  // the ground grid's step (a power of ten; Ctrl-snapping uses it)
+
+  // ---- moving cage vertices (the move gizmo, `move`)
+  // The cage vertices a move acts on: the selected vertices, or the corners of the selected faces.
+  IndexSet move_set() const;
+  Result<MoveWeights> move_weights_now() const;  // soft-selection and mirror shares of move_set
+  std::vector<std::pair<uint32_t, float>> sim_paint_weights() const;
+  std::optional<glm::dvec3> cage_selection_centre() const;  // of move_set, posed
+  // A different thing to move (the parametric driver's control point): the document from the drag's
+  // start moved by a displacement, and the undo step's label.
+  struct Mover {
+    std::function<Document(const Document& start, const glm::dvec3& total)> moved;
+    std::string label;
+  };
+  // Starts a move of move_set (or of `mover`'s thing): false (logged) when there is nothing to move.
+  bool begin_move(std::optional<Mover> mover = std::nullopt);
+  // The drag's total displacement so far, snapped to the grid when `snap`; the document is rebuilt
+  // from the drag's start each time, so nothing accumulates and undo restores the start exactly.
+  void update_move(const glm::dvec3& total, bool snap = false);
+  void end_move();     // one undo step (none when nothing moved)
+  void cancel_move();  // back to the start
+  bool moving() const { return move_.has_value(); }
+  const glm::dvec3& move_total() const;  // zero when not moving
+
+  // ---- undo
+  void undo();
+  void redo();
+
+  // ---- posing (view state: never undone)
+  void set_pose_override(uint32_t node, const glm::quat& q);
+  // Plays `name` ("rest": the bind pose); false when the character has no clip of that name.
+  bool select_clip(const std::string& name);
+
+ private:
+  void add_actions();  // workspace_actions.cpp
+  // Logs "error: <where the running action came from>: text".
+  void fail(const std::string& text);
+  std::string where_ = "action";
+  std::unique_ptr<Scene> scene_;
+  std::deque<LogLine> log_;
+  struct MoveDrag {
+    MoveWeights weights;
+    std::optional<Mover> mover;
+    Document start;
+    glm::dvec3 total{0.0};
+    bool rest = false;
+  };
+  std::optional<MoveDrag> move_;
+};
+
+}  // namespace cagewrap::app

@@ -1,0 +1,195 @@
+// The workspace's own actions: the document, the selection, moves, posing and the camera. Each is
+// what a menu item, a shortcut or a panel runs, and a script line (docs/editor-actions.md).
+#include <algorithm>
+#include <cstdlib>
+
+#include <glm/gtc/quaternion.hpp>
+
+#include "app/workspace/workspace.h"
+
+namespace cagewrap::app {
+namespace {
+
+// "cage vertices" -> "cage_vertices": the script spelling of a mode.
+std::string script_word(const char* name) {
+  std::string s = name;
+  std::replace(s.begin(), s.end(), ' ', '_');
+  return s;
+}
+
+}  // namespace
+
+void Workspace::add_actions() {
+  auto add = [this](std::string name, std::string usage, std::string help, std::function<void(std::istringstream&)> run) {
+    actions.add({std::move(name), std::move(usage), std::move(help), true, 0, std::move(run)});
+  };
+
+  // ---- selection
+  add("mode", "cage_vertices|cage_faces|skin_vertices|joints", "What clicks select and the Select menu acts on (F5..F8).",
+      [this](std::istringstream& in) {
+        std::string m;
+        in >> m;
+        for (int k = 0; k < kSelectModes; ++k)
+          if (script_word(select_mode_name(static_cast<SelectMode>(k))) == m) {
+            view.mode = static_cast<SelectMode>(k);
+            return;
+          }
+        fail("unknown mode '" + m + "'");
+      });
+  add("select", "all|none|invert|grow|shrink|mirror", "The Select menu, on the active mode's set.", [this](std::istringstream& in) {
+    std::string op;
+    in >> op;
+    for (int k = 0; k < kSelectOps; ++k)
+      if (op == select_op_name(static_cast<SelectOp>(k))) {
+        edit_selection(static_cast<SelectOp>(k));
+        return;
+      }
+    fail("unknown selection operation '" + op + "'");
+  });
+  auto select_one = [this](IndexSet Selection::*set) {
+    return [this, set](std::istringstream& in) {
+      uint32_t i = 0;
+      std::string how;
+      if (!(in >> i)) return fail("give an index");
+      in >> how;
+      uint32_t idx[1] = {i};
+      if (how == "add") (view.selection.*set).add(idx);
+      else (view.selection.*set).set(idx);
+    };
+  };
+  add("select_cage_vertex", "I [add]", "Selects cage vertex I (adds it with `add`).", select_one(&Selection::cage_vertices));
+  add("select_cage_face", "I [add]", "Selects cage face I (adds it with `add`).", select_one(&Selection::cage_faces));
+  add("select_skin_vertex", "I [add]", "Selects skin vertex I (adds it with `add`).", select_one(&Selection::skin_vertices));
+  add("select_joint", "NODE [add]", "Selects the joint of skeleton node NODE (adds it with `add`).", select_one(&Selection::joints));
+  add("select_cage_vertices_all", "", "Selects every cage vertex.", [this](std::istringstream&) {
+    if (scene_->doc().cage) view.selection.cage_vertices = select_all(scene_->doc().cage->num_vertices());
+  });
+  add("select_set_faces", "", "Selects the cage faces whose elements drive the selected skin vertices.", [this](std::istringstream&) {
+    std::vector<uint32_t> faces;
+    if (scene_->binding && scene_->doc().cage && scene_->binding->has_sets())
+      for (uint32_t p : view.selection.skin_vertices)
+        if (p < scene_->binding->num_points)
+          for (uint32_t e : scene_->binding->sets().of(p)) faces.push_back(scene_->doc().cage->element_face[e]);
+    view.selection.cage_faces = IndexSet(std::move(faces));
+  });
+  add("log_set", "I", "Logs the cage elements that drive skin vertex I now.", [this](std::istringstream& in) {
+    uint32_t p = 0;
+    in >> p;
+    std::string text = "set of skin vertex " + std::to_string(p) + ":";
+    if (scene_->binding && p < scene_->binding->num_points && scene_->binding->has_sets())
+      for (uint32_t e : scene_->binding->sets().of(p)) text += " " + std::to_string(e);
+    else text += " (not bound)";
+    log(text);
+  });
+
+  // ---- moving the cage
+  add("soft", "on|off [RADIUS] [smooth|linear|sharp|constant] [volume|surface]", "Soft selection of moves.",
+      [this](std::istringstream& in) {
+        std::string on, word;
+        in >> on;
+        view.soft.enabled = on == "on";
+        double r;
+        if (in >> r) view.soft.radius = r;
+        in.clear();
+        while (in >> word) {
+          for (int k = 0; k < 4; ++k)
+            if (word == falloff_name(static_cast<Falloff>(k))) view.soft.falloff = static_cast<Falloff>(k);
+          if (word == "surface") view.soft.distance = FalloffDistance::kSurface;
+          if (word == "volume") view.soft.distance = FalloffDistance::kVolume;
+        }
+      });
+  add("mirror", "on|off", "X-mirror of moves.", [this](std::istringstream& in) {
+    std::string on;
+    in >> on;
+    view.mirror.enabled = on == "on";
+  });
+  add("move_target", "rest|pose", "Whether moves sculpt the pose (offsets) or edit the rest cage.", [this](std::istringstream& in) {
+    std::string t;
+    in >> t;
+    if (t != "rest" && t != "pose") return fail("move_target rest|pose");
+    view.move_rest = t == "rest";
+  });
+  add("move", "DX DY DZ", "Moves the selected cage vertices (or faces' corners) by a world displacement: one undo step.",
+      [this](std::istringstream& in) {
+        glm::dvec3 d(0.0);
+        if (!(in >> d.x >> d.y >> d.z)) return fail("move DX DY DZ");
+        if (begin_move()) {
+          update_move(d);
+          end_move();
+        }
+      });
+
+  // ---- the document
+  add("undo", "", "Undoes the last step (Ctrl+Z).", [this](std::istringstream&) { undo(); });
+  add("redo", "", "Redoes the step undone (Ctrl+Shift+Z).", [this](std::istringstream&) { redo(); });
+  add("bind_param", "variant|local|epsilon|max_elements|scale|max_distance|separation_steps VALUE",
+      "Sets a binding parameter in the panel (Rebind applies it).", [this](std::istringstream& in) {
+        std::string name, value;
+        in >> name >> value;
+        const std::string what = "bind_param " + name + ": ";
+        BindParams p = scene_->params;
+        char* end = nullptr;
+        const double v = std::strtod(value.c_str(), &end);
+        if (name == "variant") {
+          if (!parse_variant(value, p.variant)) return fail(what + "unknown variant '" + value + "'");
+        } else if (value.empty() || *end != '\0' || !(v >= 0.0) || v > 1e9) {
+          return fail(what + "'" + value + "' is not a non-negative number");
+        } else if (name == "local") p.local = v;
+        else if (name == "epsilon") p.epsilon = v;
+        else if (name == "max_elements") p.max_elements = static_cast<uint32_t>(v);
+        else if (name == "scale") p.scale = v;
+        else if (name == "max_distance") p.max_distance = v;
+        else if (name == "separation_steps") p.separation_steps = static_cast<uint32_t>(v);
+        else return fail(what + "unknown parameter");
+        if (auto st = validate(p); !st) return fail(what + st.error().message);
+        scene_->params = p;
+      });
+  add("rebind", "", "Binds the skin again with the panel's parameters (one undo step when they changed).",
+      [this](std::istringstream&) { scene_->rebind(); });
+
+  // ---- time and pose (view state)
+  add("clip", "NAME|rest", "Plays the clip NAME, or shows the bind pose.", [this](std::istringstream& in) {
+    std::string name;
+    in >> name;
+    if (!select_clip(name)) fail("no clip '" + name + "'");
+  });
+  add("play", "", "Plays the clip.", [this](std::istringstream&) { scene_->player.play(); });
+  add("pause", "", "Pauses the clip.", [this](std::istringstream&) { scene_->player.pause(); });
+  add("time", "SECONDS", "Moves the clip to a time.", [this](std::istringstream& in) {
+    double t = 0.0;
+    if (!(in >> t)) return fail("time SECONDS");
+    scene_->player.scrub(t);
+  });
+  add("pose", "NODE X Y Z", "Rotates a joint on top of the clip (degrees, its local axes; never undone).",
+      [this](std::istringstream& in) {
+        uint32_t node = 0;
+        glm::vec3 deg(0.f);
+        if (!(in >> node >> deg.x >> deg.y >> deg.z)) return fail("pose NODE X Y Z");
+        set_pose_override(node, glm::quat(glm::radians(deg)));
+      });
+  add("reset_pose", "", "Drops every joint rotation made on top of the clip.", [this](std::istringstream&) { scene_->pose_override.clear(); });
+  auto compare = [this](std::istringstream& in) {
+    std::string v;
+    in >> v;
+    scene_->show_file_skinning = v != "off";
+  };
+  add("file_skinning", "on|off", "Shows the file's own linear blend skinning instead of the cage's (L).", compare);
+  add("compare", "on|off", "The same as file_skinning.", compare);
+
+  // ---- the camera
+  add("view", "front|right|top", "A preset view.", [this](std::istringstream& in) {
+    std::string v;
+    in >> v;
+    view.camera.set_preset(v == "right" ? ViewPreset::kRight : v == "top" ? ViewPreset::kTop : ViewPreset::kFront);
+  });
+  add("camera", "YAW PITCH DISTANCE [TX TY TZ]", "Places the orbit camera (degrees, scene units).", [this](std::istringstream& in) {
+    double yaw = 0, pitch = 0, dist = 0;
+    in >> yaw >> pitch >> dist;
+    view.camera.set_angles(glm::radians(yaw), glm::radians(pitch));
+    view.camera.set_distance(dist);
+    glm::dvec3 t;
+    if (in >> t.x >> t.y >> t.z) view.camera.set_target(t);
+  });
+}
+
+}  // namespace cagewrap::app
