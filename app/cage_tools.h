@@ -14,7 +14,7 @@
 #include "app/workspace/background_task.h"
 #include "app/workspace/scene.h"
 #include "core/cage/auto_cage.h"
-#include "core/geometry/topology_change.h"
+#include "core/document/topology_change.h"
 #include "core/geometry/selection.h"
 
 namespace cagewrap::app {
@@ -54,7 +54,7 @@ class CageTools {
   void commit_cage(Scene& scene, std::shared_ptr<const Cage> cage, const std::string& label);
  public:
   // Applies a topology edit (core/cage/cage_edit.h, core/cage/cage_subdivide.h) to the document as one undo
-  // step, carrying offsets and set edits (core/geometry/topology_change.h). False on error (shown, document
+  // step, carrying offsets and set edits (core/document/topology_change.h). False on error (shown, document
   // unchanged).
   bool apply_edit(Scene& scene, Result<CageEdit> edit, const std::string& label, const EditorHooks& hooks);
   // The menu's operations by name, for scripts: merge, weld D, flip, flip_all, linear [N], loop [N],

@@ -75,7 +75,7 @@ void Editor::upload_topology() {
     cage_picker_ = PolygonPicker(cage->polygons);
   }
   skin_bvh_built_ = false;
-  display_key_.clear();
+  display_key_.reset();
   topology_dirty_ = false;
 }
 
@@ -424,7 +424,7 @@ int Editor::run() {
           topology_dirty_ = true;
         }
         shown_cage_ = ws_.scene()->doc().cage;
-        display_key_.clear();
+        display_key_.reset();
       }
       // scripted runs advance a fixed 1/30 s per frame so they are reproducible
       ws_.scene()->player.advance(scripted ? 1.0 / 30.0 : dt);
@@ -447,7 +447,7 @@ int Editor::run() {
         if (auto faces = sets_panel_.highlighted_faces(*ws_.scene(), ws_.view.selection); !faces.empty()) {
           face_mask_.assign(ws_.scene()->doc().cage->polygons.num_faces(), 0);
           for (uint32_t f : faces) face_mask_[f] = 1;
-          display_key_.clear();  // the selection's own mask comes back when the panel lets go
+          display_key_.reset();  // the selection's own mask comes back when the panel lets go
         }
       }
       if (ws_.scene()->doc().cage) renderer_->update_cage(ws_.scene()->cage_posed, cage_weights_, face_mask_, bone_colors_);

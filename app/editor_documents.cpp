@@ -6,14 +6,14 @@ namespace cagewrap::app {
 
 void Editor::set_scene(std::unique_ptr<Scene> scene) {
   ws_.set_scene(std::move(scene));
-  outliner_tree_ = {};
+  outliner_for_ = nullptr;
   if (autosave_) autosave_->discard();  // the work it held was saved or discarded (guard_unsaved)
   recovered_ = false;
   skin_display_.scene_changed();
   fidelity_panel_.scene_changed();
   topology_dirty_ = true;
   skin_bvh_built_ = false;
-  display_key_.clear();
+  display_key_.reset();
   if (options_.play && ws_.scene()->clip >= 0) ws_.scene()->player.play();
   frame_all();
 }

@@ -15,37 +15,16 @@ ImVec2 Editor::begin_panel(const char* name, ImVec2 pos, ImVec2 size, ImVec2 min
   return ImGui::GetWindowSize();
 }
 
-// The skeleton as the outliner shows it: joints under their nearest joint ancestor, in parent-child
-// order; nodes that are no skin's joint (meshes, cameras, lights, groups) apart. Made once per character.
-const Editor::OutlinerTree& Editor::outliner_tree(const Character& ch) {
-  if (outliner_tree_.character == &ch) return outliner_tree_;
-  OutlinerTree t;
-  t.character = &ch;
-  const size_t n = ch.skeleton.size();
-  std::vector<uint8_t> joint(n, 0);
-  t.mesh_node.assign(n, 0);
-  for (const Skin& s : ch.skins)
-    for (uint32_t j : s.joints)
-      if (j < n) joint[j] = 1;
-  for (const Primitive& p : ch.primitives)
-    if (p.node < n) t.mesh_node[p.node] = 1;
-  t.children.assign(n, {});
-  for (uint32_t i = 0; i < n; ++i) {
-    if (!joint[i]) {
-      t.other_nodes.push_back(i);
-      continue;
-    }
-    ++t.joint_count;
-    int32_t p = ch.skeleton.node(i).parent;
-    while (p >= 0 && !joint[static_cast<size_t>(p)]) p = ch.skeleton.node(static_cast<size_t>(p)).parent;
-    if (p < 0) t.joint_roots.push_back(i);
-    else t.children[static_cast<size_t>(p)].push_back(i);
+// Made once per character (app/workspace/joint_tree.h).
+const JointTree& Editor::outliner_tree(const Character& ch) {
+  if (outliner_for_ != &ch) {
+    outliner_tree_ = joint_tree(ch);
+    outliner_for_ = &ch;
   }
-  outliner_tree_ = std::move(t);
   return outliner_tree_;
 }
 
-void Editor::draw_joint_tree(const Character& ch, const OutlinerTree& tree, uint32_t node) {
+void Editor::draw_joint_tree(const Character& ch, const JointTree& tree, uint32_t node) {
   const bool leaf = tree.children[node].empty();
   const bool selected = ws_.view.selection.joints.contains(node);
   ImGuiTreeNodeFlags flags = ImGuiTreeNodeFlags_OpenOnArrow | ImGuiTreeNodeFlags_OpenOnDoubleClick | ImGuiTreeNodeFlags_DefaultOpen |
@@ -78,10 +57,10 @@ void Editor::draw_outliner() {
       }
       ImGui::TreePop();
     }
-    const OutlinerTree& tree = outliner_tree(ch);
-    if (ImGui::TreeNodeEx("Skeleton", ImGuiTreeNodeFlags_DefaultOpen, "Skeleton (%zu joints)", tree.joint_count)) {
-      if (tree.joint_count == 0) ImGui::TextDisabled("no joints: the character is not skinned");
-      for (uint32_t r : tree.joint_roots) draw_joint_tree(ch, tree, r);
+    const JointTree& tree = outliner_tree(ch);
+    if (ImGui::TreeNodeEx("Skeleton", ImGuiTreeNodeFlags_DefaultOpen, "Skeleton (%zu joints)", tree.joints)) {
+      if (tree.joints == 0) ImGui::TextDisabled("no joints: the character is not skinned");
+      for (uint32_t r : tree.roots) draw_joint_tree(ch, tree, r);
       ImGui::TreePop();
     }
     if (!tree.other_nodes.empty() &&
@@ -196,9 +175,11 @@ void Editor::draw_toolbar() {
     if (on) ImGui::PopStyleColor();
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", tips[k]);
   }
-  ImGui::SameLine();
-  ImGui::TextDisabled("|");
-  ImGui::SameLine();
+  if (view_w_ >= 900.0f) {  // one row; two in a narrower view, beside the stats rather than over them
+    ImGui::SameLine();
+    ImGui::TextDisabled("|");
+    ImGui::SameLine();
+  }
   ImGui::Checkbox("Soft", &ws_.view.soft.enabled);
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("Soft selection (B); radius with [ and ]");
   ImGui::SameLine();

@@ -95,6 +95,14 @@ void Editor::add_window_actions() {
   }
 
   // ---- the view
+  add("panels", "LEFT RIGHT BOTTOM", "Sets the panels' sizes in pixels, as dragging their edges does (remembered).",
+      [this, fail](std::istringstream& in) {
+        float l = 0, r = 0, b = 0;
+        if (!(in >> l >> r >> b) || l <= 0 || r <= 0 || b <= 0) return fail("panels LEFT RIGHT BOTTOM (pixels)");
+        layout_.left = l;
+        layout_.right = r;
+        layout_.bottom = b;
+      }, false, 1);
   add("log_layout", "", "Logs the 3-D view's rectangle and every open floating window's (window pixels).", [this](std::istringstream&) {
     char buf[320];
     std::snprintf(buf, sizeof buf, "layout: view %.0f %.0f %.0f %.0f, display %.0f %.0f", view_x_, view_y_, view_w_, view_h_,

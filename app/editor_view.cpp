@@ -8,17 +8,22 @@ namespace cagewrap::app {
 // selection, the tool settings or the cage changed.
 void Editor::update_selection_display() {
   const Cage* cage = ws_.scene()->doc().cage.get();
-  std::string key = std::to_string(reinterpret_cast<uintptr_t>(cage)) + "/" + std::to_string(static_cast<int>(ws_.view.mode)) + "/" +
-                    std::to_string(ws_.view.soft.enabled) + std::to_string(ws_.view.soft.radius) + std::to_string(static_cast<int>(ws_.view.soft.falloff)) +
-                    std::to_string(static_cast<int>(ws_.view.soft.distance)) + "/" + std::to_string(ws_.view.mirror.enabled) +
-                    std::to_string(ws_.view.mirror_tolerance_share) + "/";
-  for (const IndexSet* set : {&ws_.view.selection.cage_vertices, &ws_.view.selection.cage_faces, &ws_.view.selection.joints}) {
-    key += std::to_string(set->size()) + ":";
-    for (uint32_t i : *set) key += std::to_string(i) + ",";
-  }
-  if (sim_panel_.visible()) key += "/sim" + std::to_string(ws_.scene()->doc().revision);
-  key += "/bones" + std::to_string(color_by_bone_) + std::to_string(reinterpret_cast<uintptr_t>(ws_.scene()->attachment ? ws_.scene()->attachment->joint.data() : nullptr));
-  if (key == display_key_) return;
+  const SoftSelectionParams& soft = ws_.view.soft;
+  SelectionDisplayKey key{ws_.scene()->doc().cage,
+                          ws_.view.mode,
+                          soft.enabled,
+                          soft.radius,
+                          soft.falloff,
+                          soft.distance,
+                          ws_.view.mirror.enabled,
+                          ws_.view.mirror_tolerance_share,
+                          ws_.view.selection.cage_vertices,
+                          ws_.view.selection.cage_faces,
+                          ws_.view.selection.joints,
+                          sim_panel_.visible() ? ws_.scene()->doc().revision : 0,
+                          color_by_bone_,
+                          ws_.scene()->attachment_revision};
+  if (display_key_ && *display_key_ == key) return;
   display_key_ = std::move(key);
   // the cage coloured by the bone each vertex follows; in joint mode the selected joints' vertices
   // are highlighted

@@ -64,6 +64,7 @@
 #include "core/io/gltf_writer.h"
 #include "render/viewport_renderer.h"
 
+#include "app/workspace/joint_tree.h"
 #include "app/workspace/panel_layout.h"
 #include "app/workspace/workspace.h"
 
@@ -142,16 +143,10 @@ class Editor {
   ImVec4 toolbar_rect_{0, 0, 0, 0};  // x, y, width, height of the view's toolbar last frame
   float stats_width_ = 0;            // of the stats overlay last frame
   std::unordered_set<unsigned> placed_;  // floating windows already placed in the view once
-  struct OutlinerTree {
-    const Character* character = nullptr;  // made for
-    std::vector<uint32_t> joint_roots, other_nodes;
-    std::vector<std::vector<uint32_t>> children;  // per node: its joint children
-    std::vector<uint8_t> mesh_node;               // per node: it instances a mesh
-    size_t joint_count = 0;
-  };
-  OutlinerTree outliner_tree_;
-  const OutlinerTree& outliner_tree(const Character& ch);
-  void draw_joint_tree(const Character& ch, const OutlinerTree& tree, uint32_t node);  // says in the view what the View toggles hide
+  JointTree outliner_tree_;
+  const Character* outliner_for_ = nullptr;  // the character outliner_tree_ was made for
+  const JointTree& outliner_tree(const Character& ch);
+  void draw_joint_tree(const Character& ch, const JointTree& tree, uint32_t node);
   Workspace ws_;  // the document, view state, log and action table (app/workspace/workspace.h)
   EditorOptions options_;
   GLFWwindow* window_ = nullptr;
@@ -182,7 +177,23 @@ class Editor {
   std::vector<uint8_t> face_mask_, joint_mask_;
   std::vector<glm::vec4> bone_colors_;  // per cage vertex, when colouring the cage by bone
   bool color_by_bone_ = false;
-  std::string display_key_;
+  // What the selection's display was built from: rebuilt when any of it changes.
+  struct SelectionDisplayKey {
+    std::shared_ptr<const Cage> cage;
+    SelectMode mode;
+    bool soft;
+    double radius;
+    Falloff falloff;
+    FalloffDistance distance;
+    bool mirror;
+    double mirror_tolerance;
+    IndexSet vertices, faces, joints;
+    uint64_t sim_revision;  // the document's, while the Simulation window (which paints weights) is open
+    bool bones;
+    uint64_t attachment_revision;
+    bool operator==(const SelectionDisplayKey&) const = default;
+  };
+  std::optional<SelectionDisplayKey> display_key_;
   bool box_selecting_ = false;
   ImVec2 box_start_{0, 0};
   EditorFiles files_;  // preferences, recent files, the file browser (app/editor_files.h)

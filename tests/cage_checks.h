@@ -12,7 +12,7 @@
 
 #include "core/cage/cage.h"
 #include "core/geometry/geometry.h"
-#include "core/geometry/topology_change.h"
+#include "core/document/topology_change.h"
 
 namespace cagewrap::test {
 

@@ -10,7 +10,7 @@
 #include <set>
 
 #include "core/cage/cage_edit.h"
-#include "core/geometry/mesh_check.h"
+#include "core/cage/mesh_check.h"
 #include "tests/cage_checks.h"
 #include "tests/expect_error.h"
 #include "tests/fixtures.h"

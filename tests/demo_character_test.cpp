@@ -12,7 +12,7 @@
 #include "core/io/gltf_loader.h"
 #include "core/io/gltf_writer.h"
 #include "core/rig/joint_angles.h"
-#include "core/geometry/mesh_check.h"
+#include "core/cage/mesh_check.h"
 #include "core/rig/skinning.h"
 #include "tests/gltf_builder.h"
 

@@ -122,8 +122,7 @@ struct PixelRect {
   bool contains(int x, int y) const { return x >= x0 && x < x1 && y >= y0 && y < y1; }
 };
 // Where the stats overlay (fps, frame times: different on every run) sits in the view's top left.
-// (below the toolbar when the view is too narrow for both side by side, as at 1280 x 720)
-constexpr PixelRect kStatsOverlay{kLeft, kTop, kLeft + 420, kTop + 270};
+constexpr PixelRect kStatsOverlay{kLeft, kTop, kLeft + 420, kTop + 200};
 
 // Share of the view's pixels (those outside `exclude`: by default the stats overlay, whose timings
 // differ on every run) that differ by more than `tolerance` in a channel.

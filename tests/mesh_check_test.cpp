@@ -1,5 +1,5 @@
 // Welding, mesh checks and signed distance: exact answers on hand-built meshes.
-#include "core/geometry/mesh_check.h"
+#include "core/cage/mesh_check.h"
 
 #include <cmath>
 

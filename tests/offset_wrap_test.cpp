@@ -7,7 +7,7 @@
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
 
-#include "core/geometry/mesh_check.h"
+#include "core/cage/mesh_check.h"
 #include "core/geometry/surface_distance.h"
 #include "tests/fixtures.h"
 

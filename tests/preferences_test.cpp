@@ -52,6 +52,27 @@ TEST_F(PreferencesTest, SaveThenLoadGivesTheSame) {
   EXPECT_EQ(j["display"]["wireframe"], true);
 }
 
+TEST_F(PreferencesTest, PanelSizesAreRememberedAndCheckedByName) {
+  Preferences p;
+  p.panel_left = 310;
+  p.panel_right = 420;
+  p.panel_bottom = 230;
+  ASSERT_TRUE(save_preferences(path("p.json"), p).ok());
+  auto loaded = load_preferences(path("p.json"));
+  EXPECT_TRUE(loaded.warnings.empty());
+  EXPECT_EQ(loaded.prefs.panel_left, 310);
+  EXPECT_EQ(loaded.prefs.panel_right, 420);
+  EXPECT_EQ(loaded.prefs.panel_bottom, 230);
+  write_text(path("q.json"), R"({"panels": {"left": 5, "right": "wide", "bottom": 200}})");
+  loaded = load_preferences(path("q.json"));
+  EXPECT_EQ(loaded.prefs.panel_left, Preferences{}.panel_left);
+  EXPECT_EQ(loaded.prefs.panel_right, Preferences{}.panel_right);
+  EXPECT_EQ(loaded.prefs.panel_bottom, 200);
+  EXPECT_EQ(loaded.warnings.size(), 2u);
+  EXPECT_TRUE(mentions(loaded.warnings, "panels.left"));
+  EXPECT_TRUE(mentions(loaded.warnings, "panels.right"));
+}
+
 TEST_F(PreferencesTest, MissingFileGivesDefaultsQuietly) {
   auto loaded = load_preferences(path("nothing.json"));
   EXPECT_TRUE(loaded.warnings.empty());

@@ -11,7 +11,7 @@
 #include "core/cage/cage_subdivide.h"
 #include "core/io/project_io.h"
 #include "core/deform/registration.h"
-#include "core/geometry/topology_change.h"
+#include "core/document/topology_change.h"
 #include "tests/document_fixtures.h"
 #include "tests/expect_error.h"
 #include "tests/set_fixtures.h"

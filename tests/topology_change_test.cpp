@@ -1,8 +1,8 @@
-// Tests for core/geometry/topology_change.h: composing changes, carrying set edits, offsets and labels, the
+// Tests for core/document/topology_change.h: composing changes, carrying set edits, offsets and labels, the
 // errors of apply_topology_change; and the key property: a bound, edited cage subdivided (linear,
 // Loop, local) and rebound with its carried edits still reproduces the skin at rest, and the carried
 // exclusions still take effect.
-#include "core/geometry/topology_change.h"
+#include "core/document/topology_change.h"
 
 #include <gtest/gtest.h>
 

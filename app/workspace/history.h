@@ -54,6 +54,8 @@ class History {
   bool commit(std::string label, const Document& doc);
   Document cancel();
   bool dragging() const { return drag_start_.has_value(); }
+  // The state the open drag started from (the one copy of it), or null when no drag is open.
+  const Document* drag_start() const { return drag_start_ ? &*drag_start_ : nullptr; }
 
   // The current state was written to `project_path`: it becomes the save point, and every snapshot
   // learns the path (where the work lives is not an undoable edit). Revisions are unchanged.

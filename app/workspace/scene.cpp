@@ -218,6 +218,7 @@ void Scene::document_changed() {
     }
     attached_cage_ = cage;
     attached_settings_ = doc().attachment;
+    attachment_revision = next_revision();  // a new attachment (display caches follow it)
     // a binding that stays (adopted from a project's cache, or other attachment settings with
     // separation off) is fitted to the new attachment
     if (binding && !job && !needs_rebind()) static_cast<void>(make_deformer());

@@ -77,6 +77,7 @@ struct Scene {
   void begin_drag();
   void drag(Document next) { live = std::move(next); }
   bool dragging() const { return history_.dragging(); }
+  const Document* drag_start() const { return history_.drag_start(); }  // null when not dragging
   bool commit_drag(std::string label, bool refresh = true);
   void cancel_drag();
   // Undo and redo one step; return the step's label ("" when there was none).
@@ -159,7 +160,7 @@ struct Scene {
   Status make_deformer(RigFit* fit = nullptr);
   bool fits_attachment() const;  // a fitted attachment for the current binding (make_deformer fits it)
   std::unique_ptr<Binding> rig_binding;  // the smoothed stencil `deformer` reads, or null: `binding`
-  uint64_t attachment_revision = 0;  // changes whenever make_deformer fits `attachment` again
+  uint64_t attachment_revision = 0;  // changes whenever `attachment` is made or fitted again
   // Takes a binding made earlier for the document as it is (a project's cache: the caller checked
   // binding_fits), as a finished bind would; call before document_changed so that none starts.
   void adopt_binding(Binding binding);

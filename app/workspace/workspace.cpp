@@ -209,7 +209,6 @@ bool Workspace::begin_move(std::optional<Mover> mover) {
   }
   d.mover = std::move(mover);
   d.rest = view.move_rest;
-  d.start = scene_->doc();
   scene_->begin_drag();
   move_ = std::move(d);
   return true;
@@ -218,10 +217,12 @@ bool Workspace::begin_move(std::optional<Mover> mover) {
 void Workspace::update_move(const glm::dvec3& total, bool snap) {
   if (!move_ || !scene_) return;
   MoveDrag& d = *move_;
+  const Document* start = scene_->drag_start();
+  if (!start) return;  // the drag was closed (an undo)
   d.total = snap ? snap_displacement(total, grid_spacing()) : total;
-  scene_->drag(d.mover  ? d.mover->moved(d.start, d.total)
-               : d.rest ? scene_->moved_rest(d.start, d.weights, d.total)
-                        : scene_->moved(d.start, d.weights, d.total));
+  scene_->drag(d.mover  ? d.mover->moved(*start, d.total)
+               : d.rest ? scene_->moved_rest(*start, d.weights, d.total)
+                        : scene_->moved(*start, d.weights, d.total));
 }
 
 void Workspace::end_move() {

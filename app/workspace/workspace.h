@@ -106,8 +106,7 @@ class Workspace {
   std::deque<LogLine> log_;
   struct MoveDrag {
     MoveWeights weights;
-    std::optional<Mover> mover;
-    Document start;
+    std::optional<Mover> mover;  // (the drag's start is the history's: Scene::drag_start)
     glm::dvec3 total{0.0};
     bool rest = false;
   };

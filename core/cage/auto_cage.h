@@ -35,7 +35,7 @@
 #include "core/cage/cage.h"
 #include "core/rig/character.h"
 #include "core/geometry/mesh.h"
-#include "core/geometry/mesh_check.h"
+#include "core/cage/mesh_check.h"
 #include "core/deform/registration.h"
 #include "core/base/result.h"
 

@@ -1,6 +1,6 @@
 // Topology edits of the cage polygons (paper section 5, step 1: "polygonize and weld"): merging
 // vertices, welding by distance, flipping faces, triangulating. Each returns the new cage and the
-// CageTopologyChange that carries offsets, set edits and attachments across (core/geometry/topology_change.h).
+// CageTopologyChange that carries offsets, set edits and attachments across (core/document/topology_change.h).
 // Selections are spans of ids (Selection::cage_vertices / cage_faces); duplicates are allowed.
 #pragma once
 
@@ -9,7 +9,7 @@
 
 #include "core/cage/cage.h"
 #include "core/base/result.h"
-#include "core/geometry/topology_change.h"
+#include "core/document/topology_change.h"
 
 namespace cagewrap {
 

@@ -1,7 +1,7 @@
 // Subdividing the cage to add control elements (paper section 5, step 1: "subdivide triangles in
 // problem regions"): uniformly, linear or Loop, and locally, red-green refinement of selected faces.
 // Each returns the new cage and the CageTopologyChange that carries offsets, set edits and
-// attachments across (core/geometry/topology_change.h).
+// attachments across (core/document/topology_change.h).
 //
 // This work is based on:
 //   C. Loop, "Smooth Subdivision Surfaces Based on Triangles", MSc thesis, University of Utah, 1987
@@ -16,7 +16,7 @@
 
 #include "core/cage/cage.h"
 #include "core/base/result.h"
-#include "core/geometry/topology_change.h"
+#include "core/document/topology_change.h"
 
 namespace cagewrap {
 

@@ -1,4 +1,4 @@
-#include "core/geometry/mesh_check.h"
+#include "core/cage/mesh_check.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "core/geometry/topology_change.h"
+#include "core/document/topology_change.h"
 
 #include "core/rig/cage_attachment.h"
 #include "core/rig/keyposes.h"
