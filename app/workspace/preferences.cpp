@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <initializer_list>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -70,44 +71,29 @@ void read_known_fields(Json& j, Preferences& p, const std::string& path, std::ve
       bad("last_directory", "is not a string");
     j.erase(it);
   }
-  if (auto it = j.find("window"); it != j.end()) {
-    if (it->is_object()) {
-      for (auto [key, member] : {std::pair{"width", &Preferences::window_width},
-                                 std::pair{"height", &Preferences::window_height}}) {
-        auto f = it->find(key);
-        if (f == it->end()) continue;
-        if (f->is_number_integer() && f->get<int64_t>() >= kMinWindow && f->get<int64_t>() <= kMaxWindow)
-          p.*member = f->get<int>();
-        else
-          bad(std::string("window.") + key, "is not a whole number from " + std::to_string(kMinWindow) +
-                                                " to " + std::to_string(kMaxWindow));
-        it->erase(f);
-      }
-      if (it->empty()) j.erase(it);
-    } else {
-      bad("window", "is not an object");
+  // an object of whole numbers of pixels: {"width": 1600, "height": 900}
+  auto read_pixels = [&](const char* group, std::initializer_list<std::pair<const char*, int Preferences::*>> fields, int lo) {
+    auto it = j.find(group);
+    if (it == j.end()) return;
+    if (!it->is_object()) {
+      bad(group, "is not an object");
       j.erase(it);
+      return;
     }
-  }
-  if (auto it = j.find("panels"); it != j.end()) {
-    if (it->is_object()) {
-      for (auto [key, member] : {std::pair{"left", &Preferences::panel_left}, std::pair{"right", &Preferences::panel_right},
-                                 std::pair{"bottom", &Preferences::panel_bottom}}) {
-        auto f = it->find(key);
-        if (f == it->end()) continue;
-        if (f->is_number_integer() && f->get<int64_t>() >= kMinPanel && f->get<int64_t>() <= kMaxWindow)
-          p.*member = f->get<int>();
-        else
-          bad(std::string("panels.") + key, "is not a whole number of pixels from " + std::to_string(kMinPanel) + " to " +
-                                                std::to_string(kMaxWindow));
-        it->erase(f);
-      }
-      if (it->empty()) j.erase(it);
-    } else {
-      bad("panels", "is not an object");
-      j.erase(it);
+    for (auto [key, member] : fields) {
+      auto f = it->find(key);
+      if (f == it->end()) continue;
+      if (f->is_number_integer() && f->get<int64_t>() >= lo && f->get<int64_t>() <= kMaxWindow)
+        p.*member = f->get<int>();
+      else
+        bad(std::string(group) + "." + key, "is not a whole number from " + std::to_string(lo) + " to " + std::to_string(kMaxWindow));
+      it->erase(f);
     }
-  }
+    if (it->empty()) j.erase(it);
+  };
+  read_pixels("window", {{"width", &Preferences::window_width}, {"height", &Preferences::window_height}}, kMinWindow);
+  read_pixels("panels", {{"left", &Preferences::panel_left}, {"right", &Preferences::panel_right}, {"bottom", &Preferences::panel_bottom}},
+              kMinPanel);
   if (auto it = j.find("autosave"); it != j.end()) {
     if (it->is_object()) {
       if (auto f = it->find("interval_seconds"); f != it->end()) {
