@@ -241,11 +241,17 @@ void Editor::keep_windows_in_view() {
   }
 }
 
+std::vector<const char*> Editor::hidden_view_parts() const {
+  std::vector<const char*> out;
+  for (auto [on, name] : {std::pair{style_.show_skin, "skin"}, std::pair{style_.show_cage, "cage"}, std::pair{style_.show_skeleton, "skeleton"}})
+    if (!on) out.push_back(name);
+  return out;
+}
+
 // What the View menu hides, said in the view (the toggles are remembered between runs).
 void Editor::draw_view_cues() {
   std::string hidden;
-  for (auto [on, name] : {std::pair{style_.show_skin, "skin"}, std::pair{style_.show_cage, "cage"}, std::pair{style_.show_skeleton, "skeleton"}})
-    if (!on) hidden += std::string(hidden.empty() ? "" : ", ") + name;
+  for (const char* name : hidden_view_parts()) hidden += std::string(hidden.empty() ? "" : ", ") + name;
   if (hidden.empty() || !ws_.scene()) return;
   const std::string text = "hidden: " + hidden + " (View menu)";
   ImGui::SetNextWindowPos(ImVec2(view_x_ + view_w_ - 10, view_y_ + view_h_ - 10), ImGuiCond_Always, ImVec2(1, 1));
@@ -319,8 +325,8 @@ int Editor::run() {
   layout_.left = files_.prefs().panel_left;
   layout_.right = files_.prefs().panel_right;
   layout_.bottom = files_.prefs().panel_bottom;
-  for (auto [on, name] : {std::pair{style_.show_skin, "skin"}, std::pair{style_.show_cage, "cage"}, std::pair{style_.show_skeleton, "skeleton"}})
-    if (!on) log(std::string("view: the ") + name + " is hidden (View > " + name + ", remembered from the last run)");
+  for (const char* name : hidden_view_parts())
+    log(std::string("view: the ") + name + " is hidden (View > " + name + ", remembered from the last run)");
   if (options_.offscreen && options_.screenshot.empty() && options_.script.empty()) {
     std::fprintf(stderr, "error: --offscreen has no window and no input: give --script or --screenshot\n");
     return 1;

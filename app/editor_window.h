@@ -138,7 +138,8 @@ class Editor {
   // Begins a docked panel at `pos` of `size` that the artist resizes by the edges in `resizable`
   // (ImGui borders): returns its size after this frame's resize.
   ImVec2 begin_panel(const char* name, ImVec2 pos, ImVec2 size, ImVec2 min, ImVec2 max);
-  void draw_view_cues();
+  void draw_view_cues();  // says in the view what the View toggles hide
+  std::vector<const char*> hidden_view_parts() const;  // "skin", "cage", "skeleton" hidden by the View menu
   void keep_windows_in_view();
   ImVec4 toolbar_rect_{0, 0, 0, 0};  // x, y, width, height of the view's toolbar last frame
   float stats_width_ = 0;            // of the stats overlay last frame

@@ -34,7 +34,6 @@ class ActionTable {
   // headless default).
   void add(Action action);
   const Action* find(std::string_view name) const;
-  bool contains(std::string_view name) const { return find(name) != nullptr; }
 
   enum class Outcome : uint8_t { kRan, kBlank, kUnknown, kNeedsDocument };
   struct Result {

@@ -40,7 +40,6 @@ class Workspace {
   const Scene* scene() const { return scene_.get(); }
   // Replaces the open document (the selection is cleared, the view kept).
   void set_scene(std::unique_ptr<Scene> scene);
-  std::unique_ptr<Scene> take_scene() { return std::move(scene_); }
 
   ViewState view;
   ActionTable actions;
