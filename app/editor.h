@@ -19,6 +19,7 @@ struct EditorOptions {
   bool gpu_deform = false;   // deform it on the GPU even on a software OpenGL (Mesa's llvmpipe)
   bool frame_stats = false;  // print the frame-time split (medians) at exit; finishes GL work per part
   bool frame_time = false;   // print the same at exit without finishing GL work between parts
+  int msaa = -1;             // antialiasing samples; -1: 4 on a GPU, none on a software OpenGL (render/headless_gl.h)
   bool offscreen = false;    // no window: a headless EGL context and a framebuffer (app/offscreen_surface.h)
 };
 

@@ -14,7 +14,7 @@ void Editor::set_scene(std::unique_ptr<Scene> scene) {
   topology_dirty_ = true;
   skin_bvh_built_ = false;
   display_key_.reset();
-  if (options_.play && ws_.scene()->clip >= 0) ws_.scene()->player.play();
+  if (options_.play && ws_.view.playback.clip >= 0) ws_.run("play");
   frame_all();
 }
 

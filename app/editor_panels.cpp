@@ -149,7 +149,7 @@ void Editor::draw_properties() {
         ImGui::TextColored(ImVec4(1, 0.6f, 0.3f, 1), "%zu points follow their nearest element", b.rigid_points.size());
       if (b.separation_applied) ImGui::Text("separation kept %zu element-point pairs apart", static_cast<size_t>(b.total_separated));
       ImGui::Text("bound in %.2f s", b.seconds);
-      fidelity_panel_.draw(*ws_.scene(), hooks_);
+      fidelity_panel_.draw(*ws_.scene(), ws_.view.playback, hooks_);
     }
   } else if (ws_.scene()) {
     ImGui::TextWrapped("No cage: the skin shows the file's own linear blend skinning. Open with --cage to bind a cage.");
@@ -205,7 +205,7 @@ void Editor::draw_pose_panel() {
   if (ws_.view.selection.joints.size() == 1 && ws_.view.selection.joints.indices()[0] < ch.skeleton.size()) {
     const uint32_t j = ws_.view.selection.joints.indices()[0];
     ImGui::Text("%s", ch.skeleton.node(j).name.c_str());
-    const auto& o = ws_.scene()->pose_override;
+    const auto& o = ws_.view.playback.pose_override;
     const glm::quat q = j < o.size() ? o[j] : glm::quat(1, 0, 0, 0);
     glm::vec3 euler = glm::degrees(glm::eulerAngles(q));
     if (ImGui::DragFloat3("rotate (deg)", &euler.x, 0.5f, -180.0f, 180.0f, "%.1f")) ws_.set_pose_override(j, glm::quat(glm::radians(euler)));
@@ -217,8 +217,8 @@ void Editor::draw_pose_panel() {
     ImGui::TextDisabled("Select one joint (F8) to pose it with the rings or here.");
     ImGui::PopTextWrapPos();
   }
-  if (ImGui::Button("Reset pose")) ws_.scene()->pose_override.clear();
-  ImGui::Checkbox("show the file's own skinning (L)", &ws_.scene()->show_file_skinning);
+  if (ImGui::Button("Reset pose")) ws_.run("reset_pose");
+  ImGui::Checkbox("show the file's own skinning (L)", &ws_.view.playback.show_file_skinning);
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("Compare the cage deformation with the character's linear blend skinning");
   ImGui::Spacing();
 }
@@ -259,33 +259,32 @@ void Editor::draw_timeline() {
   layout_.log_share = 1.0f - size.x / d.x;
   if (ws_.scene() && !ws_.scene()->doc().character->clips.empty()) {
     const auto& clips = ws_.scene()->doc().character->clips;
-    if (ImGui::BeginCombo("clip", ws_.scene()->clip >= 0 ? clips[static_cast<size_t>(ws_.scene()->clip)].name.c_str() : "(rest pose)")) {
-      if (ImGui::Selectable("(rest pose)", ws_.scene()->clip < 0)) {
-        ws_.scene()->clip = -1;
-        ws_.scene()->player = ClipPlayer(0.0);
-      }
+    const int32_t clip = ws_.view.playback.clip;
+    const ClipPlayer& pl = ws_.view.playback.player;
+    if (ImGui::BeginCombo("clip", clip >= 0 ? clips[static_cast<size_t>(clip)].name.c_str() : "(rest pose)")) {
+      if (ImGui::Selectable("(rest pose)", clip < 0)) ws_.select_clip("rest");
       for (size_t i = 0; i < clips.size(); ++i)
-        if (ImGui::Selectable(clips[i].name.c_str(), ws_.scene()->clip == static_cast<int>(i))) {
-          bool playing = ws_.scene()->player.playing();
-          ws_.scene()->clip = static_cast<int32_t>(i);
-          ws_.scene()->player = ClipPlayer(clips[i].duration);
-          if (playing) ws_.scene()->player.play();
+        if (ImGui::Selectable(clips[i].name.c_str(), clip == static_cast<int>(i))) {
+          const bool playing = pl.playing();  // another clip keeps playing as this one did
+          ws_.select_clip(clips[i].name);
+          if (playing) ws_.run("play");
         }
       ImGui::EndCombo();
     }
-    ClipPlayer& pl = ws_.scene()->player;
-    if (ImGui::Button("|<")) pl.scrub(0);
+    // the transport runs the action table's play, pause, time and loop, as scripts do
+    auto scrub = [&](double t) { ws_.run("time " + std::to_string(t)); };
+    if (ImGui::Button("|<")) scrub(0.0);
     ImGui::SameLine();
-    if (ImGui::Button("<")) pl.scrub(pl.time() - 1.0 / 30.0);
+    if (ImGui::Button("<")) scrub(pl.time() - 1.0 / 30.0);
     ImGui::SameLine();
-    if (ImGui::Button(pl.playing() ? "Pause" : "Play", ImVec2(60, 0))) pl.playing() ? pl.pause() : pl.play();
+    if (ImGui::Button(pl.playing() ? "Pause" : "Play", ImVec2(60, 0))) ws_.run(pl.playing() ? "pause" : "play");
     ImGui::SameLine();
-    if (ImGui::Button(">")) pl.scrub(pl.time() + 1.0 / 30.0);
+    if (ImGui::Button(">")) scrub(pl.time() + 1.0 / 30.0);
     ImGui::SameLine();
     bool loop = pl.looping();
-    if (ImGui::Checkbox("loop", &loop)) pl.set_loop(loop);
+    if (ImGui::Checkbox("loop", &loop)) ws_.run(loop ? "loop on" : "loop off");
     float t = static_cast<float>(pl.time());
-    if (ImGui::SliderFloat("time", &t, 0.0f, static_cast<float>(std::max(pl.duration(), 1e-3)), "%.3f s")) pl.scrub(t);
+    if (ImGui::SliderFloat("time", &t, 0.0f, static_cast<float>(std::max(pl.duration(), 1e-3)), "%.3f s")) scrub(t);
   } else {
     ImGui::TextDisabled("no clips");
   }

@@ -210,7 +210,7 @@ void Editor::add_window_actions() {
   });
   add("fidelity_cancel", "", "Cancels the running check.", [this](std::istringstream&) { fidelity_panel_.cancel(); });
   add("fidelity_frame", "", "Logs this frame's fidelity figures.", [this](std::istringstream&) {
-    fidelity_panel_.update(*ws_.scene());
+    fidelity_panel_.update(*ws_.scene(), ws_.view.playback);
     if (const auto& f = fidelity_panel_.frame()) {
       char buf[256];
       const Skeleton& sk = ws_.scene()->doc().character->skeleton;
@@ -244,8 +244,8 @@ void Editor::add_window_actions() {
     rig_panel_.add_set(*ws_.scene(), ws_.view.selection, axis == "y" ? 1 : axis == "z" ? 2 : 0, hooks_);
   });
   add("key", "", "Keys the cage's pose offsets at the driver's current angle.", [this](std::istringstream&) {
-    ws_.scene()->update_pose();
-    rig_panel_.key(*ws_.scene(), hooks_);
+    ws_.update_pose();
+    rig_panel_.key(*ws_.scene(), ws_.current_pose(), hooks_);
   });
   add("mirror_keyset", "", "Mirrors the active keypose set to the other side.",
       [this](std::istringstream&) { rig_panel_.mirror_set(*ws_.scene(), ws_.rig_mirror_tolerance(), hooks_); });

@@ -273,11 +273,11 @@ void Editor::handle_input() {
     if (ImGui::IsKeyPressed(GLFW_KEY_RIGHT_BRACKET)) ws_.view.soft.radius = std::min(ws_.view.soft.radius * 1.25, 2.0 * ws_.scene_size());
     if (shift && !ctrl && ImGui::IsKeyPressed(GLFW_KEY_X)) ws_.view.mirror.enabled = !ws_.view.mirror.enabled;
     if (!ctrl && ImGui::IsKeyPressed(GLFW_KEY_F)) frame_all();
-    if (ImGui::IsKeyPressed(GLFW_KEY_SPACE)) ws_.scene()->player.playing() ? ws_.scene()->player.pause() : ws_.scene()->player.play();
+    if (ImGui::IsKeyPressed(GLFW_KEY_SPACE)) ws_.run(ws_.view.playback.player.playing() ? "pause" : "play");
     if (ImGui::IsKeyPressed(GLFW_KEY_KP_1) || ImGui::IsKeyPressed(GLFW_KEY_1)) ws_.view.camera.set_preset(ctrl ? ViewPreset::kBack : ViewPreset::kFront);
     if (ImGui::IsKeyPressed(GLFW_KEY_KP_3) || ImGui::IsKeyPressed(GLFW_KEY_3)) ws_.view.camera.set_preset(ctrl ? ViewPreset::kLeft : ViewPreset::kRight);
     if (ImGui::IsKeyPressed(GLFW_KEY_KP_7) || ImGui::IsKeyPressed(GLFW_KEY_7)) ws_.view.camera.set_preset(ctrl ? ViewPreset::kBottom : ViewPreset::kTop);
-    if (ImGui::IsKeyPressed(GLFW_KEY_L) && !ctrl) ws_.scene()->show_file_skinning = !ws_.scene()->show_file_skinning;
+    if (ImGui::IsKeyPressed(GLFW_KEY_L) && !ctrl) ws_.run(ws_.view.playback.show_file_skinning ? "file_skinning off" : "file_skinning on");
     if (ImGui::IsKeyPressed(GLFW_KEY_C) && !ctrl) color_by_bone_ = !color_by_bone_;
     if (ImGui::IsKeyPressed(GLFW_KEY_K) && !ctrl) rig_panel_.visible() = !rig_panel_.visible();
     if (ImGui::IsKeyPressed(GLFW_KEY_J) && !ctrl) sets_panel_.visible() = !sets_panel_.visible();
@@ -325,7 +325,7 @@ void Editor::begin_rotate(RotateHandle handle, glm::dvec2 from) {
   rot_handle_ = handle;
   rot_from_ = from;
   rot_angle_ = 0.0;
-  const auto& o = ws_.scene()->pose_override;
+  const auto& o = ws_.view.playback.pose_override;
   rot_start_ = static_cast<size_t>(j) < o.size() ? o[static_cast<size_t>(j)] : glm::quat(1, 0, 0, 0);
   // local = clip * override and global = parent * local: turning the joint by angle a about a world
   // axis w is override' = override * angleAxis(a, inverse(global rotation) * w)

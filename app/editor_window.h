@@ -62,6 +62,7 @@
 #include "core/geometry/selection.h"
 #include "core/rig/demo_character.h"
 #include "core/io/gltf_writer.h"
+#include "render/headless_gl.h"
 #include "render/viewport_renderer.h"
 
 #include "app/workspace/joint_tree.h"

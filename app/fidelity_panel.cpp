@@ -35,9 +35,9 @@ std::string doc_key(const Scene& scene) {
 }
 }  // namespace
 
-void FidelityPanel::update(Scene& scene) {
+void FidelityPanel::update(Scene& scene, const Playback& pb) {
   const Document& doc = scene.doc();
-  if (!scene.deformer || !scene.binding || !doc.cage || doc.character->skins.empty() || scene.show_file_skinning ||
+  if (!scene.deformer || !scene.binding || !doc.cage || doc.character->skins.empty() || pb.show_file_skinning ||
       scene.skin_driven()) {
     frame_.reset();
     colors_.clear();
@@ -45,9 +45,9 @@ void FidelityPanel::update(Scene& scene) {
     return;
   }
   char t[64];
-  std::snprintf(t, sizeof t, "/%d/%.6f/%zu", scene.clip, scene.player.time(), scene.pose_override.size());
+  std::snprintf(t, sizeof t, "/%d/%.6f/%zu", pb.clip, pb.player.time(), pb.pose_override.size());
   std::string key = doc_key(scene) + t + (heat_map ? "/h" : "");
-  for (const auto& q : scene.pose_override) {
+  for (const auto& q : pb.pose_override) {
     char r[96];
     std::snprintf(r, sizeof r, "/%a,%a,%a,%a", q.x, q.y, q.z, q.w);  // exact: no two poses share a key
     key += r;
@@ -56,7 +56,7 @@ void FidelityPanel::update(Scene& scene) {
   // while the frame keeps changing (playback, a drag) measure at most 4 times a second: the file's
   // skinning and, on the GPU path, a CPU copy of the rig's skin cost a frame's worth at 1M vertices
   const double now = std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-  if (scene.player.playing() && now - measured_at_ < 0.25) return;
+  if (pb.player.playing() && now - measured_at_ < 0.25) return;
   measured_at_ = now;
   key_ = key;
   const Character& ch = *doc.character;
@@ -67,7 +67,7 @@ void FidelityPanel::update(Scene& scene) {
     diagonal_ = scene.skin_diagonal;
   }
   const std::vector<glm::vec3>& rig = scene.skin_posed();
-  const std::vector<glm::vec3> lbs = skin_character(ch, scene.current_pose());
+  const std::vector<glm::vec3> lbs = skin_character(ch, scene.current_pose(pb));
   if (rig.size() != lbs.size()) {
     frame_.reset();
     colors_.clear();
@@ -75,8 +75,8 @@ void FidelityPanel::update(Scene& scene) {
   }
   distance_.resize(rig.size());
   FrameFidelity f = compare_skins(rig, lbs, edges_, joints_, diagonal_, FidelityOptions{}.min_edge, distance_);
-  f.clip = scene.clip;
-  f.time = scene.player.time();
+  f.clip = pb.clip;
+  f.time = pb.player.time();
   frame_ = f;
   colors_.clear();
   if (heat_map) {
@@ -175,7 +175,7 @@ void FidelityPanel::draw_warning(const Scene& scene, float x, float y) {
   ImGui::End();
 }
 
-void FidelityPanel::draw(Scene& scene, const EditorHooks& hooks) {
+void FidelityPanel::draw(Scene& scene, const Playback& pb, const EditorHooks& hooks) {
   if (!scene.doc().cage || scene.doc().character->skins.empty()) return;
   ImGui::Spacing();
   ImGui::TextUnformatted("Fidelity to the file's skinning");
@@ -197,7 +197,7 @@ void FidelityPanel::draw(Scene& scene, const EditorHooks& hooks) {
       ImGui::TextColored(good, "within the thresholds");
     }
   } else {
-    hint(scene.show_file_skinning ? "showing the file's skinning (L)" : "not bound yet");
+    hint(pb.show_file_skinning ? "showing the file's skinning (L)" : "not bound yet");
   }
   ImGui::Checkbox("heat map (distance to the file's skinning)", &heat_map);
   if (job_) {

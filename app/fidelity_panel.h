@@ -25,9 +25,9 @@ class FidelityPanel {
  public:
   // Measures the current frame when it changed (pose, binding, attachment, document; while a clip
   // plays, at most 4 times a second); cheap when not.
-  void update(Scene& scene);
+  void update(Scene& scene, const Playback& playback);
   // The section in Properties (call inside the Properties window).
-  void draw(Scene& scene, const EditorHooks& hooks);
+  void draw(Scene& scene, const Playback& playback, const EditorHooks& hooks);
   // The warning in the 3-D view (its bottom-left corner at x, y: screen pixels), when this frame
   // passes a threshold: the figure and the joint nearest the worst vertex or the most stretched edge.
   void draw_warning(const Scene& scene, float x, float y);

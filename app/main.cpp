@@ -29,6 +29,10 @@ int main(int argc, char** argv) {
   app.add_flag("--frame-time", editor.frame_time,
                "print the same medians at exit without finishing GL work between parts: the frame rate as the artist "
                "sees it (GPU times still from timer queries)");
+  app.add_option("--msaa", editor.msaa,
+                 "antialiasing samples of the 3-D view (0 = none; default: 4 on a GPU, none on a software OpenGL such as "
+                 "Mesa's llvmpipe, where they cost more than half of each frame)")
+      ->check(CLI::Range(0, 16));
   app.add_flag("--offscreen", editor.offscreen,
                "run the editor with no window or display, drawing into an offscreen framebuffer through a headless "
                "OpenGL 4.3 context (EGL; a GPU server or CI runner); needs --script or --screenshot");

@@ -17,6 +17,7 @@ Result<std::unique_ptr<OffscreenSurface>> OffscreenSurface::create(int width, in
   s->gl_ = std::move(*gl);
   s->width_ = width;
   s->height_ = height;
+  samples = render::editor_samples(samples, s->gl_->software());
   GLint max_samples = 0;
   glGetIntegerv(GL_MAX_SAMPLES, &max_samples);
   samples = std::min(samples, static_cast<int>(max_samples));

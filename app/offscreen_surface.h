@@ -14,7 +14,8 @@ namespace cagewrap::app {
 
 class OffscreenSurface {
  public:
-  // Opens the context and a width x height framebuffer with `samples` samples (0 = none), bound for
+  // Opens the context and a width x height framebuffer with `samples` samples (0 = none; < 0: the editor's
+  // choice for the context, render::editor_samples), bound for
   // drawing. Fails with what was tried (no EGL, no 4.3 context, an incomplete framebuffer).
   static Result<std::unique_ptr<OffscreenSurface>> create(int width, int height, int samples);
   ~OffscreenSurface();

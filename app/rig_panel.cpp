@@ -84,14 +84,14 @@ bool RigPanel::add_set(Scene& scene, const Selection& sel, int axis, const Edito
   return true;
 }
 
-bool RigPanel::key(Scene& scene, const EditorHooks& hooks) {
+bool RigPanel::key(Scene& scene, const Pose& pose, const EditorHooks& hooks) {
   const Document& doc = scene.doc();
   if (!doc.cage || current_ >= doc.keyposes.size()) {
     hooks.log("error: add a keypose set first (select a joint, Rig > Keyposes > Add set)", true);
     return false;
   }
   const KeyposeSet& set = doc.keyposes[current_];
-  std::vector<double> values = driver_values(set, doc.character->skeleton, scene.current_pose());
+  std::vector<double> values = driver_values(set, doc.character->skeleton, pose);
   for (double& v : values) v = std::round(v * 10.0) / 10.0;  // keys at tenths of a degree
   // what was sculpted since the last key: the driver offsets, taken out of them into the key
   std::vector<glm::vec3> delta = doc.cage_offsets;
@@ -133,7 +133,7 @@ bool RigPanel::mirror_set(Scene& scene, double tolerance, const EditorHooks& hoo
 
 #if CAGEWRAP_GUI
 
-void RigPanel::draw(Scene& scene, const Selection& sel, bool mirror, double tolerance, const EditorHooks& hooks) {
+void RigPanel::draw(Scene& scene, const Pose& pose, const Selection& sel, bool mirror, double tolerance, const EditorHooks& hooks) {
   if (!visible_) return;
   ImGui::SetNextWindowPos(ImVec2(270, 120), ImGuiCond_FirstUseEver);
   ImGui::SetNextWindowSize(ImVec2(380, 460), ImGuiCond_FirstUseEver);
@@ -200,7 +200,7 @@ void RigPanel::draw(Scene& scene, const Selection& sel, bool mirror, double tole
       std::string edit_label;
       for (size_t d = 0; d < set.drivers.size(); ++d) {
         const JointDriver& dr = set.drivers[d];
-        const double now = driver_value(dr, sk, scene.current_pose());
+        const double now = driver_value(dr, sk, pose);
         ImGui::Text("driver: %s %s about (%.0f %.0f %.0f), now %.1f deg", dr.node < sk.size() ? sk.node(dr.node).name.c_str() : "?",
                     driver_kind_name(dr.kind), dr.axis.x, dr.axis.y, dr.axis.z, now);
       }
@@ -215,7 +215,7 @@ void RigPanel::draw(Scene& scene, const Selection& sel, bool mirror, double tole
         set.interpolation = static_cast<KeyInterpolation>(interp);
         edited = true, edit_label = "Interpolation of " + set.name;
       }
-      if (ImGui::Button("Key the sculpt at this pose", ImVec2(-1, 0))) key(scene, hooks);
+      if (ImGui::Button("Key the sculpt at this pose", ImVec2(-1, 0))) key(scene, pose, hooks);
       if (ImGui::IsItemHovered()) ImGui::SetTooltip("Pose the joint, move cage vertices, then Key: what you moved becomes the key");
       int remove = -1;
       for (size_t k = 0; k < set.keys.size(); ++k) {
@@ -273,7 +273,7 @@ void RigPanel::draw(Scene& scene, const Selection& sel, bool mirror, double tole
 }
 
 #else
-void RigPanel::draw(Scene&, const Selection&, bool, double, const EditorHooks&) {}
+void RigPanel::draw(Scene&, const Pose&, const Selection&, bool, double, const EditorHooks&) {}
 #endif
 
 }  // namespace cagewrap::app

@@ -20,15 +20,16 @@ class RigPanel {
   bool& visible() { return visible_; }
   // `mirror`: X-mirror editing is on (assignments and keys go to the other side too);
   // `tolerance`: scene units for finding mirror counterparts.
-  void draw(Scene& scene, const Selection& selection, bool mirror, double tolerance, const EditorHooks& hooks);
+  // `pose`: the pose shown (the drivers' current values).
+  void draw(Scene& scene, const Pose& pose, const Selection& selection, bool mirror, double tolerance, const EditorHooks& hooks);
 
   // Operations (also for scripts). Each commits one undo step and returns false (logged) on failure.
   bool set_attachment_mode(Scene& scene, AttachmentMode mode, double width, const EditorHooks& hooks);
   bool assign(Scene& scene, const Selection& selection, bool automatic, bool mirror, double tolerance, const EditorHooks& hooks);
   // A new set driven by the selected joint's rotation about its local axis (0 X, 1 Y, 2 Z).
   bool add_set(Scene& scene, const Selection& selection, int axis, const EditorHooks& hooks);
-  // Keys what was sculpted since the last key (the driver offsets' change) at the current pose.
-  bool key(Scene& scene, const EditorHooks& hooks);
+  // Keys what was sculpted since the last key (the driver offsets' change) at `pose` (the one shown).
+  bool key(Scene& scene, const Pose& pose, const EditorHooks& hooks);
   bool remove_key(Scene& scene, size_t key, const EditorHooks& hooks);
   bool mirror_set(Scene& scene, double tolerance, const EditorHooks& hooks);
   size_t& current_set() { return current_; }

@@ -90,7 +90,7 @@ std::vector<glm::vec4> SimPanel::vertex_colors(const SimSettings& sim, size_t nu
 
 #if CAGEWRAP_GUI
 
-void SimPanel::draw(Scene& scene, std::span<const std::pair<uint32_t, float>> weights, const EditorHooks& hooks) {
+void SimPanel::draw(Scene& scene, int32_t clip, std::span<const std::pair<uint32_t, float>> weights, const EditorHooks& hooks) {
   if (!visible_) return;
   // over the view's right edge, so the character in the middle stays visible
   ImGui::SetNextWindowPos(ImVec2(668, 90), ImGuiCond_FirstUseEver);
@@ -108,7 +108,7 @@ void SimPanel::draw(Scene& scene, std::span<const std::pair<uint32_t, float>> we
   bool on = doc.sim.enabled;
   if (ImGui::Checkbox("Simulate the cage", &on)) set_enabled(scene, on, hooks);
   // progress of the current clip's frames
-  if (ClipSimulation* sim = on ? scene.simulation() : nullptr) {
+  if (ClipSimulation* sim = on ? scene.simulation(clip) : nullptr) {
     const float share = static_cast<float>(sim->frames_done()) / static_cast<float>(std::max<size_t>(1, sim->frames_total()));
     char text[96];
     std::snprintf(text, sizeof text, "%zu / %zu frames", sim->frames_done(), sim->frames_total());
@@ -214,7 +214,7 @@ void SimPanel::draw(Scene& scene, std::span<const std::pair<uint32_t, float>> we
 }
 
 #else
-void SimPanel::draw(Scene&, std::span<const std::pair<uint32_t, float>>, const EditorHooks&) {}
+void SimPanel::draw(Scene&, int32_t, std::span<const std::pair<uint32_t, float>>, const EditorHooks&) {}
 #endif
 
 }  // namespace cagewrap::app

@@ -20,7 +20,8 @@ class SimPanel {
  public:
   bool& visible() { return visible_; }
   // `weights`: the selected cage vertices with their soft-selection shares (vertex, 0..1].
-  void draw(Scene& scene, std::span<const std::pair<uint32_t, float>> weights, const EditorHooks& hooks);
+  // `clip`: the clip playing (its simulation's progress is shown).
+  void draw(Scene& scene, int32_t clip, std::span<const std::pair<uint32_t, float>> weights, const EditorHooks& hooks);
 
   // Operations (also for scripts). Each commits one undo step and returns false (logged) on failure.
   bool set_enabled(Scene& scene, bool on, const EditorHooks& hooks);

@@ -2,6 +2,8 @@
 
 #include "app/skin_display.h"
 
+#include "render/headless_gl.h"
+
 #include <imgui/imgui.h>
 
 #include <algorithm>
@@ -34,9 +36,7 @@ std::string SkinDisplay::init(Path path, bool synchronous) {
   const std::string gl = std::string(renderer ? renderer : "unknown renderer") + ", OpenGL " +
                          std::to_string(epoxy_gl_version() / 10) + "." + std::to_string(epoxy_gl_version() % 10);
   // a software OpenGL runs compute shaders on the CPU, slower than the CPU path (docs/benchmarks.md)
-  const std::string name = renderer ? renderer : "";
-  const bool software = name.find("llvmpipe") != std::string::npos || name.find("softpipe") != std::string::npos ||
-                        name.find("swrast") != std::string::npos;
+  const bool software = render::current_context_is_software();
   use_gpu_ = path == Path::kGpu || (path == Path::kAutomatic && !software);
   if (!unavailable_.empty()) return "skin deformed on the CPU: " + unavailable_;
   if (path == Path::kCpu) return "skin deformed on the CPU (--cpu-deform); " + gl + " can do it: View > Deform on the GPU";

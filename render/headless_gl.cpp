@@ -127,8 +127,7 @@ Result<std::unique_ptr<HeadlessGl>> HeadlessGl::create() {
     const char* version = reinterpret_cast<const char*>(glGetString(GL_VERSION));
     gl->description_ = std::string(renderer ? renderer : "?") + ", OpenGL " + (version ? version : "?") + " (" + c.how +
                        (tried.empty() ? std::string() : "; before it: " + tried.substr(0, tried.size() - 2)) + ")";
-    gl->software_ = renderer && (std::strstr(renderer, "llvmpipe") || std::strstr(renderer, "softpipe") ||
-                                 std::strstr(renderer, "swrast"));
+    gl->software_ = current_context_is_software();
     return gl;
   }
   return make_error(ErrorCode::kUnsupportedFormat,
@@ -140,5 +139,12 @@ HeadlessGl::~HeadlessGl() {
   eglDestroyContext(display_, context_);
   // no eglTerminate: other contexts of this process may share the display (EGL displays are per process)
 }
+
+bool current_context_is_software() {
+  const char* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+  return renderer && (std::strstr(renderer, "llvmpipe") || std::strstr(renderer, "softpipe") || std::strstr(renderer, "swrast"));
+}
+
+int editor_samples(int requested, bool software) { return requested >= 0 ? requested : software ? 0 : 4; }
 
 }  // namespace cagewrap::render

@@ -18,9 +18,11 @@ if ! command -v clang++ >/dev/null; then
   echo "fuzz: clang++ is not installed (scripts/setup.sh installs it); skipped"
   exit 77
 fi
+# -O1 -g1 (line tables for the reports' stack traces): the level the sanitizers and libFuzzer are usually
+# run at; the build is about a third quicker than RelWithDebInfo's -O2 -g, and make test builds it each time
 if [ ! -f "$BUILD/build.ninja" ]; then
-  cmake -S "$ROOT" -B "$BUILD" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_C_COMPILER=clang \
-    -DCMAKE_CXX_COMPILER=clang++ -DCAGEWRAP_FUZZ=ON -DCAGEWRAP_GUI=OFF >/dev/null
+  cmake -S "$ROOT" -B "$BUILD" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1" \
+    -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ -DCAGEWRAP_FUZZ=ON -DCAGEWRAP_GUI=OFF >/dev/null
 fi
 cmake --build "$BUILD" --target fuzzers -j "$JOBS"
 

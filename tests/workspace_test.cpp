@@ -32,11 +32,11 @@ class WorkspaceTest : public test::TempDirTest {
     }
     ASSERT_FALSE(s.job) << "the bind did not finish";
     ASSERT_TRUE(s.deformer) << "no deformer after the bind";
-    s.update_pose();
+    ws.update_pose();
   }
   size_t cage_vertices() const { return ws.scene()->doc().cage->num_vertices(); }
   std::vector<glm::vec3> posed() {
-    ws.scene()->update_pose();
+    ws.update_pose();
     return ws.scene()->cage_posed;
   }
   std::string last_log() const { return ws.log_lines().empty() ? "" : ws.log_lines().back().text; }
@@ -174,15 +174,73 @@ TEST_F(WorkspaceTest, UnknownActionsAndMissingDocumentsAreNamed) {
 TEST_F(WorkspaceTest, PosingIsViewStateAndNeverAnUndoStep) {
   const size_t steps = ws.scene()->history().undo_steps();
   ws.run("pose 0 0 45 0");
-  ASSERT_FALSE(ws.scene()->pose_override.empty());
-  EXPECT_NEAR(glm::angle(ws.scene()->pose_override[0]), glm::radians(45.0f), 1e-5);
+  ASSERT_FALSE(ws.view.playback.pose_override.empty());
+  EXPECT_NEAR(glm::angle(ws.view.playback.pose_override[0]), glm::radians(45.0f), 1e-5);
   EXPECT_EQ(ws.scene()->history().undo_steps(), steps);
   ws.run("reset_pose");
-  EXPECT_TRUE(ws.scene()->pose_override.empty());
+  EXPECT_TRUE(ws.view.playback.pose_override.empty());
   ws.run("clip no_such_clip");
   EXPECT_NE(last_log().find("no clip 'no_such_clip'"), std::string::npos);
   EXPECT_TRUE(ws.run("clip rest"));
-  EXPECT_EQ(ws.scene()->clip, -1);
+  EXPECT_EQ(ws.view.playback.clip, -1);
+}
+
+// The clip, its time and the joints posed on top are the workspace's view state (issue 20): the
+// transport's actions set them, undo leaves them, update_pose poses the scene from them, and another
+// document starts again on its own first clip.
+TEST(WorkspacePlayback, ClipTimeAndPoseAreViewStateThatPosesTheScene) {
+  Workspace ws;
+  const std::string demo = std::string(CAGEWRAP_SOURCE_DIR) + "/assets/demo_character.glb";
+  auto scene = load_scene(demo, std::string(CAGEWRAP_SOURCE_DIR) + "/assets/demo_cage.obj");
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  ws.set_scene(std::move(scene).value());
+  const auto& clips = ws.scene()->doc().character->clips;
+  ASSERT_GE(clips.size(), 2u);
+  const Playback& pb = ws.view.playback;
+  EXPECT_EQ(pb.clip, 0);  // a new document shows its first clip, paused at 0
+  EXPECT_FALSE(pb.player.playing());
+  EXPECT_DOUBLE_EQ(pb.player.time(), 0.0);
+
+  ASSERT_TRUE(ws.run("clip " + clips[1].name));
+  EXPECT_EQ(pb.clip, 1);
+  EXPECT_DOUBLE_EQ(pb.player.duration(), clips[1].duration);
+  ws.update_pose();
+  const std::vector<glm::mat4> at_start = ws.scene()->joint_globals;
+  ASSERT_TRUE(ws.run("time " + std::to_string(clips[1].duration * 0.5)));
+  EXPECT_NEAR(pb.player.time(), clips[1].duration * 0.5, 1e-6);
+  ws.update_pose();
+  double moved = 0.0;  // the skeleton follows the workspace's time
+  for (size_t j = 0; j < at_start.size(); ++j) moved = std::max(moved, double(glm::length(glm::vec3(ws.scene()->joint_globals[j][3] - at_start[j][3]))));
+  EXPECT_GT(moved, 1e-3);
+
+  ASSERT_TRUE(ws.run("play"));
+  EXPECT_TRUE(pb.player.playing());
+  ASSERT_TRUE(ws.run("loop off"));
+  EXPECT_FALSE(pb.player.looping());
+  ws.run("loop sideways");  // named, and nothing changes
+  EXPECT_TRUE(ws.log_lines().back().error);
+  EXPECT_NE(ws.log_lines().back().text.find("loop on|off"), std::string::npos);
+  EXPECT_FALSE(pb.player.looping());
+  ASSERT_TRUE(ws.run("pause"));
+  ws.run("pose 1 0 30 0");
+  ASSERT_FALSE(pb.pose_override.empty());
+  EXPECT_EQ(ws.current_pose().local.size(), ws.scene()->doc().character->skeleton.size());
+
+  // undo leaves the view state alone
+  ws.run("select all");
+  ws.run("move 0 0.01 0");
+  ws.run("undo");
+  EXPECT_EQ(pb.clip, 1);
+  EXPECT_NEAR(pb.player.time(), clips[1].duration * 0.5, 1e-6);
+  EXPECT_FALSE(pb.pose_override.empty());
+
+  // another document: its first clip, no posing
+  auto other = load_scene(demo, "");
+  ASSERT_TRUE(other.ok());
+  ws.set_scene(std::move(other).value());
+  EXPECT_EQ(pb.clip, 0);
+  EXPECT_DOUBLE_EQ(pb.player.time(), 0.0);
+  EXPECT_TRUE(pb.pose_override.empty());
 }
 
 TEST(ActionTable, EveryActionHasHelpAndTheReferenceListsItOnce) {

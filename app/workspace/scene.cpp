@@ -325,13 +325,15 @@ std::optional<std::string> Scene::poll_bind() {
   return message;
 }
 
-Pose Scene::current_pose() const {
-  return compose_pose(*doc().character, clip, player.time(), player.looping(), pose_override);
+Pose Scene::current_pose(const Playback& pb) const {
+  return compose_pose(*doc().character, pb.clip, pb.player.time(), pb.player.looping(), pb.pose_override);
 }
 
-void Scene::update_pose() {
+void Scene::update_pose(const Playback& pb) {
   const Character& ch = *doc().character;
-  Pose pose = current_pose();
+  const bool show_file_skinning = pb.show_file_skinning;
+  pose_ = current_pose(pb);
+  const Pose& pose = pose_;
   std::vector<glm::mat4> globals = ch.skeleton.global_transforms(pose);
   joint_globals = globals;
   joint_heads.resize(globals.size());
@@ -347,8 +349,8 @@ void Scene::update_pose() {
     // the driver: rest cage + the artist's offsets + keyposes, carried by the skeleton (core/rig/rig.h)
     pose_document_cage(doc(), attachment ? &*attachment : nullptr, pose, posed);
     sim_shown = false;
-    if (ClipSimulation* sim = simulation()) {
-      const double t = player.time();
+    if (ClipSimulation* sim = simulation(pb.clip)) {
+      const double t = pb.player.time();
       if (sim->frames_done() >= sim->frames_needed(t)) {
         sim->apply(t, posed);
         sim_shown = true;
@@ -377,7 +379,7 @@ void Scene::update_pose() {
   if (!skin_from_cage) skin_posed_ = skin_character(ch, pose);
 }
 
-ClipSimulation* Scene::simulation() {
+ClipSimulation* Scene::simulation(int32_t clip) {
   sim_error.clear();
   if (!doc().sim.enabled || clip < 0 || !doc().cage) return nullptr;
   auto sim = sim_cache.get(doc(), attachment ? &*attachment : nullptr, clip);
@@ -388,8 +390,8 @@ ClipSimulation* Scene::simulation() {
   return *sim;
 }
 
-void Scene::fill_simulation(double budget_ms) {
-  ClipSimulation* sim = simulation();
+void Scene::fill_simulation(int32_t clip, double budget_ms) {
+  ClipSimulation* sim = simulation(clip);
   if (!sim || sim->done()) return;
   sim->advance(sim->frames_total(), budget_ms);
 }
@@ -400,7 +402,7 @@ const std::vector<glm::vec3>& Scene::skin_posed() {
     skin_posed_.resize(skin_rest.size());
     // the deformer was replaced since update_pose (a bind finished) and no longer fits: the file's skinning
     if (!deformer || !deform_through_cage(*deformer, posed, skin_posed_).ok())
-      skin_posed_ = skin_character(*doc().character, current_pose());
+      skin_posed_ = skin_character(*doc().character, pose_);
   }
   return skin_posed_;
 }
@@ -417,13 +419,9 @@ std::unique_ptr<Scene> make_scene(Document doc, std::optional<Binding> cached = 
   for (const auto& prim : ch.primitives) scene->skin_rest.insert(scene->skin_rest.end(), prim.positions.begin(), prim.positions.end());
   scene->skin_diagonal = std::max(bounding_box(scene->skin_rest).diagonal(), 1e-9);
   scene->skin_topology = combined_topology(ch);
-  if (!ch.clips.empty()) {
-    scene->clip = 0;
-    scene->player = ClipPlayer(ch.clips[0].duration);
-  }
   if (cached) scene->adopt_binding(std::move(*cached));
   scene->document_changed();
-  scene->update_pose();
+  scene->update_pose(Playback::first_of(ch.clips));
   return scene;
 }
 }  // namespace

@@ -26,6 +26,7 @@
 #include "core/rig/rig.h"
 #include "core/rig/skeleton.h"
 #include "app/workspace/soft_selection.h"
+#include "app/workspace/view_state.h"
 
 namespace cagewrap::app {
 
@@ -100,15 +101,7 @@ struct Scene {
   std::optional<Deformer> deformer;
   std::unique_ptr<BindJob> job;
 
-  // animation (view state: never undone)
-  int32_t clip = -1;
-  ClipPlayer player;
-  // The artist's posing on top of the clip: per node, a local rotation applied after the clip's
-  // (local = clip * override); empty or identity = none. View state, like the time.
-  std::vector<glm::quat> pose_override;
-  bool show_file_skinning = false;  // compare: show the file's own linear blend skinning instead
-
-  // the current frame
+  // the current frame (update_pose: the workspace's Playback, app/workspace/view_state.h)
   std::vector<glm::vec3> cage_posed, joint_heads;
   std::vector<glm::mat4> joint_globals;  // #nodes world transforms of the current pose
   std::vector<glm::dmat3> cage_linear;
@@ -142,11 +135,11 @@ struct Scene {
   SimCache sim_cache;
   bool sim_shown = false;  // this frame's cage has the simulation applied
   std::string sim_error;   // why the simulation cannot run ("" = it can, or it is off)
-  // The current clip's simulation (made when needed), or null when it is off, no clip plays or the
-  // settings are invalid (sim_error says why).
-  ClipSimulation* simulation();
-  // Simulates more frames of the current clip for up to budget_ms of wall time (0: all of them).
-  void fill_simulation(double budget_ms);
+  // The simulation of `clip` (made when needed), or null when it is off, `clip` is -1 (the bind pose) or
+  // the settings are invalid (sim_error says why).
+  ClipSimulation* simulation(int32_t clip);
+  // Simulates more frames of `clip` for up to budget_ms of wall time (0: all of them).
+  void fill_simulation(int32_t clip, double budget_ms);
 
   bool needs_rebind() const;
   // The deformer made again from the current binding, whenever it changes (a bind ends, a cached one
@@ -166,10 +159,11 @@ struct Scene {
   void adopt_binding(Binding binding);
   // Call after the document changed (undo, redo, load): re-attaches and rebinds what it must.
   void document_changed();
-  // The pose shown: the clip at the player's time (the rest pose without a clip) and the overrides.
-  Pose current_pose() const;
-  // Poses skeleton and cage at the player's time and deforms the skin.
-  void update_pose();
+  // The pose `playback` shows: its clip at the player's time (the rest pose without a clip) and the overrides.
+  Pose current_pose(const Playback& playback) const;
+  // Poses skeleton and cage as `playback` says and deforms the skin (the file's own skinning when
+  // playback.show_file_skinning).
+  void update_pose(const Playback& playback);
   void start_bind();
   // The panel's Rebind: its parameters become the document's (one undo step, saved with the
   // project) when they differ, then the skin binds again.
@@ -203,6 +197,7 @@ struct Scene {
   void add_move(std::vector<glm::vec3>& values, const MoveWeights& weights, const glm::dvec3& world_delta) const;
   std::unique_ptr<Rebinder> rebinder_;  // for live set edits, made for the current binding
   const Binding* rebinder_for_ = nullptr;
+  Pose pose_;                          // the pose of the current frame (update_pose)
   std::vector<glm::vec3> skin_posed_;  // see skin_posed()
   bool skin_stale_ = false;            // the GPU has this frame's skin; skin_posed_ is older
   bool skin_driven_ = false;           // this frame shows driven_skin

@@ -1,13 +1,17 @@
 // What the artist is looking at and working with, apart from the document: the camera, the
-// selection and the selection tool's settings. Never undone, never saved in a project. (The clip,
-// its time and the pose overrides are per-document view state kept in Scene, app/workspace/scene.h.)
+// selection and the selection tool's settings, the clip playing, its time and the joints posed on top
+// of it. Never undone, never saved in a project.
 #pragma once
 
 #include <cstdint>
+#include <vector>
+
+#include <glm/gtc/quaternion.hpp>
 
 #include "app/workspace/camera.h"
 #include "app/workspace/soft_selection.h"
 #include "core/geometry/selection.h"
+#include "core/rig/animation.h"
 
 namespace cagewrap::app {
 
@@ -20,7 +24,25 @@ enum class SelectOp : uint8_t { kAll, kNone, kInvert, kGrow, kShrink, kMirror };
 inline constexpr int kSelectOps = 6;
 const char* select_op_name(SelectOp op);  // "all", "none", ...
 
+// What plays and the artist's posing on top of it, for the open document (Workspace::set_scene starts
+// it on the document's first clip). Scene::update_pose poses the skeleton, the cage and the skin from it.
+struct Playback {
+  int32_t clip = -1;  // the character's clip; -1: the bind pose
+  ClipPlayer player;
+  // The artist's posing on top of the clip: per node, a local rotation applied after the clip's
+  // (local = clip * override); empty or identity = none.
+  std::vector<glm::quat> pose_override;
+  bool show_file_skinning = false;  // compare: show the file's own linear blend skinning instead (L)
+  // The first of `clips` (paused at 0), or the bind pose when there is none.
+  static Playback first_of(const std::vector<Clip>& clips) {
+    Playback p;
+    if (!clips.empty()) p.clip = 0, p.player = ClipPlayer(clips.front().duration);
+    return p;
+  }
+};
+
 struct ViewState {
+  Playback playback;
   Camera camera;
   Selection selection;
   SelectMode mode = SelectMode::kCageVertices;

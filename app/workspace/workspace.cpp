@@ -40,6 +40,7 @@ void Workspace::set_scene(std::unique_ptr<Scene> scene) {
   move_.reset();
   scene_ = std::move(scene);
   view.selection = {};
+  view.playback = scene_ ? Playback::first_of(scene_->doc().character->clips) : Playback{};
   view.soft.radius = 0.1 * scene_size();
 }
 
@@ -261,8 +262,8 @@ void Workspace::redo() {
 
 void Workspace::set_pose_override(uint32_t node, const glm::quat& q) {
   if (!scene_) return;
-  if (scene_->joint_globals.empty()) scene_->update_pose();
-  auto& o = scene_->pose_override;
+  if (scene_->joint_globals.empty()) update_pose();
+  auto& o = view.playback.pose_override;
   if (o.size() < scene_->joint_globals.size()) o.resize(scene_->joint_globals.size(), glm::quat(1, 0, 0, 0));
   if (node < o.size()) o[node] = glm::normalize(q);
 }
@@ -270,15 +271,22 @@ void Workspace::set_pose_override(uint32_t node, const glm::quat& q) {
 bool Workspace::select_clip(const std::string& name) {
   if (!scene_) return false;
   const auto& clips = scene_->doc().character->clips;
-  scene_->clip = -1;
-  scene_->player = ClipPlayer(0.0);
+  Playback& pb = view.playback;
+  pb.clip = -1;
+  pb.player = ClipPlayer(0.0);
   for (size_t i = 0; i < clips.size(); ++i)
     if (clips[i].name == name) {
-      scene_->clip = static_cast<int32_t>(i);
-      scene_->player = ClipPlayer(clips[i].duration);
+      pb.clip = static_cast<int32_t>(i);
+      pb.player = ClipPlayer(clips[i].duration);
       return true;
     }
   return name == "rest";
 }
+
+void Workspace::update_pose() {
+  if (scene_) scene_->update_pose(view.playback);
+}
+
+Pose Workspace::current_pose() const { return scene_ ? scene_->current_pose(view.playback) : Pose{}; }
 
 }  // namespace cagewrap::app

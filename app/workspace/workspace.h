@@ -91,10 +91,14 @@ class Workspace {
   void undo();
   void redo();
 
-  // ---- posing (view state: never undone)
+  // ---- playing and posing (view.playback: never undone)
   void set_pose_override(uint32_t node, const glm::quat& q);
-  // Plays `name` ("rest": the bind pose); false when the character has no clip of that name.
+  // Shows the clip `name` from its start, paused ("rest": the bind pose); false
+  // when the character has no clip of that name.
   bool select_clip(const std::string& name);
+  // The scene posed as view.playback says (Scene::update_pose), and the pose it shows.
+  void update_pose();
+  Pose current_pose() const;
 
  private:
   void add_actions();  // workspace_actions.cpp

@@ -148,17 +148,25 @@ void Workspace::add_actions() {
       [this](std::istringstream&) { scene_->rebind(); });
 
   // ---- time and pose (view state)
-  add("clip", "NAME|rest", "Plays the clip NAME, or shows the bind pose.", [this](std::istringstream& in) {
-    std::string name;
-    in >> name;
-    if (!select_clip(name)) fail("no clip '" + name + "'");
+  add("clip", "NAME|rest", "Shows the clip NAME (the rest of the line) from its start, paused, or the bind pose.",
+      [this](std::istringstream& in) {
+        std::string name;
+        std::getline(in >> std::ws, name);
+        name.erase(name.find_last_not_of(" \t\r") + 1);
+        if (!select_clip(name)) fail("no clip '" + name + "'");
+      });
+  add("play", "", "Plays the clip.", [this](std::istringstream&) { view.playback.player.play(); });
+  add("pause", "", "Pauses the clip.", [this](std::istringstream&) { view.playback.player.pause(); });
+  add("loop", "on|off", "Whether the clip loops (else it stops at its end).", [this](std::istringstream& in) {
+    std::string v;
+    in >> v;
+    if (v != "on" && v != "off") return fail("loop on|off");
+    view.playback.player.set_loop(v == "on");
   });
-  add("play", "", "Plays the clip.", [this](std::istringstream&) { scene_->player.play(); });
-  add("pause", "", "Pauses the clip.", [this](std::istringstream&) { scene_->player.pause(); });
   add("time", "SECONDS", "Moves the clip to a time.", [this](std::istringstream& in) {
     double t = 0.0;
     if (!(in >> t)) return fail("time SECONDS");
-    scene_->player.scrub(t);
+    view.playback.player.scrub(t);
   });
   add("pose", "NODE X Y Z", "Rotates a joint on top of the clip (degrees, its local axes; never undone).",
       [this](std::istringstream& in) {
@@ -167,11 +175,11 @@ void Workspace::add_actions() {
         if (!(in >> node >> deg.x >> deg.y >> deg.z)) return fail("pose NODE X Y Z");
         set_pose_override(node, glm::quat(glm::radians(deg)));
       });
-  add("reset_pose", "", "Drops every joint rotation made on top of the clip.", [this](std::istringstream&) { scene_->pose_override.clear(); });
+  add("reset_pose", "", "Drops every joint rotation made on top of the clip.", [this](std::istringstream&) { view.playback.pose_override.clear(); });
   auto compare = [this](std::istringstream& in) {
     std::string v;
     in >> v;
-    scene_->show_file_skinning = v != "off";
+    view.playback.show_file_skinning = v != "off";
   };
   add("file_skinning", "on|off", "Shows the file's own linear blend skinning instead of the cage's (L).", compare);
   add("compare", "on|off", "The same as file_skinning.", compare);
