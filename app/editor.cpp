@@ -299,7 +299,7 @@ void Editor::draw_panels() {
   if (ws_.scene()) fidelity_panel_.draw_warning(*ws_.scene(), view_x_ + 10, view_y_ + view_h_ - 10);
   if (ws_.scene()) cage_tools_.draw_windows(*ws_.scene(), hooks_);
   if (ws_.scene()) export_panel_.draw(*ws_.scene(), hooks_);
-  if (ws_.scene()) rig_panel_.draw(*ws_.scene(), ws_.current_pose(), ws_.view.selection, ws_.view.mirror.enabled, ws_.rig_mirror_tolerance(), hooks_);
+  rig_panel_.draw(ws_);
   if (ws_.scene()) sets_panel_.draw(*ws_.scene(), ws_.view.selection, hooks_);
   if (ws_.scene() && sim_panel_.visible()) sim_panel_.draw(*ws_.scene(), ws_.view.playback.clip, ws_.sim_paint_weights(), hooks_);
   if (ws_.scene()) patch_panel_.draw(*ws_.scene(), ws_.view.selection, hooks_);
@@ -380,6 +380,7 @@ int Editor::run() {
     error_modal_ = message;
     log("error: " + message, true);
   };
+  ws_.show_error = hooks_.show_error;
   {
     const double interval = options_.autosave_seconds >= 0 ? options_.autosave_seconds : files_.prefs().autosave_seconds;
     const std::string dir = recovery_directory(preferences_directory());

@@ -225,30 +225,7 @@ void Editor::add_window_actions() {
 
   // ---- rig: attachment and keyposes
   add("rig_panel", "", "Opens the Rig window.", [this](std::istringstream&) { rig_panel_.visible() = true; });
-  add("attach", "rigid|smooth [WIDTH]|skin_weights|joint|auto",
-      "How cage vertices follow the skeleton; `joint`: the selected vertices to the selected joint.", [this](std::istringstream& in) {
-        std::string what;
-        in >> what;
-        AttachmentMode mode;
-        if (parse_attachment_mode(what, mode)) {
-          double width = ws_.scene()->doc().attachment.smooth_width;
-          in >> width;
-          rig_panel_.set_attachment_mode(*ws_.scene(), mode, width, hooks_);
-        } else {
-          rig_panel_.assign(*ws_.scene(), ws_.view.selection, what == "auto", ws_.view.mirror.enabled, ws_.rig_mirror_tolerance(), hooks_);
-        }
-      });
-  add("keyset", "x|y|z", "A keypose set driven by the selected joint's rotation about that axis.", [this](std::istringstream& in) {
-    std::string axis;
-    in >> axis;
-    rig_panel_.add_set(*ws_.scene(), ws_.view.selection, axis == "y" ? 1 : axis == "z" ? 2 : 0, hooks_);
-  });
-  add("key", "", "Keys the cage's pose offsets at the driver's current angle.", [this](std::istringstream&) {
-    ws_.update_pose();
-    rig_panel_.key(*ws_.scene(), ws_.current_pose(), hooks_);
-  });
-  add("mirror_keyset", "", "Mirrors the active keypose set to the other side.",
-      [this](std::istringstream&) { rig_panel_.mirror_set(*ws_.scene(), ws_.rig_mirror_tolerance(), hooks_); });
+  // (attach, keyset, key, remove_key, mirror_keyset: the workspace's, app/workspace/workspace_actions.cpp)
 
   // ---- simulation
   add("sim_panel", "", "Opens the Simulation window.", [this](std::istringstream&) { sim_panel_.visible() = true; });

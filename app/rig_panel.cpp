@@ -18,122 +18,9 @@
 
 namespace cagewrap::app {
 
-void RigPanel::commit(Scene& scene, Document doc, const std::string& label) {
-  scene.apply(label, std::move(doc));
-}
-
-bool RigPanel::set_attachment_mode(Scene& scene, AttachmentMode mode, double width, const EditorHooks&) {
-  AttachmentSettings a = scene.doc().attachment;
-  a.mode = mode;
-  a.smooth_width = width;
-  if (a == scene.doc().attachment) return true;
-  commit(scene, with_attachment(scene.doc(), a), std::string("Attachment: ") + attachment_mode_name(mode));
-  return true;
-}
-
-bool RigPanel::assign(Scene& scene, const Selection& sel, bool automatic, bool mirror, double tolerance, const EditorHooks& hooks) {
-  const Document& doc = scene.doc();
-  if (!doc.cage || sel.cage_vertices.empty()) {
-    hooks.log("error: select cage vertices first (F5)", true);
-    return false;
-  }
-  std::optional<uint32_t> node;
-  if (!automatic) {
-    if (sel.joints.size() != 1) {
-      hooks.log("error: select exactly one joint to assign the cage vertices to (F8 or the outliner)", true);
-      return false;
-    }
-    node = sel.joints.indices()[0];
-  }
-  AttachmentSettings a = assign_vertices(doc.attachment, sel.cage_vertices.indices(), node);
-  if (mirror) {
-    auto m = mirror_assignment(a, doc.character->skeleton, doc.cage->polygons.positions, sel.cage_vertices.indices(), tolerance);
-    if (!m) {
-      hooks.show_error(m.error().message);
-      return false;
-    }
-    if (!m->unmatched.empty()) hooks.log("warning: " + std::to_string(m->unmatched.size()) + " vertices have no mirror counterpart", false);
-    a = m->settings;
-  }
-  // the attachment must be valid before it is committed
-  if (auto att = attach_cage(*doc.character, doc.cage->polygons.positions, a, doc.cage->elements); !att) {
-    hooks.show_error(att.error().message);
-    return false;
-  }
-  const std::string what = automatic ? "automatic" : doc.character->skeleton.node(*node).name;
-  commit(scene, with_attachment(doc, a), "Attach " + std::to_string(sel.cage_vertices.size()) + " vertices: " + what);
-  return true;
-}
-
-bool RigPanel::add_set(Scene& scene, const Selection& sel, int axis, const EditorHooks& hooks) {
-  if (sel.joints.size() != 1) {
-    hooks.log("error: select the joint that drives the keypose (F8)", true);
-    return false;
-  }
-  const uint32_t node = sel.joints.indices()[0];
-  KeyposeSet set;
-  set.name = scene.doc().character->skeleton.node(node).name + "_" + "XYZ"[axis % 3];
-  JointDriver d;
-  d.node = node;
-  d.axis = glm::vec3(0.f);
-  d.axis[axis % 3] = 1.f;
-  set.drivers.push_back(d);
-  std::vector<KeyposeSet> sets = scene.doc().keyposes;
-  current_ = upsert_keypose_set(sets, set);
-  commit(scene, with_keyposes(scene.doc(), std::move(sets)), "Add keypose set " + set.name);
-  return true;
-}
-
-bool RigPanel::key(Scene& scene, const Pose& pose, const EditorHooks& hooks) {
-  const Document& doc = scene.doc();
-  if (!doc.cage || current_ >= doc.keyposes.size()) {
-    hooks.log("error: add a keypose set first (select a joint, Rig > Keyposes > Add set)", true);
-    return false;
-  }
-  const KeyposeSet& set = doc.keyposes[current_];
-  std::vector<double> values = driver_values(set, doc.character->skeleton, pose);
-  for (double& v : values) v = std::round(v * 10.0) / 10.0;  // keys at tenths of a degree
-  // what was sculpted since the last key: the driver offsets, taken out of them into the key
-  std::vector<glm::vec3> delta = doc.cage_offsets;
-  delta.resize(doc.cage->num_vertices(), glm::vec3(0.f));
-  std::vector<KeyposeSet> sets = doc.keyposes;
-  sets[current_] = key_sculpt(set, values, delta);
-  Document d = with_keyposes(doc, std::move(sets));
-  d = with_cage_offsets(d, {});
-  char label[128];
-  std::snprintf(label, sizeof label, "Key %s at %.1f", set.name.c_str(), values.empty() ? 0.0 : values[0]);
-  commit(scene, std::move(d), label);
-  hooks.log(label, false);
-  return true;
-}
-
-bool RigPanel::remove_key(Scene& scene, size_t k, const EditorHooks&) {
-  const Document& doc = scene.doc();
-  if (current_ >= doc.keyposes.size() || k >= doc.keyposes[current_].keys.size()) return false;
-  std::vector<KeyposeSet> sets = doc.keyposes;
-  const std::vector<double> values = sets[current_].keys[k].values;
-  cagewrap::remove_key(sets[current_], values);
-  commit(scene, with_keyposes(doc, std::move(sets)), "Delete key of " + doc.keyposes[current_].name);
-  return true;
-}
-
-bool RigPanel::mirror_set(Scene& scene, double tolerance, const EditorHooks& hooks) {
-  const Document& doc = scene.doc();
-  if (!doc.cage || current_ >= doc.keyposes.size()) return false;
-  auto m = mirror_keypose_set(doc.keyposes[current_], doc.character->skeleton, doc.cage->polygons.positions, tolerance);
-  if (!m) {
-    hooks.show_error(m.error().message);
-    return false;
-  }
-  std::vector<KeyposeSet> sets = doc.keyposes;
-  upsert_keypose_set(sets, m->set);
-  commit(scene, with_keyposes(doc, std::move(sets)), "Mirror keypose set " + doc.keyposes[current_].name);
-  return true;
-}
-
 #if CAGEWRAP_GUI
 
-void RigPanel::draw(Scene& scene, const Pose& pose, const Selection& sel, bool mirror, double tolerance, const EditorHooks& hooks) {
+void RigPanel::draw(Workspace& ws) {
   if (!visible_) return;
   ImGui::SetNextWindowPos(ImVec2(270, 120), ImGuiCond_FirstUseEver);
   ImGui::SetNextWindowSize(ImVec2(380, 460), ImGuiCond_FirstUseEver);
@@ -141,8 +28,13 @@ void RigPanel::draw(Scene& scene, const Pose& pose, const Selection& sel, bool m
     ImGui::End();
     return;
   }
-  const Document& doc = scene.doc();
+  if (!ws.scene()) {
+    ImGui::End();
+    return;
+  }
+  const Document& doc = ws.scene()->doc();
   const Skeleton& sk = doc.character->skeleton;
+  const Selection& sel = ws.view.selection;
   if (!doc.cage) {
     hint("no cage");
     ImGui::End();
@@ -161,32 +53,32 @@ void RigPanel::draw(Scene& scene, const Pose& pose, const Selection& sel, bool m
       ImGui::SetNextItemWidth(120);
       changed |= ImGui::InputFloat("width", &width, 0.0f, 0.0f, "%.2f", ImGuiInputTextFlags_EnterReturnsTrue);
     }
-    if (changed && width > 0.f) set_attachment_mode(scene, static_cast<AttachmentMode>(mode), width, hooks);
+    if (changed) ws.set_attachment_mode(static_cast<AttachmentMode>(mode), width);
     hint("%zu vertices assigned by hand", doc.attachment.overrides.size());
     const bool can = !sel.cage_vertices.empty();
     ImGui::BeginDisabled(!can || sel.joints.size() != 1);
-    if (ImGui::Button("Assign to selected joint")) assign(scene, sel, false, mirror, tolerance, hooks);
+    if (ImGui::Button("Assign to selected joint")) ws.run("attach joint");
     ImGui::EndDisabled();
     ImGui::SameLine();
     ImGui::BeginDisabled(!can);
-    if (ImGui::Button("Restore automatic")) assign(scene, sel, true, mirror, tolerance, hooks);
+    if (ImGui::Button("Restore automatic")) ws.run("attach auto");
     ImGui::EndDisabled();
     hint("select cage vertices (F5) and a joint (outliner); X-mirror applies too");
   }
   if (ImGui::CollapsingHeader("Keyposes", ImGuiTreeNodeFlags_DefaultOpen)) {
     ImGui::BeginDisabled(sel.joints.size() != 1);
-    if (ImGui::Button("Add set: X")) add_set(scene, sel, 0, hooks);
+    if (ImGui::Button("Add set: X")) ws.run("keyset x");
     ImGui::SameLine();
-    if (ImGui::Button("Y")) add_set(scene, sel, 1, hooks);
+    if (ImGui::Button("Y")) ws.run("keyset y");
     ImGui::SameLine();
-    if (ImGui::Button("Z")) add_set(scene, sel, 2, hooks);
+    if (ImGui::Button("Z")) ws.run("keyset z");
     ImGui::EndDisabled();
     ImGui::SameLine();
     hint("(rotation of the selected joint)");
-    if (doc.keyposes.empty()) {
+    if (!ws.active_keypose_set()) {
       hint("no keypose sets");
     } else {
-      current_ = std::min(current_, doc.keyposes.size() - 1);
+      size_t& current_ = ws.view.keypose_set;
       if (ImGui::BeginListBox("##sets", ImVec2(-1, 70))) {
         for (size_t i = 0; i < doc.keyposes.size(); ++i) {
           const KeyposeSet& s = doc.keyposes[i];
@@ -195,12 +87,13 @@ void RigPanel::draw(Scene& scene, const Pose& pose, const Selection& sel, bool m
         }
         ImGui::EndListBox();
       }
+      const Pose pose = ws.current_pose();
       KeyposeSet set = doc.keyposes[current_];
       bool edited = false;
       std::string edit_label;
       for (size_t d = 0; d < set.drivers.size(); ++d) {
         const JointDriver& dr = set.drivers[d];
-        const double now = driver_value(dr, sk, pose);
+        const double now = driver_value(dr, sk, pose);  // (the pose shown)
         ImGui::Text("driver: %s %s about (%.0f %.0f %.0f), now %.1f deg", dr.node < sk.size() ? sk.node(dr.node).name.c_str() : "?",
                     driver_kind_name(dr.kind), dr.axis.x, dr.axis.y, dr.axis.z, now);
       }
@@ -215,7 +108,7 @@ void RigPanel::draw(Scene& scene, const Pose& pose, const Selection& sel, bool m
         set.interpolation = static_cast<KeyInterpolation>(interp);
         edited = true, edit_label = "Interpolation of " + set.name;
       }
-      if (ImGui::Button("Key the sculpt at this pose", ImVec2(-1, 0))) key(scene, pose, hooks);
+      if (ImGui::Button("Key the sculpt at this pose", ImVec2(-1, 0))) ws.run("key");
       if (ImGui::IsItemHovered()) ImGui::SetTooltip("Pose the joint, move cage vertices, then Key: what you moved becomes the key");
       int remove = -1;
       for (size_t k = 0; k < set.keys.size(); ++k) {
@@ -253,27 +146,17 @@ void RigPanel::draw(Scene& scene, const Pose& pose, const Selection& sel, bool m
         std::snprintf(overlay, sizeof overlay, "largest offset, %.0f..%.0f deg", lo, hi);
         ImGui::PlotLines("##curve", curve, 64, 0, overlay, 0.0f, FLT_MAX, ImVec2(-1, 60));
       }
-      if (ImGui::Button("Mirror set to the other side")) mirror_set(scene, tolerance, hooks);
-      if (edited && !(set == doc.keyposes[current_])) {
-        std::sort(set.keys.begin(), set.keys.end(), [](const KeyposeKey& a, const KeyposeKey& b) { return a.values < b.values; });
-        if (auto st = validate_keypose_set(set, sk.size(), doc.cage->num_vertices()); !st) {
-          hooks.show_error(st.error().message);
-          edited = false;
-        }
-      }
-      if (edited && !(set == doc.keyposes[current_])) {
-        std::vector<KeyposeSet> sets = doc.keyposes;
-        sets[current_] = set;
-        commit(scene, with_keyposes(doc, std::move(sets)), edit_label);
-      }
-      if (remove >= 0) remove_key(scene, static_cast<size_t>(remove), hooks);
+      if (ImGui::Button("Mirror set to the other side")) ws.run("mirror_keyset");
+      // (after the drawing: a change replaces the document the references above point into)
+      if (edited) ws.replace_keypose_set(std::move(set), edit_label);
+      if (remove >= 0) ws.run("remove_key " + std::to_string(remove));
     }
   }
   ImGui::End();
 }
 
 #else
-void RigPanel::draw(Scene&, const Pose&, const Selection&, bool, double, const EditorHooks&) {}
+void RigPanel::draw(Workspace&) {}
 #endif
 
 }  // namespace cagewrap::app

@@ -52,6 +52,7 @@ struct ViewState {
   // Moves edit the reference (rest) cage instead of adding pose offsets: the skin stays and only
   // the skin points near the moved vertices are registered again (Scene::moved_rest).
   bool move_rest = false;
+  size_t keypose_set = 0;  // the keypose set Key, mirror and the Rig window act on (index in the document's)
 };
 
 }  // namespace cagewrap::app

@@ -74,6 +74,13 @@ bool Workspace::run(const std::string& line, const std::string& where) {
 
 void Workspace::fail(const std::string& text) { log("error: " + where_ + ": " + text, true); }
 
+void Workspace::report_error(const std::string& message) {
+  if (show_error)
+    show_error(message);
+  else
+    log("error: " + message, true);
+}
+
 // ---------------------------------------------------------------- selection
 
 IndexSet& Workspace::active_set() {

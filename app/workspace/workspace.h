@@ -20,6 +20,8 @@
 #include "app/workspace/actions.h"
 #include "app/workspace/scene.h"
 #include "app/workspace/view_state.h"
+#include "core/rig/cage_attachment.h"
+#include "core/rig/keyposes.h"
 
 namespace cagewrap::app {
 
@@ -52,6 +54,9 @@ class Workspace {
   bool run(const std::string& line, const std::string& where = "action");
   // Called after each action that ran (the window uses it to wait frames in scripts).
   std::function<void(const Action&)> after_action;
+  // Shows an error the artist must acknowledge (the window's modal); without it the error is logged.
+  std::function<void(const std::string& message)> show_error;
+  void report_error(const std::string& message);
 
   // ---- selection
   IndexSet& active_set();
@@ -90,6 +95,26 @@ class Workspace {
   // ---- undo
   void undo();
   void redo();
+
+  // ---- the rig: how the cage follows the skeleton, and keyposes (workspace_rig.cpp; the Rig window
+  // and the actions attach, keyset, key, remove_key, mirror_keyset run these). Each change is one undo
+  // step; false (said why) when it cannot be made, the document kept.
+  bool set_attachment_mode(AttachmentMode mode, double smooth_width);
+  // The selected cage vertices follow the one selected joint (or, `automatic`, what the mode gives
+  // them again); X-mirror editing assigns the mirror vertices to the mirror joint too.
+  bool assign_cage_vertices(bool automatic);
+  // A keypose set driven by the selected joint's rotation about its local axis (0 X, 1 Y, 2 Z); it
+  // becomes the active set (view.keypose_set).
+  bool add_keypose_set(int axis);
+  // Keys what was sculpted since the last key (the cage's pose offsets) in the active set at the
+  // drivers' current angles, and takes it out of the offsets.
+  bool key_sculpt();
+  bool remove_key(size_t key);  // of the active set
+  bool mirror_keypose_set();    // the active set onto the joints and cage vertices across X
+  // The active set replaced by `set` (mute, solo, rest key, interpolation, key values), checked first.
+  bool replace_keypose_set(KeyposeSet set, const std::string& label);
+  // The active set, clamped to the document's (null when there is none).
+  const KeyposeSet* active_keypose_set();
 
   // ---- playing and posing (view.playback: never undone)
   void set_pose_override(uint32_t node, const glm::quat& q);

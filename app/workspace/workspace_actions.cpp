@@ -184,6 +184,51 @@ void Workspace::add_actions() {
   add("file_skinning", "on|off", "Shows the file's own linear blend skinning instead of the cage's (L).", compare);
   add("compare", "on|off", "The same as file_skinning.", compare);
 
+  // ---- the rig (the Rig window runs the same: app/workspace/workspace_rig.cpp)
+  add("attach", "rigid|smooth [WIDTH]|skin_weights|fitted|joint|auto",
+      "How cage vertices follow the skeleton; `joint`: the selected vertices to the selected joint; `auto`: back to the mode's.",
+      [this](std::istringstream& in) {
+        std::string what;
+        in >> what;
+        AttachmentMode mode;
+        if (parse_attachment_mode(what, mode)) {
+          double width = scene_->doc().attachment.smooth_width;
+          in >> width;
+          set_attachment_mode(mode, width);
+        } else if (what == "joint" || what == "auto") {
+          assign_cage_vertices(what == "auto");
+        } else {
+          fail("attach rigid|smooth [WIDTH]|skin_weights|fitted|joint|auto (got '" + what + "')");
+        }
+      });
+  add("keyset", "x|y|z", "A keypose set driven by the selected joint's rotation about that axis; it becomes the active set.",
+      [this](std::istringstream& in) {
+        std::string axis;
+        in >> axis;
+        if (axis != "x" && axis != "y" && axis != "z") return fail("keyset x|y|z");
+        add_keypose_set(axis == "y" ? 1 : axis == "z" ? 2 : 0);
+      });
+  add("keyset_active", "NAME", "Makes the keypose set NAME the one Key, remove_key and mirror_keyset act on.",
+      [this](std::istringstream& in) {
+        std::string name;
+        std::getline(in >> std::ws, name);
+        const auto& sets = scene_->doc().keyposes;
+        for (size_t i = 0; i < sets.size(); ++i)
+          if (sets[i].name == name) {
+            view.keypose_set = i;
+            return;
+          }
+        fail("no keypose set '" + name + "'");
+      });
+  add("key", "", "Keys what was sculpted (the cage's pose offsets) in the active set at its drivers' current angles.",
+      [this](std::istringstream&) { key_sculpt(); });
+  add("remove_key", "K", "Deletes key K (0 = the first, by driver value) of the active keypose set.", [this](std::istringstream& in) {
+    size_t k = 0;
+    if (!(in >> k)) return fail("remove_key K");
+    remove_key(k);
+  });
+  add("mirror_keyset", "", "Mirrors the active keypose set to the other side.", [this](std::istringstream&) { mirror_keypose_set(); });
+
   // ---- the camera
   add("view", "front|right|top", "A preset view.", [this](std::istringstream& in) {
     std::string v;

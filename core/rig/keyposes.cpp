@@ -389,6 +389,17 @@ Result<MirroredKeyposeSet> mirror_keypose_set(const KeyposeSet& set, const Skele
       if (std::fabs(to.axis[c]) < 1e-6f) to.axis[c] = 0.0f;
     to.axis = glm::normalize(to.axis);
   }
+  // A name with no side of its own ("forearm.L_X", as the editor names a set after its joint) takes its
+  // driver joint's name mirrored; else " (mirrored)" is added, so that the two sets are never one name.
+  for (size_t d = 0; d < set.drivers.size() && out.set.name == set.name; ++d) {
+    const std::string& from = skeleton.node(set.drivers[d].node).name;
+    const std::string& to = skeleton.node(out.set.drivers[d].node).name;
+    if (const size_t at = set.name.find(from); from != to && at != std::string::npos)
+      out.set.name = set.name.substr(0, at) + to + set.name.substr(at + from.size());
+  }
+  bool moved = false;  // a set of centre joints (a tail) mirrors onto itself and keeps its name
+  for (size_t d = 0; d < set.drivers.size(); ++d) moved |= out.set.drivers[d].node != set.drivers[d].node;
+  if (moved && out.set.name == set.name) out.set.name += " (mirrored)";
   // vertices: each vertex takes the offset of the vertex nearest its mirror image, when that one is keyed
   const size_t nv = cage_rest.size();
   std::vector<uint32_t> all(nv);

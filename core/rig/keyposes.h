@@ -155,7 +155,9 @@ struct MirroredKeyposeSet {
 //   selection.h mirror_x_counterparts, on the rest cage, within `tolerance`) with x negated (bind
 //   space). On a symmetric cage that is the pairwise map; on a cage that is only nearly symmetric
 //   (a decimated one), a tolerance of about an edge length transfers the keys without holes;
-// - the name is mirror_name(name). Mute and solo are copied.
+// - the name is mirror_name(name); a name with no side of its own has its driver joint's name mirrored
+//   in it ("forearm.L_X" -> "forearm.R_X"), else (when a driver moved to another joint) " (mirrored)" is
+//   added. Mute and solo are copied.
 // Fails when a driver's node has no mirror by name (naming it).
 Result<MirroredKeyposeSet> mirror_keypose_set(const KeyposeSet& set, const Skeleton& skeleton,
                                               std::span<const glm::vec3> cage_rest, double tolerance);
