@@ -87,7 +87,7 @@ void RigPanel::draw(Workspace& ws) {
         }
         ImGui::EndListBox();
       }
-      const Pose pose = ws.current_pose();
+      const Pose& pose = ws.scene()->shown_pose();  // this frame's, posed already
       KeyposeSet set = doc.keyposes[current_];
       bool edited = false;
       std::string edit_label;

@@ -164,6 +164,7 @@ struct Scene {
   // Poses skeleton and cage as `playback` says and deforms the skin (the file's own skinning when
   // playback.show_file_skinning).
   void update_pose(const Playback& playback);
+  const Pose& shown_pose() const { return pose_; }  // the pose of the last update_pose
   void start_bind();
   // The panel's Rebind: its parameters become the document's (one undo step, saved with the
   // project) when they differ, then the skin binds again.
