@@ -6,32 +6,10 @@
 #endif
 
 #include <cstdio>
-#include <filesystem>
 
-#include "core/cage/cage_edit.h"
-#include "core/cage/cage_import.h"
-#include "core/rig/keyposes.h"
-#include "core/cage/cage_subdivide.h"
-#include "core/rig/skinning.h"
+#include "core/geometry/mesh.h"
 
 namespace cagewrap::app {
-
-void CageTools::commit_cage(Scene& scene, std::shared_ptr<const Cage> cage, const std::string& label) {
-  const Document& before = scene.doc();
-  Document d = with_cage(before, std::move(cage));
-  // a different cage: sculpted offsets and set edits named the old one's vertices and elements
-  if (!d.cage_offsets.empty()) d = with_cage_offsets(d, {});
-  if (!d.set_edits.empty()) d = with_set_edits(d, {});
-  if (!d.attachment.overrides.empty()) {
-    AttachmentSettings a = d.attachment;
-    a.overrides.clear();
-    d = with_attachment(d, a);
-  }
-  std::vector<KeyposeSet> sets = d.keyposes;  // drivers and key values stay, their vertices go
-  clear_vertex_data(sets);
-  if (sets != d.keyposes) d = with_keyposes(d, std::move(sets));
-  scene.apply(label, std::move(d));
-}
 
 void CageTools::start_auto_cage(Scene& scene) {
   if (job_) return;
@@ -47,7 +25,7 @@ void CageTools::start_auto_cage(Scene& scene) {
       });
 }
 
-void CageTools::poll(Scene& scene, const EditorHooks& hooks) {
+void CageTools::poll(Workspace& ws, const EditorHooks& hooks) {
   if (!job_ || !job_->done()) return;
   auto& r = job_->result();
   if (!r.ok()) {
@@ -75,106 +53,48 @@ void CageTools::poll(Scene& scene, const EditorHooks& hooks) {
   report_ = std::move(report);
   show_report_ = true;
   show_dialog_ = false;  // done: the report takes its place
-  commit_cage(scene, std::make_shared<const Cage>(std::move(cage).value()), "Automatic cage");
+  failing_cage_ = std::make_shared<const Cage>(std::move(cage).value());
+  ws.replace_cage(failing_cage_, "Automatic cage");
 }
 
-bool CageTools::import_cage(Scene& scene, const std::string& path, const EditorHooks& hooks) {
-  auto mesh = load_cage_mesh(path);
-  if (!mesh) {
-    hooks.show_error(mesh.error().message);
-    return false;
-  }
-  if (auto st = validate_mesh(*mesh, path); !st.ok()) {
-    hooks.show_error(st.error().message);
-    return false;
-  }
-  auto cage = make_cage(std::move(mesh).value(), path);
-  if (!cage) {
-    hooks.show_error(cage.error().message);
-    return false;
-  }
-  CageProblems problems = find_cage_problems(*cage);
-  hooks.log("imported cage " + path + ": " + std::to_string(cage->num_vertices()) + " vertices, " +
-                std::to_string(cage->polygons.num_faces()) + " faces" +
-                (problems.total() ? ", " + std::to_string(problems.total()) + " problems (listed below; the bind skips bad elements)" : ", no problems"),
-            false);
-  for (const auto& l : problems.lines) hooks.log("warning: " + path + ": " + l, false);
-  if (problems.lines.size() < problems.total())
-    hooks.log("warning: " + path + ": ... and " + std::to_string(problems.total() - problems.lines.size()) + " more", false);
-  failing_.clear();
-  report_.reset();
-  commit_cage(scene, std::make_shared<const Cage>(std::move(cage).value()), "Import cage " + std::filesystem::path(path).filename().string());
-  return true;
+std::span<const uint32_t> CageTools::failing_points(const Scene& scene) const {
+  if (!show_failing_ || !failing_cage_ || scene.doc().cage != failing_cage_) return {};
+  return failing_;
 }
 
-bool CageTools::apply_edit(Scene& scene, Result<CageEdit> edit, const std::string& label, const EditorHooks& hooks) {
-  if (!edit) {
-    hooks.show_error(edit.error().message);
-    return false;
-  }
-  auto doc = apply_topology_change(scene.doc(), *edit);
-  if (!doc) {
-    hooks.show_error(doc.error().message);
-    return false;
-  }
-  for (const auto& w : edit->warnings) hooks.log("warning: " + label + ": " + w, false);
-  const size_t before = scene.doc().cage->polygons.num_faces();
-  scene.apply(label, std::move(doc).value());
-  failing_.clear();  // they were found for the old cage
-  hooks.log(label + ": " + std::to_string(before) + " -> " + std::to_string(scene.doc().cage->polygons.num_faces()) + " faces, " +
-                std::to_string(scene.doc().cage->num_vertices()) + " vertices",
-            false);
-  return true;
-}
-
-bool CageTools::run_operation(Scene& scene, const Selection& sel, const std::string& op, double arg, const EditorHooks& hooks) {
-  if (!scene.doc().cage) {
-    hooks.show_error("there is no cage to edit: build or import one first (Cage menu)");
-    return false;
-  }
-  const Cage& cage = *scene.doc().cage;
-  const auto levels = static_cast<uint32_t>(arg > 0 ? arg : 1);
-  if (op == "merge") return apply_edit(scene, merge_vertices(cage, sel.cage_vertices.indices()), "Merge vertices", hooks);
-  if (op == "weld") return apply_edit(scene, weld_cage_vertices(cage, arg), "Weld vertices", hooks);
-  if (op == "flip") return apply_edit(scene, flip_faces(cage, sel.cage_faces.indices()), "Flip faces", hooks);
-  if (op == "flip_all") return apply_edit(scene, flip_all_faces(cage), "Flip all faces", hooks);
-  if (op == "linear") return apply_edit(scene, subdivide_linear(cage, levels), "Subdivide (linear)", hooks);
-  if (op == "loop") return apply_edit(scene, subdivide_loop(cage, levels), "Subdivide (Loop)", hooks);
-  if (op == "refine") return apply_edit(scene, refine_faces(cage, sel.cage_faces.indices()), "Refine faces", hooks);
-  if (op == "triangulate") return apply_edit(scene, triangulate_cage(cage), "Triangulate", hooks);
-  hooks.show_error("unknown cage operation '" + op + "'");
-  return false;
+bool CageTools::has_failing_points(const Scene& scene) const {
+  return failing_cage_ && scene.doc().cage == failing_cage_ && !failing_.empty();
 }
 
 #if CAGEWRAP_GUI
 
-void CageTools::menu_items(Scene& scene, const Selection& sel, const EditorHooks& hooks) {
+void CageTools::menu_items(Workspace& ws) {
+  const Scene& scene = *ws.scene();
+  const Selection& sel = ws.view.selection;
   if (ImGui::MenuItem("Automatic cage...", nullptr, false, !job_)) show_dialog_ = true;
   if (ImGui::MenuItem("Import cage... (also in File)")) import_requested_ = true;
   ImGui::Separator();
   const bool cage = scene.doc().cage != nullptr && !job_;
-  if (ImGui::MenuItem("Merge selected vertices", nullptr, false, cage && sel.cage_vertices.size() >= 2))
-    run_operation(scene, sel, "merge", 0, hooks);
+  if (ImGui::MenuItem("Merge selected vertices", nullptr, false, cage && sel.cage_vertices.size() >= 2)) ws.run("cage_op merge");
   if (ImGui::BeginMenu("Weld by distance", cage)) {
     ImGui::SliderFloat("distance (% of size)", &weld_distance_share_, 0.01f, 5.0f, "%.2f", ImGuiSliderFlags_Logarithmic);
     if (ImGui::MenuItem("Weld")) {
-      const double size = bounding_box(scene.doc().cage->polygons.positions).diagonal();
-      run_operation(scene, sel, "weld", weld_distance_share_ / 100.0 * size, hooks);
+      char line[64];
+      std::snprintf(line, sizeof line, "cage_op weld %.9g", weld_distance_share_ / 100.0 * bounding_box(scene.doc().cage->polygons.positions).diagonal());
+      ws.run(line);
     }
     ImGui::EndMenu();
   }
-  if (ImGui::MenuItem("Flip selected faces", nullptr, false, cage && !sel.cage_faces.empty())) run_operation(scene, sel, "flip", 0, hooks);
-  if (ImGui::MenuItem("Flip all faces", nullptr, false, cage)) run_operation(scene, sel, "flip_all", 0, hooks);
+  if (ImGui::MenuItem("Flip selected faces", nullptr, false, cage && !sel.cage_faces.empty())) ws.run("cage_op flip");
+  if (ImGui::MenuItem("Flip all faces", nullptr, false, cage)) ws.run("cage_op flip_all");
   ImGui::Separator();
-  if (ImGui::MenuItem("Subdivide (linear)", nullptr, false, cage)) run_operation(scene, sel, "linear", 1, hooks);
-  if (ImGui::MenuItem("Subdivide (Loop, smooths)", nullptr, false, cage)) run_operation(scene, sel, "loop", 1, hooks);
-  if (ImGui::MenuItem("Refine selected faces (red-green)", nullptr, false, cage && !sel.cage_faces.empty()))
-    run_operation(scene, sel, "refine", 0, hooks);
-  if (ImGui::MenuItem("Triangulate", nullptr, false, cage)) run_operation(scene, sel, "triangulate", 0, hooks);
+  if (ImGui::MenuItem("Subdivide (linear)", nullptr, false, cage)) ws.run("cage_op linear");
+  if (ImGui::MenuItem("Subdivide (Loop, smooths)", nullptr, false, cage)) ws.run("cage_op loop");
+  if (ImGui::MenuItem("Refine selected faces (red-green)", nullptr, false, cage && !sel.cage_faces.empty())) ws.run("cage_op refine");
+  if (ImGui::MenuItem("Triangulate", nullptr, false, cage)) ws.run("cage_op triangulate");
   ImGui::Separator();
-  ImGui::MenuItem("Show points failing the quality test", nullptr, &show_failing_, !failing_.empty());
+  ImGui::MenuItem("Show points failing the quality test", nullptr, &show_failing_, has_failing_points(scene));
   if (ImGui::MenuItem("Last automatic cage report", nullptr, false, report_.has_value())) show_report_ = true;
-  (void)scene;
 }
 
 void CageTools::draw_windows(Scene& scene, const EditorHooks&) {
@@ -242,7 +162,7 @@ void CageTools::draw_windows(Scene& scene, const EditorHooks&) {
 
 #else
 
-void CageTools::menu_items(Scene&, const Selection&, const EditorHooks&) {}
+void CageTools::menu_items(Workspace&) {}
 void CageTools::draw_windows(Scene&, const EditorHooks&) {}
 
 #endif

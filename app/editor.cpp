@@ -1,6 +1,6 @@
 #include "app/editor_window.h"
 
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(CAGEWRAP_ASAN)
 #include <sanitizer/lsan_interface.h>
 #endif
 
@@ -176,7 +176,7 @@ void Editor::draw_menu() {
     ImGui::EndMenu();
   }
   if (ImGui::BeginMenu("Cage", ws_.scene() != nullptr)) {
-    cage_tools_.menu_items(*ws_.scene(), ws_.view.selection, hooks_);
+    cage_tools_.menu_items(ws_);
     ImGui::EndMenu();
   }
   if (ImGui::BeginMenu("Rig", ws_.scene() != nullptr)) {
@@ -300,7 +300,7 @@ void Editor::draw_panels() {
   if (ws_.scene()) cage_tools_.draw_windows(*ws_.scene(), hooks_);
   if (ws_.scene()) export_panel_.draw(*ws_.scene(), hooks_);
   rig_panel_.draw(ws_);
-  if (ws_.scene()) sets_panel_.draw(*ws_.scene(), ws_.view.selection, hooks_);
+  sets_panel_.draw(ws_);
   if (ws_.scene() && sim_panel_.visible()) sim_panel_.draw(*ws_.scene(), ws_.view.playback.clip, ws_.sim_paint_weights(), hooks_);
   if (ws_.scene()) patch_panel_.draw(*ws_.scene(), ws_.view.selection, hooks_);
   draw_help();
@@ -413,7 +413,7 @@ int Editor::run() {
       const std::string path = dropped_;
       dropped_.clear();
       const bool mesh = has_extension(path, ".obj") || has_extension(path, ".ply") || has_extension(path, ".off") || has_extension(path, ".stl");
-      if (mesh && ws_.scene()) import_cage(path);
+      if (mesh && ws_.scene()) ws_.run("import_cage " + path);
       else guard_unsaved([this, path] { open_path(path); });
     }
     ImGui_ImplOpenGL3_NewFrame();
@@ -439,12 +439,12 @@ int Editor::run() {
         if (ws_.scene()->binding && !ws_.scene()->binding->invalid_elements.empty())
           log("warning: " + std::to_string(ws_.scene()->binding->invalid_elements.size()) + " cage elements skipped (zero area, non-finite or duplicate)");
       }
-      cage_tools_.poll(*ws_.scene(), hooks_);
+      cage_tools_.poll(ws_, hooks_);
       patch_panel_.poll(*ws_.scene(), hooks_);
       export_panel_.poll(hooks_);
       fidelity_panel_.poll(*ws_.scene(), hooks_);
       if (sets_panel_.take_select_limb_request()) {
-        ws_.view.selection.cage_faces = SetsPanel::limb_faces(*ws_.scene(), ws_.view.selection.joints);
+        ws_.run("select_limb_faces");
         log("selected " + std::to_string(ws_.view.selection.cage_faces.size()) + " cage faces of the selected joints' limbs");
       }
       if (ws_.scene()->doc().cage != shown_cage_) {  // a new cage (edit, undo, import): new topology?
@@ -483,10 +483,11 @@ int Editor::run() {
       }
       if (ws_.scene()->doc().cage) renderer_->update_cage(ws_.scene()->cage_posed, cage_weights_, face_mask_, bone_colors_);
       // the skin's CPU copy only when points are shown on it (the GPU path makes it on demand)
-      const bool skin_points = !ws_.view.selection.skin_vertices.empty() || cage_tools_.show_failing();
+      const std::span<const uint32_t> failing = cage_tools_.failing_points(*ws_.scene());
+      const bool skin_points = !ws_.view.selection.skin_vertices.empty() || !failing.empty();
       renderer_->update_skin_points(skin_points ? std::span<const glm::vec3>(ws_.scene()->skin_posed()) : std::span<const glm::vec3>(),
                                     ws_.view.selection.skin_vertices.indices(),
-                                    cage_tools_.show_failing() ? std::span<const uint32_t>(cage_tools_.failing_points()) : std::span<const uint32_t>());
+                                    failing);
       renderer_->update_skeleton(ws_.scene()->joint_heads, ws_.scene()->bones, joint_mask_);
       std::string title = "cagewrap - " + (ws_.scene()->doc().project_path.empty() ? std::string("untitled") : ws_.scene()->doc().project_path) +
                           (recovered_ ? " (recovered)" : "") + (ws_.scene()->dirty() ? " *" : "");
@@ -568,7 +569,7 @@ int run_editor(const EditorOptions& options) {
   // idle, instead of at exit, where LeakSanitizer's thread-stopping tracer crashed (signal 11) in about one
   // run in forty while the process wound down among Mesa's and TBB's threads. It is the same check (it
   // honours detect_leaks, reports and fails the same way) and the one at exit then does not run.
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(CAGEWRAP_ASAN)
   __lsan_do_leak_check();
 #endif
   return exit_code;

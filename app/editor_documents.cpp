@@ -146,7 +146,7 @@ void Editor::act_on(const EditorFiles::Choice& choice) {
       guard_unsaved([this, path] { open_path(path); });
       break;
     }
-    case FilePurpose::kImportCage: import_cage(choice.path); break;
+    case FilePurpose::kImportCage: ws_.run("import_cage " + choice.path); break;
     case FilePurpose::kSaveProject:
       if (ws_.scene() && save_project_to(choice.path) && after_save_) after_save_();
       after_save_ = nullptr;
@@ -183,10 +183,6 @@ void Editor::act_on(const ProjectDialogs::Request& request) {
     }
     case Kind::kDiscardRecovery: log("discarded the recovery file " + request.recovery.path); break;
   }
-}
-
-bool Editor::import_cage(const std::string& path) {
-  return ws_.scene() && cage_tools_.import_cage(*ws_.scene(), path, hooks_);
 }
 
 void Editor::draw_file_popups() {

@@ -13,8 +13,10 @@ void Editor::run_script_step() {
     --script_wait_;
     return;
   }
-  while (script_pos_ < script_.size() && script_wait_ == 0)
-    ws_.run(script_[script_pos_++], "script line " + std::to_string(script_pos_));
+  while (script_pos_ < script_.size() && script_wait_ == 0) {
+    const size_t line = script_pos_++;  // script_pos_: the next line's index, the running line's number (1-based)
+    ws_.run(script_[line], "script line " + std::to_string(line + 1));
+  }
 }
 
 // The window's own actions: what needs the window, its panels or its file browser. The workspace
@@ -50,8 +52,6 @@ void Editor::add_window_actions() {
         std::string p = rest_of_line(in);
         guard_unsaved([this, p] { open_path(p); });
       }, false, 1);
-  add("import_cage", "PATH", "Imports a cage file (OBJ, PLY, OFF, STL, glTF) as one undo step.",
-      [this, rest_of_line](std::istringstream& in) { import_cage(rest_of_line(in)); }, false);
   add("save", "PATH", "Saves the project to PATH.", [this](std::istringstream& in) {
     std::string p;
     in >> p;
@@ -176,13 +176,6 @@ void Editor::add_window_actions() {
     cage_tools_.open_auto_cage_dialog();
     cage_tools_.start_auto_cage(*ws_.scene());
   }, true, 1);
-  add("cage_op", "merge|weld D|flip|flip_all|linear [N]|loop [N]|refine|triangulate", "A Cage menu operation on the selection.",
-      [this](std::istringstream& in) {
-        std::string op;
-        double arg = 0.0;
-        in >> op >> arg;
-        cage_tools_.run_operation(*ws_.scene(), ws_.view.selection, op, arg, hooks_);
-      });
 
   // ---- export and fidelity
   add("export_window", "", "Opens the Export window.", [this](std::istringstream&) { export_panel_.open(*ws_.scene()); });
@@ -279,36 +272,6 @@ void Editor::add_window_actions() {
     const char* maps[] = {"none", "influence", "size", "flags", "separated"};
     for (int k = 0; k < 5; ++k)
       if (m == maps[k]) sets_panel_.map() = static_cast<SetMap>(k);
-  });
-  add("set_edit", "remove|add|only|reset [mirror]", "A set edit on the selected skin vertices with the selected faces.",
-      [this, fail](std::istringstream& in) {
-        std::string m, mirror;
-        in >> m >> mirror;
-        SetEditMode mode;
-        if (!parse_set_edit_mode(m, mode)) return fail("unknown set edit mode '" + m + "'");
-        sets_panel_.mode() = mode;
-        sets_panel_.mirror() = mirror == "mirror";
-        sets_panel_.apply(*ws_.scene(), ws_.view.selection, ws_.view.selection.skin_vertices, hooks_);
-      });
-  add("select_limb_faces", "", "Selects the cage faces following the selected joints.",
-      [this](std::istringstream&) { ws_.view.selection.cage_faces = SetsPanel::limb_faces(*ws_.scene(), ws_.view.selection.joints); });
-  add("paint_at_skin_vertex", "I [RADIUS]", "One brush stroke of one dab at skin vertex I.", [this](std::istringstream& in) {
-    uint32_t i;
-    double r = 0.0;
-    in >> i >> r;
-    if (r > 0) sets_panel_.set_brush_radius(r);
-    if (i < ws_.scene()->skin_posed().size()) {
-      const auto& fv = ws_.scene()->skin_topology.face_vertices;
-      uint32_t tri = 0;
-      for (size_t k = 0; k < fv.size(); ++k)
-        if (fv[k] == i) {
-          tri = static_cast<uint32_t>(k / 3);
-          break;
-        }
-      sets_panel_.begin_stroke(*ws_.scene());
-      sets_panel_.dab(*ws_.scene(), ws_.view.selection, tri, glm::dvec3(ws_.scene()->skin_posed()[i]), hooks_);
-      sets_panel_.end_stroke(*ws_.scene());
-    }
   });
 
   // ---- the parametric driver (app/patch_panel.h)

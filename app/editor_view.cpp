@@ -192,18 +192,16 @@ void Editor::box_select_in_mode(const ImVec2& a, const ImVec2& b, bool add, bool
 void Editor::handle_input() {
   ImGuiIO& io = ImGui::GetIO();
   const bool over_view = in_view(io.MousePos) && !io.WantCaptureMouse;
-  if (ws_.scene() && painting_) {  // a set-edit brush stroke in progress
+  if (ws_.scene() && ws_.set_stroking()) {  // a set-edit brush stroke in progress
     if (!io.MouseDown[0]) {
-      sets_panel_.end_stroke(*ws_.scene());
-      painting_ = false;
+      ws_.end_set_stroke();
     } else if (io.MouseDelta.x != 0 || io.MouseDelta.y != 0) {
       paint_dab(io.MousePos);
     }
     return;
   }
   if (ws_.scene() && over_view && !io.KeyAlt && ImGui::IsMouseClicked(0) && sets_panel_.painting() && ws_.view.mode == SelectMode::kSkinVertices) {
-    sets_panel_.begin_stroke(*ws_.scene());
-    painting_ = true;
+    ws_.begin_set_stroke();
     paint_dab(io.MousePos);
     return;
   }
@@ -296,9 +294,9 @@ void Editor::paint_dab(const ImVec2& mouse) {
     if (sets_panel_.screen_radius()) {  // pixels -> scene units at the hit's depth
       const ScreenPoint sp = ws_.view.camera.project(at, view_w_, view_h_);
       const double depth = ws_.view.camera.mode() == ProjectionMode::kPerspective ? sp.view_depth / ws_.view.camera.distance() : 1.0;
-      sets_panel_.set_brush_radius(sets_panel_.radius_pixels() * ws_.view.camera.world_per_pixel(view_h_) * depth);
+      ws_.view.sets.brush_radius = sets_panel_.radius_pixels() * ws_.view.camera.world_per_pixel(view_h_) * depth;
     }
-    sets_panel_.dab(*ws_.scene(), ws_.view.selection, hit->triangle, at, hooks_);
+    ws_.set_stroke_dab(hit->triangle, at);
   }
 }
 

@@ -113,7 +113,6 @@ class Editor {
   bool open_path(const std::string& path);
   bool open_project(const std::string& path, const std::string& character_override = {});
   void act_on(const ProjectDialogs::Request& request);
-  bool import_cage(const std::string& path);
   void guard_unsaved(std::function<void()> action);
   void browse(FilePurpose purpose, const std::string& dir = {});
   void act_on(const EditorFiles::Choice& choice);
@@ -229,7 +228,6 @@ class Editor {
   SetsPanel sets_panel_;
   SimPanel sim_panel_;
   PatchPanel patch_panel_;
-  bool painting_ = false;  // a set-edit brush stroke in progress
   bool skin_colored_ = false;
   EditorHooks hooks_;
   std::string error_modal_;

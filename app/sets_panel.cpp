@@ -26,68 +26,6 @@ glm::vec4 heat(float t) {
 
 }  // namespace
 
-void SetsPanel::ensure_mirror(const Scene& scene) {
-  const Cage* cage = scene.doc().cage.get();
-  if (mirror_cage_ == cage && point_mirror_) return;
-  const double tol = 2e-3 * scene.skin_diagonal;
-  point_mirror_.emplace(scene.skin_rest, tol);
-  std::vector<glm::vec3> centroids = face_centroids(cage->polygons);
-  face_mirror_.emplace(centroids, std::max(tol, 0.25 * mean_edge_length(cage->polygons)));
-  mirror_cage_ = cage;
-}
-
-bool SetsPanel::apply(Scene& scene, const Selection& sel, const IndexSet& points, const EditorHooks& hooks) {
-  const Document& doc = scene.doc();
-  if (!doc.cage || points.empty()) return false;
-  if (mode_ != SetEditMode::kReset && sel.cage_faces.empty()) {
-    hooks.log("error: select the cage faces to " + std::string(set_edit_mode_name(mode_)) + " first (F6)", true);
-    return false;
-  }
-  SetEditMirror mirror;
-  if (mirror_) {
-    ensure_mirror(scene);
-    mirror.points = &*point_mirror_;
-    mirror.faces = &*face_mirror_;
-  }
-  auto r = apply_set_edit(doc.set_edits, mode_, points, sel.cage_faces, *doc.cage, scene.skin_rest.size(), mirror);
-  if (!r) {
-    hooks.show_error(r.error().message);
-    return false;
-  }
-  if (r->changed_points.empty()) return true;
-  Document next = with_set_edits(doc, r->edits);
-  if (stroking_) {
-    scene.drag(std::move(next));
-    if (!scene.update_set_edits_live(scene.doc().set_edits, r->changed_points)) scene.document_changed();  // a full rebind
-  } else {
-    scene.apply_set_edits(std::string("Sets: ") + set_edit_mode_name(mode_) + " on " + std::to_string(points.size()) + " points",
-                          std::move(next), r->changed_points);
-  }
-  colors_key_.clear();
-  return true;
-}
-
-void SetsPanel::begin_stroke(Scene& scene) {
-  brush_ = SkinBrush(scene.skin_posed(), scene.skin_triangles());
-  scene.begin_drag();
-  stroking_ = true;
-}
-
-void SetsPanel::dab(Scene& scene, const Selection& sel, uint32_t triangle, const glm::dvec3& hit, const EditorHooks& hooks) {
-  if (!stroking_) return;
-  if (brush_radius_ <= 0.0) brush_radius_ = 0.03 * scene.skin_diagonal;
-  auto pts = brush_.points_within(triangle, hit, brush_radius_);
-  if (!pts || pts->points.empty()) return;
-  apply(scene, sel, IndexSet(pts->points), hooks);
-}
-
-void SetsPanel::end_stroke(Scene& scene) {
-  if (!stroking_) return;
-  stroking_ = false;
-  // the stroke's edits are in the binding already (update_set_edits_live): nothing to refresh
-  scene.commit_drag(std::string("Paint sets: ") + set_edit_mode_name(mode_), /*refresh=*/false);
-}
-
 const std::vector<glm::vec4>& SetsPanel::colors(const Scene& scene, const Selection& sel) {
   const Binding* b = scene.binding.get();
   if (!visible_ || map_ == SetMap::kNone || !b || !scene.doc().cage || b->num_points != scene.skin_rest.size()) {
@@ -128,22 +66,6 @@ const std::vector<glm::vec4>& SetsPanel::colors(const Scene& scene, const Select
   return colors_;
 }
 
-IndexSet SetsPanel::limb_faces(const Scene& scene, const IndexSet& joints) {
-  std::vector<uint32_t> faces;
-  const Cage* cage = scene.doc().cage.get();
-  if (!cage || !scene.attachment || scene.attachment->joint.size() != cage->num_vertices()) return {};
-  const auto& skin_joints = scene.doc().character->skins[scene.attachment->skin].joints;
-  auto follows = [&](uint32_t v) {
-    const uint32_t j = scene.attachment->joint[v];
-    return j < skin_joints.size() && joints.contains(skin_joints[j]);
-  };
-  for (size_t f = 0; f < cage->polygons.num_faces(); ++f) {
-    const auto c = cage->polygons.face(f);
-    if (std::all_of(c.begin(), c.end(), follows)) faces.push_back(static_cast<uint32_t>(f));
-  }
-  return IndexSet(std::move(faces));
-}
-
 std::vector<std::pair<uint32_t, float>> SetsPanel::member_face_weights(const Scene& scene, const Selection& sel) const {
   std::vector<std::pair<uint32_t, float>> out;
   if (!visible_ || !scene.binding || !scene.doc().cage || sel.skin_vertices.size() != 1) return out;
@@ -168,8 +90,11 @@ std::vector<uint32_t> SetsPanel::highlighted_faces(const Scene& scene, const Sel
 
 #if CAGEWRAP_GUI
 
-void SetsPanel::draw(Scene& scene, const Selection& sel, const EditorHooks& hooks) {
-  if (!visible_) return;
+void SetsPanel::draw(Workspace& ws) {
+  if (!visible_ || !ws.scene()) return;
+  const Scene& scene = *ws.scene();
+  const Selection& sel = ws.view.selection;
+  auto& tool = ws.view.sets;
   ImGui::SetNextWindowPos(ImVec2(270, 330), ImGuiCond_FirstUseEver);
   ImGui::SetNextWindowSize(ImVec2(390, 380), ImGuiCond_FirstUseEver);
   if (!ImGui::Begin("Contributing sets", &visible_)) {
@@ -216,36 +141,37 @@ void SetsPanel::draw(Scene& scene, const Selection& sel, const EditorHooks& hook
     hint("select one skin vertex (F7) to list its elements and weights");
   }
   ImGui::Separator();
-  int mode = static_cast<int>(mode_);
+  int mode = static_cast<int>(tool.mode);
   const char* modes[] = {"remove these faces", "add these faces", "only these faces", "reset to automatic"};
   ImGui::Combo("edit", &mode, modes, 4);
-  mode_ = static_cast<SetEditMode>(mode);
-  ImGui::Checkbox("mirror (X)", &mirror_);
+  tool.mode = static_cast<SetEditMode>(mode);
+  ImGui::Checkbox("mirror (X)", &tool.mirror);
   hint("%zu cage faces selected (F6), %zu skin vertices (F7)", sel.cage_faces.size(), sel.skin_vertices.size());
   ImGui::BeginDisabled(sel.joints.empty());
   if (ImGui::Button("Select the faces of the selected joints' limbs")) select_limb_ = true;
   ImGui::EndDisabled();
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("Cage faces whose corners all follow the selected joints (select joints in the outliner)");
   ImGui::BeginDisabled(sel.skin_vertices.empty());
-  if (ImGui::Button("Apply to the selected skin vertices", ImVec2(-1, 0))) apply(scene, sel, sel.skin_vertices, hooks);
+  if (ImGui::Button("Apply to the selected skin vertices", ImVec2(-1, 0)))
+    ws.run(std::string("set_edit ") + set_edit_mode_name(tool.mode) + (tool.mirror ? " mirror" : ""));
   ImGui::EndDisabled();
   ImGui::Checkbox("paint on the skin (skin mode, LMB)", &paint_);
-  if (brush_radius_ <= 0.0) brush_radius_ = 0.03 * scene.skin_diagonal;
-  float r = static_cast<float>(brush_radius_);
+  if (tool.brush_radius <= 0.0) tool.brush_radius = 0.03 * scene.skin_diagonal;
+  float r = static_cast<float>(tool.brush_radius);
   const float size = static_cast<float>(scene.skin_diagonal);
   ImGui::Checkbox("radius in screen pixels", &screen_radius_);
   if (screen_radius_) {
     float px = static_cast<float>(radius_pixels_);
     if (ImGui::SliderFloat("brush radius (px)", &px, 2.0f, 300.0f, "%.0f")) radius_pixels_ = px;
   } else if (ImGui::SliderFloat("brush radius", &r, 1e-3f * size, 0.3f * size, "%.4f", ImGuiSliderFlags_Logarithmic)) {
-    brush_radius_ = r;
+    tool.brush_radius = r;
   }
   hint("%zu points have edited sets", scene.doc().set_edits.size());
   ImGui::End();
 }
 
 #else
-void SetsPanel::draw(Scene&, const Selection&, const EditorHooks&) {}
+void SetsPanel::draw(Workspace&) {}
 #endif
 
 }  // namespace cagewrap::app

@@ -28,31 +28,53 @@ cmake --build "$BUILD" --target fuzzers -j "$JOBS"
 
 rm -rf "$BUILD/seeds"
 "$BUILD/cagewrap_fuzz_seeds" "$BUILD/seeds"
-status=0
-for harness in gltf gltf_rig mesh project set_edits patch binding; do
-  corpus="$BUILD/corpus/$harness"
+# Each harness runs alone (one process, one core): JOBS of them at a time, each into its own log; the
+# summaries are printed in harness order once all are done.
+run_harness() {
+  local harness=$1
+  local corpus="$BUILD/corpus/$harness"
   # a fixed run (FUZZ_RUNS) starts from the seeds alone, as on a clean checkout: what earlier runs added
   # to the corpus would make this machine's run differ from CI's (a mesh OOM CI found was missed here)
   [ -n "${FUZZ_RUNS:-}" ] && corpus="$BUILD/corpus-fixed/$harness" && rm -rf "$corpus"
-  artifacts="$BUILD/artifacts/$harness"
+  local artifacts="$BUILD/artifacts/$harness"
   mkdir -p "$corpus" "$artifacts"
   # checked-in regression inputs (crashes found before) run first, as seeds
-  extra=()
+  local extra=()
   [ -d "$ROOT/tests/fuzz/corpus/$harness" ] && extra+=("$ROOT/tests/fuzz/corpus/$harness")
-  budget=(-max_total_time="$SECONDS_EACH")
+  local budget=(-max_total_time="$SECONDS_EACH")
   [ -n "${FUZZ_RUNS:-}" ] && budget=(-runs="$FUZZ_RUNS")
   [ -n "${FUZZ_SEED:-}" ] && budget+=(-seed="$FUZZ_SEED")
-  echo "fuzz: $harness, ${budget[*]}"
   # -malloc_limit_mb: a single allocation above 64 MB is a crash (no input of at most 64 KiB needs one;
   # a loader that trusts a count in the file does: issue 19), -rss_limit_mb bounds the whole process
-  if ! ASAN_OPTIONS=detect_leaks=1:allocator_may_return_null=1 UBSAN_OPTIONS=print_stacktrace=1 \
+  ASAN_OPTIONS=detect_leaks=1:allocator_may_return_null=1 UBSAN_OPTIONS=print_stacktrace=1 \
     "$BUILD/fuzz_$harness" "${budget[@]}" -timeout=10 -rss_limit_mb=2048 -malloc_limit_mb=64 -max_len=65536 \
     -print_final_stats=1 -artifact_prefix="$artifacts/" "$corpus" "$BUILD/seeds/$harness" "${extra[@]}" \
-    >"$BUILD/fuzz_$harness.log" 2>&1; then
+    >"$BUILD/fuzz_$harness.log" 2>&1
+}
+
+harnesses=(gltf gltf_rig mesh project set_edits patch binding)
+declare -A pid_of
+running=0
+for harness in "${harnesses[@]}"; do
+  if [ "$running" -ge "$JOBS" ]; then
+    wait -n || true
+    running=$((running - 1))
+  fi
+  if [ -n "${FUZZ_RUNS:-}" ]; then echo "fuzz: $harness, -runs=$FUZZ_RUNS${FUZZ_SEED:+ -seed=$FUZZ_SEED}"
+  else echo "fuzz: $harness, -max_total_time=$SECONDS_EACH${FUZZ_SEED:+ -seed=$FUZZ_SEED}"; fi
+  run_harness "$harness" &
+  pid_of[$harness]=$!
+  running=$((running + 1))
+done
+status=0
+for harness in "${harnesses[@]}"; do
+  artifacts="$BUILD/artifacts/$harness"
+  if ! wait "${pid_of[$harness]}"; then
     echo "fuzz: $harness FAILED; see $BUILD/fuzz_$harness.log and $artifacts/"
     grep -E "ERROR|SUMMARY|runtime error|Test unit written" "$BUILD/fuzz_$harness.log" | head -20 || true
     status=1
   else
+    echo "fuzz: $harness passed"
     grep -E "stat::number_of_executed_units|cov:" "$BUILD/fuzz_$harness.log" | tail -2 || true
   fi
 done

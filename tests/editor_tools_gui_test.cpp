@@ -254,44 +254,6 @@ TEST(EditorTools, RotationRingPosesTheJointLikeTheAngleFields) {
   EXPECT_GT(share_differing(typed, file_skinning, 24, PixelRect{}), 0.0005) << "the file's skinning is not the cage deformation";
 }
 
-// Cage > Refine selected faces and Subdivide (linear), each one undo step; a sculpted offset
-// follows subdivision (the vertex keeps it, the midpoints of its edges get half).
-TEST(EditorTools, SubdivisionIsOneUndoStepAndCarriesOffsets) {
-  std::string why;
-  if (!gui_available(why)) GTEST_SKIP() << why;
-  PolyMesh cage = demo_cage();
-  ASSERT_TRUE(cage.all_triangles());
-  const fs::path dir = gui_test_dir(), script = dir / "tools_subdivide.script";
-  const fs::path p_refined = dir / "tools_refined.cagewrap", p_undone = dir / "tools_refine_undone.cagewrap",
-                 p_linear = dir / "tools_linear.cagewrap";
-  for (const auto& p : {p_refined, p_undone, p_linear}) fs::remove(p);
-  write_script(script, "clip rest\nwait 2\nmode cage_faces\nselect_cage_face 5\ncage_op refine\nsave " + p_refined.string() +
-                           "\nundo\nsave " + p_undone.string() + "\nmode cage_vertices\nselect_cage_vertex 500\nmove 0 0.1 0\n" +
-                           "cage_op linear\nsave " + p_linear.string() + "\n");
-  screenshot("--script " + script.string(), "tools_subdivide");
-  auto faces_of = [](const fs::path& p) {
-    const auto j = saved_project(p);
-    return j.is_null() ? size_t{0} : j.at("cage").at("faces").size();
-  };
-  const size_t f = cage.num_faces();
-  // red-green: the face becomes 4 and each of its 3 neighbours 2
-  EXPECT_EQ(faces_of(p_refined), f + 3 + 3);
-  EXPECT_EQ(faces_of(p_undone), f);
-  EXPECT_EQ(faces_of(p_linear), 4 * f);
-  auto off = saved_offsets(p_linear);
-  size_t full = 0, half = 0;
-  for (const auto& o : off) {
-    if (std::abs(o.y - 0.1) < 1e-6) ++full;
-    else if (std::abs(o.y - 0.05) < 1e-6) ++half;
-    else EXPECT_EQ(glm::length(o), 0.0);
-  }
-  size_t degree = 0;  // edges at vertex 500
-  for (auto [a, b] : unique_edges(cage))
-    if (a == 500 || b == 500) ++degree;
-  EXPECT_EQ(full, 1u);
-  EXPECT_EQ(half, degree);
-}
-
 // Opening another file with unsaved changes asks first: Cancel keeps the work, Discard opens.
 TEST(EditorTools, OpeningWithUnsavedChangesAsksFirst) {
   std::string why;
@@ -311,39 +273,6 @@ TEST(EditorTools, OpeningWithUnsavedChangesAsksFirst) {
   ASSERT_FALSE(saved.is_null()) << fresh;
   EXPECT_TRUE(saved.at("cage").at("positions").empty()) << "Discard opened the character alone, a new untitled project";
   EXPECT_TRUE(fs::exists(prompt_png));
-}
-
-// The Rig window's keying path: a set driven by the forearm's X rotation, the elbow posed at 120
-// degrees, a cage vertex moved, Key: the saved project holds the key at 120 with that vertex, the
-// driver offsets are empty again, and undo takes the key back.
-TEST(EditorTools, KeyingASculptMakesAKeyAtThePose) {
-  std::string why;
-  if (!gui_available(why)) GTEST_SKIP() << why;
-  const fs::path dir = gui_test_dir(), script = dir / "tools_key.script", keyed = dir / "tools_keyed.cagewrap",
-                 undone = dir / "tools_key_undone.cagewrap";
-  for (const auto& p : {keyed, undone}) fs::remove(p);
-  write_script(script, "clip rest\nwait 2\nrig_panel\nmode joints\nselect_joint 7\nkeyset x\npose 7 120 0 0\nwait 1\n"
-                       "mode cage_vertices\nselect_cage_vertex 300\nmove 0 0 0.05\nkey\nsave " + keyed.string() + "\nundo\nsave " +
-                           undone.string() + "\n");
-  screenshot("--script " + script.string(), "tools_key");
-  const auto j = saved_project(keyed);
-  ASSERT_FALSE(j.is_null()) << keyed;
-  ASSERT_EQ(j.at("keyposes").size(), 1u);
-  const auto& set = j.at("keyposes")[0];
-  EXPECT_EQ(set.at("drivers")[0].at("node").get<std::string>(), "forearm.L");
-  ASSERT_EQ(set.at("keys").size(), 1u);
-  EXPECT_DOUBLE_EQ(set.at("keys")[0].at("values")[0].get<double>(), 120.0);
-  EXPECT_EQ(set.at("keys")[0].at("vertices"), nlohmann::json::array({300}));
-  const auto& o = set.at("keys")[0].at("offsets")[0];
-  EXPECT_NEAR(std::hypot(o[0].get<double>(), o[1].get<double>(), o[2].get<double>()), 0.05, 1e-6);
-  if (j.at("cage").contains("offsets")) {  // the sculpt moved into the key: no driver offsets remain
-    for (const auto& off : j.at("cage").at("offsets")) {
-      EXPECT_EQ(off, nlohmann::json::array({0.0, 0.0, 0.0}));
-    }
-  }
-  std::ifstream in2(undone);
-  ASSERT_TRUE(in2) << undone;
-  EXPECT_TRUE(nlohmann::json::parse(in2).at("keyposes")[0].at("keys").empty()) << "undo takes the key back";
 }
 
 // Contributing sets: a brush stroke on the skin removes the selected cage faces from the sets of
@@ -378,60 +307,6 @@ TEST(EditorTools, PaintingSetsRemovesFacesFromThePointsUnderTheBrush) {
       if (p[0] > 180 && p[1] < 90 && p[2] < 90) ++hot;
     }
   EXPECT_GT(hot, 30u);
-}
-
-// "Select limb": the faces following the chosen joints; "only these faces" then restricts a point.
-TEST(EditorTools, SelectLimbFacesAndOnlyTheseFaces) {
-  std::string why;
-  if (!gui_available(why)) GTEST_SKIP() << why;
-  const fs::path dir = gui_test_dir(), script = dir / "tools_limb.script", p = dir / "tools_limb.cagewrap";
-  fs::remove(p);
-  // node 7 is forearm.L (see the outliner); skin vertex 20000 is any point
-  write_script(script, "clip rest\nwait 2\nmode joints\nselect_joint 7\nselect_limb_faces\nmode skin_vertices\nselect_skin_vertex 20000\n"
-                       "set_edit only\nsave " + p.string() + "\n");
-  screenshot("--script " + script.string(), "tools_limb");
-  const auto saved = saved_project(p);
-  ASSERT_FALSE(saved.is_null()) << p;
-  const auto edits = saved.at("set_edits");
-  ASSERT_EQ(edits.size(), 1u);
-  EXPECT_EQ(edits[0].at("point").get<int>(), 20000);
-  EXPECT_TRUE(edits[0].value("only", false));
-  EXPECT_GT(edits[0].at("include").size(), 10u) << "the forearm's faces hold many elements";
-  const std::string text = read_file(dir / "tools_limb.log");
-  EXPECT_EQ(text.find("error"), std::string::npos) << text;
-}
-
-// #17: removing the faces that drive a point from its contributing set removes their elements (the
-// webbed point of the report kept all 7 after "remove these faces"), through the editor's live
-// re-registration, and the saved project holds the exclusion.
-TEST(EditorTools, RemovingAPointsOwnFacesRemovesThemFromItsSet) {
-  std::string why;
-  if (!gui_available(why)) GTEST_SKIP() << why;
-  const fs::path dir = gui_test_dir(), script = dir / "tools_remove_set.script", p = dir / "tools_remove_set.cagewrap";
-  fs::remove(p);
-  write_script(script, "clip rest\nwait 2\nmode skin_vertices\nselect_skin_vertex 13849\nlog_set 13849\nselect_set_faces\n"
-                       "set_edit remove\nwait 2\nlog_set 13849\nsave " + p.string() + "\n");
-  screenshot("--script " + script.string(), "tools_remove_set");
-  const std::string text = read_file(dir / "tools_remove_set.log");
-  auto sets = [&] {
-    std::vector<std::vector<uint32_t>> out;
-    for (size_t at = text.find("set of skin vertex 13849:"); at != std::string::npos;
-         at = text.find("set of skin vertex 13849:", at + 1)) {
-      std::istringstream line(text.substr(at + 25, text.find('\n', at) - at - 25));
-      std::vector<uint32_t> ids;
-      for (uint32_t e; line >> e;) ids.push_back(e);
-      out.push_back(ids);
-    }
-    return out;
-  }();
-  ASSERT_EQ(sets.size(), 2u) << text;
-  ASSERT_GE(sets[0].size(), 2u) << text;
-  for (uint32_t e : sets[1])
-    EXPECT_EQ(std::find(sets[0].begin(), sets[0].end(), e), sets[0].end()) << "element " << e << " was removed but still drives the point\n" << text;
-  const auto saved = saved_project(p);
-  ASSERT_FALSE(saved.is_null()) << p;
-  ASSERT_EQ(saved.at("set_edits").size(), 1u);
-  EXPECT_GE(saved.at("set_edits")[0].at("exclude").size(), sets[0].size());
 }
 
 }  // namespace

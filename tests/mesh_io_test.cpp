@@ -64,7 +64,7 @@ GuardedLoad load_mesh_guarded(const std::string& path, unsigned seconds = 1) {
   const pid_t pid = ::fork();
   if (pid == 0) {
     ::close(fds[0]);
-#if !defined(__SANITIZE_ADDRESS__)
+#if !defined(CAGEWRAP_ASAN)
     const rlimit mem{rlim_t(2) << 30, rlim_t(2) << 30};  // 2 GiB of address space
     ::setrlimit(RLIMIT_AS, &mem);
 #endif

@@ -10,6 +10,7 @@
 
 #include "app/workspace/camera.h"
 #include "app/workspace/soft_selection.h"
+#include "core/document/set_editing.h"
 #include "core/geometry/selection.h"
 #include "core/rig/animation.h"
 
@@ -53,6 +54,12 @@ struct ViewState {
   // the skin points near the moved vertices are registered again (Scene::moved_rest).
   bool move_rest = false;
   size_t keypose_set = 0;  // the keypose set Key, mirror and the Rig window act on (index in the document's)
+  // The contributing-set edit tool (the Sets window, `set_edit`, brush strokes)
+  struct SetEditTool {
+    SetEditMode mode = SetEditMode::kRemove;
+    bool mirror = false;        // the mirror images of the points, with the mirror faces, too
+    double brush_radius = 0.0;  // scene units; 0: 3 % of the skin's size at the first dab
+  } sets;
 };
 
 }  // namespace cagewrap::app

@@ -38,9 +38,11 @@ Workspace::Workspace() { add_actions(); }
 
 void Workspace::set_scene(std::unique_ptr<Scene> scene) {
   move_.reset();
+  stroke_.reset();
+  set_mirror_.reset();
   scene_ = std::move(scene);
   view.selection = {};
-  view.playback = scene_ ? Playback::first_of(scene_->doc().character->clips) : Playback{};
+  view.playback = scene_ ? Playback::first_of(scene_->doc().character->clips) : Playback();
   view.soft.radius = 0.1 * scene_size();
 }
 
@@ -258,13 +260,17 @@ const glm::dvec3& Workspace::move_total() const {
 void Workspace::undo() {
   if (!scene_) return;
   cancel_move();
+  end_set_stroke();
   if (std::string label = scene_->undo(); !label.empty()) log(label);
+  clip_cage_selection();
 }
 
 void Workspace::redo() {
   if (!scene_) return;
   cancel_move();
+  end_set_stroke();
   if (std::string label = scene_->redo(); !label.empty()) log(label);
+  clip_cage_selection();
 }
 
 void Workspace::set_pose_override(uint32_t node, const glm::quat& q) {

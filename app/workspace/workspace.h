@@ -22,6 +22,8 @@
 #include "app/workspace/view_state.h"
 #include "core/rig/cage_attachment.h"
 #include "core/rig/keyposes.h"
+#include "core/document/set_editing.h"
+#include "core/document/skin_brush.h"
 
 namespace cagewrap::app {
 
@@ -116,6 +118,32 @@ class Workspace {
   // The active set, clamped to the document's (null when there is none).
   const KeyposeSet* active_keypose_set();
 
+  // ---- the cage (workspace_cage.cpp; the Cage menu and the actions cage_op and import_cage run these)
+  // A new cage in the document, one undo step: the old one's sculpted offsets, set edits, vertex
+  // assignments and keyed vertices go (they named its vertices and elements); its selection is cleared.
+  void replace_cage(std::shared_ptr<const Cage> cage, const std::string& label);
+  // Reads a cage file (OBJ, PLY, OFF, STL, glTF), logs its problems by element, replace_cage. False
+  // (shown, the document kept) when it cannot be read.
+  bool import_cage(const std::string& path);
+  // A topology edit of the Cage menu on the selection, one undo step that carries offsets, set edits
+  // and keys (core/document/topology_change.h): merge (selected vertices), weld D (distance), flip
+  // (selected faces), flip_all, linear [N], loop [N] (levels), refine (selected faces), triangulate.
+  // False (shown, the document kept) when it cannot be made.
+  bool cage_operation(const std::string& op, double arg);
+
+  // ---- contributing sets (workspace_sets.cpp; the Sets window and set_edit, select_limb_faces and
+  // paint_at_skin_vertex run these): view.sets.mode with the selected cage faces on `points` (and their
+  // mirror images with view.sets.mirror). One undo step, or part of the brush stroke under way.
+  bool apply_set_edit(const IndexSet& points);
+  // A brush stroke: each dab applies the edit to the skin points within view.sets.brush_radius of
+  // `hit` (on skin triangle `triangle`) along the skin, at once; the stroke is one undo step.
+  void begin_set_stroke();
+  bool set_stroke_dab(uint32_t triangle, const glm::dvec3& hit);
+  void end_set_stroke();
+  bool set_stroking() const { return stroke_.has_value(); }
+  // The cage faces whose corners all follow the given joints (by the attachment).
+  IndexSet limb_faces(const IndexSet& joints) const;
+
   // ---- playing and posing (view.playback: never undone)
   void set_pose_override(uint32_t node, const glm::quat& q);
   // Shows the clip `name` from its start, paused ("rest": the bind pose); false
@@ -139,6 +167,17 @@ class Workspace {
     bool rest = false;
   };
   std::optional<MoveDrag> move_;
+  std::optional<SkinBrush> stroke_;  // a set-edit brush stroke under way
+  // X-mirror maps of the skin points and the cage faces, for the cage they were made for
+  struct SetMirrorMaps {
+    std::shared_ptr<const Cage> cage;
+    size_t skin_points = 0;
+    MirrorMap points, faces;
+    SetEditMirror maps;  // points at the two above
+  };
+  std::optional<SetMirrorMaps> set_mirror_;
+  const SetEditMirror& set_edit_mirror();
+  void clip_cage_selection();  // drops selected cage vertex and face ids past the cage's counts
 };
 
 }  // namespace cagewrap::app

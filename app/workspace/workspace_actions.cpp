@@ -229,6 +229,51 @@ void Workspace::add_actions() {
   });
   add("mirror_keyset", "", "Mirrors the active keypose set to the other side.", [this](std::istringstream&) { mirror_keypose_set(); });
 
+  // ---- the cage (the Cage menu runs the same: app/workspace/workspace_cage.cpp)
+  add("import_cage", "PATH", "Imports a cage file (OBJ, PLY, OFF, STL, glTF) as one undo step.", [this](std::istringstream& in) {
+    std::string path;
+    std::getline(in >> std::ws, path);
+    path.erase(path.find_last_not_of(" \t\r") + 1);
+    if (path.empty()) return fail("import_cage PATH");
+    import_cage(path);
+  });
+  add("cage_op", "merge|weld D|flip|flip_all|linear [N]|loop [N]|refine|triangulate",
+      "A Cage menu operation on the selection (merge: the selected vertices; flip, refine: the selected faces).",
+      [this](std::istringstream& in) {
+        std::string op;
+        double arg = 0.0;
+        in >> op >> arg;
+        cage_operation(op, arg);
+      });
+
+  // ---- contributing sets (the Sets window runs the same: app/workspace/workspace_sets.cpp)
+  add("set_edit", "remove|add|only|reset [mirror]", "A set edit on the selected skin vertices with the selected faces.",
+      [this](std::istringstream& in) {
+        std::string m, mirror;
+        in >> m >> mirror;
+        SetEditMode mode;
+        if (!parse_set_edit_mode(m, mode)) return fail("unknown set edit mode '" + m + "' (remove, add, only, reset)");
+        view.sets.mode = mode;
+        view.sets.mirror = mirror == "mirror";
+        apply_set_edit(view.selection.skin_vertices);
+      });
+  add("select_limb_faces", "", "Selects the cage faces following the selected joints.",
+      [this](std::istringstream&) { view.selection.cage_faces = limb_faces(view.selection.joints); });
+  add("paint_at_skin_vertex", "I [RADIUS]", "One brush stroke of one dab at skin vertex I (RADIUS in scene units).",
+      [this](std::istringstream& in) {
+        uint32_t i = 0;
+        double r = 0.0;
+        if (!(in >> i)) return fail("paint_at_skin_vertex I [RADIUS]");
+        if (in >> r && r > 0) view.sets.brush_radius = r;
+        if (i >= scene_->skin_posed().size()) return fail("no skin vertex " + std::to_string(i));
+        const auto& fv = scene_->skin_topology.face_vertices;
+        const auto at = std::find(fv.begin(), fv.end(), i);
+        if (at == fv.end()) return fail("skin vertex " + std::to_string(i) + " is on no triangle");
+        begin_set_stroke();
+        set_stroke_dab(static_cast<uint32_t>((at - fv.begin()) / 3), glm::dvec3(scene_->skin_posed()[i]));
+        end_set_stroke();
+      });
+
   // ---- the camera
   add("view", "front|right|top", "A preset view.", [this](std::istringstream& in) {
     std::string v;

@@ -57,10 +57,14 @@ IsoSurface marching_tetrahedra(const Grid3& grid, std::span<const double> values
           for (int k = 0; k < ni; ++k) ci += grid.point(in[k]);
           for (int k = 0; k < no; ++k) co += grid.point(out[k]);
           const glm::dvec3 outward = co / double(no) - ci / double(ni);
+          // New vertices are numbered in the order they are made, so the calls are sequenced (as
+          // function arguments their order would be the compiler's; these keep g++'s, last to first)
           if (ni == 1) {
-            emit(crossing(in[0], out[0]), crossing(in[0], out[1]), crossing(in[0], out[2]), outward);
+            const Corner c = crossing(in[0], out[2]), b = crossing(in[0], out[1]), a = crossing(in[0], out[0]);
+            emit(a, b, c, outward);
           } else if (no == 1) {
-            emit(crossing(in[0], out[0]), crossing(in[1], out[0]), crossing(in[2], out[0]), outward);
+            const Corner c = crossing(in[2], out[0]), b = crossing(in[1], out[0]), a = crossing(in[0], out[0]);
+            emit(a, b, c, outward);
           } else {
             const Corner q0 = crossing(in[0], out[0]), q1 = crossing(in[0], out[1]),
                          q2 = crossing(in[1], out[1]), q3 = crossing(in[1], out[0]);

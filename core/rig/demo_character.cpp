@@ -474,10 +474,15 @@ Surface polygonize(const Body& parts, double h) {
           for (int k = 0; k < ni; ++k) ci += point(in[k]);
           for (int k = 0; k < no; ++k) co += point(out[k]);
           dvec3 outward = co / double(no) - ci / double(ni);
+          // New vertices are numbered in the order they are made, so the calls are sequenced (as
+          // function arguments their order would be the compiler's: g++ made the committed demo
+          // evaluating them last to first, which these keep)
           if (ni == 1) {
-            emit(vertex_on(in[0], out[0]), vertex_on(in[0], out[1]), vertex_on(in[0], out[2]), outward);
+            const uint32_t c = vertex_on(in[0], out[2]), b = vertex_on(in[0], out[1]), a = vertex_on(in[0], out[0]);
+            emit(a, b, c, outward);
           } else if (no == 1) {
-            emit(vertex_on(out[0], in[0]), vertex_on(out[0], in[1]), vertex_on(out[0], in[2]), outward);
+            const uint32_t c = vertex_on(out[0], in[2]), b = vertex_on(out[0], in[1]), a = vertex_on(out[0], in[0]);
+            emit(a, b, c, outward);
           } else {
             uint32_t q0 = vertex_on(in[0], out[0]), q1 = vertex_on(in[0], out[1]), q2 = vertex_on(in[1], out[1]),
                      q3 = vertex_on(in[1], out[0]);
