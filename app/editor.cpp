@@ -298,10 +298,10 @@ void Editor::draw_panels() {
   draw_stats();
   if (ws_.scene()) fidelity_panel_.draw_warning(*ws_.scene(), view_x_ + 10, view_y_ + view_h_ - 10);
   if (ws_.scene()) cage_tools_.draw_windows(*ws_.scene(), hooks_);
-  if (ws_.scene()) export_panel_.draw(*ws_.scene(), hooks_);
+  export_panel_.draw(ws_);
   rig_panel_.draw(ws_);
   sets_panel_.draw(ws_);
-  if (ws_.scene() && sim_panel_.visible()) sim_panel_.draw(*ws_.scene(), ws_.view.playback.clip, ws_.sim_paint_weights(), hooks_);
+  sim_panel_.draw(ws_);
   if (ws_.scene()) patch_panel_.draw(*ws_.scene(), ws_.view.selection, hooks_);
   draw_help();
   draw_view_cues();
@@ -426,7 +426,7 @@ int Editor::run() {
     ImGui::NewFrame();
     handle_input();
     // a scripted run waits for the first bind so that the steps act on the deformed skin
-    const bool export_blocks = export_panel_.busy() && script_waits_for_export_;
+    const bool export_blocks = ws_.exporting() && script_waits_for_export_;
     const bool fidelity_blocks = fidelity_panel_.busy() && script_waits_for_fidelity_;
     if (!script_.empty() && !(ws_.scene() && (ws_.scene()->job || cage_tools_.busy() || patch_panel_.busy() || export_blocks ||
                                          fidelity_blocks)))
@@ -441,7 +441,7 @@ int Editor::run() {
       }
       cage_tools_.poll(ws_, hooks_);
       patch_panel_.poll(*ws_.scene(), hooks_);
-      export_panel_.poll(hooks_);
+      ws_.poll_jobs();
       fidelity_panel_.poll(*ws_.scene(), hooks_);
       if (sets_panel_.take_select_limb_request()) {
         ws_.run("select_limb_faces");
@@ -528,14 +528,14 @@ int Editor::run() {
     }
     const bool script_done = script_pos_ >= script_.size() && script_wait_ == 0;
     if (!options_.screenshot.empty() && frame >= options_.frames && script_done &&
-        !(ws_.scene() && (ws_.scene()->job || cage_tools_.busy() || patch_panel_.busy() || export_panel_.busy() || fidelity_panel_.busy()))) {
-      exit_code = save_screenshot(options_.screenshot) && export_panel_.failures() == 0 ? 0 : 1;
+        !(ws_.scene() && (ws_.scene()->job || cage_tools_.busy() || patch_panel_.busy() || ws_.exporting() || fidelity_panel_.busy()))) {
+      exit_code = save_screenshot(options_.screenshot) && ws_.export_state().failures == 0 ? 0 : 1;
       break;
     }
     // a script ending in `export` waits for the export to finish; a failed one fails the run
     if (options_.screenshot.empty() && !script_.empty() && script_done && frame > 1 &&
-        !(ws_.scene() && (ws_.scene()->job || cage_tools_.busy() || patch_panel_.busy() || export_panel_.busy() || fidelity_panel_.busy()))) {
-      if (export_panel_.failures() > 0) exit_code = 1;
+        !(ws_.scene() && (ws_.scene()->job || cage_tools_.busy() || patch_panel_.busy() || ws_.exporting() || fidelity_panel_.busy()))) {
+      if (ws_.export_state().failures > 0) exit_code = 1;
       break;
     }
     if (offscreen_) offscreen_->end_frame();

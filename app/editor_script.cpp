@@ -179,19 +179,22 @@ void Editor::add_window_actions() {
 
   // ---- export and fidelity
   add("export_window", "", "Opens the Export window.", [this](std::istringstream&) { export_panel_.open(*ws_.scene()); });
-  add("export", "MODE PATH [options]", "Exports the rig; the script waits for it.", [this](std::istringstream& in) {
-    script_waits_for_export_ = true;
-    script_export(in);
-  });
-  add("export_nowait", "MODE PATH [options]", "Exports the rig; the script goes on meanwhile.", [this](std::istringstream& in) {
-    script_waits_for_export_ = false;
-    script_export(in);
-  });
-  add("export_cancel", "", "Cancels the running export.", [this](std::istringstream&) { export_panel_.cancel(); });
+  // the window's export lines replace the workspace's: they open the Export window first, show what
+  // they export there, and (not _nowait) hold the script until it ends
+  add("export", "FORMAT MODE|- FPS all|CLIP[,CLIP] PATH", "Exports the rig (glb, obj or json); the script waits for it.",
+      [this](std::istringstream& in) {
+        script_waits_for_export_ = true;
+        script_export(in);
+      });
+  add("export_nowait", "FORMAT MODE|- FPS all|CLIP[,CLIP] PATH", "Exports the rig; the script goes on meanwhile.",
+      [this](std::istringstream& in) {
+        script_waits_for_export_ = false;
+        script_export(in);
+      });
   add("export_browse", "", "The Export window's Browse.", [this](std::istringstream&) { export_panel_.press_browse(); });
   add("export_press", "", "The Export window's Export; the script waits for it.", [this](std::istringstream&) {
     script_waits_for_export_ = true;
-    export_panel_.press_export(*ws_.scene(), hooks_);
+    ws_.start_export(export_panel_.shown_request());
   });
   add("fidelity_check", "", "Checks all clips against the file's skinning; the script waits for it.", [this](std::istringstream&) {
     script_waits_for_fidelity_ = true;
@@ -222,47 +225,6 @@ void Editor::add_window_actions() {
 
   // ---- simulation
   add("sim_panel", "", "Opens the Simulation window.", [this](std::istringstream&) { sim_panel_.visible() = true; });
-  add("sim", "on|off", "The cage simulation of the clips.", [this](std::istringstream& in) {
-    std::string what;
-    in >> what;
-    sim_panel_.set_enabled(*ws_.scene(), what != "off", hooks_);
-  });
-  add("sim_weights", "pin|free [MASS STIFFNESS]", "Paints the selected cage vertices pinned or free.", [this](std::istringstream& in) {
-    std::string what;
-    float mass = 1.0f, stiffness = 0.3f;
-    in >> what >> mass >> stiffness;
-    sim_panel_.set_weights(*ws_.scene(), ws_.sim_paint_weights(), what == "pin", mass, stiffness, hooks_);
-  });
-  add("sim_param", "gravity|damping|goal_frequency|iterations|substeps|preroll|margin|skeleton|edges VALUE",
-      "A simulation setting.", [this](std::istringstream& in) {
-        std::string name;
-        double value = 0.0;
-        in >> name >> value;
-        SimParams p = ws_.scene()->doc().sim.params;
-        if (name == "gravity") p.gravity.y = value;
-        else if (name == "damping") p.damping = value;
-        else if (name == "goal_frequency") p.goal_frequency = value;
-        else if (name == "iterations") p.iterations = static_cast<int>(value);
-        else if (name == "substeps") p.substeps = static_cast<int>(value);
-        else if (name == "preroll") p.preroll = value;
-        else if (name == "margin") p.collision_margin = value;
-        else if (name == "skeleton") p.skeleton_colliders = value != 0.0;
-        else if (name == "edges") p.edges = value != 0.0;
-        else log("error: script: unknown simulation parameter '" + name + "'", true);
-        sim_panel_.set_params(*ws_.scene(), p, hooks_);
-      });
-  add("sim_collider", "plane|sphere|capsule AX AY AZ BX BY BZ R", "Adds a collider.", [this](std::istringstream& in) {
-    std::string kind;
-    Collider c;
-    in >> kind >> c.a.x >> c.a.y >> c.a.z >> c.b.x >> c.b.y >> c.b.z >> c.radius;
-    if (!parse_collider_kind(kind, c.kind)) log("error: script: unknown collider kind '" + kind + "'", true);
-    else sim_panel_.add_collider(*ws_.scene(), c, hooks_);
-  });
-  add("sim_remove_collider", "I", "Removes collider I.", [this](std::istringstream& in) {
-    size_t i = 0;
-    in >> i;
-    sim_panel_.remove_collider(*ws_.scene(), i, hooks_);
-  });
 
   // ---- contributing sets
   add("sets_panel", "[none|influence|size|flags|separated]", "Opens the Sets window with that map.", [this](std::istringstream& in) {
@@ -361,28 +323,10 @@ void Editor::script_export(std::istringstream& in) {
     script_wait_ = 1;
     return;
   }
-  std::string format, mode, clips, path;
-  double fps = 0.0;
-  in >> format >> mode >> fps >> clips;
-  std::getline(in >> std::ws, path);
-  ExportRequest request;
-  request.out = path;
-  request.options.fps = fps;
-  const std::string where = "error: script line " + std::to_string(script_pos_) + ": export: ";
-  if (!parse_export_format(format, request.format)) return log(where + "format '" + format + "' is not glb, obj or json", true);
-  if (mode != "-" && !parse_export_mode(mode, request.options.mode)) return log(where + "unknown mode '" + mode + "'", true);
-  const Character& ch = *ws_.scene()->doc().character;
-  if (clips == "all")
-    for (size_t c = 0; c < ch.clips.size(); ++c) request.options.clips.push_back(static_cast<int32_t>(c));
-  for (size_t start = 0; clips != "all" && start < clips.size();) {
-    const size_t comma = std::min(clips.find(',', start), clips.size());
-    const std::string name = clips.substr(start, comma - start);
-    const int32_t c = ch.find_clip(name);
-    if (c < 0) return log(where + "no clip '" + name + "'", true);
-    request.options.clips.push_back(c);
-    start = comma + 1;
-  }
-  export_panel_.start(*ws_.scene(), request, hooks_);
+  auto request = ws_.parse_export(in);
+  if (!request) return ws_.refuse_export("script line " + std::to_string(script_pos_) + ": " + request.error().message);
+  export_panel_.show(*ws_.scene(), *request);
+  ws_.start_export(*request);
 }
 
 // Resident memory of this process in KiB (/proc/self/statm's second field, in pages); 0 where it

@@ -4,7 +4,6 @@
 #include <imgui/imgui.h>
 #endif
 
-#include <chrono>
 #include <cstdio>
 #include <filesystem>
 
@@ -13,10 +12,6 @@ namespace cagewrap::app {
 namespace {
 
 namespace fs = std::filesystem;
-
-double now_seconds() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
 
 const char* format_extension(ExportFormat f) {
   return f == ExportFormat::kGlb ? ".glb" : f == ExportFormat::kObj ? ".obj" : ".json";
@@ -82,88 +77,22 @@ std::optional<ExportPanel::BrowseRequest> ExportPanel::take_browse_request() {
   return BrowseRequest{format_purpose(request_.format), request_.out, p.filename().string()};
 }
 
-bool ExportPanel::start(const Scene& scene, const ExportRequest& request, const EditorHooks& hooks) {
-  if (job_) return false;
+void ExportPanel::show(const Scene& scene, const ExportRequest& request) {
+  open(scene);
   request_ = request;
   set_output(request.out);
   clip_on_.assign(scene.doc().character->clips.size(), 0);
   for (int32_t c : request.options.clips)
     if (c >= 0 && static_cast<size_t>(c) < clip_on_.size()) clip_on_[c] = 1;
-  report_.reset();
-  last_outcome_.clear();
-  auto refuse = [&](const std::string& message) {
-    last_outcome_ = message;
-    ++failures_;
-    hooks.show_error("export: " + message);
-    return false;
-  };
-  const Document& doc = scene.doc();
-  if (!doc.cage) return refuse("the document has no cage yet: build or import one first (Cage menu)");
-  if (request.format != ExportFormat::kJson && doc.character->clips.empty())
-    return refuse("the character has no animation clip to bake");
-  if (request.format != ExportFormat::kJson && request.options.clips.empty())
-    return refuse("choose at least one clip to bake");
-  if (auto bad = check_export_path(request); !bad.empty()) return refuse(bad);
-  started_ = now_seconds();
-  hooks.log("exporting " + export_kind_name(request) + " to " + request.out + " ...", false);
-  job_ = std::make_unique<BackgroundTask<ExportReport>>(
-      "export",
-      [doc, request](const BackgroundTask<ExportReport>::Progress& progress,
-                     const std::atomic<bool>& cancel) -> Result<ExportReport> {
-        // A bind of its own: the export must not share the editor's deformer across threads. It
-        // takes about a quarter of the time.
-        const bool needs_rig = request.format != ExportFormat::kJson || doc.attachment.mode == AttachmentMode::kFitted;
-        const double bind_share = needs_rig ? 0.25 : 0.0;
-        std::optional<Rig> rig;
-        if (needs_rig) {
-          BindProgress bp;
-          bp.cancel = &cancel;
-          bp.on_progress = [&progress, bind_share](double s) { progress("binding", bind_share * s); };
-          auto made = Rig::create(doc, bp);
-          if (!made) return made.error();
-          rig.emplace(std::move(made).value());
-        }
-        ExportProgress ep;
-        ep.cancel = &cancel;
-        ep.on_progress = [&progress, bind_share](const char* stage, size_t done, size_t total, double share) {
-          char text[64];
-          std::snprintf(text, sizeof text, "%s %zu/%zu", stage, done, total);
-          progress(text, bind_share + (1.0 - bind_share) * share);
-        };
-        return run_export(doc, rig ? &*rig : nullptr, request, ep);
-      });
-  return true;
-}
-
-void ExportPanel::poll(const EditorHooks& hooks) {
-  if (!job_ || !job_->done()) return;
-  auto& r = job_->result();
-  seconds_ = now_seconds() - started_;
-  if (!r.ok()) {
-    if (r.error().code == ErrorCode::kCancelled) {
-      last_outcome_ = "cancelled; nothing was written";
-      hooks.log("export cancelled; nothing was written", false);
-    } else {
-      last_outcome_ = r.error().message;
-      ++failures_;
-      hooks.show_error("export: " + r.error().message);
-    }
-    job_.reset();
-    return;
-  }
-  report_ = std::move(r).value();
-  job_.reset();
-  char secs[32];
-  std::snprintf(secs, sizeof secs, " in %.1f s", seconds_);
-  hooks.log("exported " + report_->what + ": " + report_->summary + secs, false);
-  for (const std::string& line : report_->error_lines) hooks.log("  " + line, false);
-  for (const std::string& w : report_->warnings) hooks.log("warning: export: " + w, false);
 }
 
 #if CAGEWRAP_GUI
 
-void ExportPanel::draw(Scene& scene, const EditorHooks& hooks) {
-  if (!visible_) return;
+void ExportPanel::draw(Workspace& ws) {
+  if (!visible_ || !ws.scene()) return;
+  const Scene& scene = *ws.scene();
+  const Workspace::ExportState& state = ws.export_state();
+  const auto& job_ = state.job;
   if (defaults_for_ != scene.doc().character.get()) open(scene);  // another document: new defaults
   ImGui::SetNextWindowPos(ImVec2(280, 60), ImGuiCond_FirstUseEver);
   if (!ImGui::Begin("Export", &visible_, ImGuiWindowFlags_AlwaysAutoResize)) {
@@ -267,12 +196,12 @@ void ExportPanel::draw(Scene& scene, const EditorHooks& hooks) {
                        stage.empty() ? "starting" : stage.c_str());
     ImGui::SameLine();
     ImGui::BeginDisabled(job_->cancelling());
-    if (ImGui::Button("Cancel", ImVec2(80, 0))) job_->cancel();
+    if (ImGui::Button("Cancel", ImVec2(80, 0))) ws.run("export_cancel");
     ImGui::EndDisabled();
   } else {
     const bool ready = path_problem.empty() && (!need_clips || !clips.empty()) && scene.doc().cage;
     ImGui::BeginDisabled(!ready);
-    if (ImGui::Button("Export", ImVec2(kWindowWidth, 0))) start(scene, request, hooks);
+    if (ImGui::Button("Export", ImVec2(kWindowWidth, 0))) ws.start_export(request);
     ImGui::EndDisabled();
     const ImVec4 warn(1.0f, 0.6f, 0.3f, 1.0f);
     if (!scene.doc().cage)
@@ -283,16 +212,14 @@ void ExportPanel::draw(Scene& scene, const EditorHooks& hooks) {
       ImGui::TextColored(warn, "%s", path_problem.c_str());
   }
   ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + kWindowWidth);
-  if (report_) {
-    ImGui::TextColored(ImVec4(0.5f, 0.9f, 0.5f, 1.0f), "exported %s in %.1f s", report_->what.c_str(),
-                       seconds_);
-    ImGui::TextWrapped("%s", report_->summary.c_str());
-    if (report_->keypose_poses) ImGui::Text("%zu keypose poses measured", report_->keypose_poses);
-    for (const std::string& line : report_->error_lines) ImGui::TextUnformatted(line.c_str());
-    for (const std::string& w : report_->warnings)
-      ImGui::TextColored(ImVec4(1, 0.8f, 0.3f, 1), "%s", w.c_str());
-  } else if (!last_outcome_.empty() && !job_) {
-    ImGui::TextColored(ImVec4(1, 0.5f, 0.4f, 1), "%s", last_outcome_.c_str());
+  if (const auto& report = state.report) {
+    ImGui::TextColored(ImVec4(0.5f, 0.9f, 0.5f, 1.0f), "exported %s in %.1f s", report->what.c_str(), state.seconds);
+    ImGui::TextWrapped("%s", report->summary.c_str());
+    if (report->keypose_poses) ImGui::Text("%zu keypose poses measured", report->keypose_poses);
+    for (const std::string& line : report->error_lines) ImGui::TextUnformatted(line.c_str());
+    for (const std::string& w : report->warnings) ImGui::TextColored(ImVec4(1, 0.8f, 0.3f, 1), "%s", w.c_str());
+  } else if (!state.outcome.empty() && !job_) {
+    ImGui::TextColored(ImVec4(1, 0.5f, 0.4f, 1), "%s", state.outcome.c_str());
   }
   ImGui::PopTextWrapPos();
   ImGui::End();
@@ -300,7 +227,7 @@ void ExportPanel::draw(Scene& scene, const EditorHooks& hooks) {
 
 #else
 
-void ExportPanel::draw(Scene&, const EditorHooks&) {}
+void ExportPanel::draw(Workspace&) {}
 
 #endif
 

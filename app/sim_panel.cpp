@@ -10,73 +10,6 @@
 
 namespace cagewrap::app {
 
-bool SimPanel::commit(Scene& scene, SimSettings sim, const std::string& label, const EditorHooks& hooks) {
-  const Document& doc = scene.doc();
-  if (sim == doc.sim) return true;
-  const size_t nv = doc.cage ? doc.cage->num_vertices() : 0;
-  if (auto v = validate_sim_settings(sim, nv, doc.character->skeleton.size()); !v) {
-    hooks.show_error(v.error().message);  // the document is kept as it was
-    return false;
-  }
-  scene.apply(label, with_sim(doc, std::move(sim)));
-  return true;
-}
-
-bool SimPanel::set_enabled(Scene& scene, bool on, const EditorHooks& hooks) {
-  SimSettings sim = scene.doc().sim;
-  sim.enabled = on;
-  return commit(scene, std::move(sim), on ? "Simulation on" : "Simulation off", hooks);
-}
-
-bool SimPanel::set_params(Scene& scene, const SimParams& params, const EditorHooks& hooks) {
-  SimSettings sim = scene.doc().sim;
-  sim.params = params;
-  return commit(scene, std::move(sim), "Simulation parameters", hooks);
-}
-
-bool SimPanel::set_weights(Scene& scene, std::span<const std::pair<uint32_t, float>> weights, bool pinned, float mass,
-                           float stiffness, const EditorHooks& hooks) {
-  const Document& doc = scene.doc();
-  if (!doc.cage || weights.empty()) {
-    hooks.log("error: select cage vertices first (F5)", true);
-    return false;
-  }
-  SimSettings sim = doc.sim;
-  if (sim.vertices.size() != doc.cage->num_vertices()) sim.vertices.assign(doc.cage->num_vertices(), SimVertex{});
-  for (auto [v, share] : weights) {
-    if (v >= sim.vertices.size()) continue;
-    SimVertex& w = sim.vertices[v];
-    if (pinned) {
-      if (share >= 0.5f) w.pinned = true;
-      continue;
-    }
-    // a vertex freed from a pin starts from the new weights; a free one blends toward them
-    const SimVertex from = w.pinned ? SimVertex{false, mass, stiffness} : w;
-    w = {false, from.mass + (mass - from.mass) * share, from.stiffness + (stiffness - from.stiffness) * share};
-  }
-  char label[96];
-  std::snprintf(label, sizeof label, pinned ? "Pin %zu cage vertices" : "Simulate %zu cage vertices (mass %.2g, stiffness %.2g)",
-                weights.size(), static_cast<double>(mass), static_cast<double>(stiffness));
-  return commit(scene, std::move(sim), label, hooks);
-}
-
-bool SimPanel::add_collider(Scene& scene, Collider collider, const EditorHooks& hooks) {
-  SimSettings sim = scene.doc().sim;
-  const std::string label = std::string("Add ") + collider_kind_name(collider.kind) + " collider";
-  sim.colliders.push_back(std::move(collider));
-  return commit(scene, std::move(sim), label, hooks);
-}
-
-bool SimPanel::remove_collider(Scene& scene, size_t index, const EditorHooks& hooks) {
-  SimSettings sim = scene.doc().sim;
-  if (index >= sim.colliders.size()) {
-    hooks.log("error: there is no collider " + std::to_string(index), true);
-    return false;
-  }
-  sim.colliders.erase(sim.colliders.begin() + static_cast<ptrdiff_t>(index));
-  return commit(scene, std::move(sim), "Remove collider " + std::to_string(index), hooks);
-}
-
 std::vector<glm::vec4> SimPanel::vertex_colors(const SimSettings& sim, size_t num_vertices) {
   std::vector<glm::vec4> out(num_vertices, glm::vec4(0.55f, 0.58f, 0.65f, 1.0f));
   for (size_t v = 0; v < num_vertices && v < sim.vertices.size(); ++v) {
@@ -90,8 +23,11 @@ std::vector<glm::vec4> SimPanel::vertex_colors(const SimSettings& sim, size_t nu
 
 #if CAGEWRAP_GUI
 
-void SimPanel::draw(Scene& scene, int32_t clip, std::span<const std::pair<uint32_t, float>> weights, const EditorHooks& hooks) {
-  if (!visible_) return;
+void SimPanel::draw(Workspace& ws) {
+  if (!visible_ || !ws.scene()) return;
+  Scene& scene = *ws.scene();
+  const int32_t clip = ws.view.playback.clip;
+  const std::vector<std::pair<uint32_t, float>> weights = ws.sim_paint_weights();
   // over the view's right edge, so the character in the middle stays visible
   ImGui::SetNextWindowPos(ImVec2(668, 90), ImGuiCond_FirstUseEver);
   ImGui::SetNextWindowSize(ImVec2(310, 455), ImGuiCond_FirstUseEver);
@@ -106,7 +42,7 @@ void SimPanel::draw(Scene& scene, int32_t clip, std::span<const std::pair<uint32
     return;
   }
   bool on = doc.sim.enabled;
-  if (ImGui::Checkbox("Simulate the cage", &on)) set_enabled(scene, on, hooks);
+  if (ImGui::Checkbox("Simulate the cage", &on)) ws.run(on ? "sim on" : "sim off");
   // progress of the current clip's frames
   if (ClipSimulation* sim = on ? scene.simulation(clip) : nullptr) {
     const float share = static_cast<float>(sim->frames_done()) / static_cast<float>(std::max<size_t>(1, sim->frames_total()));
@@ -167,7 +103,7 @@ void SimPanel::draw(Scene& scene, int32_t clip, std::span<const std::pair<uint32
       p.collision_margin = margin;
       p.skeleton_radius_scale = scale;
       p.preroll = preroll;
-      set_params(scene, p, hooks);
+      ws.set_sim_params(p);
     }
   }
 
@@ -181,9 +117,9 @@ void SimPanel::draw(Scene& scene, int32_t clip, std::span<const std::pair<uint32
     ImGui::DragFloat("stiffness", &stiffness_, 0.01f, 0.0f, 1.0f, "%.2f");
     ImGui::PopItemWidth();
     ImGui::BeginDisabled(weights.empty());
-    if (ImGui::Button("Simulate selected")) set_weights(scene, weights, false, mass_, stiffness_, hooks);
+    if (ImGui::Button("Simulate selected")) ws.set_sim_weights(false, mass_, stiffness_);
     ImGui::SameLine();
-    if (ImGui::Button("Pin selected")) set_weights(scene, weights, true, mass_, stiffness_, hooks);
+    if (ImGui::Button("Pin selected")) ws.set_sim_weights(true, mass_, stiffness_);
     ImGui::EndDisabled();
     hint("soft selection (B) blends the weights in; colours: grey pinned, yellow stiff, red soft");
   }
@@ -199,22 +135,20 @@ void SimPanel::draw(Scene& scene, int32_t clip, std::span<const std::pair<uint32
       if (ImGui::SmallButton("Delete")) remove = static_cast<int>(i);
       ImGui::PopID();
     }
-    if (remove >= 0) remove_collider(scene, static_cast<size_t>(remove), hooks);
+    if (remove >= 0) ws.run("sim_remove_collider " + std::to_string(remove));
     // new shapes go where the character stands: a floor at its feet, a ball and a bar in front of it
-    if (ImGui::Button("Add floor")) add_collider(scene, {"floor", ColliderKind::kPlane, {0, 0, 0}, {0, 1, 0}, 0.0, -1}, hooks);
+    if (ImGui::Button("Add floor")) ws.add_collider({"floor", ColliderKind::kPlane, {0, 0, 0}, {0, 1, 0}, 0.0, -1});
     ImGui::SameLine();
-    if (ImGui::Button("Add sphere"))
-      add_collider(scene, {"sphere", ColliderKind::kSphere, {0, 1.0, 0.4}, {}, 0.15, -1}, hooks);
+    if (ImGui::Button("Add sphere")) ws.add_collider({"sphere", ColliderKind::kSphere, {0, 1.0, 0.4}, {}, 0.15, -1});
     ImGui::SameLine();
-    if (ImGui::Button("Add capsule"))
-      add_collider(scene, {"capsule", ColliderKind::kCapsule, {-0.4, 0.9, 0.4}, {0.4, 0.9, 0.4}, 0.08, -1}, hooks);
+    if (ImGui::Button("Add capsule")) ws.add_collider({"capsule", ColliderKind::kCapsule, {-0.4, 0.9, 0.4}, {0.4, 0.9, 0.4}, 0.08, -1});
     hint("%s", doc.sim.params.skeleton_colliders ? "and the skeleton's bone capsules" : "");
   }
   ImGui::End();
 }
 
 #else
-void SimPanel::draw(Scene&, int32_t, std::span<const std::pair<uint32_t, float>>, const EditorHooks&) {}
+void SimPanel::draw(Workspace&) {}
 #endif
 
 }  // namespace cagewrap::app

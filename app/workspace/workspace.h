@@ -18,12 +18,14 @@
 #include <vector>
 
 #include "app/workspace/actions.h"
+#include "app/workspace/background_task.h"
 #include "app/workspace/scene.h"
 #include "app/workspace/view_state.h"
 #include "core/rig/cage_attachment.h"
 #include "core/rig/keyposes.h"
 #include "core/document/set_editing.h"
 #include "core/document/skin_brush.h"
+#include "core/export/rig_exporter.h"
 
 namespace cagewrap::app {
 
@@ -144,6 +146,42 @@ class Workspace {
   // The cage faces whose corners all follow the given joints (by the attachment).
   IndexSet limb_faces(const IndexSet& joints) const;
 
+  // ---- the cage simulation (workspace_sim.cpp; the Simulation window and the actions sim, sim_param,
+  // sim_weights, sim_collider, sim_remove_collider run these): one undo step each, checked first; false
+  // (said why, the document kept) when refused.
+  bool set_simulation(bool on);
+  bool set_sim_params(const SimParams& params);
+  // Pins the selected cage vertices, or frees them with this mass and stiffness, each blended with what
+  // it had by its soft-selection share (sim_paint_weights; pinning needs a share of 1/2).
+  bool set_sim_weights(bool pinned, float mass, float stiffness);
+  bool add_collider(Collider collider);
+  bool remove_collider(size_t index);
+
+  // ---- export (workspace_export.cpp; the Export window and the actions export, export_nowait and
+  // export_cancel run these). The document is never changed.
+  struct ExportState {
+    std::unique_ptr<BackgroundTask<ExportReport>> job;  // the export under way (null: none)
+    ExportRequest request;                              // the last one asked for
+    std::optional<ExportReport> report;                 // the last finished one's
+    std::string outcome;  // "cancelled; nothing was written", or the last refusal or failure
+    int failures = 0;     // refused or failed (not cancelled) so far: a scripted editor run exits non-zero
+    double started = 0.0, seconds = 0.0;
+  };
+  // Starts exporting the document as `request` asks, in the background (a bind of its own, then
+  // run_export). False (shown as an error, counted in failures) when it cannot start: one is running,
+  // no cage, no clip to bake, a bad path.
+  bool start_export(const ExportRequest& request);
+  void cancel_export();
+  const ExportState& export_state() const { return export_; }
+  bool exporting() const { return export_.job != nullptr; }
+  // A script's export line, "FORMAT MODE|- FPS all|CLIP[,CLIP] PATH", for this document.
+  Result<ExportRequest> parse_export(std::istringstream& in) const;
+  // An export line that could not be read: logged as an error and counted in failures.
+  void refuse_export(const std::string& message);
+  // Finishes background work that is done (the frame loop calls it every frame; tests too): an
+  // export's report into the log, or its error shown.
+  void poll_jobs();
+
   // ---- playing and posing (view.playback: never undone)
   void set_pose_override(uint32_t node, const glm::quat& q);
   // Shows the clip `name` from its start, paused ("rest": the bind pose); false
@@ -178,6 +216,8 @@ class Workspace {
   std::optional<SetMirrorMaps> set_mirror_;
   const SetEditMirror& set_edit_mirror();
   void clip_cage_selection();  // drops selected cage vertex and face ids past the cage's counts
+  bool commit_sim(SimSettings sim, const std::string& label);
+  ExportState export_;
 };
 
 }  // namespace cagewrap::app

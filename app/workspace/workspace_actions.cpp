@@ -77,7 +77,7 @@ void Workspace::add_actions() {
     in >> p;
     std::string text = "set of skin vertex " + std::to_string(p) + ":";
     if (scene_->binding && p < scene_->binding->num_points && scene_->binding->has_sets())
-      for (uint32_t e : scene_->binding->sets().of(p)) text += " " + std::to_string(e);
+      for (uint32_t e : scene_->binding->sets().of(p)) (text += ' ') += std::to_string(e);
     else text += " (not bound)";
     log(text);
   });
@@ -273,6 +273,64 @@ void Workspace::add_actions() {
         set_stroke_dab(static_cast<uint32_t>((at - fv.begin()) / 3), glm::dvec3(scene_->skin_posed()[i]));
         end_set_stroke();
       });
+
+  // ---- the cage simulation (the Simulation window runs the same: app/workspace/workspace_sim.cpp)
+  add("sim", "on|off", "The cage simulation of the clips.", [this](std::istringstream& in) {
+    std::string what;
+    in >> what;
+    if (what != "on" && what != "off") return fail("sim on|off");
+    set_simulation(what == "on");
+  });
+  add("sim_weights", "pin|free [MASS STIFFNESS]", "Paints the selected cage vertices pinned or free (the soft selection blends).",
+      [this](std::istringstream& in) {
+        std::string what;
+        float mass = 1.0f, stiffness = 0.3f;
+        in >> what >> mass >> stiffness;
+        if (what != "pin" && what != "free") return fail("sim_weights pin|free [MASS STIFFNESS]");
+        set_sim_weights(what == "pin", mass, stiffness);
+      });
+  add("sim_param", "gravity|damping|goal_frequency|iterations|substeps|preroll|margin|skeleton|edges VALUE", "A simulation setting.",
+      [this](std::istringstream& in) {
+        std::string name;
+        double value = 0.0;
+        if (!(in >> name >> value)) return fail("sim_param NAME VALUE");
+        SimParams p = scene_->doc().sim.params;
+        if (name == "gravity") p.gravity.y = value;
+        else if (name == "damping") p.damping = value;
+        else if (name == "goal_frequency") p.goal_frequency = value;
+        else if (name == "iterations") p.iterations = static_cast<int>(value);
+        else if (name == "substeps") p.substeps = static_cast<int>(value);
+        else if (name == "preroll") p.preroll = value;
+        else if (name == "margin") p.collision_margin = value;
+        else if (name == "skeleton") p.skeleton_colliders = value != 0.0;
+        else if (name == "edges") p.edges = value != 0.0;
+        else return fail("unknown simulation parameter '" + name + "'");
+        set_sim_params(p);
+      });
+  add("sim_collider", "plane|sphere|capsule AX AY AZ BX BY BZ R", "Adds a collider.", [this](std::istringstream& in) {
+    std::string kind;
+    Collider c;
+    in >> kind >> c.a.x >> c.a.y >> c.a.z >> c.b.x >> c.b.y >> c.b.z >> c.radius;
+    if (!parse_collider_kind(kind, c.kind)) return fail("unknown collider kind '" + kind + "' (plane, sphere, capsule)");
+    if (!in) return fail("sim_collider KIND AX AY AZ BX BY BZ R");
+    add_collider(c);
+  });
+  add("sim_remove_collider", "I", "Removes collider I.", [this](std::istringstream& in) {
+    size_t i = 0;
+    if (!(in >> i)) return fail("sim_remove_collider I");
+    remove_collider(i);
+  });
+
+  // ---- export (the Export window runs the same: app/workspace/workspace_export.cpp; the window's
+  // script versions open the window first and hold the script until the export ends)
+  auto export_line = [this](std::istringstream& in) {
+    auto request = parse_export(in);
+    if (!request) return refuse_export(where_ + ": " + request.error().message);
+    start_export(*request);
+  };
+  add("export", "FORMAT MODE|- FPS all|CLIP[,CLIP] PATH", "Exports the rig (glb, obj or json) in the background.", export_line);
+  add("export_nowait", "FORMAT MODE|- FPS all|CLIP[,CLIP] PATH", "The same; a script goes on meanwhile.", export_line);
+  add("export_cancel", "", "Cancels the running export.", [this](std::istringstream&) { cancel_export(); });
 
   // ---- the camera
   add("view", "front|right|top", "A preset view.", [this](std::istringstream& in) {

@@ -1,0 +1,146 @@
+// File > Export driven in-process on the demo character (app/workspace/workspace_export.cpp, issue 20):
+// the export runs in the background with its own bind, writes a baked-skin .glb that loads again with
+// one corrective per frame, reports to the log, refuses a bad path by name while the document carries
+// on, stops on Cancel leaving no file, and names what it cannot read in an export line. The Export
+// window only draws this (tests/editor_export_gui_test.cpp keeps the window's Browse and a script's end).
+#include <chrono>
+#include <filesystem>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "app/workspace/workspace.h"
+#include "core/base/json_reader.h"
+#include "core/io/gltf_loader.h"
+#include "tests/gltf_validator.h"
+
+namespace cagewrap::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+class WorkspaceExportTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / "cagewrap_workspace_export_test" / ::testing::UnitTest::GetInstance()->current_test_info()->name();
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    const std::string assets = std::string(CAGEWRAP_SOURCE_DIR) + "/assets/";
+    auto scene = load_scene(assets + "demo_character.glb", assets + "demo_cage.obj");
+    ASSERT_TRUE(scene.ok()) << scene.error().message;
+    ws.set_scene(std::move(scene).value());
+    ws.show_error = [this](const std::string& m) { errors.push_back(m); };
+  }
+  // Polls the background export as the editor's frame loop does, until it ends.
+  void finish_export() {
+    for (int i = 0; i < 60000 && ws.exporting(); ++i) {
+      ws.poll_jobs();
+      if (ws.exporting()) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    ASSERT_FALSE(ws.exporting()) << "the export did not end";
+  }
+  std::string log_text() const {
+    std::string out;
+    for (const auto& l : ws.log_lines()) out += l.text + "\n";
+    return out;
+  }
+  fs::path dir_;
+  Workspace ws;
+  std::vector<std::string> errors;
+};
+
+TEST_F(WorkspaceExportTest, BakedSkinLoadsAgainWithACorrectivePerFrame) {
+  const fs::path glb = dir_ / "demo walk.glb";  // a space in the name, as people write them
+  ASSERT_TRUE(ws.run("export glb baked-skin 4 walk " + glb.string()));
+  EXPECT_TRUE(ws.exporting());
+  EXPECT_EQ(ws.scene()->history().undo_steps(), 0u) << "an export never changes the document";
+  finish_export();
+  ASSERT_TRUE(errors.empty()) << errors.front();
+  ASSERT_TRUE(fs::exists(glb)) << log_text();
+  const std::string log = log_text();
+  EXPECT_NE(log.find("exported baked-skin: 5 frames, 5 morph targets, wrote " + glb.string()), std::string::npos) << log;
+  EXPECT_NE(log.find("error at frames, skeleton only:"), std::string::npos) << log;
+  ASSERT_TRUE(ws.export_state().report.has_value());
+  EXPECT_EQ(ws.export_state().failures, 0);
+
+  auto loaded = load_character(glb.string());
+  ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+  ASSERT_EQ(loaded->clips.size(), 1u);
+  EXPECT_EQ(loaded->clips[0].name, "walk");
+  ASSERT_FALSE(loaded->primitives.empty());
+  for (const Primitive& p : loaded->primitives) {
+    EXPECT_GE(p.skin, 0) << "fitted weights";
+    EXPECT_EQ(p.morph_targets.size(), 5u) << "one corrective per frame (walk, 1 s at 4 fps)";
+  }
+  if (test::node_available()) {
+    std::string report;
+    const int rc = test::run_gltf_validator({glb.string()}, (dir_ / "validator.txt").string(), report);
+    ASSERT_NE(rc, 2) << "gltf-validator is not installed: run scripts/setup.sh\n" << report;
+    EXPECT_EQ(rc, 0) << report;
+  }
+}
+
+TEST_F(WorkspaceExportTest, ABadPathIsRefusedByNameAndTheNextExportRuns) {
+  const fs::path bad = dir_ / "missing" / "x.glb", json = dir_ / "rig.json";
+  EXPECT_TRUE(ws.run("export glb cage 4 all " + bad.string()));
+  EXPECT_FALSE(ws.exporting());
+  ASSERT_EQ(errors.size(), 1u);
+  EXPECT_NE(errors[0].find("export: " + bad.string() + ": the folder " + bad.parent_path().string() + " does not exist"), std::string::npos)
+      << errors[0];
+  EXPECT_EQ(ws.export_state().failures, 1);
+  EXPECT_FALSE(fs::exists(bad.parent_path()));
+  // the document is still there: its rig exports as JSON afterwards
+  ASSERT_TRUE(ws.run("export json - 30 all " + json.string()));
+  finish_export();
+  ASSERT_TRUE(fs::exists(json)) << log_text();
+  EXPECT_NE(log_text().find("exported rig as JSON"), std::string::npos) << log_text();
+  auto j = read_json_file(json.string());
+  ASSERT_TRUE(j.ok()) << j.error().message;
+  EXPECT_EQ((*j)["format"], "cagewrap-rig");
+  EXPECT_GT((*j)["cage"]["positions"].size(), 100u);
+  EXPECT_EQ((*j)["attachment"]["mode"], "fitted");  // the default a new document gets
+  EXPECT_EQ(ws.export_state().failures, 1);
+}
+
+// A long bake (both clips at 60 fps): a second export is refused while it runs; Cancel stops it and
+// leaves no file.
+TEST_F(WorkspaceExportTest, CancelStopsALongBakeAndLeavesNoFile) {
+  const fs::path glb = dir_ / "long.glb", other = dir_ / "other.json";
+  ASSERT_TRUE(ws.run("export_nowait glb baked-skin 60 all " + glb.string()));
+  ASSERT_TRUE(ws.exporting());
+  ws.run("export json - 30 all " + other.string());
+  ASSERT_EQ(errors.size(), 1u);
+  EXPECT_NE(errors[0].find("an export is running already"), std::string::npos) << errors[0];
+  // let it get going, then cancel
+  for (int i = 0; i < 500 && ws.exporting() && ws.export_state().job->progress() <= 0.0; ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  ASSERT_TRUE(ws.exporting()) << "the long bake ended before it could be cancelled";
+  ws.run("export_cancel");
+  finish_export();
+  EXPECT_EQ(ws.export_state().outcome, "cancelled; nothing was written");
+  EXPECT_NE(log_text().find("export cancelled; nothing was written"), std::string::npos) << log_text();
+  EXPECT_EQ(log_text().find("exported baked-skin"), std::string::npos) << log_text();
+  EXPECT_FALSE(fs::exists(glb));
+  EXPECT_FALSE(fs::exists(glb.string() + ".tmp"));
+  EXPECT_FALSE(fs::exists(other));
+}
+
+TEST_F(WorkspaceExportTest, ExportLinesItCannotReadAreNamedAndCounted) {
+  ws.run("export gltf baked-skin 4 walk " + (dir_ / "a.glb").string());
+  ws.run("export glb baked-skin 4 jog " + (dir_ / "b.glb").string());
+  ws.run("export glb sideways 4 walk " + (dir_ / "c.glb").string());
+  ws.run("export glb baked-skin");
+  const std::string log = log_text();
+  EXPECT_NE(log.find("format 'gltf' is not glb, obj or json"), std::string::npos) << log;
+  EXPECT_NE(log.find("no clip 'jog'"), std::string::npos) << log;
+  EXPECT_NE(log.find("unknown mode 'sideways'"), std::string::npos) << log;
+  EXPECT_NE(log.find("export FORMAT MODE|- FPS all|CLIP[,CLIP] PATH"), std::string::npos) << log;
+  EXPECT_EQ(ws.export_state().failures, 4);
+  EXPECT_FALSE(ws.exporting());
+  EXPECT_TRUE(fs::is_empty(dir_));
+}
+
+}  // namespace
+}  // namespace cagewrap::app
