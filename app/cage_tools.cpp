@@ -11,59 +11,14 @@
 
 namespace cagewrap::app {
 
-void CageTools::start_auto_cage(Scene& scene) {
-  if (job_) return;
-  auto character = scene.doc().character;
-  AutoCageParams params = params_;
-  params.bind = scene.params;
-  job_ = std::make_unique<BackgroundTask<AutoCageReport>>(
-      "automatic cage", [character, params](const BackgroundTask<AutoCageReport>::Progress& progress, const std::atomic<bool>& cancel) {
-        AutoCageProgress p;
-        p.on_progress = [&progress](const char* stage, double share) { progress(stage, share); };
-        p.cancel = &cancel;
-        return build_auto_cage(*character, params, p);
-      });
+std::span<const uint32_t> CageTools::failing_points(const Workspace& ws) const {
+  if (!show_failing_ || !has_failing_points(ws)) return {};
+  return ws.auto_cage_state().report->failures;
 }
 
-void CageTools::poll(Workspace& ws, const EditorHooks& hooks) {
-  if (!job_ || !job_->done()) return;
-  auto& r = job_->result();
-  if (!r.ok()) {
-    if (r.error().code == ErrorCode::kCancelled) hooks.log("automatic cage cancelled", false);
-    else hooks.show_error(r.error().message);
-    job_.reset();
-    return;
-  }
-  AutoCageReport report = std::move(r).value();
-  job_.reset();
-  auto cage = make_cage(report.cage, "automatic cage");
-  if (!cage) {
-    hooks.show_error(cage.error().message);
-    return;
-  }
-  char buf[320];
-  std::snprintf(buf, sizeof buf,
-                "automatic cage: %u faces, %u vertices in %.2f s; largest skin-to-cage distance %.4g, %u skin points outside; "
-                "cage quality %.1f%%",
-                report.faces, report.vertices, report.seconds, report.max_distance, report.outside_points, 100.0 * report.quality);
-  hooks.log(buf, false);
-  for (const auto& w : report.warnings) hooks.log("warning: " + w, false);
-  failing_ = report.failures;
-  report.cage = PolyMesh{};  // the document holds it
-  report_ = std::move(report);
-  show_report_ = true;
-  show_dialog_ = false;  // done: the report takes its place
-  failing_cage_ = std::make_shared<const Cage>(std::move(cage).value());
-  ws.replace_cage(failing_cage_, "Automatic cage");
-}
-
-std::span<const uint32_t> CageTools::failing_points(const Scene& scene) const {
-  if (!show_failing_ || !failing_cage_ || scene.doc().cage != failing_cage_) return {};
-  return failing_;
-}
-
-bool CageTools::has_failing_points(const Scene& scene) const {
-  return failing_cage_ && scene.doc().cage == failing_cage_ && !failing_.empty();
+bool CageTools::has_failing_points(const Workspace& ws) const {
+  const auto& state = ws.auto_cage_state();
+  return ws.scene() && state.cage && ws.scene()->doc().cage == state.cage && state.report && !state.report->failures.empty();
 }
 
 #if CAGEWRAP_GUI
@@ -71,10 +26,11 @@ bool CageTools::has_failing_points(const Scene& scene) const {
 void CageTools::menu_items(Workspace& ws) {
   const Scene& scene = *ws.scene();
   const Selection& sel = ws.view.selection;
-  if (ImGui::MenuItem("Automatic cage...", nullptr, false, !job_)) show_dialog_ = true;
+  const bool building = ws.building_cage();
+  if (ImGui::MenuItem("Automatic cage...", nullptr, false, !building)) show_dialog_ = true;
   if (ImGui::MenuItem("Import cage... (also in File)")) import_requested_ = true;
   ImGui::Separator();
-  const bool cage = scene.doc().cage != nullptr && !job_;
+  const bool cage = scene.doc().cage != nullptr && !building;
   if (ImGui::MenuItem("Merge selected vertices", nullptr, false, cage && sel.cage_vertices.size() >= 2)) ws.run("cage_op merge");
   if (ImGui::BeginMenu("Weld by distance", cage)) {
     ImGui::SliderFloat("distance (% of size)", &weld_distance_share_, 0.01f, 5.0f, "%.2f", ImGuiSliderFlags_Logarithmic);
@@ -93,11 +49,18 @@ void CageTools::menu_items(Workspace& ws) {
   if (ImGui::MenuItem("Refine selected faces (red-green)", nullptr, false, cage && !sel.cage_faces.empty())) ws.run("cage_op refine");
   if (ImGui::MenuItem("Triangulate", nullptr, false, cage)) ws.run("cage_op triangulate");
   ImGui::Separator();
-  ImGui::MenuItem("Show points failing the quality test", nullptr, &show_failing_, has_failing_points(scene));
-  if (ImGui::MenuItem("Last automatic cage report", nullptr, false, report_.has_value())) show_report_ = true;
+  ImGui::MenuItem("Show points failing the quality test", nullptr, &show_failing_, has_failing_points(ws));
+  if (ImGui::MenuItem("Last automatic cage report", nullptr, false, ws.auto_cage_state().report.has_value())) show_report_ = true;
 }
 
-void CageTools::draw_windows(Scene& scene, const EditorHooks&) {
+void CageTools::draw_windows(Workspace& ws) {
+  const auto& state = ws.auto_cage_state();
+  if (state.builds != shown_builds_) {  // a build ended: its report takes the dialog's place
+    shown_builds_ = state.builds;
+    show_report_ = true;
+    show_dialog_ = false;
+  }
+  const auto& job_ = state.job;
   if (show_dialog_) {
     ImGui::SetNextWindowPos(ImVec2(280, 130), ImGuiCond_FirstUseEver);
     ImGui::SetNextWindowSize(ImVec2(380, 0), ImGuiCond_FirstUseEver);
@@ -121,18 +84,18 @@ void CageTools::draw_windows(Scene& scene, const EditorHooks&) {
         const std::string stage = job_->stage();
         ImGui::ProgressBar(static_cast<float>(job_->progress()), ImVec2(-70, 0), stage.empty() ? "building" : stage.c_str());
         ImGui::SameLine();
-        if (ImGui::Button("Cancel")) job_->cancel();
+        if (ImGui::Button("Cancel")) ws.cancel_auto_cage();
       } else {
         ImGui::BeginDisabled(!valid);
-        if (ImGui::Button("Build", ImVec2(-1, 0))) start_auto_cage(scene);
+        if (ImGui::Button("Build", ImVec2(-1, 0))) ws.start_auto_cage(params_);
         ImGui::EndDisabled();
         if (!valid) ImGui::TextColored(ImVec4(1, 0.5f, 0.3f, 1), "%s", validate(params_).error().message.c_str());
       }
     }
     ImGui::End();
   }
-  if (show_report_ && report_) {
-    const AutoCageReport& r = *report_;
+  if (show_report_ && state.report) {
+    const AutoCageReport& r = *state.report;
     ImGui::SetNextWindowPos(ImVec2(280, 400), ImGuiCond_FirstUseEver);
     if (ImGui::Begin("Automatic cage report", &show_report_, ImGuiWindowFlags_AlwaysAutoResize)) {
       ImGui::PushTextWrapPos(ImGui::GetFontSize() * 36.0f);
@@ -143,10 +106,10 @@ void CageTools::draw_windows(Scene& scene, const EditorHooks&) {
       const bool good = r.quality >= 0.95;
       ImGui::TextColored(good ? ImVec4(0.5f, 0.9f, 0.5f, 1) : ImVec4(1, 0.7f, 0.3f, 1), "cage quality %.1f%%", 100.0 * r.quality);
       hint("share of skin points close to an element and projecting inside it (algorithm.md section 4)");
-      if (!failing_.empty()) {
+      if (!r.failures.empty()) {
         ImGui::Checkbox("show the failing points in the viewport (red)", &show_failing_);
         ImGui::SameLine();
-        hint("%zu points", failing_.size());
+        hint("%zu points", r.failures.size());
       }
       ImGui::TextWrapped("%s", r.check.summary().c_str());
       for (const auto& w : r.warnings) {
@@ -163,7 +126,7 @@ void CageTools::draw_windows(Scene& scene, const EditorHooks&) {
 #else
 
 void CageTools::menu_items(Workspace&) {}
-void CageTools::draw_windows(Scene&, const EditorHooks&) {}
+void CageTools::draw_windows(Workspace&) {}
 
 #endif
 

@@ -12,7 +12,6 @@
 #include <utility>
 #include <vector>
 
-#include "app/workspace/background_task.h"
 #include "app/workspace/scene.h"
 #include "app/workspace/workspace.h"
 #include "core/cage/auto_cage.h"
@@ -31,33 +30,26 @@ class CageTools {
  public:
   // Items of the Cage menu (call between BeginMenu/EndMenu); they run the workspace's actions.
   void menu_items(Workspace& ws);
-  // The automatic-cage dialog and the report window.
-  void draw_windows(Scene& scene, const EditorHooks& hooks);
-  // Finishes a background build: the new cage enters the document as one undo step (Workspace::replace_cage).
-  void poll(Workspace& ws, const EditorHooks& hooks);
+  // The automatic-cage dialog (its parameters, Build, the build's progress and Cancel) and the report
+  // window of the last build (it opens when a build ends).
+  void draw_windows(Workspace& ws);
 
-  // Opens the automatic-cage dialog / starts a build with the dialog's parameters (scripts use it).
+  // Opens the automatic-cage dialog (scripts use it); its parameters are what Build starts with.
   void open_auto_cage_dialog() { show_dialog_ = true; }
-  void start_auto_cage(Scene& scene);
   AutoCageParams& auto_params() { return params_; }
-  bool busy() const { return job_ != nullptr; }
-  // The menu asked for a cage file: the editor opens its file browser and calls import_cage.
+  // The menu asked for a cage file: the editor opens its file browser and runs import_cage.
   bool take_import_request() { return std::exchange(import_requested_, false); }
 
   // Skin points that failed the cage-quality test of the last automatic cage, while that cage is the
   // document's and they are to be shown (empty otherwise).
-  std::span<const uint32_t> failing_points(const Scene& scene) const;
-  bool has_failing_points(const Scene& scene) const;  // shown or not
+  std::span<const uint32_t> failing_points(const Workspace& ws) const;
+  bool has_failing_points(const Workspace& ws) const;  // shown or not
 
  private:
   float weld_distance_share_ = 0.01f;  // of the cage's size, for "weld by distance"
-
   AutoCageParams params_;
   bool show_dialog_ = false, show_report_ = false, show_failing_ = true, import_requested_ = false;
-  std::unique_ptr<BackgroundTask<AutoCageReport>> job_;
-  std::optional<AutoCageReport> report_;  // the last build's figures (cage moved into the document)
-  std::vector<uint32_t> failing_;
-  std::shared_ptr<const Cage> failing_cage_;  // the cage failing_ was found for
+  size_t shown_builds_ = 0;  // the workspace's finished builds when the report window was last opened
 };
 
 }  // namespace cagewrap::app

@@ -297,7 +297,7 @@ void Editor::draw_panels() {
   draw_toolbar();
   draw_stats();
   if (ws_.scene()) fidelity_panel_.draw_warning(*ws_.scene(), view_x_ + 10, view_y_ + view_h_ - 10);
-  if (ws_.scene()) cage_tools_.draw_windows(*ws_.scene(), hooks_);
+  if (ws_.scene()) cage_tools_.draw_windows(ws_);
   export_panel_.draw(ws_);
   rig_panel_.draw(ws_);
   sets_panel_.draw(ws_);
@@ -428,7 +428,7 @@ int Editor::run() {
     // a scripted run waits for the first bind so that the steps act on the deformed skin
     const bool export_blocks = ws_.exporting() && script_waits_for_export_;
     const bool fidelity_blocks = fidelity_panel_.busy() && script_waits_for_fidelity_;
-    if (!script_.empty() && !(ws_.scene() && (ws_.scene()->job || cage_tools_.busy() || patch_panel_.busy() || export_blocks ||
+    if (!script_.empty() && !(ws_.scene() && (ws_.scene()->job || ws_.building_cage() || patch_panel_.busy() || export_blocks ||
                                          fidelity_blocks)))
       run_script_step();
 
@@ -439,7 +439,6 @@ int Editor::run() {
         if (ws_.scene()->binding && !ws_.scene()->binding->invalid_elements.empty())
           log("warning: " + std::to_string(ws_.scene()->binding->invalid_elements.size()) + " cage elements skipped (zero area, non-finite or duplicate)");
       }
-      cage_tools_.poll(ws_, hooks_);
       patch_panel_.poll(*ws_.scene(), hooks_);
       ws_.poll_jobs();
       fidelity_panel_.poll(*ws_.scene(), hooks_);
@@ -483,7 +482,7 @@ int Editor::run() {
       }
       if (ws_.scene()->doc().cage) renderer_->update_cage(ws_.scene()->cage_posed, cage_weights_, face_mask_, bone_colors_);
       // the skin's CPU copy only when points are shown on it (the GPU path makes it on demand)
-      const std::span<const uint32_t> failing = cage_tools_.failing_points(*ws_.scene());
+      const std::span<const uint32_t> failing = cage_tools_.failing_points(ws_);
       const bool skin_points = !ws_.view.selection.skin_vertices.empty() || !failing.empty();
       renderer_->update_skin_points(skin_points ? std::span<const glm::vec3>(ws_.scene()->skin_posed()) : std::span<const glm::vec3>(),
                                     ws_.view.selection.skin_vertices.indices(),
@@ -528,13 +527,13 @@ int Editor::run() {
     }
     const bool script_done = script_pos_ >= script_.size() && script_wait_ == 0;
     if (!options_.screenshot.empty() && frame >= options_.frames && script_done &&
-        !(ws_.scene() && (ws_.scene()->job || cage_tools_.busy() || patch_panel_.busy() || ws_.exporting() || fidelity_panel_.busy()))) {
+        !(ws_.scene() && (ws_.scene()->job || ws_.building_cage() || patch_panel_.busy() || ws_.exporting() || fidelity_panel_.busy()))) {
       exit_code = save_screenshot(options_.screenshot) && ws_.export_state().failures == 0 ? 0 : 1;
       break;
     }
     // a script ending in `export` waits for the export to finish; a failed one fails the run
     if (options_.screenshot.empty() && !script_.empty() && script_done && frame > 1 &&
-        !(ws_.scene() && (ws_.scene()->job || cage_tools_.busy() || patch_panel_.busy() || ws_.exporting() || fidelity_panel_.busy()))) {
+        !(ws_.scene() && (ws_.scene()->job || ws_.building_cage() || patch_panel_.busy() || ws_.exporting() || fidelity_panel_.busy()))) {
       if (ws_.export_state().failures > 0) exit_code = 1;
       break;
     }

@@ -170,11 +170,12 @@ void Editor::add_window_actions() {
       [this](std::istringstream& in) { script_rotate_drag(in); });
 
   // ---- cage tools
+  // the window's auto_cage opens the dialog with those faces and holds the script until the build ends
   add("auto_cage", "[FACES]", "Builds an automatic cage in the background; the script waits for it.", [this](std::istringstream& in) {
     uint32_t faces;
     if (in >> faces) cage_tools_.auto_params().target_faces = faces;
     cage_tools_.open_auto_cage_dialog();
-    cage_tools_.start_auto_cage(*ws_.scene());
+    ws_.start_auto_cage(cage_tools_.auto_params());
   }, true, 1);
 
   // ---- export and fidelity

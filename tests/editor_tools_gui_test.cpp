@@ -199,36 +199,6 @@ TEST(EditorTools, SkinSelectionIsDrawn) {
   EXPECT_EQ(pink_pixels(plain), 0u);
 }
 
-// Cage > Import and Cage > Automatic cage, each one undo step: the saved projects hold the new
-// cages, and an undo after the import brings the demo cage back.
-TEST(EditorTools, ImportAndAutomaticCageAreUndoableSteps) {
-  std::string why;
-  if (!gui_available(why)) GTEST_SKIP() << why;
-  const fs::path dir = gui_test_dir(), box = dir / "tools_import_box.obj";
-  PolyMesh imported = symmetric_cage(box);
-  const size_t demo_vertices = demo_cage().num_vertices();
-  const fs::path p_import = dir / "tools_import.cagewrap", p_undo = dir / "tools_import_undo.cagewrap",
-                 p_auto = dir / "tools_auto.cagewrap", script = dir / "tools_import.script";
-  for (const auto& p : {p_import, p_undo, p_auto}) fs::remove(p);
-  write_script(script, "clip rest\nwait 2\nimport_cage " + box.string() + "\nsave " + p_import.string() + "\nundo\nsave " +
-                           p_undo.string() + "\nauto_cage 600\nsave " + p_auto.string() + "\n");
-  screenshot("--script " + script.string(), "tools_import");
-  auto cage_of = [](const fs::path& p) {
-    const auto j = saved_project(p);
-    return j.is_null() ? j : j.at("cage");
-  };
-  EXPECT_EQ(cage_of(p_import).at("positions").size(), imported.num_vertices());
-  EXPECT_EQ(cage_of(p_undo).at("positions").size(), demo_vertices);
-  const auto automatic = cage_of(p_auto);
-  const size_t faces = automatic.at("faces").size();
-  EXPECT_GT(faces, 300u);
-  EXPECT_LE(faces, 600u);
-  std::ifstream log(dir / "tools_import.log");
-  std::string text((std::istreambuf_iterator<char>(log)), std::istreambuf_iterator<char>());
-  EXPECT_NE(text.find("automatic cage: "), std::string::npos) << text;
-  EXPECT_NE(text.find("cage quality"), std::string::npos) << text;
-}
-
 // Posing a joint with the rotation gizmo (a drag along its X ring, hit-tested like a click) gives
 // the same picture as setting the angle directly; the pose changes the skin, and the comparison
 // with the file's own skinning shows a different skin.

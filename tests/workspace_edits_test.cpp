@@ -172,6 +172,48 @@ TEST_F(WorkspaceEditsTest, AnImportedCageDropsTheOldCagesVertexData) {
   EXPECT_GT(glm::length(doc().cage_offsets.at(12)), 0.04f);
 }
 
+// Cage > Automatic cage builds in the background; when it ends the cage is the document's, one undo
+// step, with its report kept and logged. A second build while one runs is refused; Cancel leaves the
+// document as it was.
+TEST_F(WorkspaceEditsTest, AnAutomaticCageIsBuiltInTheBackgroundAsOneUndoStep) {
+  const auto demo_cage = doc().cage;
+  ASSERT_TRUE(ws.run("auto_cage 600"));
+  ASSERT_TRUE(ws.building_cage());
+  ws.run("auto_cage 800");
+  EXPECT_TRUE(logged("an automatic cage is being built already"));
+  ws.run("auto_cage_cancel");
+  for (int i = 0; i < 60000 && ws.building_cage(); ++i) {
+    ws.poll_jobs();
+    if (ws.building_cage()) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  ASSERT_FALSE(ws.building_cage());
+  EXPECT_TRUE(logged("automatic cage cancelled"));
+  EXPECT_EQ(doc().cage, demo_cage);
+  EXPECT_FALSE(ws.auto_cage_state().report.has_value());
+
+  const size_t steps = undo_steps();
+  ASSERT_TRUE(ws.run("auto_cage 600"));
+  for (int i = 0; i < 60000 && ws.building_cage(); ++i) {
+    ws.poll_jobs();
+    if (ws.building_cage()) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  ASSERT_FALSE(ws.building_cage());
+  ASSERT_TRUE(errors.empty()) << errors.front();
+  EXPECT_EQ(undo_steps(), steps + 1);
+  ASSERT_NE(doc().cage, demo_cage);
+  EXPECT_EQ(doc().cage, ws.auto_cage_state().cage);
+  const size_t faces = doc().cage->polygons.num_faces();
+  EXPECT_GT(faces, 300u);
+  EXPECT_LE(faces, 600u);
+  ASSERT_TRUE(ws.auto_cage_state().report.has_value());
+  EXPECT_EQ(ws.auto_cage_state().report->faces, faces);
+  EXPECT_EQ(ws.auto_cage_state().builds, 1u);
+  EXPECT_TRUE(logged("automatic cage: " + std::to_string(faces) + " faces"));
+  EXPECT_TRUE(logged("cage quality"));
+  ws.run("undo");
+  EXPECT_EQ(doc().cage, demo_cage);
+}
+
 // "Select limb" picks the forearm's faces; "only these faces" on one point makes them the only
 // elements that drive it, at once (re-registered in place), and undo takes the edit back.
 TEST_F(WorkspaceEditsTest, OnlyTheLimbsFacesDriveThePointAtOnce) {

@@ -23,6 +23,7 @@
 #include "app/workspace/view_state.h"
 #include "core/rig/cage_attachment.h"
 #include "core/rig/keyposes.h"
+#include "core/cage/auto_cage.h"
 #include "core/document/set_editing.h"
 #include "core/document/skin_brush.h"
 #include "core/export/rig_exporter.h"
@@ -132,6 +133,20 @@ class Workspace {
   // (selected faces), flip_all, linear [N], loop [N] (levels), refine (selected faces), triangulate.
   // False (shown, the document kept) when it cannot be made.
   bool cage_operation(const std::string& op, double arg);
+  // The automatic cage (core/cage/auto_cage.h) of the character at its bind pose, built in the
+  // background with the scene's binding parameters; when it ends (poll_jobs) it becomes the document's
+  // cage (replace_cage, one undo step) and its report is kept. False (said why) when one is being built
+  // or the parameters are refused.
+  struct AutoCageState {
+    std::unique_ptr<BackgroundTask<AutoCageReport>> job;  // the build under way (null: none)
+    std::optional<AutoCageReport> report;                 // the last finished build's figures (its mesh is the cage)
+    std::shared_ptr<const Cage> cage;                     // the cage it made
+    size_t builds = 0;                                    // builds finished so far (a new report)
+  };
+  bool start_auto_cage(AutoCageParams params);
+  void cancel_auto_cage();
+  const AutoCageState& auto_cage_state() const { return auto_cage_; }
+  bool building_cage() const { return auto_cage_.job != nullptr; }
 
   // ---- contributing sets (workspace_sets.cpp; the Sets window and set_edit, select_limb_faces and
   // paint_at_skin_vertex run these): view.sets.mode with the selected cage faces on `points` (and their
@@ -179,7 +194,7 @@ class Workspace {
   // An export line that could not be read: logged as an error and counted in failures.
   void refuse_export(const std::string& message);
   // Finishes background work that is done (the frame loop calls it every frame; tests too): an
-  // export's report into the log, or its error shown.
+  // automatic cage into the document, an export's report into the log; their errors shown.
   void poll_jobs();
 
   // ---- playing and posing (view.playback: never undone)
@@ -218,6 +233,8 @@ class Workspace {
   void clip_cage_selection();  // drops selected cage vertex and face ids past the cage's counts
   bool commit_sim(SimSettings sim, const std::string& label);
   ExportState export_;
+  AutoCageState auto_cage_;
+  void poll_auto_cage();
 };
 
 }  // namespace cagewrap::app

@@ -237,6 +237,13 @@ void Workspace::add_actions() {
     if (path.empty()) return fail("import_cage PATH");
     import_cage(path);
   });
+  add("auto_cage", "[FACES]", "Builds an automatic cage (FACES triangles, default 2000) in the background.", [this](std::istringstream& in) {
+    AutoCageParams params;
+    uint32_t faces = 0;
+    if (in >> faces) params.target_faces = faces;
+    start_auto_cage(params);
+  });
+  add("auto_cage_cancel", "", "Cancels the automatic cage being built.", [this](std::istringstream&) { cancel_auto_cage(); });
   add("cage_op", "merge|weld D|flip|flip_all|linear [N]|loop [N]|refine|triangulate",
       "A Cage menu operation on the selection (merge: the selected vertices; flip, refine: the selected faces).",
       [this](std::istringstream& in) {

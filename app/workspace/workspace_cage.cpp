@@ -1,10 +1,11 @@
 // The workspace's cage changes (app/workspace/workspace.h "the cage"): a new cage (imported, or built
-// by the automatic cage) and the Cage menu's topology edits. The Cage menu and the actions cage_op and
-// import_cage run these; each change is one undo step.
+// by the automatic cage in the background) and the Cage menu's topology edits. The Cage menu and the
+// actions auto_cage, cage_op and import_cage run these; each change is one undo step.
 #include <cstdio>
 #include <filesystem>
 
 #include "app/workspace/workspace.h"
+#include "core/cage/auto_cage.h"
 #include "core/cage/cage_edit.h"
 #include "core/cage/cage_import.h"
 #include "core/cage/cage_subdivide.h"
@@ -70,6 +71,62 @@ bool Workspace::import_cage(const std::string& path) {
   if (problems.lines.size() < problems.total()) log("warning: " + path + ": ... and " + std::to_string(problems.total() - problems.lines.size()) + " more");
   replace_cage(std::make_shared<const Cage>(std::move(cage).value()), "Import cage " + std::filesystem::path(path).filename().string());
   return true;
+}
+
+bool Workspace::start_auto_cage(AutoCageParams params) {
+  if (!scene_) return false;
+  if (auto_cage_.job) {
+    log("error: an automatic cage is being built already: wait for it or cancel it", true);
+    return false;
+  }
+  params.bind = scene_->params;
+  if (auto v = validate(params); !v) {
+    report_error("automatic cage: " + v.error().message);
+    return false;
+  }
+  auto character = scene_->doc().character;
+  auto_cage_.job = std::make_unique<BackgroundTask<AutoCageReport>>(
+      "automatic cage", [character, params](const BackgroundTask<AutoCageReport>::Progress& progress, const std::atomic<bool>& cancel) {
+        AutoCageProgress p;
+        p.on_progress = [&progress](const char* stage, double share) { progress(stage, share); };
+        p.cancel = &cancel;
+        return build_auto_cage(*character, params, p);
+      });
+  return true;
+}
+
+void Workspace::cancel_auto_cage() {
+  if (auto_cage_.job) auto_cage_.job->cancel();
+}
+
+void Workspace::poll_auto_cage() {
+  if (!auto_cage_.job || !auto_cage_.job->done()) return;
+  auto& r = auto_cage_.job->result();
+  if (!r.ok()) {
+    if (r.error().code == ErrorCode::kCancelled) log("automatic cage cancelled");
+    else report_error(r.error().message);
+    auto_cage_.job.reset();
+    return;
+  }
+  AutoCageReport report = std::move(r).value();
+  auto_cage_.job.reset();
+  auto cage = make_cage(report.cage, "automatic cage");
+  if (!cage) {
+    report_error(cage.error().message);
+    return;
+  }
+  char buf[320];
+  std::snprintf(buf, sizeof buf,
+                "automatic cage: %u faces, %u vertices in %.2f s; largest skin-to-cage distance %.4g, %u skin points outside; "
+                "cage quality %.1f%%",
+                report.faces, report.vertices, report.seconds, report.max_distance, report.outside_points, 100.0 * report.quality);
+  log(buf);
+  for (const auto& w : report.warnings) log("warning: " + w);
+  report.cage = PolyMesh{};  // the document holds it
+  auto_cage_.report = std::move(report);
+  auto_cage_.cage = std::make_shared<const Cage>(std::move(cage).value());
+  ++auto_cage_.builds;
+  replace_cage(auto_cage_.cage, "Automatic cage");
 }
 
 namespace {

@@ -101,6 +101,7 @@ void Workspace::cancel_export() {
 }
 
 void Workspace::poll_jobs() {
+  poll_auto_cage();
   ExportState& e = export_;
   if (!e.job || !e.job->done()) return;
   auto& r = e.job->result();
