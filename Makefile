@@ -69,8 +69,10 @@ $(BUILD_SAN)/build.ninja:
 # character-loading and robustness scripts stay), and the automatic cages of whole characters (the demo, the
 # mannequin, the demo's variants with fingers and a tail: about 330 s under ASan; the same builder runs under
 # the sanitizers on the sphere, the deterministic, joint-detail and cancel tests and the smaller variants), two
-# of the demo's baked-skin exports and one fidelity check (about 115 s; their siblings in the same files run).
-SANITIZE_SKIP ?= ^Robustness\.Killed|^DefaultRig\.SmoothedStencilKeepsTheDemoWithinTheThresholds$$|^FittedAttachment\.(IsCloserToTheFilesSkinningThanTheTransferredWeights|TheEdgeTermLowersTheWorstStretch)$$|^MannequinDefaultRig\.|^AutoCage\.Mannequin(CageDeformsTheSkinLikeItsSkinning|FailingPointsAreThoseTheBindingMisses)$$|^DemoVariants\.TailWaveCurlsEveryTailBoneAndEveryFinger$$|^Variants/DefaultRigOnHardCharacters\.|^AutoCage\.(JointDetailWorksOnSeparateShells|DemoCharacterCage|MannequinGetsAClosedShellPerSegment)$$|^DemoVariants\.(TailHasFiveFingersPerHandAndATwelveBoneTail|CombinedArmsDownAndTailIsOneClosedSkin)$$|^Export\.(BakedSkinFitsTheKeyposeSweep|ReportsProgressAndStopsWhenCancelled)$$|^CheckFidelity\.ABadAttachmentFailsAndTheFailureNamesTheJoint$$|^cli\.(auto_cage|export|check|pose|simulate|project_storage|new_project)$$
+# of the demo's baked-skin exports and one fidelity check (about 115 s; their siblings in the same files run),
+# and the in-process automatic cage and baked-skin export of the demo (127 + 77 s under ASan; their cancel and
+# refusal cases run).
+SANITIZE_SKIP ?= ^Robustness\.Killed|^DefaultRig\.SmoothedStencilKeepsTheDemoWithinTheThresholds$$|^FittedAttachment\.(IsCloserToTheFilesSkinningThanTheTransferredWeights|TheEdgeTermLowersTheWorstStretch)$$|^MannequinDefaultRig\.|^AutoCage\.Mannequin(CageDeformsTheSkinLikeItsSkinning|FailingPointsAreThoseTheBindingMisses)$$|^DemoVariants\.TailWaveCurlsEveryTailBoneAndEveryFinger$$|^Variants/DefaultRigOnHardCharacters\.|^AutoCage\.(JointDetailWorksOnSeparateShells|DemoCharacterCage|MannequinGetsAClosedShellPerSegment)$$|^DemoVariants\.(TailHasFiveFingersPerHandAndATwelveBoneTail|CombinedArmsDownAndTailIsOneClosedSkin)$$|^Export\.(BakedSkinFitsTheKeyposeSweep|ReportsProgressAndStopsWhenCancelled)$$|^CheckFidelity\.ABadAttachmentFailsAndTheFailureNamesTheJoint$$|^cli\.(auto_cage|export|check|pose|simulate|project_storage|new_project)$$|^WorkspaceEditsTest\.AnAutomaticCageIsBuiltInTheBackgroundAsOneUndoStep$$|^WorkspaceExportTest\.BakedSkinLoadsAgainWithACorrectivePerFrame$$
 
 # The editor under the sanitizers in make test-sanitize: the scripted GUI tests that open every hostile file
 # from the File menu, draw offscreen (EGL) and in a window (Xvfb), edit the cage with undo and redo, paint
@@ -79,16 +81,16 @@ SANITIZE_SKIP ?= ^Robustness\.Killed|^DefaultRig\.SmoothedStencilKeepsTheDemoWit
 # sanitizers in make test-sanitize-full (their whole set is about 400 s at full speed, two to three times
 # that under ASan) and at full speed in make check.
 SANITIZE_EDITOR ?= ^(EditorHostileFilesGui\.|EditorOffscreen\.|EditorGui\.(BadFileKeepsRunningAndSaysWhy|MoveCageVerticesUndoRedoSave)$$|EditorTools\.(PaintingSetsRemovesFacesFromThePointsUnderTheBrush|OpeningWithUnsavedChangesAsksFirst)$$|EditorProjectGui\.UnknownFieldsAreLoggedAndWrittenBack$$|EditorFilesGui\.CorruptPreferencesAreNamedAndReplaced$$)
-# The editor's runs have leak checking off: LeakSanitizer's own tracer crashed (signal 11, "LeakSanitizer
-# has encountered a fatal error") at the exit of 1 of 41 sanitized editor runs, with Mesa's llvmpipe
-# threads about; a crash of the checker would fail make test at random. ASan and UBSan stay on there, and
-# leaks are checked in every other sanitized test.
+# The editor's runs check leaks too: the editor runs LeakSanitizer's check itself when it has torn its
+# window down (app/editor.cpp, __lsan_do_leak_check), not at the process's exit, where the tracer once
+# crashed among Mesa's threads (1 of 41 g++-built runs); 40 of 40 clang-built runs with leak checking on,
+# half offscreen, half under Xvfb, were clean (docs/robustness.md).
 SANITIZE_ENV = ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 LSAN_OPTIONS=suppressions=$(abspath tests/sanitize/lsan.supp):print_suppressions=0
 
 test-sanitize: setup $(BUILD_SAN)/build.ninja
 	cmake --build $(BUILD_SAN) -j $(JOBS)
 	cd $(BUILD_SAN) && $(SANITIZE_ENV) ctest --output-on-failure -j $(JOBS) -E '$(SANITIZE_SKIP)|^Editor'
-	cd $(BUILD_SAN) && $(SANITIZE_ENV) ASAN_OPTIONS=detect_leaks=0 ctest --output-on-failure -j $(JOBS) -R '$(SANITIZE_EDITOR)'
+	cd $(BUILD_SAN) && $(SANITIZE_ENV) ctest --output-on-failure -j $(JOBS) -R '$(SANITIZE_EDITOR)'
 
 test-sanitize-full: setup $(BUILD_SAN)/build.ninja
 	cmake --build $(BUILD_SAN) -j $(JOBS)
