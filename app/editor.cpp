@@ -527,13 +527,13 @@ int Editor::run() {
     }
     const bool script_done = script_pos_ >= script_.size() && script_wait_ == 0;
     if (!options_.screenshot.empty() && frame >= options_.frames && script_done &&
-        !(ws_.scene() && (ws_.scene()->job || ws_.building_cage() || patch_panel_.busy() || ws_.exporting() || fidelity_panel_.busy()))) {
+        !background_busy()) {
       exit_code = save_screenshot(options_.screenshot) && ws_.export_state().failures == 0 ? 0 : 1;
       break;
     }
     // a script ending in `export` waits for the export to finish; a failed one fails the run
     if (options_.screenshot.empty() && !script_.empty() && script_done && frame > 1 &&
-        !(ws_.scene() && (ws_.scene()->job || ws_.building_cage() || patch_panel_.busy() || ws_.exporting() || fidelity_panel_.busy()))) {
+        !background_busy()) {
       if (ws_.export_state().failures > 0) exit_code = 1;
       break;
     }
@@ -572,6 +572,10 @@ int run_editor(const EditorOptions& options) {
   __lsan_do_leak_check();
 #endif
   return exit_code;
+}
+
+bool Editor::background_busy() const {
+  return ws_.scene() && (ws_.scene()->job || ws_.building_cage() || patch_panel_.busy() || ws_.exporting() || fidelity_panel_.busy());
 }
 
 std::string Editor::action_reference() const { return ws_.actions.reference(); }

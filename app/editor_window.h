@@ -114,6 +114,8 @@ class Editor {
   bool open_project(const std::string& path, const std::string& character_override = {});
   void act_on(const ProjectDialogs::Request& request);
   void guard_unsaved(std::function<void()> action);
+  // A bind, automatic cage, driver bind, export or fidelity check is under way.
+  bool background_busy() const;
   void browse(FilePurpose purpose, const std::string& dir = {});
   void act_on(const EditorFiles::Choice& choice);
   void add_window_actions();  // editor_script.cpp

@@ -12,28 +12,20 @@
 
 #include <gtest/gtest.h>
 
-#include "app/workspace/workspace.h"
+#include "tests/workspace_fixtures.h"
 #include "core/geometry/mesh.h"
 
 namespace cagewrap::app {
 namespace {
 
-class WorkspaceEditsTest : public ::testing::Test {
+class WorkspaceEditsTest : public DemoWorkspaceTest {
  protected:
   void SetUp() override {
-    const std::string assets = std::string(CAGEWRAP_SOURCE_DIR) + "/assets/";
-    auto scene = load_scene(assets + "demo_character.glb", assets + "demo_cage.obj");
-    ASSERT_TRUE(scene.ok()) << scene.error().message;
-    ws.set_scene(std::move(scene).value());
+    DemoWorkspaceTest::SetUp();
     ws.run("clip rest");
-    ws.show_error = [this](const std::string& m) { errors.push_back(m); };
-    const Skeleton& sk = doc().character->skeleton;
-    for (uint32_t i = 0; i < sk.size(); ++i)
-      if (sk.node(i).name == "forearm.L") forearm_l = i;
+    forearm_l = node("forearm.L");
     ASSERT_GE(forearm_l, 0);
   }
-  const Document& doc() const { return ws.scene()->doc(); }
-  size_t undo_steps() const { return ws.scene()->history().undo_steps(); }
   // Waits for the background bind, as the editor's frame loop polls it.
   void finish_bind() {
     Scene& s = *ws.scene();
@@ -49,13 +41,6 @@ class WorkspaceEditsTest : public ::testing::Test {
     const auto members = ws.scene()->binding->sets().of(point);
     return {members.begin(), members.end()};
   }
-  bool logged(const std::string& text) const {
-    for (const auto& l : ws.log_lines())
-      if (l.text.find(text) != std::string::npos) return true;
-    return false;
-  }
-  Workspace ws;
-  std::vector<std::string> errors;
   int forearm_l = -1;
 };
 
@@ -182,22 +167,14 @@ TEST_F(WorkspaceEditsTest, AnAutomaticCageIsBuiltInTheBackgroundAsOneUndoStep) {
   ws.run("auto_cage 800");
   EXPECT_TRUE(logged("an automatic cage is being built already"));
   ws.run("auto_cage_cancel");
-  for (int i = 0; i < 60000 && ws.building_cage(); ++i) {
-    ws.poll_jobs();
-    if (ws.building_cage()) std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  }
-  ASSERT_FALSE(ws.building_cage());
+  poll_while([this] { return ws.building_cage(); });
   EXPECT_TRUE(logged("automatic cage cancelled"));
   EXPECT_EQ(doc().cage, demo_cage);
   EXPECT_FALSE(ws.auto_cage_state().report.has_value());
 
   const size_t steps = undo_steps();
   ASSERT_TRUE(ws.run("auto_cage 600"));
-  for (int i = 0; i < 60000 && ws.building_cage(); ++i) {
-    ws.poll_jobs();
-    if (ws.building_cage()) std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  }
-  ASSERT_FALSE(ws.building_cage());
+  poll_while([this] { return ws.building_cage(); });
   ASSERT_TRUE(errors.empty()) << errors.front();
   EXPECT_EQ(undo_steps(), steps + 1);
   ASSERT_NE(doc().cage, demo_cage);

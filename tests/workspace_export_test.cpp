@@ -11,7 +11,7 @@
 
 #include <gtest/gtest.h>
 
-#include "app/workspace/workspace.h"
+#include "tests/workspace_fixtures.h"
 #include "core/base/json_reader.h"
 #include "core/io/gltf_loader.h"
 #include "tests/gltf_validator.h"
@@ -21,34 +21,21 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class WorkspaceExportTest : public ::testing::Test {
+class WorkspaceExportTest : public DemoWorkspaceTest {
  protected:
   void SetUp() override {
     dir_ = fs::temp_directory_path() / "cagewrap_workspace_export_test" / ::testing::UnitTest::GetInstance()->current_test_info()->name();
     fs::remove_all(dir_);
     fs::create_directories(dir_);
-    const std::string assets = std::string(CAGEWRAP_SOURCE_DIR) + "/assets/";
-    auto scene = load_scene(assets + "demo_character.glb", assets + "demo_cage.obj");
-    ASSERT_TRUE(scene.ok()) << scene.error().message;
-    ws.set_scene(std::move(scene).value());
-    ws.show_error = [this](const std::string& m) { errors.push_back(m); };
+    DemoWorkspaceTest::SetUp();
   }
-  // Polls the background export as the editor's frame loop does, until it ends.
-  void finish_export() {
-    for (int i = 0; i < 60000 && ws.exporting(); ++i) {
-      ws.poll_jobs();
-      if (ws.exporting()) std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    }
-    ASSERT_FALSE(ws.exporting()) << "the export did not end";
-  }
+  void finish_export() { poll_while([this] { return ws.exporting(); }); }
   std::string log_text() const {
     std::string out;
     for (const auto& l : ws.log_lines()) out += l.text + "\n";
     return out;
   }
   fs::path dir_;
-  Workspace ws;
-  std::vector<std::string> errors;
 };
 
 TEST_F(WorkspaceExportTest, BakedSkinLoadsAgainWithACorrectivePerFrame) {

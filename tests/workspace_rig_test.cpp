@@ -7,29 +7,21 @@
 
 #include <gtest/gtest.h>
 
-#include "app/workspace/workspace.h"
+#include "tests/workspace_fixtures.h"
 
 namespace cagewrap::app {
 namespace {
 
-class WorkspaceRigTest : public ::testing::Test {
+class WorkspaceRigTest : public DemoWorkspaceTest {
  protected:
   void SetUp() override {
-    const std::string assets = std::string(CAGEWRAP_SOURCE_DIR) + "/assets/";
-    auto scene = load_scene(assets + "demo_character.glb", assets + "demo_cage.obj");
-    ASSERT_TRUE(scene.ok()) << scene.error().message;
-    ws.set_scene(std::move(scene).value());
+    DemoWorkspaceTest::SetUp();
     ws.run("clip rest");  // the bind pose: the drivers' angles are the posing's alone
-    ws.show_error = [this](const std::string& m) { errors.push_back(m); };
-    const Skeleton& sk = doc().character->skeleton;
-    for (uint32_t i = 0; i < sk.size(); ++i) {
-      if (sk.node(i).name == "forearm.L") forearm_l = i;
-      if (sk.node(i).name == "forearm.R") forearm_r = i;
-    }
+    forearm_l = node("forearm.L");
+    forearm_r = node("forearm.R");
     ASSERT_GE(forearm_l, 0);
     ASSERT_GE(forearm_r, 0);
   }
-  const Document& doc() const { return ws.scene()->doc(); }
   std::vector<glm::vec3> posed_cage() {
     ws.update_pose();
     return ws.scene()->cage_posed;
@@ -39,13 +31,6 @@ class WorkspaceRigTest : public ::testing::Test {
     for (size_t i = 0; i < a.size(); ++i) m = std::max(m, double(glm::length(a[i] - b[i])));
     return m;
   }
-  bool logged(const std::string& text) const {
-    for (const auto& l : ws.log_lines())
-      if (l.text.find(text) != std::string::npos) return true;
-    return false;
-  }
-  Workspace ws;
-  std::vector<std::string> errors;
   int forearm_l = -1, forearm_r = -1;
 };
 

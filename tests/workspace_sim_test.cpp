@@ -6,30 +6,12 @@
 
 #include <gtest/gtest.h>
 
-#include "app/workspace/workspace.h"
+#include "tests/workspace_fixtures.h"
 
 namespace cagewrap::app {
 namespace {
 
-class WorkspaceSimTest : public ::testing::Test {
- protected:
-  void SetUp() override {
-    const std::string assets = std::string(CAGEWRAP_SOURCE_DIR) + "/assets/";
-    auto scene = load_scene(assets + "demo_character.glb", assets + "demo_cage.obj");
-    ASSERT_TRUE(scene.ok()) << scene.error().message;
-    ws.set_scene(std::move(scene).value());
-    ws.show_error = [this](const std::string& m) { errors.push_back(m); };
-  }
-  const Document& doc() const { return ws.scene()->doc(); }
-  size_t undo_steps() const { return ws.scene()->history().undo_steps(); }
-  bool logged(const std::string& text) const {
-    for (const auto& l : ws.log_lines())
-      if (l.text.find(text) != std::string::npos) return true;
-    return false;
-  }
-  Workspace ws;
-  std::vector<std::string> errors;
-};
+using WorkspaceSimTest = DemoWorkspaceTest;
 
 TEST_F(WorkspaceSimTest, OnOffAndParametersAreUndoSteps) {
   const bool was = doc().sim.enabled;

@@ -255,6 +255,11 @@ const glm::dvec3& Workspace::move_total() const {
   return move_ ? move_->total : zero;
 }
 
+void Workspace::poll_jobs() {
+  poll_auto_cage();  // workspace_cage.cpp
+  poll_export();     // workspace_export.cpp
+}
+
 // ---------------------------------------------------------------- undo, posing
 
 void Workspace::undo() {

@@ -235,6 +235,7 @@ class Workspace {
   ExportState export_;
   AutoCageState auto_cage_;
   void poll_auto_cage();
+  void poll_export();
 };
 
 }  // namespace cagewrap::app

@@ -100,8 +100,7 @@ void Workspace::cancel_export() {
   if (export_.job) export_.job->cancel();
 }
 
-void Workspace::poll_jobs() {
-  poll_auto_cage();
+void Workspace::poll_export() {
   ExportState& e = export_;
   if (!e.job || !e.job->done()) return;
   auto& r = e.job->result();
