@@ -6,7 +6,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "core/cage/auto_cage.h"
+#include "core/rig/auto_cage.h"
 #include "core/document/document.h"
 
 namespace cagewrap::app {

@@ -14,7 +14,7 @@
 
 #include "app/workspace/scene.h"
 #include "app/workspace/workspace.h"
-#include "core/cage/auto_cage.h"
+#include "core/rig/auto_cage.h"
 #include "core/document/topology_change.h"
 #include "core/geometry/selection.h"
 

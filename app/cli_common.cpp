@@ -5,8 +5,8 @@
 #include <cstdio>
 #include <mutex>
 
-#include "core/deform/binding_cache.h"
-#include "core/io/mesh_io.h"
+#include "core/document/binding_cache.h"
+#include "core/geometry/mesh_io.h"
 
 namespace cagewrap::app {
 

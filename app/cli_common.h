@@ -9,7 +9,7 @@
 #include "core/deform/binding.h"
 #include "core/cage/cage.h"
 #include "core/geometry/mesh.h"
-#include "core/io/project_io.h"
+#include "core/document/project_io.h"
 #include "core/deform/registration.h"
 #include "core/rig/rig.h"
 
@@ -55,7 +55,7 @@ void print_bind_summary(const Binding& b, const std::string& cage_path, size_t n
 BindProgress terminal_progress(const char* label);
 
 // The rig of a loaded project (`project`: its path, for messages): from the project's cached
-// binding when it is still valid (core/deform/binding_cache.h; a note on stderr), else bound with a
+// binding when it is still valid (core/document/binding_cache.h; a note on stderr), else bound with a
 // progress bar (saying why the cache was not used). Prints the error (no cage yet, a failed bind)
 // and returns nullopt.
 std::optional<Rig> rig_of_project(const Document& doc, const std::string& project);

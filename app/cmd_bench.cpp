@@ -14,7 +14,7 @@
 #include "app/commands.h"
 #include "core/deform/deformer.h"
 #include "core/deform/lipschitz_probe.h"
-#include "core/io/mesh_io.h"
+#include "core/geometry/mesh_io.h"
 #include "core/geometry/subdivide.h"
 #include "core/deform/twist.h"
 

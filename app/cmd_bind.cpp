@@ -4,7 +4,7 @@
 #include "app/cli_common.h"
 #include "app/commands.h"
 #include "core/io/binding_io.h"
-#include "core/io/mesh_io.h"
+#include "core/geometry/mesh_io.h"
 #include "core/io/set_edits_io.h"
 
 namespace cagewrap::app {

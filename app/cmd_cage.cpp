@@ -8,9 +8,9 @@
 #include "app/cli_common.h"
 #include "app/commands.h"
 #include "core/base/atomic_write.h"
-#include "core/cage/auto_cage.h"
+#include "core/rig/auto_cage.h"
 #include "core/io/gltf_loader.h"
-#include "core/io/mesh_io.h"
+#include "core/geometry/mesh_io.h"
 
 namespace cagewrap::app {
 

@@ -9,9 +9,9 @@
 
 #include "app/cli_common.h"
 #include "app/commands.h"
-#include "core/cage/cage_edit.h"
-#include "core/cage/cage_subdivide.h"
-#include "core/io/mesh_io.h"
+#include "core/document/cage_edit.h"
+#include "core/document/cage_subdivide.h"
+#include "core/geometry/mesh_io.h"
 
 namespace cagewrap::app {
 

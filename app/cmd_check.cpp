@@ -1,7 +1,7 @@
 // cagewrap check --project P | --character C [--cage K | --auto-cage N] [--clip NAME]... [--fps f]
 //                [--max-worst x] [--max-rms x] [--max-stretch x] [--json]
 // Poses the rig at every clip's frames and compares it with the character's own linear blend
-// skinning (core/deform/fidelity.h): worst and RMS vertex distance as a share of the bounding-box diagonal,
+// skinning (core/rig/fidelity.h): worst and RMS vertex distance as a share of the bounding-box diagonal,
 // the largest skin-edge stretch, and where each happens. Exit 0 within the thresholds, 2 over them,
 // 1 on an error.
 #include <cstdio>
@@ -11,8 +11,8 @@
 #include "app/auto_cage_options.h"
 #include "app/cli_common.h"
 #include "app/commands.h"
-#include "core/deform/fidelity.h"
-#include "core/io/project_io.h"
+#include "core/rig/fidelity.h"
+#include "core/document/project_io.h"
 
 namespace cagewrap::app {
 

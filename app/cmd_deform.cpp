@@ -5,7 +5,7 @@
 #include "app/commands.h"
 #include "core/io/binding_io.h"
 #include "core/deform/deformer.h"
-#include "core/io/mesh_io.h"
+#include "core/geometry/mesh_io.h"
 
 namespace cagewrap::app {
 

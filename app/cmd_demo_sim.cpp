@@ -1,5 +1,5 @@
 // cagewrap demo-sim belly|cape --out P.cagewrap [--character C.glb] [--cage C.obj]
-// Writes the simulated-cage use cases on the demo character (core/cage/demo_sim.h) as projects:
+// Writes the simulated-cage use cases on the demo character (core/rig/demo_sim.h) as projects:
 //   belly: the demo character and cage with the belly's cage vertices soft (jiggles in the walk);
 //   cape:  the demo character with a cape (written beside the project as <name>.glb) and its cage
 //          extended by a cloth sheet that drapes and swings, colliding with the skeleton.
@@ -9,11 +9,11 @@
 #include "app/cli_common.h"
 #include "app/commands.h"
 #include "app/workspace/scene.h"
-#include "core/cage/demo_sim.h"
+#include "core/rig/demo_sim.h"
 #include "core/io/gltf_loader.h"
 #include "core/io/gltf_writer.h"
-#include "core/io/mesh_io.h"
-#include "core/io/project_io.h"
+#include "core/geometry/mesh_io.h"
+#include "core/document/project_io.h"
 
 namespace cagewrap::app {
 

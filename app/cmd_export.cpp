@@ -16,7 +16,7 @@
 
 #include "app/cli_common.h"
 #include "app/commands.h"
-#include "core/io/project_io.h"
+#include "core/document/project_io.h"
 #include "core/export/rig_exporter.h"
 
 namespace cagewrap::app {

@@ -4,7 +4,7 @@
 #include "app/cli_common.h"
 #include "app/commands.h"
 #include "core/io/gltf_loader.h"
-#include "core/io/mesh_io.h"
+#include "core/geometry/mesh_io.h"
 
 namespace cagewrap::app {
 

@@ -1,13 +1,13 @@
 // cagewrap make-demo --out assets/demo_character.glb: generates the default document's character.
 // --variant arms-down|tail|arms-down+tail|quadruped makes the hard test characters, --units cm writes it in
-// centimetres (core/rig/demo_character.h).
+// centimetres (core/character/demo_character.h).
 #include <cstdio>
 
 #include "app/cli_common.h"
 #include "app/commands.h"
-#include "core/rig/demo_character.h"
+#include "core/character/demo_character.h"
 #include "core/io/gltf_writer.h"
-#include "core/io/mesh_io.h"
+#include "core/geometry/mesh_io.h"
 
 namespace cagewrap::app {
 

@@ -5,10 +5,10 @@
 #include "app/auto_cage_options.h"
 #include "app/cli_common.h"
 #include "app/commands.h"
-#include "core/deform/binding_cache.h"
-#include "core/rig/character_embedding.h"
+#include "core/document/binding_cache.h"
+#include "core/document/character_embedding.h"
 #include "core/document/document.h"
-#include "core/io/project_io.h"
+#include "core/document/project_io.h"
 
 namespace cagewrap::app {
 

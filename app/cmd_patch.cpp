@@ -9,7 +9,7 @@
 #include "app/cli_common.h"
 #include "app/commands.h"
 #include "core/base/atomic_write.h"
-#include "core/io/mesh_io.h"
+#include "core/geometry/mesh_io.h"
 #include "core/deform/patch_binding.h"
 #include "core/deform/patch_demo.h"
 #include "core/deform/patch_fit.h"

@@ -9,10 +9,10 @@
 
 #include "app/cli_common.h"
 #include "app/commands.h"
-#include "core/io/mesh_io.h"
-#include "core/io/project_io.h"
+#include "core/geometry/mesh_io.h"
+#include "core/document/project_io.h"
 #include "core/rig/rig.h"
-#include "core/rig/skinning.h"
+#include "core/character/skinning.h"
 
 namespace cagewrap::app {
 

@@ -14,9 +14,9 @@
 #include "app/commands.h"
 #include "core/io/gltf_loader.h"
 #include "core/deform/lipschitz_probe.h"
-#include "core/io/mesh_io.h"
+#include "core/geometry/mesh_io.h"
 #include "core/io/set_edits_io.h"
-#include "core/rig/skinning.h"
+#include "core/character/skinning.h"
 
 namespace cagewrap::app {
 

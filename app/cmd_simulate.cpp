@@ -1,5 +1,5 @@
 // cagewrap simulate --project P [--clip NAME|INDEX|all] [--enable] [--every n] [--json]
-// Runs the project's cage simulation (core/cage/clip_sim.h) over clips, as the editor's playback and the
+// Runs the project's cage simulation (core/rig/clip_sim.h) over clips, as the editor's playback and the
 // baked-animation export do, and prints per-frame figures (solve time, largest displacement from
 // the skinned cage, energy, largest edge stretch) and a summary with the milliseconds per frame.
 #include <algorithm>
@@ -11,9 +11,9 @@
 
 #include "app/cli_common.h"
 #include "app/commands.h"
-#include "core/rig/cage_attachment.h"
-#include "core/cage/clip_sim.h"
-#include "core/io/project_io.h"
+#include "core/cage/cage_attachment.h"
+#include "core/rig/clip_sim.h"
+#include "core/document/project_io.h"
 
 namespace cagewrap::app {
 

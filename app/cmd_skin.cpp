@@ -5,8 +5,8 @@
 #include "app/cli_common.h"
 #include "app/commands.h"
 #include "core/io/gltf_loader.h"
-#include "core/io/mesh_io.h"
-#include "core/rig/skinning.h"
+#include "core/geometry/mesh_io.h"
+#include "core/character/skinning.h"
 
 namespace cagewrap::app {
 

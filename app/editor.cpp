@@ -126,7 +126,7 @@ void Editor::draw_menu() {
     }
     if (ImGui::MenuItem("Save", "Ctrl+S", false, ws_.scene() != nullptr)) request_save();
     if (ImGui::MenuItem("Save as...", nullptr, false, ws_.scene() != nullptr)) open_save_popup_ = true;
-    if (ws_.scene()) act_on(dialogs_.menu_items(*ws_.scene(), hooks_));
+    if (ws_.scene()) act_on(dialogs_.menu_items(ws_));
     if (ImGui::BeginMenu("Autosave every")) {  // the recovery file of unsaved work (app/workspace/autosave.h)
       const std::pair<const char*, double> choices[] = {{"1 minute", 60}, {"3 minutes", 180}, {"10 minutes", 600}, {"never", 0}};
       for (const auto& [label, seconds] : choices)
@@ -183,7 +183,7 @@ void Editor::draw_menu() {
     ImGui::MenuItem("Attachment and keyposes...", "K", &rig_panel_.visible());
     ImGui::MenuItem("Contributing sets...", "J", &sets_panel_.visible());
     ImGui::MenuItem("Simulation...", nullptr, &sim_panel_.visible());
-    ImGui::MenuItem("Parametric driver...", nullptr, &patch_panel_.visible());
+    ImGui::MenuItem("Parametric driver...", nullptr, &ws_.view.patch.editing);
     if (ImGui::MenuItem("Reset pose")) ws_.run("reset_pose");
     ImGui::MenuItem("Show the file's own skinning", "L", &ws_.view.playback.show_file_skinning);
     ImGui::EndMenu();
@@ -296,13 +296,13 @@ void Editor::draw_panels() {
   draw_log();
   draw_toolbar();
   draw_stats();
-  if (ws_.scene()) fidelity_panel_.draw_warning(*ws_.scene(), view_x_ + 10, view_y_ + view_h_ - 10);
+  if (ws_.scene()) fidelity_panel_.draw_warning(ws_, view_x_ + 10, view_y_ + view_h_ - 10);
   if (ws_.scene()) cage_tools_.draw_windows(ws_);
   export_panel_.draw(ws_);
   rig_panel_.draw(ws_);
   sets_panel_.draw(ws_);
   sim_panel_.draw(ws_);
-  if (ws_.scene()) patch_panel_.draw(*ws_.scene(), ws_.view.selection, hooks_);
+  if (ws_.scene()) patch_panel_.draw(ws_);
   draw_help();
   draw_view_cues();
   keep_windows_in_view();
@@ -427,8 +427,8 @@ int Editor::run() {
     handle_input();
     // a scripted run waits for the first bind so that the steps act on the deformed skin
     const bool export_blocks = ws_.exporting() && script_waits_for_export_;
-    const bool fidelity_blocks = fidelity_panel_.busy() && script_waits_for_fidelity_;
-    if (!script_.empty() && !(ws_.scene() && (ws_.scene()->job || ws_.building_cage() || patch_panel_.busy() || export_blocks ||
+    const bool fidelity_blocks = ws_.checking_fidelity() && !ws_.fidelity().nowait;
+    if (!script_.empty() && !(ws_.scene() && (ws_.scene()->job || ws_.building_cage() || (ws_.binding_patch_driver() && !ws_.patch_state().nowait) || export_blocks ||
                                          fidelity_blocks)))
       run_script_step();
 
@@ -439,9 +439,7 @@ int Editor::run() {
         if (ws_.scene()->binding && !ws_.scene()->binding->invalid_elements.empty())
           log("warning: " + std::to_string(ws_.scene()->binding->invalid_elements.size()) + " cage elements skipped (zero area, non-finite or duplicate)");
       }
-      patch_panel_.poll(*ws_.scene(), hooks_);
       ws_.poll_jobs();
-      fidelity_panel_.poll(*ws_.scene(), hooks_);
       if (sets_panel_.take_select_limb_request()) {
         ws_.run("select_limb_faces");
         log("selected " + std::to_string(ws_.view.selection.cage_faces.size()) + " cage faces of the selected joints' limbs");
@@ -461,17 +459,16 @@ int Editor::run() {
       // the cage simulation fills a few milliseconds a frame; a script waits for all of it
       ws_.scene()->fill_simulation(ws_.view.playback.clip, scripted ? 0.0 : 6.0);
       skin_display_.before_pose(*ws_.scene());
-      patch_panel_.drive_skin(*ws_.scene());  // a parametric driver's skin replaces the cage's
       ws_.update_pose();
       if (topology_dirty_) upload_topology();
       if (auto e = skin_display_.update(*ws_.scene(), *renderer_); !e.empty()) log(e);
-      patch_panel_.update_display(*ws_.scene(), *renderer_);  // a parametric driver's control net
+      patch_panel_.update_display(ws_, *renderer_);  // a parametric driver's control net
       update_selection_display();
       {
-        fidelity_panel_.update(*ws_.scene(), ws_.view.playback);
+        ws_.measure_fidelity();
         const auto& set_colors = sets_panel_.colors(*ws_.scene(), ws_.view.selection);
         // the sets panel's colours while it shows them, else the fidelity heat map when it is on
-        const auto& colors = set_colors.empty() ? fidelity_panel_.colors() : set_colors;
+        const auto& colors = set_colors.empty() ? ws_.fidelity().colors : set_colors;
         if (!colors.empty() || skin_colored_) renderer_->set_skin_colors(colors);
         skin_colored_ = !colors.empty();
         if (auto faces = sets_panel_.highlighted_faces(*ws_.scene(), ws_.view.selection); !faces.empty()) {
@@ -575,7 +572,7 @@ int run_editor(const EditorOptions& options) {
 }
 
 bool Editor::background_busy() const {
-  return ws_.scene() && (ws_.scene()->job || ws_.building_cage() || patch_panel_.busy() || ws_.exporting() || fidelity_panel_.busy());
+  return ws_.scene() && (ws_.scene()->job || ws_.building_cage() || ws_.binding_patch_driver() || ws_.exporting() || ws_.checking_fidelity());
 }
 
 std::string Editor::action_reference() const { return ws_.actions.reference(); }

@@ -10,7 +10,6 @@ void Editor::set_scene(std::unique_ptr<Scene> scene) {
   if (autosave_) autosave_->discard();  // the work it held was saved or discarded (guard_unsaved)
   recovered_ = false;
   skin_display_.scene_changed();
-  fidelity_panel_.scene_changed();
   topology_dirty_ = true;
   skin_bvh_built_ = false;
   display_key_.reset();
@@ -165,7 +164,7 @@ void Editor::act_on(const EditorFiles::Choice& choice) {
       break;
     }
     case FilePurpose::kSaveCharacter:
-      if (ws_.scene()) dialogs_.unembed_to(*ws_.scene(), choice.path, hooks_);
+      if (ws_.scene()) ws_.unembed_character(choice.path);
       break;
   }
 }

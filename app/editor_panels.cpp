@@ -149,7 +149,7 @@ void Editor::draw_properties() {
         ImGui::TextColored(ImVec4(1, 0.6f, 0.3f, 1), "%zu points follow their nearest element", b.rigid_points.size());
       if (b.separation_applied) ImGui::Text("separation kept %zu element-point pairs apart", static_cast<size_t>(b.total_separated));
       ImGui::Text("bound in %.2f s", b.seconds);
-      fidelity_panel_.draw(*ws_.scene(), ws_.view.playback, hooks_);
+      fidelity_panel_.draw(ws_);
     }
   } else if (ws_.scene()) {
     ImGui::TextWrapped("No cage: the skin shows the file's own linear blend skinning. Open with --cage to bind a cage.");

@@ -81,18 +81,22 @@ void Editor::add_window_actions() {
       [this](std::istringstream&) { script_error_ok_ = !error_modal_.empty(); }, false, 1);
   add("answer", "save|discard|cancel", "Presses that button of the open \"Save changes?\" dialog.",
       [this](std::istringstream& in) { in >> script_answer_; }, false, 1);
-  const std::array<std::array<const char*, 3>, 4> dialogs = {{
-      {"answer_missing", "locate|cancel", "Answers the \"character not found\" prompt of a project."},
-      {"answer_recovery", "recover|discard|later", "Answers the prompt for a recovery file of unsaved work."},
-      {"embed", "on|off", "Embeds the character in the project, or takes it out."},
-      {"cache_binding", "on|off", "Saves the binding beside the project (opening it then needs no bind)."}}};
-  for (const auto& [name, usage, help] : dialogs) {
-    add(name, usage, help, [this, name = name](std::istringstream& in) {
-          ProjectDialogs::Request request;
-          dialogs_.script_command(name, in, ws_.scene(), hooks_, request);
-          act_on(request);
-        }, false, 1);
-  }
+  add("answer_missing", "locate|cancel", "Answers the \"character not found\" prompt of a project.",
+      [this](std::istringstream& in) { dialogs_.answer_missing(in); }, false, 1);
+  add("answer_recovery", "recover|discard|later", "Answers the prompt for a recovery file of unsaved work.",
+      [this](std::istringstream& in) { dialogs_.answer_recovery(in); }, false, 1);
+  // the window's embed: `embed off` with no path asks where to write the character (as the File menu
+  // does) when the file it came from no longer holds it
+  add("embed", "on|off [PATH]", "Keeps the character file inside the project (on), or writes it out (off: to PATH, where it came from, or where the browser says).",
+      [this, rest_of_line, fail](std::istringstream& in) {
+        std::string on;
+        in >> on;
+        const std::string path = rest_of_line(in);
+        if (on == "on") ws_.embed_character();
+        else if (on != "off") fail("embed on|off [PATH]");
+        else if (auto ask = ws_.where_to_unembed(); ask && path.empty()) files_.browser().open(FilePurpose::kSaveCharacter, ask->directory, ask->name);
+        else ws_.unembed_character(path);
+      }, true, 1);
 
   // ---- the view
   add("panels", "LEFT RIGHT BOTTOM", "Sets the panels' sizes in pixels, as dragging their edges does (remembered).",
@@ -125,12 +129,6 @@ void Editor::add_window_actions() {
         bool* f = flags[it - std::begin(names)];
         *f = !*f;
       }, false);
-  add("heatmap", "on|off", "The fidelity heat map on the skin.", [this](std::istringstream& in) {
-    std::string v;
-    in >> v;
-    fidelity_panel_.heat_map = v != "off";
-  });
-
   // ---- clicks and drags where a person would make them (they exercise picking and the gizmos)
   auto click_at = [this](const glm::dvec3& p) {
     glm::dvec2 px = ws_.view.camera.project(p, view_w_, view_h_).pixel;
@@ -197,28 +195,7 @@ void Editor::add_window_actions() {
     script_waits_for_export_ = true;
     ws_.start_export(export_panel_.shown_request());
   });
-  add("fidelity_check", "", "Checks all clips against the file's skinning; the script waits for it.", [this](std::istringstream&) {
-    script_waits_for_fidelity_ = true;
-    fidelity_panel_.start_check(*ws_.scene(), hooks_);
-  });
-  add("fidelity_check_nowait", "", "The same; the script goes on meanwhile.", [this](std::istringstream&) {
-    script_waits_for_fidelity_ = false;
-    fidelity_panel_.start_check(*ws_.scene(), hooks_);
-  });
-  add("fidelity_cancel", "", "Cancels the running check.", [this](std::istringstream&) { fidelity_panel_.cancel(); });
-  add("fidelity_frame", "", "Logs this frame's fidelity figures.", [this](std::istringstream&) {
-    fidelity_panel_.update(*ws_.scene(), ws_.view.playback);
-    if (const auto& f = fidelity_panel_.frame()) {
-      char buf[256];
-      const Skeleton& sk = ws_.scene()->doc().character->skeleton;
-      std::snprintf(buf, sizeof buf, "fidelity, this frame: worst %.4f%% (vertex %u, joint '%s'), RMS %.4f%%, stretch %.3fx",
-                    100 * f->worst, f->worst_vertex,
-                    f->worst_joint >= 0 ? sk.node(static_cast<size_t>(f->worst_joint)).name.c_str() : "-", 100 * f->rms, f->stretch);
-      log(buf);
-    } else {
-      log("fidelity, this frame: not measured (no binding, or the file's skinning is shown)");
-    }
-  });
+  // (fidelity_check, fidelity_cancel, fidelity_frame, heatmap: the workspace's, app/workspace/workspace_actions.cpp)
 
   // ---- rig: attachment and keyposes
   add("rig_panel", "", "Opens the Rig window.", [this](std::istringstream&) { rig_panel_.visible() = true; });
@@ -236,13 +213,6 @@ void Editor::add_window_actions() {
     for (int k = 0; k < 5; ++k)
       if (m == maps[k]) sets_panel_.map() = static_cast<SetMap>(k);
   });
-
-  // ---- the parametric driver (app/patch_panel.h)
-  for (const char* name : {"patch_import", "patch_export", "patch_cancel", "patch_fit", "patch_density", "patch_select", "patch_move",
-                           "patch_reset", "patch_drive", "patch_panel"})
-    add(name, "", "The parametric driver window (app/patch_panel.h).", [this, name](std::istringstream& in) {
-      patch_panel_.script_command(name, in, *ws_.scene(), ws_.view.selection, hooks_);
-    }, true, 1);
 }
 
 void Editor::script_gizmo_drag(std::istringstream& in) {

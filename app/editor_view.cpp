@@ -81,7 +81,7 @@ bool Editor::in_view(const ImVec2& p) const {
 }
 
 std::optional<glm::dvec3> Editor::selection_centre() const {
-  if (auto p = patch_panel_.selected_position(*ws_.scene())) return p;  // a parametric driver's control point
+  if (auto p = ws_.patch_point_position()) return p;  // a parametric driver's control point
   return ws_.cage_selection_centre();
 }
 
@@ -96,12 +96,8 @@ GizmoLayout Editor::gizmo() const {
 void Editor::apply_move(const glm::dvec3& total) { ws_.update_move(total, ImGui::GetIO().KeyCtrl); }
 
 bool Editor::begin_move(GizmoHandle handle, glm::dvec2 from) {
-  std::optional<Workspace::Mover> mover;
-  if (patch_panel_.selected_position(*ws_.scene()))  // moves the parametric driver's control point, not the cage
-    mover = Workspace::Mover{[this](const Document& start, const glm::dvec3& total) { return patch_panel_.moved(start, total); },
-                             "Move control point " + std::to_string(patch_panel_.selected())};
   const glm::dvec3 centre = selection_centre().value_or(glm::dvec3(0.0));
-  if (!ws_.begin_move(std::move(mover))) return false;
+  if (!ws_.begin_move()) return false;  // the cage selection, or the parametric driver's control point
   drag_handle_ = handle;
   drag_from_ = from;
   drag_centre_ = centre;
@@ -129,8 +125,8 @@ void Editor::click_select(const ImVec2& mouse, bool add, bool remove) {
   Viewport vp{view_w_, view_h_};
   glm::dvec2 px = to_view(mouse);
   std::optional<uint32_t> hit;
-  if (patch_panel_.pick(*ws_.scene(), ws_.view.camera, vp, px)) return;  // a parametric driver's control point, while its window is open
-  if (!add && !remove) patch_panel_.deselect();
+  if (patch_panel_.pick(ws_, ws_.view.camera, vp, px)) return;  // a parametric driver's control point, while its window is open
+  if (!add && !remove) ws_.view.patch.point = -1;
   IndexSet* set = &ws_.active_set();
   switch (ws_.view.mode) {
     case SelectMode::kCageVertices:

@@ -50,17 +50,17 @@
 #include "app/workspace/scene.h"
 #include "app/project_dialogs.h"
 #include "app/workspace/autosave.h"
-#include "core/deform/binding_cache.h"
+#include "core/document/binding_cache.h"
 #include "app/workspace/camera.h"
-#include "core/io/mesh_io.h"
+#include "core/geometry/mesh_io.h"
 #include "app/workspace/move_gizmo.h"
 #include "app/workspace/rotate_gizmo.h"
 #include "app/workspace/soft_selection.h"
 #include "core/geometry/triangle_bvh.h"
 #include "app/workspace/picking.h"
-#include "core/io/project_io.h"
+#include "core/document/project_io.h"
 #include "core/geometry/selection.h"
-#include "core/rig/demo_character.h"
+#include "core/character/demo_character.h"
 #include "core/io/gltf_writer.h"
 #include "render/headless_gl.h"
 #include "render/viewport_renderer.h"
@@ -224,7 +224,6 @@ class Editor {
   ExportPanel export_panel_;
   FidelityPanel fidelity_panel_;
   bool script_waits_for_export_ = true;    // false after `export_nowait`: the script goes on meanwhile
-  bool script_waits_for_fidelity_ = true;  // false after `fidelity_check_nowait`
   SkinDisplay skin_display_;  // the skin on the GPU or the CPU, and the frame-time split
   RigPanel rig_panel_;
   SetsPanel sets_panel_;

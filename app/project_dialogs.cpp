@@ -6,8 +6,6 @@
 #include <filesystem>
 #include <utility>
 
-#include "core/rig/character_embedding.h"
-#include "core/base/file_hash.h"
 
 namespace cagewrap::app {
 
@@ -18,15 +16,6 @@ namespace {
 constexpr const char* kMissingTitle = "Character not found";
 constexpr const char* kRecoveryTitle = "Recover unsaved work?";
 
-// The folder to start browsing in: the nearest existing folder above `path`, else `fallback`'s.
-std::string nearest_folder(const std::string& path, const std::string& fallback) {
-  std::error_code ec;
-  for (fs::path p = fs::path(path).parent_path(); !p.empty(); p = p.parent_path()) {
-    if (fs::is_directory(p, ec)) return p.string();
-    if (p == p.root_path()) break;
-  }
-  return fs::path(fallback).parent_path().string();
-}
 
 }  // namespace
 
@@ -54,7 +43,7 @@ ProjectDialogs::Request ProjectDialogs::draw() {
         request.kind = Request::Kind::kLocate;
         request.project = locating_ = missing_project_;
         request.character = missing_character_;
-        request.directory = nearest_folder(missing_character_, missing_project_);
+        request.directory = Workspace::browse_folder_near(missing_character_, missing_project_);
         missing_character_.clear();
         ImGui::CloseCurrentPopup();
       }
@@ -104,81 +93,31 @@ ProjectDialogs::Request ProjectDialogs::draw() {
   return request;
 }
 
-void ProjectDialogs::set_embedded(Scene& scene, bool embed, const EditorHooks& hooks, Request& request) {
-  const Document& doc = scene.doc();
-  if (embed) {
-    auto e = embed_character(doc);
-    if (!e) {
-      hooks.show_error(e.error().message);
-      return;
-    }
-    scene.apply("Embed the character", std::move(e).value());
-    hooks.log("embedded the character " + doc.character_path + " in the project (" +
-                  std::to_string(scene.doc().embedded_character->size()) + " bytes); save to keep it",
-              false);
-  } else {
-    // back to the file it came from when that still holds these bytes; else ask where
-    auto hash = hash_file(doc.character_path);
-    if (!hash || *hash != doc.character_hash) {
-      request.kind = Request::Kind::kSaveCharacter;
-      request.character = fs::path(doc.character_path).filename().string();
-      request.directory = doc.project_path.empty() ? nearest_folder(doc.character_path, ".")
-                                                   : fs::path(doc.project_path).parent_path().string();
-      return;
-    }
-    unembed_to(scene, doc.character_path, hooks);
-  }
-}
-
-void ProjectDialogs::unembed_to(Scene& scene, const std::string& path, const EditorHooks& hooks) {
-  auto u = unembed_character(scene.doc(), path, /*replace=*/true);
-  if (!u) {
-    hooks.show_error(u.error().message);
-    return;
-  }
-  scene.apply("Take the character out of the project", std::move(u).value());
-  hooks.log("the project names the character file " + scene.doc().character_path + " again; save to keep it", false);
-}
-
-void ProjectDialogs::set_cache_binding(Scene& scene, bool cache, const EditorHooks& hooks) {
-  scene.apply(cache ? "Cache the binding" : "Stop caching the binding", with_cache_binding(scene.doc(), cache));
-  hooks.log(cache ? "the binding will be saved beside the project (opening it then needs no bind)"
-                  : "the binding will no longer be saved beside the project",
-            false);
-}
-
-ProjectDialogs::Request ProjectDialogs::menu_items(Scene& scene, const EditorHooks& hooks) {
+ProjectDialogs::Request ProjectDialogs::menu_items(Workspace& ws) {
   Request request;
-  const Document& doc = scene.doc();
+  const Document& doc = ws.scene()->doc();
   const bool embedded = doc.embedded_character != nullptr;
-  if (ImGui::MenuItem("Embed the character in the project", nullptr, embedded)) set_embedded(scene, !embedded, hooks, request);
+  if (ImGui::MenuItem("Embed the character in the project", nullptr, embedded)) {
+    if (!embedded) {
+      ws.embed_character();
+    } else if (auto ask = ws.where_to_unembed()) {  // the file it came from no longer holds it: ask where
+      request.kind = Request::Kind::kSaveCharacter;
+      request.character = ask->name;
+      request.directory = ask->directory;
+    } else {
+      ws.unembed_character();
+    }
+  }
   if (ImGui::IsItemHovered())
     ImGui::SetTooltip(embedded ? "The project holds the character file (%s): it opens with no other file.\nUntick to write it back out."
                                : "The project names the character file %s.\nTick to keep the file inside the project.",
                       embedded ? (std::to_string(doc.embedded_character->size()) + " bytes").c_str() : doc.character_path.c_str());
   const bool cached = doc.cache_binding;
-  if (ImGui::MenuItem("Cache the binding beside the project", nullptr, cached)) set_cache_binding(scene, !cached, hooks);
+  if (ImGui::MenuItem("Cache the binding beside the project", nullptr, cached)) ws.set_cache_binding(!cached);
   if (ImGui::IsItemHovered())
     ImGui::SetTooltip("Saves the binding as <project>.cwb beside the project, so opening it needs no bind.\n"
                       "Used only while the character, cage, parameters, set edits and attachment are unchanged.");
   return request;
-}
-
-bool ProjectDialogs::script_command(const std::string& cmd, std::istringstream& in, Scene* scene, const EditorHooks& hooks,
-                                    Request& request) {
-  std::string arg;
-  if (cmd == "answer_missing") in >> answer_missing_;
-  else if (cmd == "answer_recovery") in >> answer_recovery_;
-  else if (cmd == "embed" || cmd == "cache_binding") {
-    in >> arg;
-    if (!scene) return true;
-    const bool on = arg == "on";
-    if (cmd == "embed" && on != (scene->doc().embedded_character != nullptr)) set_embedded(*scene, on, hooks, request);
-    if (cmd == "cache_binding" && on != scene->doc().cache_binding) set_cache_binding(*scene, on, hooks);
-  } else {
-    return false;
-  }
-  return true;
 }
 
 }  // namespace cagewrap::app

@@ -2,7 +2,7 @@
 // answers: a character file that moved ("The character X was not found. Locate..."), the unsaved
 // work an earlier run left in recovery files (app/workspace/autosave.h: "Recover unsaved work from <time>?"
 // Recover / Discard / Later), and the File menu's storage toggles (embed the character in the
-// project, cache the binding beside it; core/rig/character_embedding.h, core/deform/binding_cache.h).
+// project, cache the binding beside it; core/document/character_embedding.h, core/document/binding_cache.h).
 #pragma once
 
 #include <sstream>
@@ -12,6 +12,7 @@
 #include "app/cage_tools.h"
 #include "app/workspace/scene.h"
 #include "app/workspace/autosave.h"
+#include "app/workspace/workspace.h"
 
 namespace cagewrap::app {
 
@@ -46,21 +47,17 @@ class ProjectDialogs {
   Request draw();
 
   // Items of the File menu: "Embed the character in the project", "Cache the binding beside the
-  // project"; each change is one undo step. Turning embedding off writes the character back out:
-  // to the file it came from when that still holds the same bytes, else where the returned
-  // kSaveCharacter request's browser says (then call unembed_to).
-  Request menu_items(Scene& scene, const EditorHooks& hooks);
-  // Takes the embedded character out of the project into `path` (the browser asked before replacing).
-  void unembed_to(Scene& scene, const std::string& path, const EditorHooks& hooks);
+  // project" (the workspace's embed_character, unembed_character, set_cache_binding: one undo step
+  // each). Turning embedding off writes the character back out: to the file it came from when that
+  // still holds the same bytes, else where the returned kSaveCharacter request's browser says.
+  Request menu_items(Workspace& ws);
 
-  // Script commands (the prompts' buttons): answer_missing locate|cancel,
-  // answer_recovery recover|discard|later, embed on|off, cache_binding on|off. False: not one of these.
-  bool script_command(const std::string& cmd, std::istringstream& in, Scene* scene, const EditorHooks& hooks,
-                      Request& request);
+  // Scripted button presses of the prompts (the next draw answers): locate|cancel, and
+  // recover|discard|later.
+  void answer_missing(std::istringstream& in) { in >> answer_missing_; }
+  void answer_recovery(std::istringstream& in) { in >> answer_recovery_; }
 
  private:
-  void set_embedded(Scene& scene, bool embed, const EditorHooks& hooks, Request& request);
-  void set_cache_binding(Scene& scene, bool cache, const EditorHooks& hooks);
 
   std::string missing_project_, missing_character_;  // the open question; "" = none
   bool open_missing_ = false;

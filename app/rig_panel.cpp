@@ -12,9 +12,9 @@
 
 #include <glm/geometric.hpp>
 
-#include "core/rig/cage_attachment.h"
-#include "core/rig/keyposes.h"
-#include "core/rig/mirror_names.h"
+#include "core/cage/cage_attachment.h"
+#include "core/cage/keyposes.h"
+#include "core/character/mirror_names.h"
 
 namespace cagewrap::app {
 

@@ -19,7 +19,7 @@
 #include "app/workspace/scene.h"
 #include "app/workspace/workspace.h"
 #include "core/geometry/selection.h"
-#include "core/document/set_editing.h"
+#include "core/deform/set_editing.h"
 #include "core/document/skin_brush.h"
 
 namespace cagewrap::app {

@@ -1,4 +1,4 @@
-// The editor's Simulation window: the cage's secondary motion (core/cage/cage_sim.h, core/cage/clip_sim.h) on
+// The editor's Simulation window: the cage's secondary motion (core/cage/cage_sim.h, core/rig/clip_sim.h) on
 // or off, its parameters, the per-vertex weights of the selected cage vertices (pinned, mass,
 // stiffness; the soft selection blends them in), the colliders, and how far the current clip's
 // simulation has been filled. While the window is open the cage shows the weights: pinned vertices

@@ -3,9 +3,9 @@
 
 #include <gtest/gtest.h>
 
-#include "core/rig/animation.h"
+#include "core/character/animation.h"
 #include "core/io/gltf_loader.h"
-#include "core/rig/skinning.h"
+#include "core/character/skinning.h"
 #include "tests/gltf_samples.h"
 
 namespace cagewrap {

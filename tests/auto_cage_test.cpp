@@ -1,7 +1,7 @@
 // Automatic cage: invariants on fixtures, the demo character, the real mannequin (quality, clean
 // shells, quads, the points failing the quality figure, posed deformation against the file's own
 // skinning), errors.
-#include "core/cage/auto_cage.h"
+#include "core/rig/auto_cage.h"
 
 #include <algorithm>
 #include <atomic>
@@ -12,12 +12,12 @@
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
 
-#include "core/rig/cage_attachment.h"
+#include "core/cage/cage_attachment.h"
 #include "core/deform/deformer.h"
 #include "core/io/gltf_loader.h"
 #include "core/cage/quad_pairing.h"
 #include "core/deform/registration.h"
-#include "core/rig/skinning.h"
+#include "core/character/skinning.h"
 #include "core/geometry/surface_distance.h"
 #include "tests/fixtures.h"
 #include "tests/test_assets.h"

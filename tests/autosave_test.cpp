@@ -17,7 +17,7 @@
 
 #include "app/workspace/autosave.h"
 #include "app/workspace/preferences.h"
-#include "core/io/project_io.h"
+#include "core/document/project_io.h"
 #include "tests/document_fixtures.h"
 
 namespace cagewrap {

@@ -1,5 +1,5 @@
 // Tests that a saved project reproduces its deformation exactly, and for its cached binding
-// (core/deform/binding_cache.h). On the demo character (written to a .glb) with its cage, a keypose (the
+// (core/document/binding_cache.h). On the demo character (written to a .glb) with its cage, a keypose (the
 // biceps bulge of rig_test.cpp), set edits, the smooth attachment and sculpted cage offsets: the
 // skin and the posed cage after save + load equal those before, bit for bit, at clip frames, with a
 // posed joint and with the keypose acting; a cached open deforms bit for bit like a fresh bind and
@@ -18,11 +18,11 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/deform/binding_cache.h"
+#include "core/document/binding_cache.h"
 #include "core/io/binding_io.h"
-#include "core/rig/demo_character.h"
+#include "core/character/demo_character.h"
 #include "core/io/gltf_writer.h"
-#include "core/io/project_io.h"
+#include "core/document/project_io.h"
 #include "core/rig/rig.h"
 #include "tests/document_fixtures.h"
 #include "tests/expect_error.h"

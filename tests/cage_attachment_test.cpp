@@ -1,4 +1,4 @@
-// Tests for core/rig/cage_attachment.h: rigid attachment to the closest limb, the smooth blend near
+// Tests for core/cage/cage_attachment.h: rigid attachment to the closest limb, the smooth blend near
 // joints (weights sum to 1, rigid far away, 1/2 on the bisector, continuous, hence a cage that bends
 // instead of tearing), per-vertex overrides and their mirror, and the errors that name the vertex
 // and the node.
@@ -6,9 +6,9 @@
 
 #include <glm/geometric.hpp>
 
-#include "core/rig/cage_attachment.h"
+#include "core/cage/cage_attachment.h"
 #include "core/io/gltf_loader.h"
-#include "core/rig/skinning.h"
+#include "core/character/skinning.h"
 #include "tests/rig_fixtures.h"
 
 namespace cagewrap {

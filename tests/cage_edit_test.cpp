@@ -1,6 +1,6 @@
-// Tests for core/cage/cage_edit.h: merging and welding vertices (collapsed faces dropped and reported),
+// Tests for core/document/cage_edit.h: merging and welding vertices (collapsed faces dropped and reported),
 // flipping faces, triangulating; the topology change each returns; every error.
-#include "core/cage/cage_edit.h"
+#include "core/document/cage_edit.h"
 
 #include <gtest/gtest.h>
 

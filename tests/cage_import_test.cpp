@@ -1,11 +1,11 @@
-// Tests for core/cage/cage_import.h: each kind of cage problem is found and named by element, face,
+// Tests for core/io/cage_import.h: each kind of cage problem is found and named by element, face,
 // edge or vertex; a clean cage has none; glTF files can be read as cages.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 
-#include "core/cage/cage_import.h"
-#include "core/rig/demo_character.h"
+#include "core/io/cage_import.h"
+#include "core/character/demo_character.h"
 #include "core/io/gltf_writer.h"
 #include "tests/expect_error.h"
 #include "tests/fixtures.h"

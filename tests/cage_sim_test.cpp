@@ -8,7 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "core/cage/cage_sim.h"
-#include "core/cage/demo_sim.h"
+#include "core/rig/demo_sim.h"
 #include "tests/expect_error.h"
 
 namespace cagewrap {

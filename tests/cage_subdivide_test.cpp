@@ -1,7 +1,7 @@
-// Tests for core/cage/cage_subdivide.h: linear subdivision keeps the surface, Loop smooths and converges
+// Tests for core/document/cage_subdivide.h: linear subdivision keeps the surface, Loop smooths and converges
 // (counts V + E and 4F, boundary rules), red-green refinement leaves no T-junction and keeps the
 // surface closed, manifold and oriented; quads; errors.
-#include "core/cage/cage_subdivide.h"
+#include "core/document/cage_subdivide.h"
 
 #include <gtest/gtest.h>
 
@@ -9,7 +9,7 @@
 #include <cmath>
 #include <set>
 
-#include "core/cage/cage_edit.h"
+#include "core/document/cage_edit.h"
 #include "core/cage/mesh_check.h"
 #include "tests/cage_checks.h"
 #include "tests/expect_error.h"

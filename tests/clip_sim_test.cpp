@@ -1,14 +1,14 @@
-// The per-clip simulation cache (core/cage/clip_sim.h), Rig::pose_clip and the baked-animation export
+// The per-clip simulation cache (core/rig/clip_sim.h), Rig::pose_clip and the baked-animation export
 // of a simulated cage, on the demo character with its belly jiggling through the walk
-// (core/cage/demo_sim.h).
+// (core/rig/demo_sim.h).
 #include <cstring>
 #include <optional>
 
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
-#include "core/cage/clip_sim.h"
-#include "core/cage/demo_sim.h"
+#include "core/rig/clip_sim.h"
+#include "core/rig/demo_sim.h"
 #include "core/rig/rig.h"
 #include "core/export/rig_export.h"
 #include "tests/expect_error.h"

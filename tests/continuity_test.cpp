@@ -10,7 +10,7 @@
 #include "core/deform/lipschitz_probe.h"
 #include "core/deform/registration.h"
 #include "core/deform/vertex_frames.h"
-#include "core/io/mesh_io.h"
+#include "core/geometry/mesh_io.h"
 #include "tests/fixtures.h"
 #include "tests/test_assets.h"
 

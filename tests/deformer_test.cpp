@@ -8,7 +8,7 @@
 
 #include "core/deform/deformer.h"
 #include "core/geometry/geometry.h"
-#include "core/io/mesh_io.h"
+#include "core/geometry/mesh_io.h"
 #include "core/deform/registration.h"
 #include "tests/fixtures.h"
 #include "tests/test_assets.h"

@@ -8,12 +8,12 @@
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
-#include "core/rig/demo_character.h"
+#include "core/character/demo_character.h"
 #include "core/io/gltf_loader.h"
 #include "core/io/gltf_writer.h"
-#include "core/rig/joint_angles.h"
+#include "core/character/joint_angles.h"
 #include "core/cage/mesh_check.h"
-#include "core/rig/skinning.h"
+#include "core/character/skinning.h"
 #include "tests/gltf_builder.h"
 
 namespace cagewrap {

@@ -11,7 +11,7 @@
 
 #include <gtest/gtest.h>
 
-#include "core/io/mesh_io.h"
+#include "core/geometry/mesh_io.h"
 #include "tests/fixtures.h"
 #include "tests/gltf_builder.h"
 

@@ -1,8 +1,10 @@
 // The editor's Parametric driver window (app/patch_panel.h), run for real under Xvfb: a sheet of
 // quads is imported as the cage in front of the demo character's chest, its faces are selected and a
-// B-spline grid is fitted to them (drawn as a control net), two control points are moved (the skin
-// follows: the view changes around the chest and the exported driver holds exactly the moves), the
-// density is raised, and a missing driver file is an error that keeps everything.
+// B-spline grid is fitted to them (drawn as a control net), two control points are moved (one picked
+// by a click in the view and moved by the move gizmo's path; the skin follows: the view changes around
+// the chest and the exported driver holds exactly the moves), the density is raised, and a missing
+// driver file is an error that keeps everything. Undo, redo, cancel and the project are tested
+// in-process (tests/workspace_jobs_test.cpp).
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -12,7 +14,7 @@
 
 #include "core/deform/patch_fit.h"
 #include "core/io/patch_io.h"
-#include "core/io/mesh_io.h"
+#include "core/geometry/mesh_io.h"
 #include "tests/gui_harness.h"
 
 namespace {
@@ -59,7 +61,7 @@ TEST(EditorPatchGui, FitMoveAndDensityDriveTheSkin) {
   std::string script = "import_cage " + sheet.string() + "\nwait 2\n";
   for (uint32_t f = 0; f < cage.num_faces(); ++f) script += "select_cage_face " + std::to_string(f) + " add\n";
   script += "patch_panel\npatch_fit\nwait 2\nscreenshot " + (dir / "patch_fit.png").string() +
-            "\npatch_select 14\npatch_move 0.1 0.15 0\npatch_select 15\npatch_move -0.1 0.15 0\nwait 2\n"
+            "\nclick_patch_point 14\nwait 2\nmove 0.1 0.15 0\npatch_select 15\npatch_move -0.1 0.15 0\nwait 2\n"
             "screenshot " + (dir / "patch_moved.png").string() + "\npatch_export " + exported.string() +
             "\npatch_density 6\nwait 2\nscreenshot " + (dir / "patch_dense.png").string() +
             "\npatch_import " + (dir / "missing.cwpatch").string() + "\nwait 2\nscreenshot " + (dir / "patch_error.png").string() + "\npatch_export " + kept.string() + "\n";
@@ -98,79 +100,6 @@ TEST(EditorPatchGui, FitMoveAndDensityDriveTheSkin) {
   auto after_error = load_patch(kept.string());
   ASSERT_TRUE(after_error.ok()) << after_error.error().message;
   EXPECT_EQ(*after_error, *moved);
-}
-
-// Control points are picked by a click in the view and moved with the move gizmo. The driver is
-// document content: moves, density and drive on/off are undo steps that Edit > Undo
-// and Redo restore (the skin rebinds in the background when the density comes back), a bind can be
-// cancelled, and a saved
-// project opens with its driver, posed, bound again.
-TEST(EditorPatchGui, UndoRedoAndTheProjectKeepTheDriver) {
-  std::string why;
-  if (!gui_available(why)) GTEST_SKIP() << why;
-  const fs::path dir = gui_test_dir();
-  const fs::path sheet = dir / "patch_undo_sheet.obj", project = dir / "patch_undo.cagewrap";
-  const PolyMesh cage = chest_sheet();
-  ASSERT_TRUE(save_obj(sheet.string(), cage.positions, cage).ok());
-  auto out = [&](const char* name) { return dir / (std::string("patch_undo_") + name); };
-  for (const char* f : {"both.cwpatch", "one.cwpatch", "redo.cwpatch", "none.cwpatch", "opened.cwpatch", "picked.png", "moved.png",
-                        "undone.png", "opened.png"})
-    fs::remove(out(f));
-  fs::remove(project);
-  std::string script = "import_cage " + sheet.string() + "\nwait 2\n";
-  for (uint32_t f = 0; f < cage.num_faces(); ++f) script += "select_cage_face " + std::to_string(f) + " add\n";
-  // control point 14 is picked by a click in the view and moved by the move gizmo's path; 15 by index
-  script += "patch_panel\npatch_fit\nwait 2\nclick_patch_point 14\nwait 2\nscreenshot " + out("picked.png").string() +
-            "\nmove 0.1 0.15 0\npatch_select 15\npatch_move -0.1 0.15 0\n"
-            "wait 2\nscreenshot " + out("moved.png").string() + "\npatch_export " + out("both.cwpatch").string() +
-            "\nundo\nwait 2\npatch_export " + out("one.cwpatch").string() + "\nredo\nwait 2\npatch_export " +
-            out("redo.cwpatch").string() + "\npatch_density 6\nwait 2\nundo\nwait 2\npatch_density 150 nowait\npatch_cancel\nwait 2\nsave " + project.string() +
-            "\nundo\nundo\nundo\nwait 2\nscreenshot " + out("undone.png").string() + "\npatch_export " +
-            out("none.cwpatch").string() + "\nopen " + project.string() + "\nwait 4\nscreenshot " +
-            out("opened.png").string() + "\npatch_export " + out("opened.cwpatch").string() + "\n";
-  const std::string demo = std::string(CAGEWRAP_SOURCE_DIR) + "/assets/demo_character.glb";
-  EditorRun run = run_editor_script(dir, "patch_undo", script, demo + " --width 1280 --height 720", dir / "config_patch_undo");
-  ASSERT_EQ(run.status, 0) << run.log;
-
-  auto grid = fit_patch_to_faces(cage, cage.positions, std::vector<uint32_t>{0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14,
-                                                                             15, 16, 17, 18, 19});
-  ASSERT_TRUE(grid.ok());
-  auto expect_moves = [&](const fs::path& file, bool second) {
-    auto got = load_patch(file.string());
-    ASSERT_TRUE(got.ok()) << got.error().message;
-    ASSERT_EQ(got->grids[0].points.size(), grid->points.size());
-    for (size_t k = 0; k < grid->points.size(); ++k) {
-      const glm::dvec3 want = grid->points[k] + (k == 14 ? glm::dvec3(0.1, 0.15, 0)
-                                                 : k == 15 && second ? glm::dvec3(-0.1, 0.15, 0) : glm::dvec3(0.0));
-      EXPECT_LT(glm::length(got->grids[0].points[k] - want), 1e-9) << file << " control point " << k;
-    }
-  };
-  expect_moves(out("both.cwpatch"), true);
-  expect_moves(out("one.cwpatch"), false);  // undo took the second move back
-  expect_moves(out("redo.cwpatch"), true);
-  expect_moves(out("opened.cwpatch"), true);  // the project held the posed driver
-  EXPECT_FALSE(fs::exists(out("none.cwpatch")));  // undone to before the fit: no driver
-  EXPECT_NE(run.log.find("nothing to export"), std::string::npos) << run.log;
-  // the density step and its undo: bound at 6, then at 2 again (in the background)
-  const size_t dense = run.log.find("to 247 samples (density 6");
-  ASSERT_NE(dense, std::string::npos) << run.log;
-  EXPECT_NE(run.log.find("to 35 samples (density 2", dense), std::string::npos) << run.log;
-  EXPECT_NE(run.log.find("Undo Move control point 15"), std::string::npos) << run.log;
-  // a dense bind cancelled (the script goes on while it runs, then Cancel): the driver keeps density 2. Density
-  // 150 (135,751 samples; 200 would be more than the 150,000 a driver may have)
-  EXPECT_NE(run.log.find("parametric driver: bind cancelled; the driver is unchanged"), std::string::npos) << run.log;
-  EXPECT_EQ(run.log.find("(density 150"), std::string::npos) << run.log;
-  EXPECT_NE(run.log.find("Redo Move control point 15"), std::string::npos) << run.log;
-  // the saved project records the driver at density 2
-  const std::string text = read_file(project);
-  EXPECT_NE(text.find("\"patch_driver\": {\"density\": 2"), std::string::npos);
-
-  const Image moved = load_png(out("moved.png").string()), undone = load_png(out("undone.png").string()),
-              opened = load_png(out("opened.png").string());
-  ASSERT_FALSE(moved.rgb.empty() || undone.rgb.empty() || opened.rgb.empty());
-  EXPECT_GT(net_pixels(moved), 300u);
-  EXPECT_LT(net_pixels(undone), 20u) << "no driver, no control net";
-  EXPECT_GT(net_pixels(opened), 300u) << "the opened project draws its driver";
 }
 
 }  // namespace

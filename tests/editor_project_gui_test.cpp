@@ -19,8 +19,8 @@
 #include <nlohmann/json.hpp>
 
 #include "app/workspace/autosave.h"
-#include "core/deform/binding_cache.h"
-#include "core/io/project_io.h"
+#include "core/document/binding_cache.h"
+#include "core/document/project_io.h"
 #include "tests/gui_harness.h"
 
 namespace cagewrap {

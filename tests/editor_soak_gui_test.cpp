@@ -24,7 +24,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/document/document.h"
-#include "core/io/project_io.h"
+#include "core/document/project_io.h"
 #include "tests/gui_harness.h"
 
 namespace cagewrap {

@@ -16,7 +16,7 @@
 #include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
 
-#include "core/io/mesh_io.h"
+#include "core/geometry/mesh_io.h"
 #include "core/geometry/selection.h"
 #include "tests/fixtures.h"
 #include "tests/gui_harness.h"

@@ -1,7 +1,7 @@
-// Tests for core/export/rig_export.h on the demo character (core/rig/demo_character.h) and its cage
+// Tests for core/export/rig_export.h on the demo character (core/character/demo_character.h) and its cage
 // (assets/demo_cage.obj) at a few frames per second: every mode passes the Khronos glTF validator,
 // keeps its mesh on a root node with identity transform, and loads again (core/io/gltf_loader.h)
-// reproducing the rig at the sampled frames, posed by core/rig/skinning.h with the file's morph
+// reproducing the rig at the sampled frames, posed by core/character/skinning.h with the file's morph
 // weights; the fitted weights of baked-skin are at most four per vertex, non-negative and sum to 1
 // in float32. Errors and timings are recorded as properties, never asserted as timings.
 #include <gtest/gtest.h>
@@ -14,13 +14,13 @@
 #include <glm/geometric.hpp>
 #include <sstream>
 
-#include "core/cage/cage_import.h"
-#include "core/rig/demo_character.h"
+#include "core/io/cage_import.h"
+#include "core/character/demo_character.h"
 #include "core/io/gltf_loader.h"
 #include "core/io/gltf_writer.h"
-#include "core/io/mesh_io.h"
+#include "core/geometry/mesh_io.h"
 #include "core/export/rig_export.h"
-#include "core/rig/skinning.h"
+#include "core/character/skinning.h"
 #include "tests/gltf_builder.h"
 #include "tests/gltf_validator.h"
 #include "tests/rig_fixtures.h"

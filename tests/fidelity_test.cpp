@@ -1,21 +1,21 @@
-// The rig against the character's own skinning (core/deform/fidelity.h), and what makes the default rig
-// faithful: the attachment read in the bind pose, the fitted attachment (core/rig/attachment_fit.h), part
-// relations along bone chains and bridging elements (core/rig/part_labels.h), cage shells owning their
+// The rig against the character's own skinning (core/rig/fidelity.h), and what makes the default rig
+// faithful: the attachment read in the bind pose, the fitted attachment (core/deform/attachment_fit.h), part
+// relations along bone chains and bridging elements (core/deform/part_labels.h), cage shells owning their
 // skin pieces (core/cage/cage_shells.h); contributing-set edits through the document's bind.
 #include <algorithm>
 #include <cmath>
 
 #include <gtest/gtest.h>
 
-#include "core/rig/attachment_fit.h"
-#include "core/cage/auto_cage.h"
+#include "core/deform/attachment_fit.h"
+#include "core/rig/auto_cage.h"
 #include "core/cage/cage_shells.h"
-#include "core/deform/fidelity.h"
+#include "core/rig/fidelity.h"
 #include "core/io/gltf_loader.h"
-#include "core/rig/part_labels.h"
+#include "core/deform/part_labels.h"
 #include "core/rig/rig.h"
-#include "core/document/set_editing.h"
-#include "core/rig/skinning.h"
+#include "core/deform/set_editing.h"
+#include "core/character/skinning.h"
 #include "rig_fixtures.h"
 #include "test_assets.h"
 
@@ -151,7 +151,7 @@ TEST(FittedAttachment, IsCloserToTheFilesSkinningThanTheTransferredWeights) {
 
 // The fit's term along the skin's edges lowers the largest edge stretch without moving the worst
 // vertex: the default rig (the term, then the stencil smoothed where the rig outruns the file's
-// weights, core/rig/attachment_fit.h fit_rig) against the registration's rows with a plain fit
+// weights, core/deform/attachment_fit.h fit_rig) against the registration's rows with a plain fit
 // (measured on the demo's automatic cage before the smoothing: 11.4x -> 10.1x, worst 3.81% -> 3.83%).
 TEST(FittedAttachment, TheEdgeTermLowersTheWorstStretch) {
   const Document doc = test::demo_with_automatic_cage();

@@ -7,7 +7,7 @@
 
 #include <glm/gtc/quaternion.hpp>
 
-#include "core/rig/character.h"
+#include "core/character/character.h"
 #include "tests/gltf_builder.h"
 
 namespace cagewrap::test {

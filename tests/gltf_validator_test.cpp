@@ -8,7 +8,7 @@
 
 #include <gtest/gtest.h>
 
-#include "core/rig/demo_character.h"
+#include "core/character/demo_character.h"
 #include "core/io/gltf_writer.h"
 #include "tests/gltf_samples.h"
 #include "tests/gltf_validator.h"

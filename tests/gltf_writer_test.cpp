@@ -4,7 +4,7 @@
 
 #include "core/io/gltf_loader.h"
 #include "core/io/gltf_writer.h"
-#include "core/rig/skinning.h"
+#include "core/character/skinning.h"
 #include "tests/gltf_samples.h"
 
 namespace cagewrap {

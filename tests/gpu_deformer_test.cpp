@@ -14,14 +14,14 @@
 #include <vector>
 
 #include "core/cage/cage.h"
-#include "core/cage/cage_import.h"
+#include "core/io/cage_import.h"
 #include "core/deform/deformer.h"
 #include "core/document/document.h"
-#include "core/io/mesh_io.h"
+#include "core/geometry/mesh_io.h"
 #include "core/geometry/mesh_normals.h"
 #include "core/deform/registration.h"
 #include "core/rig/rig.h"
-#include "core/rig/skinning.h"
+#include "core/character/skinning.h"
 #include "core/deform/twist.h"
 #include "tests/fixtures.h"
 #include "tests/test_assets.h"

@@ -1,4 +1,4 @@
-// Tests for core/deform/interpolation.h: piecewise-linear weights, the Fritsch-Carlson monotone cubic
+// Tests for core/geometry/interpolation.h: piecewise-linear weights, the Fritsch-Carlson monotone cubic
 // (exact at keys, monotone between monotone keys, flat at extrema, clamped outside, C1), and RBF
 // interpolation (every key reproduced exactly by every kernel, also in degenerate layouts).
 #include <gtest/gtest.h>
@@ -6,7 +6,7 @@
 #include <cmath>
 #include <random>
 
-#include "core/deform/interpolation.h"
+#include "core/geometry/interpolation.h"
 
 namespace cagewrap {
 namespace {

@@ -5,8 +5,8 @@
 #include <gtest/gtest.h>
 
 #include "core/io/gltf_loader.h"
-#include "core/rig/joint_angles.h"
-#include "core/rig/skinning.h"
+#include "core/character/joint_angles.h"
+#include "core/character/skinning.h"
 #include "tests/gltf_builder.h"
 
 namespace cagewrap {

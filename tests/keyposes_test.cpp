@@ -1,4 +1,4 @@
-// Tests for core/rig/keyposes.h and core/rig/mirror_names.h: driver readings, one-driver interpolation
+// Tests for core/cage/keyposes.h and core/character/mirror_names.h: driver readings, one-driver interpolation
 // (linear and monotone cubic exactness, clamping, the implicit rest key and its removal), pose-space
 // RBF sets (every key reproduced, zero at rest), mute/solo, editing helpers, validation messages,
 // and mirroring to the other side (checked against a geometrically mirrored pose).
@@ -9,8 +9,8 @@
 #include <glm/geometric.hpp>
 #include <glm/gtc/quaternion.hpp>
 
-#include "core/rig/keyposes.h"
-#include "core/rig/mirror_names.h"
+#include "core/cage/keyposes.h"
+#include "core/character/mirror_names.h"
 #include "tests/rig_fixtures.h"
 
 namespace cagewrap {

@@ -1,4 +1,4 @@
-// Tests for core/io/mesh_io.h, core/geometry/mesh.h and the cage helpers of core/cage/cage.h: loading each format,
+// Tests for core/geometry/mesh_io.h, core/geometry/mesh.h and the cage helpers of core/cage/cage.h: loading each format,
 // writing and re-reading positions, every load error naming the file and the element, and the
 // polygon utilities (validation, triangulation, edges, element classification).
 #include <gtest/gtest.h>
@@ -32,7 +32,7 @@
 
 #include "core/cage/cage.h"
 #include "core/geometry/mesh.h"
-#include "core/io/mesh_io.h"
+#include "core/geometry/mesh_io.h"
 
 namespace cagewrap {
 namespace {

@@ -9,7 +9,7 @@
 #include <glm/geometric.hpp>
 
 #include "core/io/gltf_loader.h"
-#include "core/rig/skinning.h"
+#include "core/character/skinning.h"
 #include "tests/fixtures.h"
 
 namespace cagewrap {

@@ -1,4 +1,4 @@
-// Tests for core/io/project_io.h and core/base/atomic_write.h: save -> load gives the same document (cage
+// Tests for core/document/project_io.h and core/base/atomic_write.h: save -> load gives the same document (cage
 // positions bit for bit), the character path is stored relative to the project and survives moving
 // both, every load error names the file and the JSON path, the hash mismatch is a warning, unknown
 // fields are kept, and saving is atomic (the old file is replaced only by a complete new one).
@@ -21,7 +21,7 @@
 
 #include "core/base/atomic_write.h"
 #include "core/base/file_hash.h"
-#include "core/io/project_io.h"
+#include "core/document/project_io.h"
 #include "tests/document_fixtures.h"
 #include "tests/patch_fixtures.h"
 #include "tests/expect_error.h"

@@ -1,6 +1,6 @@
 // Tests for how a project stores its character: core/base/base64.h (RFC 4648 vectors, every length,
-// strict decoding), load_character_bytes (core/io/gltf_loader.h), and core/rig/character_embedding.h with
-// the project file (core/io/project_io.h): an embedded project opens with no other file, is written as
+// strict decoding), load_character_bytes (core/io/gltf_loader.h), and core/document/character_embedding.h with
+// the project file (core/document/project_io.h): an embedded project opens with no other file, is written as
 // version 3 (a project that embeds nothing stays version 2 for older builds), a damaged embedding
 // is named, a character that refers to other files cannot be embedded, and taking it out again
 // writes the same bytes.
@@ -12,10 +12,10 @@
 #include <nlohmann/json.hpp>
 
 #include "core/base/base64.h"
-#include "core/rig/character_embedding.h"
+#include "core/document/character_embedding.h"
 #include "core/base/file_hash.h"
 #include "core/io/gltf_loader.h"
-#include "core/io/project_io.h"
+#include "core/document/project_io.h"
 #include "tests/document_fixtures.h"
 #include "tests/expect_error.h"
 

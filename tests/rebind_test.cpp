@@ -11,8 +11,8 @@
 
 #include "core/deform/deformer.h"
 #include "core/deform/registration.h"
-#include "core/cage/rest_edit.h"
-#include "core/document/set_editing.h"
+#include "core/deform/rest_edit.h"
+#include "core/deform/set_editing.h"
 #include "tests/fixtures.h"
 #include "tests/set_fixtures.h"
 

@@ -14,7 +14,7 @@
 
 #include "core/base/json_reader.h"
 #include "core/export/rig_json.h"
-#include "core/rig/skinning.h"
+#include "core/character/skinning.h"
 #include "tests/gltf_builder.h"
 #include "tests/rig_fixtures.h"
 
@@ -73,7 +73,7 @@ TEST(RigJson, PosesTheDriverCageAsTheRigDoes) {
   EXPECT_EQ(j["attachment"]["vertices"][5]["override"], true);
   size_t blended = 0;
   // D_v = (sum_i w_i global(node_i) inverse_bind_i) (positions_v + offsets_v + keyposes_v), with the
-  // keyposes' offsets at the pose from core (their interpolation is core/rig/keyposes.h's)
+  // keyposes' offsets at the pose from core (their interpolation is core/cage/keyposes.h's)
   for (double t : {0.6, 1.4}) {
     const Pose pose = compose_pose(ch, 1, t, false);  // arm_raise: the elbow bends
     PosedCage want;

@@ -12,13 +12,13 @@
 #include <glm/matrix.hpp>
 #include <gtest/gtest.h>
 
-#include "core/cage/auto_cage.h"
-#include "core/rig/cage_attachment.h"
-#include "core/cage/cage_import.h"
-#include "core/rig/character.h"
-#include "core/rig/demo_character.h"
+#include "core/rig/auto_cage.h"
+#include "core/cage/cage_attachment.h"
+#include "core/io/cage_import.h"
+#include "core/character/character.h"
+#include "core/character/demo_character.h"
 #include "core/document/document.h"
-#include "core/rig/keyposes.h"
+#include "core/cage/keyposes.h"
 
 namespace cagewrap::test {
 
@@ -96,7 +96,7 @@ inline glm::quat about_deg(double degrees, glm::dvec3 axis) {
   return glm::quat(glm::angleAxis(glm::radians(degrees), glm::normalize(axis)));
 }
 
-// The demo character (core/rig/demo_character.h) with its cage (assets/demo_cage.obj), default settings.
+// The demo character (core/character/demo_character.h) with its cage (assets/demo_cage.obj), default settings.
 inline Document demo_document() {
   Document doc;
   doc.character = std::make_shared<const Character>(make_demo_character());
@@ -122,7 +122,7 @@ inline Document with_automatic_cage(Document doc) {
 
 inline Document demo_with_automatic_cage() { return with_automatic_cage(demo_document()); }
 
-// A biceps bulge on the demo character (core/rig/demo_character.h) and its cage (assets/demo_cage.obj):
+// A biceps bulge on the demo character (core/character/demo_character.h) and its cage (assets/demo_cage.obj):
 // the cage vertices of the left upper arm's front, mid-bone, pushed 2 cm outwards (bind space),
 // keyed at 120 degrees of forearm.L's rotation about its local X (the elbow's bending axis), linear.
 struct BicepsKeypose {

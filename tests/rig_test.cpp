@@ -1,5 +1,5 @@
 // Tests for core/rig/rig.h, and the acceptance test of "the cage follows the skeleton; keypose cage
-// vertices against joint angles" on the demo character (core/rig/demo_character.h) and its cage
+// vertices against joint angles" on the demo character (core/character/demo_character.h) and its cage
 // (assets/demo_cage.obj): a biceps bulge keyed at 120 degrees of elbow flexion appears fully at
 // 120, half at 60 with linear interpolation, not at all at rest, and follows the arm when the
 // shoulder also moves; mirrored keys act on the other arm; removing a key restores the earlier
@@ -8,11 +8,11 @@
 
 #include <glm/geometric.hpp>
 
-#include "core/cage/cage_import.h"
-#include "core/rig/demo_character.h"
+#include "core/io/cage_import.h"
+#include "core/character/demo_character.h"
 #include "core/rig/rig.h"
-#include "core/rig/cage_attachment.h"
-#include "core/rig/skinning.h"
+#include "core/cage/cage_attachment.h"
+#include "core/character/skinning.h"
 #include "tests/rig_fixtures.h"
 
 namespace cagewrap {

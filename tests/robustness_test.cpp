@@ -19,9 +19,9 @@
 #include <thread>
 
 #include "core/io/gltf_loader.h"
-#include "core/io/mesh_io.h"
+#include "core/geometry/mesh_io.h"
 #include "app/workspace/autosave.h"
-#include "core/io/project_io.h"
+#include "core/document/project_io.h"
 #include "core/deform/registration.h"
 #include "tests/document_fixtures.h"
 #include "tests/expect_error.h"

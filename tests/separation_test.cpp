@@ -1,4 +1,4 @@
-// Automatic separation (BindParams::separate, core/rig/part_labels.h) on the demo character with both
+// Automatic separation (BindParams::separate, core/deform/part_labels.h) on the demo character with both
 // legs bent in opposite directions: the acceptance test of the "contributing-element sets" issue.
 #include <gtest/gtest.h>
 
@@ -8,13 +8,13 @@
 #include <glm/gtc/quaternion.hpp>
 #include <numeric>
 
-#include "core/rig/cage_attachment.h"
+#include "core/cage/cage_attachment.h"
 #include "core/deform/deformer.h"
 #include "core/io/gltf_loader.h"
-#include "core/io/mesh_io.h"
-#include "core/rig/part_labels.h"
+#include "core/geometry/mesh_io.h"
+#include "core/deform/part_labels.h"
 #include "core/deform/registration.h"
-#include "core/rig/skinning.h"
+#include "core/character/skinning.h"
 
 namespace cagewrap {
 namespace {
@@ -273,7 +273,7 @@ TEST(Separation, WholeBodyAgainstLinearBlendSkinning) {
   EXPECT_LE(on.lap_rms, 1.05 * off.lap_rms);
 }
 
-// The default attachment (the character's skin weights, core/rig/cage_attachment.h) against the rigid
+// The default attachment (the character's skin weights, core/cage/cage_attachment.h) against the rigid
 // closest limb: the cage bends with the character's own skinning, so the skin it drives stays far
 // closer to that skinning (measured: RMS 18.2 -> 1.6 mm) and smoother.
 TEST(Separation, SkinWeightsAttachmentFollowsTheCharactersSkinning) {

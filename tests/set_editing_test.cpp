@@ -1,6 +1,6 @@
 // Contributing-set editing and display: canonical edit lists, the four edit modes with X-mirroring,
 // what a bind makes of each mode, the display queries and the surface brush.
-#include "core/document/set_editing.h"
+#include "core/deform/set_editing.h"
 
 #include <gtest/gtest.h>
 

@@ -8,8 +8,8 @@
 #include <algorithm>
 #include <set>
 
-#include "core/cage/cage_subdivide.h"
-#include "core/io/project_io.h"
+#include "core/document/cage_subdivide.h"
+#include "core/document/project_io.h"
 #include "core/deform/registration.h"
 #include "core/document/topology_change.h"
 #include "tests/document_fixtures.h"

@@ -5,7 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "core/io/gltf_loader.h"
-#include "core/rig/skinning.h"
+#include "core/character/skinning.h"
 #include "tests/gltf_samples.h"
 #include "tests/test_assets.h"
 

@@ -1,5 +1,5 @@
 // Smoothing the extended stencil along the skin (core/deform/stencil_smooth.h) and the default rig's fit
-// that uses it (core/rig/attachment_fit.h fit_rig): the rows keep rest identity and affine exactness, the
+// that uses it (core/deform/attachment_fit.h fit_rig): the rows keep rest identity and affine exactness, the
 // graph welds seams but not jumps of the file's weights, only the flagged region changes, and on the
 // demo's automatic cage the rig stretches the skin far less than with the registration's rows.
 #include <algorithm>
@@ -9,12 +9,12 @@
 #include <gtest/gtest.h>
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "core/rig/attachment_fit.h"
-#include "core/rig/demo_character.h"
-#include "core/deform/fidelity.h"
+#include "core/deform/attachment_fit.h"
+#include "core/character/demo_character.h"
+#include "core/rig/fidelity.h"
 #include "core/geometry/mesh.h"
 #include "core/rig/rig.h"
-#include "core/rig/skinning.h"
+#include "core/character/skinning.h"
 #include "core/deform/stencil_smooth.h"
 #include "rig_fixtures.h"
 

@@ -11,10 +11,10 @@
 #include <memory>
 #include <set>
 
-#include "core/rig/cage_attachment.h"
-#include "core/cage/cage_edit.h"
-#include "core/rig/keyposes.h"
-#include "core/cage/cage_subdivide.h"
+#include "core/cage/cage_attachment.h"
+#include "core/document/cage_edit.h"
+#include "core/cage/keyposes.h"
+#include "core/document/cage_subdivide.h"
 #include "core/deform/deformer.h"
 #include "core/deform/registration.h"
 #include "tests/cage_checks.h"

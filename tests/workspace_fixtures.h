@@ -39,6 +39,16 @@ class DemoWorkspaceTest : public ::testing::Test {
     }
     ASSERT_FALSE(busy()) << "the background work did not end";
   }
+  // Waits for the scene's background bind, as the editor's frame loop polls it.
+  void finish_bind() {
+    Scene& s = *ws.scene();
+    for (int i = 0; i < 6000 && s.job; ++i) {
+      s.poll_bind();
+      if (s.job) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    ASSERT_FALSE(s.job) << "the bind did not finish";
+    ASSERT_TRUE(s.binding) << "no binding after the bind";
+  }
   // The node of the skeleton named `name` (-1 when there is none).
   int node(const std::string& name) const {
     const Skeleton& sk = doc().character->skeleton;

@@ -1,5 +1,5 @@
 // Autosave: a recovery file of the editor's unsaved work, so that a crash or a kill loses at most
-// a few minutes. The file is a project file (core/io/project_io.h) with a "recovery" record naming
+// a few minutes. The file is a project file (core/document/project_io.h) with a "recovery" record naming
 // the project the work belongs to and the process that wrote it. It is written atomically
 // (core/base/atomic_write.h) into the config folder's recovery/ folder, never over the project or the
 // character; only while there are unsaved changes, at most once per interval; and removed when the
@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "core/document/document.h"
-#include "core/io/project_io.h"
+#include "core/document/project_io.h"
 #include "core/base/result.h"
 
 namespace cagewrap {

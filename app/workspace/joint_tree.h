@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "core/rig/character.h"
+#include "core/character/character.h"
 
 namespace cagewrap::app {
 

@@ -1,18 +1,18 @@
 #include "app/workspace/scene.h"
 
-#include "core/rig/attachment_fit.h"
+#include "core/deform/attachment_fit.h"
 
 #include <unistd.h>
 
 #include <filesystem>
 
-#include "core/deform/binding_cache.h"
+#include "core/document/binding_cache.h"
 #include "core/io/gltf_loader.h"
-#include "core/io/mesh_io.h"
-#include "core/io/project_io.h"
-#include "core/rig/part_labels.h"
+#include "core/geometry/mesh_io.h"
+#include "core/document/project_io.h"
+#include "core/deform/part_labels.h"
 #include "core/rig/rig.h"
-#include "core/rig/skinning.h"
+#include "core/character/skinning.h"
 
 namespace cagewrap::app {
 
@@ -329,7 +329,35 @@ Pose Scene::current_pose(const Playback& pb) const {
   return compose_pose(*doc().character, pb.clip, pb.player.time(), pb.player.looping(), pb.pose_override);
 }
 
+std::shared_ptr<const Binding> Scene::binding_for_jobs() const {
+  if (!binding || job || !binding_fits(*binding, doc())) return nullptr;
+  return std::make_shared<const Binding>(*binding);
+}
+
+bool Scene::driver_bound() const {
+  const PatchDriver* want = doc().patch_driver.get();
+  const DriverBinding& b = driver_binding;
+  return want && b.deformer && b.driver && b.character == doc().character &&
+         (b.driver.get() == want || (b.driver->density == want->density && b.driver->rest == want->rest));
+}
+
+void Scene::drive_skin() {
+  const auto& driver = doc().patch_driver;
+  if (!driver || !driver->drive_skin || !driver_bound()) {
+    driven_skin.reset();
+    return;
+  }
+  DriverBinding& b = driver_binding;
+  if (b.shown != driver) {
+    auto skin = std::make_shared<std::vector<glm::vec3>>(skin_rest.size());
+    b.skin = b.deformer->deform(driver->posed, *skin).ok() ? std::move(skin) : nullptr;
+    b.shown = driver;
+  }
+  driven_skin = b.skin;
+}
+
 void Scene::update_pose(const Playback& pb) {
+  drive_skin();  // a parametric driver's skin replaces the cage's
   const Character& ch = *doc().character;
   const bool show_file_skinning = pb.show_file_skinning;
   pose_ = current_pose(pb);

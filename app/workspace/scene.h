@@ -13,18 +13,19 @@
 #include <glm/gtc/quaternion.hpp>
 
 #include "app/workspace/background_task.h"
-#include "core/rig/animation.h"
+#include "core/character/animation.h"
 #include "core/cage/cage.h"
-#include "core/rig/cage_attachment.h"
-#include "core/rig/character.h"
-#include "core/cage/clip_sim.h"
+#include "core/cage/cage_attachment.h"
+#include "core/character/character.h"
+#include "core/rig/clip_sim.h"
 #include "core/deform/deformer.h"
+#include "core/deform/patch_binding.h"
 #include "core/document/document.h"
-#include "core/io/project_io.h"
+#include "core/document/project_io.h"
 #include "app/workspace/history.h"
 #include "core/deform/registration.h"
 #include "core/rig/rig.h"
-#include "core/rig/skeleton.h"
+#include "core/character/skeleton.h"
 #include "app/workspace/soft_selection.h"
 #include "app/workspace/view_state.h"
 
@@ -34,7 +35,7 @@ namespace cagewrap::app {
 using BindJob = BackgroundTask<Binding>;
 // A background bind's progress and Cancel, as the core binds take them.
 BindProgress job_progress(const BindJob::Progress& progress, const std::atomic<bool>& cancel);
-// The default rig's fit of a bind (core/rig/attachment_fit.h fit_rig: the fitted attachment and the
+// The default rig's fit of a bind (core/deform/attachment_fit.h fit_rig: the fitted attachment and the
 // smoothed stencil), made on the bind's worker thread so that the UI does not wait for it.
 struct RigFit {
   CageAttachment attachment;        // `transferred` fitted
@@ -117,10 +118,26 @@ struct Scene {
   // Changes (to a value never used before, by any scene) whenever `deformer` is replaced or its
   // table changes in place, so a GPU copy of the table knows to follow.
   uint64_t binding_revision = 0;
-  // A skin deformed by something other than the cage (the parametric driver, app/patch_panel.h),
-  // shown instead of the cage-deformed one while set (#V, the order of skin_rest); the setter makes
-  // a new one (a new pointer) whenever its contents change, so it is copied and uploaded only then.
+  // A skin deformed by something other than the cage (the parametric driver: drive_skin), shown
+  // instead of the cage-deformed one while set (#V, the order of skin_rest); a new one (a new pointer)
+  // is made whenever its contents change, so it is copied and uploaded only then.
   std::shared_ptr<const std::vector<glm::vec3>> driven_skin;
+  // The parametric driver's binding (derived from the document like `binding` is for the cage): made
+  // by the workspace's background bind (app/workspace/workspace_patch.cpp) for `driver`'s rest grids
+  // and density and `character`'s rest skin; `skin` is the rest skin deformed by `shown`'s control points.
+  struct DriverBinding {
+    std::unique_ptr<Binding> binding;
+    std::unique_ptr<PatchDeformer> deformer;
+    std::shared_ptr<const PatchDriver> driver;
+    std::shared_ptr<const Character> character;
+    std::shared_ptr<const PatchDriver> shown;
+    std::shared_ptr<const std::vector<glm::vec3>> skin;  // null: deforming failed
+  } driver_binding;
+  // Whether driver_binding serves the document's driver (same rest grids and density) and skin.
+  bool driver_bound() const;
+  // driven_skin from the document's driver while it drives the skin and is bound (deformed again only
+  // when the driver changes), else none. update_pose calls it first.
+  void drive_skin();
   // Whether this frame shows driven_skin (set by update_pose).
   bool skin_driven() const { return skin_driven_; }
   // The deformed skin of the current frame (#V, the order of skin_rest), for picking, brushes and
@@ -129,7 +146,7 @@ struct Scene {
   // The skin's triangles (skin_topology, whose faces are all triangles).
   std::span<const Tri> skin_triangles() const;
 
-  // The cage simulation (core/cage/clip_sim.h) of the current clip, when the document has it on: its
+  // The cage simulation (core/rig/clip_sim.h) of the current clip, when the document has it on: its
   // frames are filled a little each UI frame (fill_simulation) and update_pose shows them once the
   // frames around the player's time are there (the plain skinned cage until then).
   SimCache sim_cache;
@@ -142,8 +159,12 @@ struct Scene {
   void fill_simulation(int32_t clip, double budget_ms);
 
   bool needs_rebind() const;
+  // The registration for the document as it is, for a background job's rig of its own (an export, a
+  // fidelity check: core/rig/rig.h Rig::create with a binding), or null when there is none: the jobs
+  // then bind themselves.
+  std::shared_ptr<const Binding> binding_for_jobs() const;
   // The deformer made again from the current binding, whenever it changes (a bind ends, a cached one
-  // is adopted, a live set edit): with a fitted attachment, the rig's fit (core/rig/attachment_fit.h
+  // is adopted, a live set edit): with a fitted attachment, the rig's fit (core/deform/attachment_fit.h
   // fit_rig, as Rig and `cagewrap pose` make it: the attachment fitted from the transferred weights
   // and the stencil smoothed where the rig would stretch the skin) goes into `rig_binding`, which
   // the deformer reads when the fit smoothed the stencil; `binding` stays the registration (sets,
@@ -219,8 +240,8 @@ struct ProjectOpen {
   std::optional<RecoveryInfo> recovery;  // the file was an editor recovery file (app/workspace/autosave.h)
 };
 // Opens a saved project (.cagewrap), with `character_override` for a character that moved
-// (core/io/project_io.h load_project). Uses the project's cached binding when it is still valid
-// (core/deform/binding_cache.h), else binds in the background and says why in the warnings.
+// (core/document/project_io.h load_project). Uses the project's cached binding when it is still valid
+// (core/document/binding_cache.h), else binds in the background and says why in the warnings.
 Result<std::unique_ptr<Scene>> load_project_scene(const std::string& project_path, ProjectOpen& out,
                                                   const std::string& character_override = {});
 // The demo character shipped in assets/ (found beside the executable or the source tree), or

@@ -10,9 +10,10 @@
 
 #include "app/workspace/camera.h"
 #include "app/workspace/soft_selection.h"
-#include "core/document/set_editing.h"
+#include "core/deform/set_editing.h"
 #include "core/geometry/selection.h"
-#include "core/rig/animation.h"
+#include "core/rig/fidelity.h"
+#include "core/character/animation.h"
 
 namespace cagewrap::app {
 
@@ -60,6 +61,18 @@ struct ViewState {
     bool mirror = false;        // the mirror images of the points, with the mirror faces, too
     double brush_radius = 0.0;  // scene units; 0: 3 % of the skin's size at the first dab
   } sets;
+  // The parametric driver's window: while it is open (`editing`) clicks pick control points and the
+  // move gizmo moves `point` (-1: none).
+  struct PatchTool {
+    bool editing = false;
+    int point = -1;
+  } patch;
+  // Fidelity to the file's skinning: the heat map on the skin, and the thresholds the warning and
+  // the check of every clip judge by.
+  struct FidelityView {
+    bool heat_map = false;
+    FidelityThresholds thresholds;
+  } fidelity;
 };
 
 }  // namespace cagewrap::app

@@ -40,8 +40,10 @@ void Workspace::set_scene(std::unique_ptr<Scene> scene) {
   move_.reset();
   stroke_.reset();
   set_mirror_.reset();
+  reset_fidelity();
   scene_ = std::move(scene);
   view.selection = {};
+  view.patch.point = -1;
   view.playback = scene_ ? Playback::first_of(scene_->doc().character->clips) : Playback();
   view.soft.radius = 0.1 * scene_size();
 }
@@ -155,7 +157,7 @@ std::vector<glm::vec3> Workspace::face_centroids(std::span<const glm::vec3> posi
 }
 
 // A cage that is only nearly symmetric (a decimated one) needs about an edge length
-// (core/rig/keyposes.h mirror_keypose_set).
+// (core/cage/keyposes.h mirror_keypose_set).
 double Workspace::rig_mirror_tolerance() const {
   return scene_ && scene_->doc().cage ? std::max(mirror_tolerance(), mean_edge_length(scene_->doc().cage->polygons))
                                       : mirror_tolerance();
@@ -202,6 +204,9 @@ std::optional<glm::dvec3> Workspace::cage_selection_centre() const {
 bool Workspace::begin_move(std::optional<Mover> mover) {
   if (!scene_) return false;
   MoveDrag d;
+  if (!mover && patch_point_position())  // the parametric driver's control point, not the cage
+    mover = Mover{[this](const Document& start, const glm::dvec3& total) { return patch_point_moved(start, total); },
+                  "Move control point " + std::to_string(view.patch.point)};
   if (!mover) {
     if (!scene_->doc().cage || move_set().empty()) {
       log("error: nothing to move: select cage vertices or faces", true);
@@ -258,6 +263,8 @@ const glm::dvec3& Workspace::move_total() const {
 void Workspace::poll_jobs() {
   poll_auto_cage();  // workspace_cage.cpp
   poll_export();     // workspace_export.cpp
+  poll_patch();      // workspace_patch.cpp
+  poll_fidelity();   // workspace_fidelity.cpp
 }
 
 // ---------------------------------------------------------------- undo, posing

@@ -21,12 +21,13 @@
 #include "app/workspace/background_task.h"
 #include "app/workspace/scene.h"
 #include "app/workspace/view_state.h"
-#include "core/rig/cage_attachment.h"
-#include "core/rig/keyposes.h"
-#include "core/cage/auto_cage.h"
-#include "core/document/set_editing.h"
+#include "core/cage/cage_attachment.h"
+#include "core/cage/keyposes.h"
+#include "core/rig/auto_cage.h"
+#include "core/deform/set_editing.h"
 #include "core/document/skin_brush.h"
 #include "core/export/rig_exporter.h"
+#include "core/rig/fidelity.h"
 
 namespace cagewrap::app {
 
@@ -35,6 +36,10 @@ struct LogLine {
   int repeats = 1;
   bool error = false;
 };
+
+// The heat-map colour of a distance to the file's skinning (share of the diagonal): grey within
+// 0.5%, through yellow at 1%, orange at 2.5%, red from 5%.
+glm::vec4 fidelity_color(float share);
 
 class Workspace {
  public:
@@ -87,7 +92,8 @@ class Workspace {
     std::function<Document(const Document& start, const glm::dvec3& total)> moved;
     std::string label;
   };
-  // Starts a move of move_set (or of `mover`'s thing): false (logged) when there is nothing to move.
+  // Starts a move of move_set (or of `mover`'s thing; without one, of the parametric driver's selected
+  // control point while view.patch.editing): false (logged) when there is nothing to move.
   bool begin_move(std::optional<Mover> mover = std::nullopt);
   // The drag's total displacement so far, snapped to the grid when `snap`; the document is rebuilt
   // from the drag's start each time, so nothing accumulates and undo restores the start exactly.
@@ -133,7 +139,7 @@ class Workspace {
   // (selected faces), flip_all, linear [N], loop [N] (levels), refine (selected faces), triangulate.
   // False (shown, the document kept) when it cannot be made.
   bool cage_operation(const std::string& op, double arg);
-  // The automatic cage (core/cage/auto_cage.h) of the character at its bind pose, built in the
+  // The automatic cage (core/rig/auto_cage.h) of the character at its bind pose, built in the
   // background with the scene's binding parameters; when it ends (poll_jobs) it becomes the document's
   // cage (replace_cage, one undo step) and its report is kept. False (said why) when one is being built
   // or the parameters are refused.
@@ -194,8 +200,90 @@ class Workspace {
   // An export line that could not be read: logged as an error and counted in failures.
   void refuse_export(const std::string& message);
   // Finishes background work that is done (the frame loop calls it every frame; tests too): an
-  // automatic cage into the document, an export's report into the log; their errors shown.
+  // automatic cage into the document, an export's report into the log, a parametric driver's binding
+  // (and the change it was for); their errors shown. Starts the driver's bind when it is not bound.
   void poll_jobs();
+
+  // ---- the parametric driver (workspace_patch.cpp; docs/parametric-drivers.md): a surface of
+  // bicubic patches that drives the rest skin instead of the cage while "drive the skin" is on. The
+  // Parametric driver window and the actions patch_* run these. Every change is one undo step; a
+  // change that needs a new binding (import, fit, density) enters the document once its background
+  // bind succeeds. The binding is the scene's (Scene::driver_binding). False (said why, the document
+  // kept) when refused.
+  struct PatchState {
+    std::unique_ptr<BackgroundTask<Binding>> job;      // the bind under way (null: none)
+    std::shared_ptr<const PatchDriver> job_driver;     // what it binds
+    std::shared_ptr<const Character> job_character;    // whose rest skin
+    std::string job_label;                             // the undo step it makes ("": the document's driver)
+    bool nowait = false;                               // a script goes on while it binds
+    std::shared_ptr<const PatchDriver> failed;         // the document's driver whose bind failed (not retried)
+  };
+  bool import_patch_driver(const std::string& path);   // .cwpatch or glTF
+  bool export_patch_driver(const std::string& path);   // its posed control points
+  bool fit_patch_driver();                             // to the selected cage faces (a rectangle of quads)
+  bool set_patch_density(uint32_t density, bool nowait = false);
+  bool select_patch_point(int point);                  // view.patch.point (-1: none)
+  bool move_patch_point(const glm::dvec3& delta);      // the selected control point
+  bool set_patch_drive(bool drive);
+  bool reset_patch_driver();                           // the control points back to rest
+  void bind_patch_driver();                            // binds the document's driver again (after a failure)
+  void cancel_patch_bind();
+  // `from` with the selected control point moved by `total` (a drag rebuilds from its start).
+  Document patch_point_moved(const Document& from, const glm::dvec3& total) const;
+  // The selected control point while view.patch.editing (the move gizmo moves it instead of the cage).
+  std::optional<glm::dvec3> patch_point_position() const;
+  const PatchState& patch_state() const { return patch_; }
+  bool binding_patch_driver() const { return patch_.job != nullptr; }
+
+  // ---- fidelity to the file's skinning (workspace_fidelity.cpp; core/rig/fidelity.h): the current
+  // frame's figures and heat map (view.fidelity.heat_map), and the check of every clip in the
+  // background (the Properties window's Fidelity section, the view's warning, and the actions heatmap,
+  // fidelity_check, fidelity_cancel, fidelity_frame).
+  struct FidelityState {
+    std::optional<FrameFidelity> frame;  // the current frame's figures (measure_fidelity), when measured
+    std::vector<float> distance;         // #V its distance to the file's skinning / the diagonal
+    std::vector<glm::vec4> colors;       // #V the heat map's colours (empty when it is off)
+    std::unique_ptr<BackgroundTask<FidelityReport>> job;  // the check under way (null: none)
+    bool nowait = false;                  // a script goes on while it runs
+    std::optional<FidelityReport> report;  // the last finished check's
+    std::string report_key;               // the rig it is of (rig_key(); stale when that changed)
+    std::string outcome;                  // of the last check that gave no report: "cancelled" or why
+    // what frame was measured for, and the skin's edges and heaviest joints (of `character`)
+    std::string key;
+    double measured_at = -1e9;
+    std::vector<std::pair<uint32_t, uint32_t>> edges;
+    std::vector<int32_t> joints;
+    const Character* character = nullptr;
+  };
+  // Measures the current frame when it changed (pose, binding, attachment, document; while a clip
+  // plays, at most 4 times a second); cheap when not. The frame loop calls it after update_pose.
+  void measure_fidelity();
+  // Checks every clip (`cagewrap check`) in the background, with the scene's binding when it is the
+  // document's. False (said why) when one runs, or there is no cage or no skin.
+  bool start_fidelity_check(bool nowait = false);
+  void cancel_fidelity_check();
+  const FidelityState& fidelity() const { return fidelity_; }
+  bool checking_fidelity() const { return fidelity_.job != nullptr; }
+  // Names the rig the figures are of: the document's revision, the binding's and the attachment's.
+  std::string rig_key() const;
+  std::string joint_name(int32_t joint) const;  // "-" for none
+
+  // ---- project storage (workspace_project.cpp; the File menu and the actions embed, cache_binding):
+  // one undo step each, saved with the project; false (said why, the document kept) when refused.
+  // The character file kept inside the project (it then opens with no other file).
+  bool embed_character();
+  // The embedded character written out to `path` and named by the project again; "" = back to the
+  // file it came from, which must still hold the same bytes (else where_to_unembed says where to ask).
+  bool unembed_character(const std::string& path = "");
+  struct CharacterFileAsk {
+    std::string name, directory;  // a file name and folder to propose
+  };
+  // Where to ask for the embedded character's new file, or none: the file it came from still holds it.
+  std::optional<CharacterFileAsk> where_to_unembed() const;
+  // The binding saved beside the project (<project>.cwb), so that opening it needs no bind.
+  bool set_cache_binding(bool cache);
+  // The nearest existing folder above `path`, else `fallback`'s (where a file browser starts).
+  static std::string browse_folder_near(const std::string& path, const std::string& fallback);
 
   // ---- playing and posing (view.playback: never undone)
   void set_pose_override(uint32_t node, const glm::quat& q);
@@ -234,6 +322,14 @@ class Workspace {
   bool commit_sim(SimSettings sim, const std::string& label);
   ExportState export_;
   AutoCageState auto_cage_;
+  PatchState patch_;
+  FidelityState fidelity_;
+  void poll_fidelity();
+  void reset_fidelity();  // another document: a running check is cancelled, what was measured dropped
+  void poll_patch();
+  void start_patch_bind(std::shared_ptr<const PatchDriver> driver, std::string label);
+  void new_patch_driver(PatchSurface rest, const std::string& label);
+  bool change_patch_driver(const std::function<void(PatchDriver&)>& change, const std::string& label);
   void poll_auto_cage();
   void poll_export();
 };

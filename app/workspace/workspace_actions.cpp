@@ -1,6 +1,7 @@
 // The workspace's own actions: the document, the selection, moves, posing and the camera. Each is
 // what a menu item, a shortcut or a panel runs, and a script line (docs/editor-actions.md).
 #include <algorithm>
+#include <cstdio>
 #include <cstdlib>
 
 #include <glm/gtc/quaternion.hpp>
@@ -22,6 +23,13 @@ std::string script_word(const char* name) {
 void Workspace::add_actions() {
   auto add = [this](std::string name, std::string usage, std::string help, std::function<void(std::istringstream&)> run) {
     actions.add({std::move(name), std::move(usage), std::move(help), true, 0, std::move(run)});
+  };
+  // a file's name is the rest of the line (names may hold spaces)
+  auto path_arg = [](std::istringstream& in) {
+    std::string path;
+    std::getline(in >> std::ws, path);
+    path.erase(path.find_last_not_of(" \t\r") + 1);
+    return path;
   };
 
   // ---- selection
@@ -230,10 +238,8 @@ void Workspace::add_actions() {
   add("mirror_keyset", "", "Mirrors the active keypose set to the other side.", [this](std::istringstream&) { mirror_keypose_set(); });
 
   // ---- the cage (the Cage menu runs the same: app/workspace/workspace_cage.cpp)
-  add("import_cage", "PATH", "Imports a cage file (OBJ, PLY, OFF, STL, glTF) as one undo step.", [this](std::istringstream& in) {
-    std::string path;
-    std::getline(in >> std::ws, path);
-    path.erase(path.find_last_not_of(" \t\r") + 1);
+  add("import_cage", "PATH", "Imports a cage file (OBJ, PLY, OFF, STL, glTF) as one undo step.", [this, path_arg](std::istringstream& in) {
+    const std::string path = path_arg(in);
     if (path.empty()) return fail("import_cage PATH");
     import_cage(path);
   });
@@ -279,6 +285,99 @@ void Workspace::add_actions() {
         begin_set_stroke();
         set_stroke_dab(static_cast<uint32_t>((at - fv.begin()) / 3), glm::dvec3(scene_->skin_posed()[i]));
         end_set_stroke();
+      });
+
+  // ---- the parametric driver (the Parametric driver window runs the same: app/workspace/workspace_patch.cpp)
+  // those that start or stop a bind give the frame loop a frame, so that a script waits for the bind
+  auto add_bind = [this](std::string name, std::string usage, std::string help, std::function<void(std::istringstream&)> run) {
+    actions.add({std::move(name), std::move(usage), std::move(help), true, 1, std::move(run)});
+  };
+  add_bind("patch_import", "PATH", "Imports a parametric driver (.cwpatch or glTF); it enters the document once bound.",
+      [this, path_arg](std::istringstream& in) {
+        const std::string path = path_arg(in);
+        if (path.empty()) return fail("patch_import PATH");
+        import_patch_driver(path);
+      });
+  add("patch_export", "PATH", "Writes the parametric driver's posed control points (.cwpatch or glTF).",
+      [this, path_arg](std::istringstream& in) {
+        const std::string path = path_arg(in);
+        if (path.empty()) return fail("patch_export PATH");
+        export_patch_driver(path);
+      });
+  add_bind("patch_fit", "", "Fits a parametric driver to the selected cage faces (a rectangle of quads).",
+      [this](std::istringstream&) { fit_patch_driver(); });
+  add_bind("patch_density", "N [nowait]", "The driver's sampling density (1..1024), bound in the background (a script waits unless nowait).",
+      [this](std::istringstream& in) {
+        uint32_t d = 0;
+        std::string wait;
+        if (!(in >> d)) return fail("patch_density N [nowait]");
+        in >> wait;
+        set_patch_density(d, wait == "nowait");
+      });
+  add("patch_select", "I", "Selects control point I of the driver (-1: none).", [this](std::istringstream& in) {
+    int i = -1;
+    if (!(in >> i)) return fail("patch_select I");
+    select_patch_point(i);
+  });
+  add("patch_move", "DX DY DZ", "Moves the selected control point: one undo step.", [this](std::istringstream& in) {
+    glm::dvec3 d(0.0);
+    if (!(in >> d.x >> d.y >> d.z)) return fail("patch_move DX DY DZ");
+    move_patch_point(d);
+  });
+  add("patch_reset", "", "Puts the driver's control points back at rest.", [this](std::istringstream&) { reset_patch_driver(); });
+  add("patch_drive", "on|off", "Whether the driver drives the skin (instead of the cage).", [this](std::istringstream& in) {
+    std::string on;
+    in >> on;
+    if (on != "on" && on != "off") return fail("patch_drive on|off");
+    set_patch_drive(on == "on");
+  });
+  add_bind("patch_bind", "", "Binds the document's driver to the skin again.", [this](std::istringstream&) { bind_patch_driver(); });
+  add_bind("patch_cancel", "", "Cancels the driver's bind under way (the driver is unchanged).",
+      [this](std::istringstream&) { cancel_patch_bind(); });
+  add("patch_panel", "", "Edits the parametric driver: clicks pick control points, the move gizmo moves them.",
+      [this](std::istringstream&) { view.patch.editing = true; });
+
+  // ---- fidelity to the file's skinning (the Properties window runs the same: app/workspace/workspace_fidelity.cpp)
+  add("heatmap", "on|off", "The fidelity heat map on the skin.", [this](std::istringstream& in) {
+    std::string v;
+    in >> v;
+    if (v != "on" && v != "off") return fail("heatmap on|off");
+    view.fidelity.heat_map = v == "on";
+  });
+  add_bind("fidelity_check", "[nowait]", "Checks all clips against the file's skinning in the background (a script waits unless nowait).",
+           [this](std::istringstream& in) {
+             std::string wait;
+             in >> wait;
+             start_fidelity_check(wait == "nowait");
+           });
+  add_bind("fidelity_check_nowait", "", "fidelity_check nowait.", [this](std::istringstream&) { start_fidelity_check(true); });
+  add("fidelity_cancel", "", "Cancels the running check.", [this](std::istringstream&) { cancel_fidelity_check(); });
+  add("fidelity_frame", "", "Logs this frame's fidelity figures.", [this](std::istringstream&) {
+    update_pose();
+    measure_fidelity();
+    const auto& f = fidelity_.frame;
+    if (!f) return log("fidelity, this frame: not measured (no binding, or the file's skinning is shown)");
+    char buf[256];
+    std::snprintf(buf, sizeof buf, "fidelity, this frame: worst %.4f%% (vertex %u, joint '%s'), RMS %.4f%%, stretch %.3fx",
+                  100 * f->worst, f->worst_vertex, joint_name(f->worst_joint).c_str(), 100 * f->rms, f->stretch);
+    log(buf);
+  });
+
+  // ---- project storage (the File menu runs the same: app/workspace/workspace_project.cpp)
+  add("embed", "on|off [PATH]", "Keeps the character file inside the project (on), or writes it out to PATH or where it came from (off).",
+      [this, path_arg](std::istringstream& in) {
+        std::string on;
+        in >> on;
+        if (on != "on" && on != "off") return fail("embed on|off [PATH]");
+        if (on == "on") embed_character();
+        else unembed_character(path_arg(in));
+      });
+  add("cache_binding", "on|off", "Saves the binding beside the project, so that opening it needs no bind.",
+      [this](std::istringstream& in) {
+        std::string on;
+        in >> on;
+        if (on != "on" && on != "off") return fail("cache_binding on|off");
+        set_cache_binding(on == "on");
       });
 
   // ---- the cage simulation (the Simulation window runs the same: app/workspace/workspace_sim.cpp)

@@ -5,12 +5,12 @@
 #include <filesystem>
 
 #include "app/workspace/workspace.h"
-#include "core/cage/auto_cage.h"
-#include "core/cage/cage_edit.h"
-#include "core/cage/cage_import.h"
-#include "core/cage/cage_subdivide.h"
+#include "core/rig/auto_cage.h"
+#include "core/document/cage_edit.h"
+#include "core/io/cage_import.h"
+#include "core/document/cage_subdivide.h"
 #include "core/document/topology_change.h"
-#include "core/io/mesh_io.h"
+#include "core/geometry/mesh_io.h"
 
 namespace cagewrap::app {
 

@@ -68,19 +68,21 @@ bool Workspace::start_export(const ExportRequest& request) {
   if (request.format != ExportFormat::kJson && request.options.clips.empty()) return refuse("choose at least one clip to bake");
   if (auto bad = check_export_path(request); !bad.empty()) return refuse(bad);
   e.started = now_seconds();
-  log("exporting " + export_kind_name(request) + " to " + request.out + " ...");
+  const bool needs_rig = request.format != ExportFormat::kJson || doc.attachment.mode == AttachmentMode::kFitted;
+  std::shared_ptr<const Binding> bound = needs_rig ? scene_->binding_for_jobs() : nullptr;
+  log("exporting " + export_kind_name(request) + " to " + request.out + (bound ? " (with the current binding)" : "") + " ...");
   e.job = std::make_unique<BackgroundTask<ExportReport>>(
-      "export", [doc, request](const BackgroundTask<ExportReport>::Progress& progress, const std::atomic<bool>& cancel) -> Result<ExportReport> {
-        // A bind of its own: the export must not share the editor's deformer across threads. It
-        // takes about a quarter of the time.
-        const bool needs_rig = request.format != ExportFormat::kJson || doc.attachment.mode == AttachmentMode::kFitted;
-        const double bind_share = needs_rig ? 0.25 : 0.0;
+      "export", [doc, request, needs_rig, bound](const BackgroundTask<ExportReport>::Progress& progress,
+                                                 const std::atomic<bool>& cancel) -> Result<ExportReport> {
+        // A rig of its own: the export must not share the editor's deformer across threads. From the
+        // scene's binding when it is the document's; else bound here (about a quarter of the time).
+        const double bind_share = needs_rig && !bound ? 0.25 : 0.0;
         std::optional<Rig> rig;
         if (needs_rig) {
           BindProgress bp;
           bp.cancel = &cancel;
           bp.on_progress = [&progress, bind_share](double s) { progress("binding", bind_share * s); };
-          auto made = Rig::create(doc, bp);
+          auto made = bound ? Rig::create(doc, Binding(*bound)) : Rig::create(doc, bp);
           if (!made) return made.error();
           rig.emplace(std::move(made).value());
         }

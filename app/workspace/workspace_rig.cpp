@@ -5,7 +5,7 @@
 #include <cstdio>
 
 #include "app/workspace/workspace.h"
-#include "core/rig/mirror_names.h"
+#include "core/character/mirror_names.h"
 
 namespace cagewrap::app {
 

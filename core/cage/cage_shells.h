@@ -1,6 +1,6 @@
 // The shells of a cage (the connected pieces of its control elements) and which skin points each
 // owns. A character modelled as separate segments gets one closed shell per segment or group of
-// segments (core/cage/auto_cage.h), and the shells overlap wherever the segments are closer than twice
+// segments (core/rig/auto_cage.h), and the shells overlap wherever the segments are closer than twice
 // the clearance (fingers side by side, a knee ball inside the thigh): a point is owned by the closed
 // shell it lies deepest inside (else by the nearest shell), and a whole piece of the skin (connected
 // through its triangles, coincident vertices welded) by the shell owning nearly all of its points.

@@ -9,7 +9,7 @@
 #include <glm/mat4x4.hpp>
 
 #include "core/base/check.h"
-#include "core/rig/skinning.h"
+#include "core/character/skinning.h"
 
 namespace cagewrap {
 

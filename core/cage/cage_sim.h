@@ -35,8 +35,8 @@
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
 
-#include "core/rig/cage_attachment.h"
-#include "core/rig/character.h"
+#include "core/cage/cage_attachment.h"
+#include "core/character/character.h"
 #include "core/geometry/mesh.h"
 #include "core/base/result.h"
 
@@ -102,7 +102,7 @@ struct ColliderShape {
   double radius = 0.0;
 };
 
-// Capsules around the bones of a skin, in its bind pose: one per limb (core/rig/cage_attachment.h
+// Capsules around the bones of a skin, in its bind pose: one per limb (core/cage/cage_attachment.h
 // skin_limbs), with the radius estimated from the skin: the 20th percentile of the distances to the
 // limb's segment of the skin points whose heaviest joint is the limb's (a low percentile, so that
 // the capsule stays inside the body where it is flattened), times `radius_scale`. Limbs no point

@@ -58,7 +58,7 @@ Status check_skin(std::span<const glm::vec3> skin);
 // apart from it: an included element joins the set with its own eq. 1 weight f(d), never tapered and
 // not counted in K, so that its weight does not jump as it crosses the rule's threshold or the K-th rank.
 // `only`: the set may hold nothing but the `include` elements (every other element is excluded), a
-// compact form of "exclude the rest" for the "make these the only ones" edit. core/document/set_editing.h builds
+// compact form of "exclude the rest" for the "make these the only ones" edit. core/deform/set_editing.h builds
 // canonical edits (one per point, sorted lists, no element in both, `exclude` empty when `only`).
 struct SetEdit {
   uint32_t point;
@@ -123,7 +123,7 @@ struct Binding {
   // from the point within which lies every element its registration depends on (its threshold
   // radius, or nearer its (K+1)-th nearest allowed element), rounded up; infinite for a point
   // that follows its nearest element. Moving cage elements farther than this leaves the point's
-  // registration as it is (core/cage/rest_edit.h). Not read by the deformer.
+  // registration as it is (core/deform/rest_edit.h). Not read by the deformer.
   std::vector<float> reach;
 
   struct SetsView {

@@ -1,6 +1,6 @@
 #include "core/deform/deformer.h"
 
-#include "core/io/binding_io.h"
+#include "core/deform/binding_check.h"
 
 #include <cmath>
 

@@ -14,7 +14,7 @@
 #include "core/base/check.h"
 #include "core/geometry/element_bvh.h"
 #include "core/geometry/geometry.h"
-#include "core/document/set_editing.h"
+#include "core/deform/set_editing.h"
 
 namespace cagewrap {
 

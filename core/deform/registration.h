@@ -11,7 +11,7 @@
 namespace cagewrap {
 
 // Part labels for automatic separation (BindParams::separate). Labels are the nodes of a forest
-// (for a character: skeleton nodes, core/rig/part_labels.h); a point and an element are connected when
+// (for a character: skeleton nodes, core/deform/part_labels.h); a point and an element are connected when
 // the point's label and a label of one of the element's corners are at most
 // BindParams::separation_steps edges apart in it, or either is unlabelled. Only connected elements
 // may drive a point (they act like user exclusions: before the threshold).
@@ -21,7 +21,7 @@ struct PartLabels {
   std::vector<uint32_t> point;        // #P label of each skin point (or kUnlabelled)
   std::vector<uint32_t> cage_vertex;  // #Vc label of each cage vertex (or kUnlabelled)
   // Optional #L x #L (row-major): label pairs that are one part whatever their hierarchy steps
-  // (a chain of short bones, core/rig/part_labels.h chained_nodes); empty = the steps alone.
+  // (a chain of short bones, core/deform/part_labels.h chained_nodes); empty = the steps alone.
   std::vector<uint8_t> related;
   // Optional (#P and #Vc, or empty): the cage shell owning each skin point (kUnlabelled: none) and
   // each cage vertex's shell (core/cage/cage_shells.h); an owned point may use only its shell's elements.
@@ -47,7 +47,7 @@ struct BindProgress {
 // follows its nearest valid element. `labels` (may be null or empty) drive the automatic
 // separation when params.separate is set. Errors: no valid elements, bad parameters, edits naming
 // points or elements that do not exist, labels of the wrong size or out of range, cancellation.
-// Edits are read as canonical_set_edits (core/document/set_editing.h) reads them: one per point, the last given
+// Edits are read as canonical_set_edits (core/deform/set_editing.h) reads them: one per point, the last given
 // wins, an element both excluded and included is included.
 Result<Binding> bind_skin(std::span<const glm::vec3> skin, const Cage& cage, std::span<const glm::vec3> rest_positions,
                      const BindParams& params, std::span<const SetEdit> edits = {},
@@ -83,7 +83,7 @@ class Rebinder {
   // Moving reference cage vertices (same topology): `binding` was made for another rest cage, this
   // Rebinder for the moved one. Re-registers `points` as update() does (on the new rest cage) and
   // takes the new rest cage and element statuses. The result equals a full bind on the moved cage
-  // when `points` holds every point whose registration can change: core/cage/rest_edit.h
+  // when `points` holds every point whose registration can change: core/deform/rest_edit.h
   // ReachIndex::affected_points finds them. Errors: another topology, skin or parameters, and a
   // move that changes h (the mean cage edge length when BindParams::scale is 0: every weight
   // changes; bind again or fix the scale).
@@ -121,7 +121,7 @@ Result<std::vector<uint32_t>> quality_failures(const Binding& binding, std::span
                                                std::span<const SetEdit> edits = {});
 
 // The points' indices ordered along a Morton curve, so that runs of consecutive entries are
-// spatially compact (registration's chunks, core/cage/rest_edit.h's leaves).
+// spatially compact (registration's chunks, core/deform/rest_edit.h's leaves).
 std::vector<uint32_t> morton_order(std::span<const glm::vec3> points);
 
 // Weight function of eq. 1 on a distance already divided by h.

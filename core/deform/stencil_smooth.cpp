@@ -6,9 +6,9 @@
 
 #include <glm/geometric.hpp>
 
-#include "core/rig/cage_attachment.h"
-#include "core/rig/character.h"
-#include "core/rig/skinning.h"
+#include "core/cage/cage_attachment.h"
+#include "core/character/character.h"
+#include "core/character/skinning.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>

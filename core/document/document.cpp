@@ -6,8 +6,8 @@
 #include "core/base/check.h"
 #include "core/base/file_hash.h"
 #include "core/io/gltf_loader.h"
-#include "core/cage/cage_import.h"
-#include "core/io/mesh_io.h"
+#include "core/io/cage_import.h"
+#include "core/geometry/mesh_io.h"
 
 namespace cagewrap {
 

@@ -15,16 +15,16 @@
 
 #include "core/deform/binding.h"
 #include "core/cage/cage.h"
-#include "core/rig/cage_attachment.h"
+#include "core/cage/cage_attachment.h"
 #include "core/cage/cage_sim.h"
-#include "core/rig/character.h"
-#include "core/rig/keyposes.h"
+#include "core/character/character.h"
+#include "core/cage/keyposes.h"
 #include "core/deform/patch_surface.h"
 #include "core/base/result.h"
 
 namespace cagewrap {
 
-// What a binding depends on, each as a content hash ("fnv1a64:<hex>"; core/deform/binding_cache.h makes
+// What a binding depends on, each as a content hash ("fnv1a64:<hex>"; core/document/binding_cache.h makes
 // them): a cached binding is used only when every one matches the document.
 struct BindingInputs {
   std::string program;     // the program and binding format that made it
@@ -61,13 +61,13 @@ struct Document {
   // its vertex follows (so a sculpted bulge travels with the limb); empty = none.
   std::vector<glm::vec3> cage_offsets;
   // How the cage follows the skeleton: rigid or smooth, and per-vertex joint overrides
-  // (core/rig/cage_attachment.h).
+  // (core/cage/cage_attachment.h).
   AttachmentSettings attachment;
-  // Cage vertex offsets keyed against joint angles (core/rig/keyposes.h), added to cage_offsets at
+  // Cage vertex offsets keyed against joint angles (core/cage/keyposes.h), added to cage_offsets at
   // each pose before the cage is posed (core/rig/rig.h).
   std::vector<KeyposeSet> keyposes;
   // Secondary motion of the cage (core/cage/cage_sim.h): on or off, parameters, per-vertex weights
-  // (#Vc or empty) and colliders; applied per clip by core/cage/clip_sim.h.
+  // (#Vc or empty) and colliders; applied per clip by core/rig/clip_sim.h.
   SimSettings sim;
   // The parametric driver (core/deform/patch_surface.h, docs/parametric-drivers.md); null = none. Replaced,
   // never mutated, like the cage.
@@ -77,7 +77,7 @@ struct Document {
   std::string preserved_fields;
   std::string project_path;  // the .cagewrap file it was loaded from or last saved to; "" = never saved
   // Whether saving the project also writes its binding beside it, so that opening it needs no bind
-  // (core/deform/binding_cache.h); a project property, saved.
+  // (core/document/binding_cache.h); a project property, saved.
   bool cache_binding = false;
   // The cache the project file recorded when it was loaded (not part of the work: where a
   // by-product lies, like project_path); empty when none.

@@ -1,7 +1,7 @@
 #include "core/document/topology_change.h"
 
-#include "core/rig/cage_attachment.h"
-#include "core/rig/keyposes.h"
+#include "core/cage/cage_attachment.h"
+#include "core/cage/keyposes.h"
 
 #include <algorithm>
 #include <cmath>

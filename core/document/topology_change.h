@@ -1,7 +1,7 @@
 // What a topology edit of the cage (weld, flip, subdivide, refine) did, so that everything stored per
 // cage vertex or per control element can follow it: the rest cage itself, the driver offsets, the
 // user's contributing-set edits (algorithm.md section 5, step 4) and, later, skeleton attachments and
-// keyposes. Every edit in core/cage/cage_edit.h and core/cage/cage_subdivide.h returns a CageEdit: the new cage
+// keyposes. Every edit in core/document/cage_edit.h and core/document/cage_subdivide.h returns a CageEdit: the new cage
 // and a CageTopologyChange from the old one; apply_topology_change() carries a Document across it.
 //
 // Vertices: each new vertex is an affine combination of old vertices (weights sum to one): a copy

@@ -13,9 +13,9 @@
 #include <glm/matrix.hpp>
 #include <numeric>
 
-#include "core/rig/keyposes.h"
-#include "core/io/mesh_io.h"
-#include "core/rig/skinning.h"
+#include "core/cage/keyposes.h"
+#include "core/geometry/mesh_io.h"
+#include "core/character/skinning.h"
 
 namespace cagewrap {
 

@@ -34,7 +34,7 @@
 #include <string>
 #include <vector>
 
-#include "core/rig/character.h"
+#include "core/character/character.h"
 #include "core/document/document.h"
 #include "core/base/result.h"
 #include "core/rig/rig.h"

@@ -5,8 +5,8 @@
 
 #include "core/base/atomic_write.h"
 #include "core/io/gltf_writer.h"
-#include "core/io/mesh_io.h"
-#include "core/deform/fidelity.h"
+#include "core/geometry/mesh_io.h"
+#include "core/rig/fidelity.h"
 #include "core/export/rig_json.h"
 
 namespace cagewrap {
@@ -81,7 +81,7 @@ std::string megabytes(uint64_t bytes) {
   return buf;
 }
 
-// In the file's units (metres for a character of plausible size, else "scene units", core/deform/fidelity.h),
+// In the file's units (metres for a character of plausible size, else "scene units", core/rig/fidelity.h),
 // with the largest error as a share of the skin's diagonal.
 std::string error_line(const std::string& what, const ExportError& e, double diagonal) {
   char buf[256];

@@ -1,8 +1,8 @@
 #include "core/export/rig_json.h"
 
-#include "core/rig/cage_attachment.h"
+#include "core/cage/cage_attachment.h"
 #include "core/base/json_reader.h"
-#include "core/rig/keyposes.h"
+#include "core/cage/keyposes.h"
 
 namespace cagewrap {
 

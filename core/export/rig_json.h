@@ -9,7 +9,7 @@
 
 #include <string>
 
-#include "core/rig/cage_attachment.h"
+#include "core/cage/cage_attachment.h"
 #include "core/document/document.h"
 #include "core/base/result.h"
 
@@ -26,7 +26,7 @@ struct RigJson {
 
 // Fails when the document has no cage, or its attachment fails (an override naming a node that is
 // not a joint of the skin: the message names it).
-// `attachment`: the rig's (a fitted attachment needs the binding, core/rig/attachment_fit.h); null: made
+// `attachment`: the rig's (a fitted attachment needs the binding, core/deform/attachment_fit.h); null: made
 // from the document's settings (attach_cage: the transferred weights for a fitted attachment).
 Result<RigJson> rig_json(const Document& doc, const CageAttachment* attachment = nullptr);
 

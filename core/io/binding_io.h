@@ -15,6 +15,7 @@
 #include <string>
 
 #include "core/deform/binding.h"
+#include "core/deform/binding_check.h"
 
 namespace cagewrap {
 
@@ -26,11 +27,5 @@ Status save_binding(const std::string& path, const Binding& binding);
 // names the file (and the table, entry and index where there is one).
 Result<Binding> load_binding(const std::string& path);
 
-// Checks a binding's tables against each other (kParse) and every index against its table
-// (kIndexOutOfRange): element corners against the cage vertices, stencil ids against the elements
-// (basic, clamped) or the cage vertices (extended), fallback points against the skin points and
-// fallback elements against the elements. Messages name the entry, the bad index and the table size.
-// load_binding and Deformer::create both call it.
-Status validate_binding(const Binding& binding);
 
 }  // namespace cagewrap

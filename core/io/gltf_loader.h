@@ -6,7 +6,7 @@
 
 #include <string>
 
-#include "core/rig/character.h"
+#include "core/character/character.h"
 #include "core/base/result.h"
 
 namespace cagewrap {

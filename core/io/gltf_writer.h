@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "core/rig/character.h"
+#include "core/character/character.h"
 #include "core/base/result.h"
 
 namespace cagewrap {

@@ -7,7 +7,7 @@
 
 #include "core/base/atomic_write.h"
 #include "core/io/gltf_writer.h"
-#include "core/io/mesh_io.h"
+#include "core/geometry/mesh_io.h"
 
 namespace cagewrap {
 

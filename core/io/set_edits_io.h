@@ -16,7 +16,7 @@
 #include "core/cage/cage.h"
 #include "core/base/json_reader.h"
 #include "core/base/result.h"
-#include "core/document/set_editing.h"
+#include "core/deform/set_editing.h"
 
 namespace cagewrap {
 

@@ -2,9 +2,9 @@
 
 #include <optional>
 
-#include "core/rig/attachment_fit.h"
-#include "core/cage/clip_sim.h"
-#include "core/rig/part_labels.h"
+#include "core/deform/attachment_fit.h"
+#include "core/rig/clip_sim.h"
+#include "core/deform/part_labels.h"
 
 #include <chrono>
 #include <cmath>
@@ -12,7 +12,7 @@
 #include <numbers>
 
 #include "core/base/check.h"
-#include "core/rig/skinning.h"
+#include "core/character/skinning.h"
 
 namespace cagewrap {
 

@@ -3,7 +3,7 @@
 //
 //   keypose_v = evaluate_keyposes(doc.keyposes, skeleton, pose)            (bind space)
 //   driver_rest_v = rest_v + doc.cage_offsets[v] + keypose_v                (bind space)
-//   M_v = sum_i w_i * skinning[joint_i]    (core/rig/cage_attachment.h; one joint when rigid)
+//   M_v = sum_i w_i * skinning[joint_i]    (core/cage/cage_attachment.h; one joint when rigid)
 //   D_v = M_v * driver_rest_v, linear_v = 3x3 of M_v
 //   skin = Deformer::deform(D, linear for the extended variant)
 // Without an attachment (a character with no skin) the driver stays at driver_rest.
@@ -18,11 +18,11 @@
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
 
-#include "core/rig/cage_attachment.h"
+#include "core/cage/cage_attachment.h"
 #include "core/deform/deformer.h"
 #include "core/document/document.h"
 #include "core/deform/registration.h"
-#include "core/cage/rest_edit.h"
+#include "core/deform/rest_edit.h"
 
 namespace cagewrap {
 
@@ -60,13 +60,13 @@ std::span<const glm::dmat3> cage_vertex_frames(const Binding& binding, const Pos
 
 // Binds a document's skin (every primitive concatenated) to its cage with its parameters and set
 // edits; with automatic separation on and an attachment, the skeleton-part labels of
-// core/rig/part_labels.h keep unrelated parts apart. The one bind the editor, the CLI and export share.
+// core/deform/part_labels.h keep unrelated parts apart. The one bind the editor, the CLI and export share.
 Result<Binding> bind_document(const Document& doc, std::span<const glm::vec3> skin_rest, const CageAttachment* attachment,
                               const BindProgress& progress = {});
 
 // bind_document for a document whose rest cage moved (same cage elements, parameters and set edits)
 // since `previous` was bound with `previous_attachment`: only the skin points the moved vertices can
-// reach are registered again (core/cage/rest_edit.h), with the same result bit for bit. Anything else (other
+// reach are registered again (core/deform/rest_edit.h), with the same result bit for bit. Anything else (other
 // topology or parameters, a binding read from a file, a scale of 0, other skin labels) binds in full.
 // `report` (may be null): moved vertices and points registered (every point after a full bind).
 // Whether a binding made with `bound` (its distance scale came out as `h`) can follow a rest edit to
@@ -86,7 +86,7 @@ class Rig {
   // Fails when the document has no cage, the attachment fails (an override naming a non-joint) or
   // the bind fails; the message says which. A character without a skin gets no attachment.
   static Result<Rig> create(const Document& doc, const BindProgress& progress = {});
-  // The same with a binding made earlier for this document (a project's cache, core/deform/binding_cache.h:
+  // The same with a binding made earlier for this document (a project's cache, core/document/binding_cache.h:
   // the caller has checked that it fits): no bind.
   static Result<Rig> create(const Document& doc, Binding binding);
 
@@ -97,7 +97,7 @@ class Rig {
   Status pose(const Document& doc, const Pose& pose, PosedCage& cage, std::span<glm::vec3> skin_out);
   // The same at time t of clip `clip` (-1: the rest pose; t clamped to the clip) with per-node
   // rotation overrides (compose_pose), and, when doc.sim is enabled and a clip plays, the cage's
-  // simulation applied (core/cage/clip_sim.h: the rig caches each clip's simulated frames). Fails with
+  // simulation applied (core/rig/clip_sim.h: the rig caches each clip's simulated frames). Fails with
   // the simulation's message when its settings are invalid.
   Status pose_clip(const Document& doc, int32_t clip, double t, std::span<const glm::quat> overrides, PosedCage& cage,
                    std::span<glm::vec3> skin_out);
@@ -107,7 +107,7 @@ class Rig {
   // The registration: the sets, what a project's cache holds (bind_document's result).
   const Binding& binding() const;
   // What the deformer reads: the registration, or with a fitted attachment its stencil smoothed
-  // where the rig would stretch the skin (core/rig/attachment_fit.h fit_rig).
+  // where the rig would stretch the skin (core/deform/attachment_fit.h fit_rig).
   const Binding& deformer_binding() const;
   const CageAttachment* attachment() const;
 

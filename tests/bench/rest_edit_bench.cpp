@@ -1,4 +1,4 @@
-// Moving rest cage vertices (core/cage/rest_edit.h): the points the moved elements can reach found with
+// Moving rest cage vertices (core/deform/rest_edit.h): the points the moved elements can reach found with
 // ReachIndex and re-registered with Rebinder::move_rest, against the full bind it replaces. The
 // armadillo bench triplet (shared assets) subdivided to four sizes: a fixed region (the cage
 // vertices nearest one cage vertex) moved on each, then regions of growing size on one skin. The
@@ -12,9 +12,9 @@
 #include <glm/geometric.hpp>
 
 #include "core/cage/cage.h"
-#include "core/io/mesh_io.h"
+#include "core/geometry/mesh_io.h"
 #include "core/deform/registration.h"
-#include "core/cage/rest_edit.h"
+#include "core/deform/rest_edit.h"
 #include "core/geometry/subdivide.h"
 #include "tests/test_assets.h"
 

@@ -5,7 +5,7 @@
 
 #include "core/deform/deformer.h"
 #include "core/deform/registration.h"
-#include "core/document/set_editing.h"
+#include "core/deform/set_editing.h"
 #include "core/document/set_queries.h"
 #include "core/document/skin_brush.h"
 #include "core/geometry/subdivide.h"

@@ -9,8 +9,8 @@
 #include <benchmark/benchmark.h>
 
 #include "core/cage/cage_sim.h"
-#include "core/rig/demo_character.h"
-#include "core/cage/demo_sim.h"
+#include "core/character/demo_character.h"
+#include "core/rig/demo_sim.h"
 
 namespace cagewrap {
 namespace {

@@ -1,5 +1,5 @@
-// libFuzzer harness for the glTF skin and animation paths (core/io/gltf_loader.h, core/rig/animation.h,
-// core/rig/skinning.h): the input is loaded like fuzz_gltf's (".glb" when it starts with "glTF", else
+// libFuzzer harness for the glTF skin and animation paths (core/io/gltf_loader.h, core/character/animation.h,
+// core/character/skinning.h): the input is loaded like fuzz_gltf's (".glb" when it starts with "glTF", else
 // ".gltf"); when a character loads, every clip is sampled at a few times (before its start, at its
 // keys' ends and between, looped and not) and the character skinned at each pose, its joint
 // matrices and per-point joints computed: what the editor does every frame of playback.
@@ -7,7 +7,7 @@
 #include <cstring>
 
 #include "core/io/gltf_loader.h"
-#include "core/rig/skinning.h"
+#include "core/character/skinning.h"
 #include "tests/fuzz/fuzz_file.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

@@ -1,10 +1,10 @@
-// libFuzzer harness for the static mesh loaders (core/io/mesh_io.h, core/io/text_mesh_readers.h): the
+// libFuzzer harness for the static mesh loaders (core/geometry/mesh_io.h, core/geometry/text_mesh_readers.h): the
 // first byte picks the format (0 OBJ, 1 OFF, 2 PLY, 3 STL, modulo 4), the rest is the file.
 // load_mesh runs the strict text readers and checks and OpenMesh behind them.
 #include <cstdlib>
 
-#include "core/io/mesh_io.h"
-#include "core/io/text_mesh_readers.h"
+#include "core/geometry/mesh_io.h"
+#include "core/geometry/text_mesh_readers.h"
 #include "tests/fuzz/fuzz_file.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

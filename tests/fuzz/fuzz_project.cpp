@@ -1,9 +1,9 @@
-// libFuzzer harness for the project file loader (core/io/project_io.h). The input is the .cagewrap
+// libFuzzer harness for the project file loader (core/document/project_io.h). The input is the .cagewrap
 // file; its folder holds hero.gltf, a tiny character the seeds name, so that mutations reach the
 // cage, binding, edits, attachment and keypose sections behind the character.
 #include <cstdlib>
 
-#include "core/io/project_io.h"
+#include "core/document/project_io.h"
 #include "tests/fuzz/fuzz_file.h"
 #include "tests/fuzz/seed_fixtures.h"
 

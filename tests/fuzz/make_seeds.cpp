@@ -10,9 +10,9 @@
 
 #include "core/io/binding_io.h"
 #include "core/document/document.h"
-#include "core/io/mesh_io.h"
-#include "core/rig/character_embedding.h"
-#include "core/io/project_io.h"
+#include "core/geometry/mesh_io.h"
+#include "core/document/character_embedding.h"
+#include "core/document/project_io.h"
 #include "core/io/patch_io.h"
 #include "core/deform/registration.h"
 #include "core/io/set_edits_io.h"

@@ -31,9 +31,9 @@
 #include "core/io/binding_io.h"
 #include "core/base/digits.h"
 #include "core/io/gltf_loader.h"
-#include "core/io/mesh_io.h"
+#include "core/geometry/mesh_io.h"
 #include "core/io/patch_io.h"
-#include "core/io/project_io.h"
+#include "core/document/project_io.h"
 #include "core/io/set_edits_io.h"
 #include "tests/tools/hostile_corpus.h"
 

@@ -8,7 +8,7 @@
 
 #include "app/workspace/autosave.h"
 #include "core/document/document.h"
-#include "core/io/project_io.h"
+#include "core/document/project_io.h"
 
 int main(int argc, char** argv) {
   const bool recovery = argc == 3 && std::string(argv[2]) == "--recovery";

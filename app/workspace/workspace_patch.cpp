@@ -1,0 +1,220 @@
+// The workspace's parametric driver (app/workspace/workspace.h "the parametric driver";
+// docs/parametric-drivers.md): import, fit, density, control-point moves, drive on/off, and its bind
+// in the background (poll_jobs). The Parametric driver window and the patch_* actions run these.
+#include <cstdio>
+#include <utility>
+
+#include "app/workspace/workspace.h"
+#include "core/deform/patch_fit.h"
+#include "core/io/patch_io.h"
+
+namespace cagewrap::app {
+
+namespace {
+constexpr const char* kNoDriver = "parametric driver: import or fit one first";
+}  // namespace
+
+void Workspace::start_patch_bind(std::shared_ptr<const PatchDriver> driver, std::string label) {
+  patch_.job.reset();  // a bind still running is cancelled: the newer request wins
+  patch_.job_driver = driver;
+  patch_.job_character = scene_->doc().character;
+  patch_.job_label = std::move(label);
+  patch_.nowait = false;
+  patch_.job = std::make_unique<BackgroundTask<Binding>>(
+      "binding to the parametric driver",
+      [skin = scene_->skin_rest, driver, params = scene_->doc().params](const BindJob::Progress& progress,
+                                                                         const std::atomic<bool>& cancel) {
+        return bind_skin_to_patches(skin, driver->rest, driver->density, params, job_progress(progress, cancel));
+      });
+}
+
+void Workspace::poll_patch() {
+  if (!scene_) return;
+  if (patch_.job && patch_.job->done()) {
+    auto job = std::move(patch_.job);
+    auto driver = std::move(patch_.job_driver);
+    const std::string label = std::move(patch_.job_label);
+    if (std::exchange(patch_.job_character, nullptr) != scene_->doc().character) return;  // another character opened
+    Result<Binding>& b = job->result();
+    auto failed = [&](const std::string& message) {
+      report_error("parametric driver: " + message);
+      if (label.empty()) patch_.failed = scene_->doc().patch_driver;  // not retried until the driver changes
+    };
+    if (!b) {
+      if (b.error().code != ErrorCode::kCancelled) return failed(b.error().message);
+      log("parametric driver: bind cancelled" + std::string(label.empty() ? "" : "; the driver is unchanged"));
+      if (label.empty()) patch_.failed = scene_->doc().patch_driver;
+      return;
+    }
+    auto binding = std::make_unique<Binding>(std::move(*b));
+    auto d = PatchDeformer::create(*binding, scene_->skin_rest, driver->rest, driver->density);
+    if (!d) return failed(d.error().message);
+    Scene::DriverBinding& bound = scene_->driver_binding;
+    bound.deformer.reset();
+    bound.binding = std::move(binding);
+    bound.deformer = std::make_unique<PatchDeformer>(std::move(*d));
+    bound.driver = driver;
+    bound.character = scene_->doc().character;
+    bound.shown.reset();
+    char line[200];
+    std::snprintf(line, sizeof line,
+                  "parametric driver: bound %u skin points to %u samples (density %u, %zu degenerate) in %.0f ms",
+                  bound.binding->num_points, bound.binding->num_samples, driver->density,
+                  bound.binding->invalid_elements.size(), bound.binding->seconds * 1e3);
+    log(line);
+    if (!label.empty()) {
+      scene_->apply(label, with_patch_driver(scene_->doc(), driver));
+      log("parametric driver: " + label);
+    }
+    return;
+  }
+  // the document's driver is not bound (undo, redo, a project opened): bind it
+  const auto& want = scene_->doc().patch_driver;
+  if (!patch_.job && want && want != patch_.failed && !scene_->driver_bound()) start_patch_bind(want, "");
+}
+
+void Workspace::bind_patch_driver() {
+  if (!scene_ || patch_.job) return;
+  if (const auto& driver = scene_->doc().patch_driver) {
+    patch_.failed.reset();
+    start_patch_bind(driver, "");
+  }
+}
+
+void Workspace::cancel_patch_bind() {
+  if (patch_.job) patch_.job->cancel();
+  patch_.nowait = false;
+}
+
+void Workspace::new_patch_driver(PatchSurface rest, const std::string& label) {
+  PatchDriver d;
+  if (const auto& old = scene_->doc().patch_driver) d.density = old->density;
+  d.posed = rest;
+  d.rest = std::move(rest);
+  view.patch.point = -1;
+  start_patch_bind(std::make_shared<const PatchDriver>(std::move(d)), label);
+}
+
+bool Workspace::change_patch_driver(const std::function<void(PatchDriver&)>& change, const std::string& label) {
+  const auto& old = scene_ ? scene_->doc().patch_driver : nullptr;
+  if (!old) {
+    fail(kNoDriver);
+    return false;
+  }
+  PatchDriver d = *old;
+  change(d);
+  scene_->apply(label, with_patch_driver(scene_->doc(), std::make_shared<const PatchDriver>(std::move(d))));
+  return true;
+}
+
+bool Workspace::import_patch_driver(const std::string& path) {
+  if (!scene_) return false;
+  auto p = load_patch_any(path);
+  if (!p) {
+    report_error(p.error().message);
+    return false;
+  }
+  const size_t grids = p->grids.size(), points = p->num_control_points();
+  new_patch_driver(std::move(*p), "Import parametric driver " + path + " (" + std::to_string(grids) + " grid(s), " +
+                                      std::to_string(points) + " control points)");
+  return true;
+}
+
+bool Workspace::export_patch_driver(const std::string& path) {
+  const auto& driver = scene_ ? scene_->doc().patch_driver : nullptr;
+  if (!driver) {
+    fail("parametric driver: nothing to export");
+    return false;
+  }
+  if (auto s = save_patch_any(path, driver->posed); !s) {
+    report_error(s.error().message);
+    return false;
+  }
+  log("parametric driver: wrote " + path);
+  return true;
+}
+
+bool Workspace::fit_patch_driver() {
+  if (!scene_) return false;
+  const Document& doc = scene_->doc();
+  if (!doc.cage) {
+    report_error("fit a parametric driver: there is no cage");
+    return false;
+  }
+  const IndexSet& faces = view.selection.cage_faces;
+  auto grid = fit_patch_to_faces(doc.cage->polygons, doc.cage_positions(), faces.indices());
+  if (!grid) {
+    report_error("fit a parametric driver: " + grid.error().message);
+    return false;
+  }
+  const std::string label = "Fit a " + std::to_string(grid->rows) + " x " + std::to_string(grid->cols) +
+                            " parametric driver to " + std::to_string(faces.size()) + " cage faces";
+  new_patch_driver(PatchSurface{{std::move(*grid)}}, label);
+  return true;
+}
+
+bool Workspace::set_patch_density(uint32_t density, bool nowait) {
+  const auto& old = scene_ ? scene_->doc().patch_driver : nullptr;
+  if (!old) {
+    fail(kNoDriver);
+    return false;
+  }
+  if (density < 1 || density > 1024) {
+    fail("parametric driver: density " + std::to_string(density) + " (use 1 to 1024)");
+    return false;
+  }
+  PatchDriver d = *old;
+  d.density = density;
+  start_patch_bind(std::make_shared<const PatchDriver>(std::move(d)), "Driver density " + std::to_string(density));
+  patch_.nowait = nowait;
+  return true;
+}
+
+bool Workspace::select_patch_point(int point) {
+  const auto& driver = scene_ ? scene_->doc().patch_driver : nullptr;
+  if (!driver || point < -1 || point >= int(driver->posed.num_control_points())) {
+    fail("parametric driver: no control point " + std::to_string(point));
+    return false;
+  }
+  view.patch.point = point;
+  return true;
+}
+
+Document Workspace::patch_point_moved(const Document& from, const glm::dvec3& total) const {
+  const int i = view.patch.point;
+  if (!from.patch_driver || i < 0 || i >= int(from.patch_driver->posed.num_control_points())) return from;
+  PatchDriver d = *from.patch_driver;
+  std::vector<glm::dvec3> points = d.posed.control_points();
+  points[size_t(i)] += total;
+  d.posed.set_control_points(points);
+  return with_patch_driver(from, std::make_shared<const PatchDriver>(std::move(d)));
+}
+
+bool Workspace::move_patch_point(const glm::dvec3& delta) {
+  const auto& driver = scene_ ? scene_->doc().patch_driver : nullptr;
+  if (!driver || view.patch.point < 0 || view.patch.point >= int(driver->posed.num_control_points())) {
+    fail("parametric driver: select a control point to move");
+    return false;
+  }
+  scene_->apply("Move control point " + std::to_string(view.patch.point), patch_point_moved(scene_->doc(), delta));
+  return true;
+}
+
+std::optional<glm::dvec3> Workspace::patch_point_position() const {
+  const auto& driver = scene_ ? scene_->doc().patch_driver : nullptr;
+  const int i = view.patch.point;
+  if (!view.patch.editing || !driver || i < 0 || i >= int(driver->posed.num_control_points())) return std::nullopt;
+  return driver->posed.control_points()[size_t(i)];
+}
+
+bool Workspace::set_patch_drive(bool drive) {
+  return change_patch_driver([drive](PatchDriver& d) { d.drive_skin = drive; },
+                             drive ? "Drive the skin by the parametric driver"
+                                   : "Stop driving the skin by the parametric driver");
+}
+
+bool Workspace::reset_patch_driver() {
+  return change_patch_driver([](PatchDriver& d) { d.posed = d.rest; }, "Reset the control points");
+}
+
+}  // namespace cagewrap::app

@@ -1,0 +1,153 @@
+#include "core/document/binding_cache.h"
+
+#include <cstring>
+#include <filesystem>
+#include <type_traits>
+
+#include "core/io/binding_io.h"
+#include "core/base/check.h"
+#include "core/base/file_hash.h"
+#include "core/deform/registration.h"
+
+namespace cagewrap {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// FNV-1a over values in a fixed order (never over struct memory: padding is not content).
+class Hasher {
+ public:
+  template <class T>
+  Hasher& pod(const T& v) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    h_ = fnv1a64(std::string_view(reinterpret_cast<const char*>(&v), sizeof v), h_);
+    return *this;
+  }
+  template <class T>
+  Hasher& list(const std::vector<T>& v) {
+    pod<uint64_t>(v.size());
+    if (!v.empty()) h_ = fnv1a64(std::string_view(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T)), h_);
+    return *this;
+  }
+  std::string text() const { return format_hash(h_); }
+
+ private:
+  uint64_t h_ = kFnv1a64Offset;
+};
+
+bool same_floats(const std::vector<glm::vec3>& a, std::span<const glm::vec3> b) {
+  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(glm::vec3)) == 0);
+}
+
+}  // namespace
+
+std::string binding_cache_path(const std::string& project_path) { return project_path + ".cwb"; }
+
+BindingInputs binding_inputs(const Document& doc) {
+  CAGEWRAP_CHECK(doc.cage, "a binding's inputs need a cage");
+  BindingInputs in;
+  // the weight rule is part of the program: a binding cached before the tie band (issue 18) is stale
+  in.program = std::string("cagewrap ") + CAGEWRAP_VERSION + " (weights: tie band " + std::to_string(kTieBand) + ")";
+  in.character = doc.character_hash;
+  const PolyMesh& cage = doc.cage->polygons;
+  in.cage = Hasher().list(cage.face_start).list(cage.face_vertices).list(cage.positions).text();
+  const BindParams& p = doc.params;
+  in.params = Hasher()
+                  .pod(p.local)
+                  .pod(p.epsilon)
+                  .pod(p.max_elements)
+                  .pod(p.scale)
+                  .pod(p.max_distance)
+                  .pod(p.close_distance)
+                  .pod(static_cast<uint8_t>(p.variant))
+                  .pod(static_cast<uint8_t>(p.separate))
+                  .pod(p.separation_steps)
+                  .text();
+  Hasher edits;
+  edits.pod<uint64_t>(doc.set_edits.size());
+  for (const SetEdit& e : doc.set_edits) edits.pod(e.point).pod(static_cast<uint8_t>(e.only)).list(e.exclude).list(e.include);
+  in.set_edits = edits.text();
+  // the attachment reaches the bind only through automatic separation's part labels
+  Hasher attachment;
+  if (p.separate) {
+    attachment.pod(static_cast<uint8_t>(doc.attachment.mode)).pod(doc.attachment.smooth_width);
+    attachment.pod<uint64_t>(doc.attachment.overrides.size());
+    for (const AttachmentOverride& o : doc.attachment.overrides) attachment.pod(o.vertex).pod(o.node);
+  }
+  in.attachment = attachment.text();
+  return in;
+}
+
+std::string changed_inputs(const BindingInputs& recorded, const BindingInputs& now) {
+  const std::pair<std::string BindingInputs::*, std::string> parts[] = {
+      {&BindingInputs::character, "the character file"},
+      {&BindingInputs::cage, "the cage"},
+      {&BindingInputs::params, "the binding parameters"},
+      {&BindingInputs::set_edits, "the set edits"},
+      {&BindingInputs::attachment, "the attachment settings"},
+      {&BindingInputs::program, "the program (" + recorded.program + " made it)"},
+  };
+  std::vector<std::string> names;
+  for (const auto& [member, name] : parts)
+    if (recorded.*member != now.*member) names.push_back(name);
+  std::string s;
+  for (size_t i = 0; i < names.size(); ++i)
+    s += (i == 0 ? "" : i + 1 == names.size() ? " and " : ", ") + names[i];
+  return s;
+}
+
+Status binding_fits(const Binding& binding, const Document& doc) {
+  if (!doc.cage || !doc.character)
+    return make_error(ErrorCode::kInvalidArgument, "the document has no cage or no character");
+  if (!(binding.params == doc.params))
+    return make_error(ErrorCode::kInvalidArgument, "it was made with other binding parameters");
+  if (!same_floats(binding.rest_cage, doc.cage_positions()))
+    return make_error(ErrorCode::kTopologyMismatch, "it was made from another rest cage (" +
+                                                        std::to_string(binding.rest_cage.size()) + " vertices, the project's has " +
+                                                        std::to_string(doc.cage->num_vertices()) + ")");
+  if (binding.elements != doc.cage->elements)
+    return make_error(ErrorCode::kTopologyMismatch, "it was made from a cage with other faces");
+  if (binding.num_points != doc.character->num_vertices())
+    return make_error(ErrorCode::kTopologyMismatch, "it binds " + std::to_string(binding.num_points) +
+                                                        " skin points, the character has " +
+                                                        std::to_string(doc.character->num_vertices()));
+  return Ok{};
+}
+
+Result<BindingCacheFile> make_binding_cache(const std::string& project_path, const Document& doc,
+                                            const Binding& binding) {
+  BindingCacheFile out;
+  out.path = binding_cache_path(project_path);
+  if (auto fits = binding_fits(binding, doc); !fits)
+    return make_error(fits.error().code, out.path + ": the binding was not cached: " + fits.error().message);
+  out.bytes = binding_bytes(binding);
+  out.record.file = fs::absolute(out.path).lexically_normal().string();
+  out.record.file_hash = format_hash(fnv1a64(out.bytes));
+  out.record.inputs = binding_inputs(doc);
+  return out;
+}
+
+Result<Binding> load_binding_cache(const Document& doc) {
+  const BindingCacheRecord& r = doc.binding_cache;
+  if (r.file.empty())
+    return make_error(ErrorCode::kFileNotFound, (doc.project_path.empty() ? std::string("the document") : doc.project_path) +
+                                                    ": no binding is cached");
+  if (!doc.cage) return make_error(ErrorCode::kInvalidArgument, r.file + ": the project has no cage to use it with");
+  const std::string changed = changed_inputs(r.inputs, binding_inputs(doc));
+  if (!changed.empty())
+    return make_error(ErrorCode::kInvalidArgument,
+                      r.file + " is out of date: " + changed + " changed since it was written");
+  auto hash = hash_file(r.file);
+  if (!hash) return make_error(hash.error().code, r.file + ": the cached binding is gone (" + hash.error().message + ")");
+  if (*hash != r.file_hash)
+    return make_error(ErrorCode::kInvalidArgument, r.file + " was changed or replaced since the project was saved (hash " +
+                                                       *hash + ", the project says " + r.file_hash + ")");
+  auto binding = load_binding(r.file);
+  if (!binding) return binding.error();
+  if (auto fits = binding_fits(*binding, doc); !fits)
+    return make_error(fits.error().code, r.file + " does not fit the project: " + fits.error().message);
+  return binding;
+}
+
+}  // namespace cagewrap

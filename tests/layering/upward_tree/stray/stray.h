@@ -1,0 +1,2 @@
+// A folder that is not in CORE_LAYERS.
+#pragma once
