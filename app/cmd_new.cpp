@@ -1,6 +1,9 @@
-// cagewrap new --character F [--cage C | --auto-cage FACES [auto-cage options]] [params] [--embed]
-//              [--cache-binding] --out P.cagewrap
+// cagewrap new --character F [--cage C [--cage C2 ...] | --auto-cage FACES [auto-cage options]] [params]
+//              [--stack in_order|sum|blend] [--embed] [--cache-binding] --out P.cagewrap
+// A second and later --cage become deformer layers over the first (docs/deformer-stack.md), named
+// by their files, with the same binding parameters and no mask (`cagewrap deformer set` adds one).
 #include <cstdio>
+#include <filesystem>
 
 #include "app/auto_cage_options.h"
 #include "app/cli_common.h"
@@ -14,7 +17,8 @@ namespace cagewrap::app {
 
 void add_new_command(CLI::App& app, int& exit_code) {
   struct Args {
-    std::string character, cage, out;
+    std::string character, cage, out, stack;
+    std::vector<std::string> cages;
     BindOptions bind;
     AutoCageOptions auto_cage;
     CLI::Option* auto_cage_option = nullptr;
@@ -23,7 +27,10 @@ void add_new_command(CLI::App& app, int& exit_code) {
   auto args = std::make_shared<Args>();
   auto* cmd = app.add_subcommand("new", "make a project (.cagewrap) from a character and a cage");
   cmd->add_option("--character", args->character, "character (.glb .gltf)")->required();
-  cmd->add_option("--cage", args->cage, "cage at rest (.obj .ply .off .stl); without it the project has no cage yet");
+  cmd->add_option("--cage", args->cages,
+                  "cage at rest (.obj .ply .off .stl); without it the project has no cage yet. Given again: more cages, "
+                  "each a deformer layer over the first (docs/deformer-stack.md)");
+  cmd->add_option("--stack", args->stack, "with several cages: how their skins combine (in_order, sum or blend)");
   cmd->add_option("--out", args->out, "project file to write (.cagewrap)")->required();
   cmd->add_flag("--embed", args->embed, "put the character file into the project: it opens with no other file");
   cmd->add_flag("--cache-binding", args->cache,
@@ -34,6 +41,12 @@ void add_new_command(CLI::App& app, int& exit_code) {
   cmd->callback([args, &exit_code] {
     exit_code = 1;
     if (!finish_bind_options(args->bind)) return;
+    args->cage = args->cages.empty() ? std::string() : args->cages.front();
+    DeformerStack stack;
+    if (!args->stack.empty() && !parse_stack_mode(args->stack, stack.mode)) {
+      std::fprintf(stderr, "error: --stack '%s': use in_order, sum or blend\n", args->stack.c_str());
+      return;
+    }
     const bool automatic = args->auto_cage_option->count() > 0;
     if (automatic && !args->cage.empty()) {
       std::fprintf(stderr, "error: give either --cage or --auto-cage, not both\n");
@@ -46,6 +59,22 @@ void add_new_command(CLI::App& app, int& exit_code) {
       return;
     }
     *doc = with_params(*doc, args->bind.params);
+    if (args->cages.size() > 1) {
+      std::vector<DeformerLayer> layers;
+      for (size_t i = 1; i < args->cages.size(); ++i) {
+        auto cage = load_cage_or_report(args->cages[i]);
+        if (!cage) return;
+        DeformerLayer l;
+        l.name = std::filesystem::path(args->cages[i]).stem().string();
+        for (const DeformerLayer& other : layers)
+          if (other.name == l.name) l.name += " " + std::to_string(i + 1);
+        l.cage = std::make_shared<const Cage>(std::move(*cage));
+        l.params = doc->params;
+        l.attachment = doc->attachment;
+        layers.push_back(std::move(l));
+      }
+      *doc = with_stack(with_layers(*doc, std::move(layers)), stack);
+    }
     if (automatic && !add_automatic_cage(*doc, args->auto_cage.params, args->character, false)) return;
     if (args->embed) {
       auto e = embed_character(*doc);
@@ -79,6 +108,9 @@ void add_new_command(CLI::App& app, int& exit_code) {
                   doc->cage->polygons.num_faces());
     else
       std::printf("cage       none\n");
+    for (const DeformerLayer& l : doc->layers)
+      std::printf("deformer   %s: %zu vertices, %zu faces (a layer, %s)\n", l.name.c_str(), l.cage->num_vertices(),
+                  l.cage->polygons.num_faces(), stack_mode_name(doc->stack.mode));
     if (doc->embedded_character)
       std::printf("embedded   the character (%zu bytes)\n", doc->embedded_character->size());
     if (rig)

@@ -25,5 +25,6 @@ void add_patch_command(CLI::App& app, int& exit_code);  // parametric drivers (c
 void add_check_command(CLI::App& app, int& exit_code);  // fidelity to the file's skinning (cmd_check.cpp)
 void add_probe_command(CLI::App& app, int& exit_code);  // a Lipschitz figure for a binding (cmd_probe.cpp)
 void add_actions_command(CLI::App& app, int& exit_code);  // the editor's action table (cmd_actions.cpp)
+void add_deformer_command(CLI::App& app, int& exit_code);  // the deformer stack (cmd_deformer.cpp)
 
 }  // namespace cagewrap::app

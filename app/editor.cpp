@@ -395,6 +395,8 @@ int Editor::run() {
   int exit_code = 0;
   auto last = std::chrono::steady_clock::now();
   const bool scripted = !options_.screenshot.empty() || !script_.empty();
+  // a scripted run (a script or --screenshot) before its first binding: its frames count from there
+  auto first_bind_wait = [&] { return scripted && ws_.scene() && ws_.scene()->job && !ws_.scene()->binding; };
   while (!close_ && !(window_ && glfwWindowShouldClose(window_))) {
     if (window_) glfwPollEvents();
     auto now = std::chrono::steady_clock::now();
@@ -454,8 +456,9 @@ int Editor::run() {
         shown_cage_ = ws_.scene()->doc().cage;
         display_key_.reset();
       }
-      // scripted runs advance a fixed 1/30 s per frame so they are reproducible
-      ws_.view.playback.player.advance(scripted ? 1.0 / 30.0 : dt);
+      // scripted runs advance a fixed 1/30 s per frame so they are reproducible; while they wait for
+      // the first bind neither the clip's time nor the frame count moves (however long it takes)
+      if (!first_bind_wait()) ws_.view.playback.player.advance(scripted ? 1.0 / 30.0 : dt);
       // the cage simulation fills a few milliseconds a frame; a script waits for all of it
       ws_.scene()->fill_simulation(ws_.view.playback.clip, scripted ? 0.0 : 6.0);
       skin_display_.before_pose(*ws_.scene());
@@ -516,7 +519,7 @@ int Editor::run() {
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
     skin_display_.end(FramePart::kUiDraw);
     skin_display_.end_frame(dt * 1e3);
-    ++frame;
+    if (!first_bind_wait()) ++frame;
     if (!pending_screenshot_.empty() && pending_screenshot_frames_-- <= 0) {
       save_screenshot(pending_screenshot_, screenshot_view_only_);
       pending_screenshot_.clear();

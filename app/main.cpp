@@ -52,6 +52,7 @@ int main(int argc, char** argv) {
   cagewrap::app::add_simulate_command(app, exit_code);
   cagewrap::app::add_demo_sim_command(app, exit_code);
   cagewrap::app::add_patch_command(app, exit_code);
+  cagewrap::app::add_deformer_command(app, exit_code);
   cagewrap::app::add_check_command(app, exit_code);
   cagewrap::app::add_probe_command(app, exit_code);
   cagewrap::app::add_actions_command(app, exit_code);

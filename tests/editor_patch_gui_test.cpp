@@ -13,6 +13,7 @@
 #include <glm/geometric.hpp>
 
 #include "core/deform/patch_fit.h"
+#include "tests/patch_fixtures.h"
 #include "core/io/patch_io.h"
 #include "core/geometry/mesh_io.h"
 #include "tests/gui_harness.h"
@@ -22,20 +23,6 @@ namespace {
 namespace fs = std::filesystem;
 using namespace cagewrap;
 using namespace cagewrap::test;
-
-// A 5 x 4 quad sheet in the plane z = 0.1, x in [-0.25, 0.25], y in [0.95, 1.45] (the chest).
-PolyMesh chest_sheet() {
-  PolyMesh m;
-  const uint32_t nx = 5, ny = 4;
-  for (uint32_t j = 0; j <= ny; ++j)
-    for (uint32_t i = 0; i <= nx; ++i) m.positions.push_back(glm::vec3(-0.25f + 0.5f * i / nx, 0.95f + 0.5f * j / ny, 0.1f));
-  for (uint32_t j = 0; j < ny; ++j)
-    for (uint32_t i = 0; i < nx; ++i) {
-      const uint32_t a = j * (nx + 1) + i;
-      m.add_face({a, a + 1, a + nx + 2, a + nx + 1});
-    }
-  return m;
-}
 
 // Cyan pixels: the control net's colour (render/viewport_renderer.cpp kNetColor).
 size_t net_pixels(const Image& img) {

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/deform/patch_surface.h"
+#include "core/geometry/mesh.h"
 
 namespace cagewrap::test {
 
@@ -36,6 +37,21 @@ inline std::vector<glm::vec3> slab_skin(size_t n, uint32_t rows = 7, uint32_t co
   std::vector<glm::vec3> out(n);
   for (auto& p : out) p = {ux(rng), uy(rng), uz(rng)};
   return out;
+}
+
+// A 5 x 4 quad sheet in the plane z = 0.1, x in [-0.25, 0.25], y in [0.95, 1.45]: a cage in front of
+// the demo character's chest, to fit a parametric driver to.
+inline PolyMesh chest_sheet() {
+  PolyMesh m;
+  const uint32_t nx = 5, ny = 4;
+  for (uint32_t j = 0; j <= ny; ++j)
+    for (uint32_t i = 0; i <= nx; ++i) m.positions.push_back(glm::vec3(-0.25f + 0.5f * i / nx, 0.95f + 0.5f * j / ny, 0.1f));
+  for (uint32_t j = 0; j < ny; ++j)
+    for (uint32_t i = 0; i < nx; ++i) {
+      const uint32_t a = j * (nx + 1) + i;
+      m.add_face({a, a + 1, a + nx + 2, a + nx + 1});
+    }
+  return m;
 }
 
 }  // namespace cagewrap::test

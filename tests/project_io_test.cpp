@@ -377,9 +377,9 @@ TEST_F(ProjectIoTest, WrongFormat) {
 }
 
 TEST_F(ProjectIoTest, NewerVersion) {
-  Error e = error_after([](Json& j) { j["version"] = 4; });
+  Error e = error_after([](Json& j) { j["version"] = 5; });
   EXPECT_EQ(e.code, ErrorCode::kVersion);
-  EXPECT_CONTAINS(e.message, "made by a newer cagewrap: version 4, this build reads up to 3");
+  EXPECT_CONTAINS(e.message, "made by a newer cagewrap: version 5, this build reads up to 4");
   Error bad = error_after([](Json& j) { j["version"] = "1"; });
   EXPECT_EQ(bad.code, ErrorCode::kParse);
   EXPECT_CONTAINS(bad.message, "version should be a whole number >= 1");

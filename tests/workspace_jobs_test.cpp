@@ -15,6 +15,7 @@
 #include <gtest/gtest.h>
 
 #include "core/deform/patch_fit.h"
+#include "tests/patch_fixtures.h"
 #include "core/document/project_io.h"
 #include "core/geometry/mesh_io.h"
 #include "core/rig/fidelity.h"
@@ -38,25 +39,11 @@ std::string read_bytes(const fs::path& p) {
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
-// A 5 x 4 quad sheet in the plane z = 0.1, x in [-0.25, 0.25], y in [0.95, 1.45] (the demo's chest).
-PolyMesh chest_sheet() {
-  PolyMesh m;
-  const uint32_t nx = 5, ny = 4;
-  for (uint32_t j = 0; j <= ny; ++j)
-    for (uint32_t i = 0; i <= nx; ++i) m.positions.push_back(glm::vec3(-0.25f + 0.5f * i / nx, 0.95f + 0.5f * j / ny, 0.1f));
-  for (uint32_t j = 0; j < ny; ++j)
-    for (uint32_t i = 0; i < nx; ++i) {
-      const uint32_t a = j * (nx + 1) + i;
-      m.add_face({a, a + 1, a + nx + 2, a + nx + 1});
-    }
-  return m;
-}
-
 using WorkspacePatchTest = DemoWorkspaceTest;
 
 TEST_F(WorkspacePatchTest, FitMovesUndoDensityAndCancel) {
   const fs::path dir = test_dir();
-  const PolyMesh sheet = chest_sheet();
+  const PolyMesh sheet = test::chest_sheet();
   ASSERT_TRUE(save_obj((dir / "sheet.obj").string(), sheet.positions, sheet).ok());
   ASSERT_TRUE(ws.import_cage((dir / "sheet.obj").string()));
   ws.run("mode cage_faces");

@@ -46,6 +46,10 @@ void Workspace::set_scene(std::unique_ptr<Scene> scene) {
   view.patch.point = -1;
   view.playback = scene_ ? Playback::first_of(scene_->doc().character->clips) : Playback();
   view.soft.radius = 0.1 * scene_size();
+  if (scene_ && !scene_->doc().layers.empty())  // issue 21: not drawn yet; say so rather than show less than ships
+    log("warning: this project has " + std::to_string(scene_->doc().layers.size()) +
+        " more deformer(s) (cagewrap deformer list); the editor shows and edits its own cage only, while pose, check and "
+        "export use them all", true);
 }
 
 void Workspace::log(std::string text, bool error) {

@@ -117,6 +117,57 @@ Document with_patch_driver(const Document& doc, std::shared_ptr<const PatchDrive
   return out;
 }
 
+Document with_layers(const Document& doc, std::vector<DeformerLayer> layers) {
+  for (const DeformerLayer& l : layers) CAGEWRAP_CHECK(l.cage != nullptr, "a deformer layer needs a cage");
+  Document out = doc;
+  out.layers = std::move(layers);
+  out.revision = next_revision();
+  return out;
+}
+
+Document with_stack(const Document& doc, DeformerStack stack) {
+  Document out = doc;
+  out.stack = stack;
+  out.revision = next_revision();
+  return out;
+}
+
+Document layer_document(const Document& doc, size_t i) {
+  CAGEWRAP_CHECK(i < doc.layers.size(), "layer_document: no such layer");
+  const DeformerLayer& l = doc.layers[i];
+  Document out = doc;
+  out.cage = l.cage;
+  out.params = l.params;
+  out.set_edits = l.set_edits;
+  out.cage_offsets = l.cage_offsets;
+  out.attachment = l.attachment;
+  out.keyposes = l.keyposes;
+  out.sim = l.sim;
+  out.patch_driver = nullptr;
+  out.layers.clear();
+  out.stack = {};
+  out.binding_cache = {};
+  return out;  // the same revision: the same document, seen through one layer
+}
+
+const char* stack_mode_name(StackMode mode) {
+  switch (mode) {
+    case StackMode::kInOrder: return "in_order";
+    case StackMode::kSum: return "sum";
+    case StackMode::kBlend: return "blend";
+  }
+  return "in_order";
+}
+
+bool parse_stack_mode(std::string_view name, StackMode& out) {
+  for (StackMode m : {StackMode::kInOrder, StackMode::kSum, StackMode::kBlend})
+    if (name == stack_mode_name(m)) {
+      out = m;
+      return true;
+    }
+  return false;
+}
+
 Document with_character(const Document& doc, std::shared_ptr<const Character> character, std::string path,
                         std::string hash) {
   Document out = doc;
@@ -183,13 +234,31 @@ size_t vector_bytes(const std::vector<T>& v) {
 }
 }  // namespace
 
+bool same_layer(const DeformerLayer& a, const DeformerLayer& b) {
+  const bool same_mask = a.mask == b.mask || (a.mask && b.mask && *a.mask == *b.mask);
+  return a.name == b.name && a.muted == b.muted && same_cage(a.cage.get(), b.cage.get()) && same_params(a.params, b.params) &&
+         same_set_edits(a.set_edits, b.set_edits) && same_offsets(a.cage_offsets, b.cage_offsets) &&
+         a.attachment == b.attachment && a.keyposes == b.keyposes && a.sim == b.sim && same_mask &&
+         a.mask_source == b.mask_source;
+}
+
+namespace {
+bool same_layers(std::span<const DeformerLayer> a, std::span<const DeformerLayer> b) {
+  if (a.size() != b.size()) return false;
+  for (size_t i = 0; i < a.size(); ++i)
+    if (!same_layer(a[i], b[i])) return false;
+  return true;
+}
+}  // namespace
+
 bool same_content(const Document& a, const Document& b) {
   return a.character_hash == b.character_hash && !a.embedded_character == !b.embedded_character &&
          a.cache_binding == b.cache_binding && same_cage(a.cage.get(), b.cage.get()) &&
          same_offsets(a.cage_offsets, b.cage_offsets) && same_params(a.params, b.params) &&
          same_set_edits(a.set_edits, b.set_edits) && a.attachment == b.attachment &&
          a.keyposes == b.keyposes && a.sim == b.sim &&
-         same_patch_driver(a.patch_driver.get(), b.patch_driver.get()) && a.preserved_fields == b.preserved_fields;
+         same_patch_driver(a.patch_driver.get(), b.patch_driver.get()) && a.preserved_fields == b.preserved_fields &&
+         same_layers(a.layers, b.layers) && a.stack == b.stack;
 }
 
 bool same_cage_motion(const Document& a, const Document& b) {
@@ -231,10 +300,20 @@ size_t estimated_own_bytes(const Document& doc) {
   if (doc.patch_driver)
     for (const PatchSurface* s : {&doc.patch_driver->rest, &doc.patch_driver->posed})
       for (const PatchGrid& g : s->grids) n += sizeof(PatchGrid) + vector_bytes(g.points);
-  for (const KeyposeSet& s : doc.keyposes) {
-    n += s.name.size() + vector_bytes(s.drivers) + vector_bytes(s.keys);
-    for (const KeyposeKey& k : s.keys)
-      n += vector_bytes(k.values) + vector_bytes(k.vertices) + vector_bytes(k.offsets);
+  auto keyposes = [](const std::vector<KeyposeSet>& sets) {
+    size_t n = vector_bytes(sets);
+    for (const KeyposeSet& s : sets) {
+      n += s.name.size() + vector_bytes(s.drivers) + vector_bytes(s.keys);
+      for (const KeyposeKey& k : s.keys) n += vector_bytes(k.values) + vector_bytes(k.vertices) + vector_bytes(k.offsets);
+    }
+    return n;
+  };
+  n += keyposes(doc.keyposes) - vector_bytes(doc.keyposes);
+  n += vector_bytes(doc.layers);
+  for (const DeformerLayer& l : doc.layers) {
+    n += l.name.size() + l.mask_source.size() + vector_bytes(l.set_edits) + vector_bytes(l.cage_offsets) +
+         vector_bytes(l.attachment.overrides) + keyposes(l.keyposes) + vector_bytes(l.sim.vertices) + vector_bytes(l.sim.colliders);
+    for (const SetEdit& e : l.set_edits) n += vector_bytes(e.exclude) + vector_bytes(e.include);
   }
   return n;
 }

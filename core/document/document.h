@@ -9,6 +9,7 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -46,6 +47,40 @@ struct BindingCacheRecord {
   bool operator==(const BindingCacheRecord&) const = default;
 };
 
+// A deformer of the skin beyond the document's own cage (issue 21, docs/deformer-stack.md): a cage
+// of its own (a fine face or hand cage, a garment cage) with everything the document's cage has (its
+// binding parameters, set edits, sculpted offsets, attachment to the skeleton, keyposes, simulation),
+// a name, an optional skin mask and a mute switch.
+struct DeformerLayer {
+  std::string name;
+  std::shared_ptr<const Cage> cage;  // never null in a document
+  BindParams params;
+  std::vector<SetEdit> set_edits;
+  std::vector<glm::vec3> cage_offsets;  // #Vc or empty
+  AttachmentSettings attachment;
+  std::vector<KeyposeSet> keyposes;
+  SimSettings sim;
+  // How much it may move each skin point, in [0, 1] (#P, skin_character order); null = all of it.
+  std::shared_ptr<const std::vector<float>> mask;
+  std::string mask_source;  // how the mask was made ("joints head,neck"; "" = none or painted)
+  bool muted = false;       // left out of the stack (kept in the project)
+};
+
+// How the deformers' results make the skin (docs/deformer-stack.md). f_0 is the document's own cage,
+// f_i layer i's posed skin, m_i its mask, p the rest skin:
+//   kInOrder: s = f_0; then for each layer s += m_i (f_i - s)   (each later layer takes over where its mask is 1)
+//   kSum:     s = p + sum_i m_i (f_i - p)                        (displacements summed, f_0 with mask 1)
+//   kBlend:   Wires (Singh & Fiume): the displacements d_i = m_i (f_i - p) blended with exponent m
+//             (core/deform/deformer.h combine_displacements, in double)
+enum class StackMode : uint8_t { kInOrder, kSum, kBlend };
+struct DeformerStack {
+  StackMode mode = StackMode::kInOrder;
+  double exponent = 2.0;  // kBlend's m (>= 0)
+  bool operator==(const DeformerStack&) const = default;
+};
+const char* stack_mode_name(StackMode mode);               // "in_order", "sum", "blend"
+bool parse_stack_mode(std::string_view name, StackMode& out);
+
 struct Document {
   std::shared_ptr<const Character> character;  // never null in a document made by the functions here
   std::string character_path;  // as given (command line, file dialog) or resolved from the project file
@@ -72,6 +107,10 @@ struct Document {
   // The parametric driver (core/deform/patch_surface.h, docs/parametric-drivers.md); null = none. Replaced,
   // never mutated, like the cage.
   std::shared_ptr<const PatchDriver> patch_driver;
+  // More deformers of the skin (issue 21): each a cage of its own, combined with the document's cage
+  // as `stack` says; empty = the document's cage alone.
+  std::vector<DeformerLayer> layers;
+  DeformerStack stack;
   // A JSON object (text) of what the project file held that this build does not understand
   // ("extensions" and unknown top-level fields), written back unchanged on save. "" = nothing.
   std::string preserved_fields;
@@ -122,6 +161,15 @@ Document with_character(const Document& doc, std::shared_ptr<const Character> ch
 // The character embedded (its file's bytes, whose hash must be character_hash: checked) or not (null).
 Document with_embedded_character(const Document& doc, std::shared_ptr<const std::string> bytes);
 Document with_cache_binding(const Document& doc, bool cache);
+Document with_layers(const Document& doc, std::vector<DeformerLayer> layers);
+Document with_stack(const Document& doc, DeformerStack stack);
+// The document as layer `i` sees it: its cage, parameters, set edits, offsets, attachment, keyposes
+// and simulation in the document's own fields, no layers and no parametric driver (what a Rig is made
+// for, and what `cagewrap bind` and the binding cache take). i < doc.layers.size(): checked.
+Document layer_document(const Document& doc, size_t i);
+// Whether two layers are the same work (cage bit for bit, parameters, edits, offsets, attachment,
+// keyposes, simulation, mask, name, mute).
+bool same_layer(const DeformerLayer& a, const DeformerLayer& b);
 
 // True when the work is the same: character hash and whether it is embedded, cage (topology, and
 // positions bit for bit), cage offsets, parameters, set edits, attachment settings, keyposes,

@@ -28,7 +28,7 @@ namespace {
 const char* const kKnownFields[] = {"format",     "version",  "recovery",      "character",
                                     "cage",       "binding",  "set_edits",     "attachment",
                                     "keyposes",   "extensions", "binding_cache", "simulation",
-                                    "patch_driver"};
+                                    "patch_driver", "deformers", "deformer_stack"};
 
 // The members of "binding_cache.inputs", in the order they are written.
 const std::pair<const char*, std::string BindingInputs::*> kInputFields[] = {
@@ -212,26 +212,10 @@ std::string binding_cache_text(const std::string& path, const BindingCacheRecord
 }
 
 // `cache`: the binding cache record to write (null: caching is off).
-Result<std::string> project_text(const std::string& path, const Document& doc, const BindingCacheRecord* cache,
-                                 const std::optional<RecoveryInfo>& recovery) {
-  Json preserved = Json::object();
-  if (!doc.preserved_fields.empty()) {
-    preserved = Json::parse(doc.preserved_fields, nullptr, false);
-    if (!preserved.is_object())
-      return make_error(ErrorCode::kInvalidArgument, path + ": the document's preserved fields are not a JSON object");
-  }
-  std::string s = "{\n";
-  s += "  \"format\": " + Json(kProjectFormat).dump() + ",\n";
-  // the oldest version that holds the document: older builds still open what needs nothing newer
-  s += "  \"version\": " + std::to_string(doc.embedded_character ? 3 : 2) + ",\n";
-  if (recovery) {
-    Json r = {{"project", recovery->project}, {"pid", recovery->pid}};
-    s += "  \"recovery\": " + one_line(r) + ",\n";
-  }
-  Json character = {{"path", relative_path(path, doc.character_path)}, {"hash", doc.character_hash}};
-  if (doc.embedded_character) character["embedded"] = base64_encode(*doc.embedded_character);
-  s += "  \"character\": " + one_line(character) + ",\n";
-  s += "  \"cage\": {\n    \"positions\": [";
+// What the document's own cage and every layer hold, each field a line ending in ",\n": the cage
+// (positions, faces, offsets), "binding", "set_edits", "attachment", "keyposes", "simulation".
+Result<std::string> deformer_fields_text(const std::string& path, const Document& doc) {
+  std::string s = "  \"cage\": {\n    \"positions\": [";
   auto positions = doc.cage_positions();
   for (size_t v = 0; v < positions.size(); ++v) {
     const glm::vec3& p = positions[v];
@@ -279,6 +263,69 @@ Result<std::string> project_text(const std::string& path, const Document& doc, c
   if (auto v = validate_sim_settings(doc.sim, positions.size(), num_nodes); !v)
     return make_error(v.error().code, path + ": not saved: " + v.error().message);
   s += simulation_text(doc);
+  return s;
+}
+
+// "deformers" and "deformer_stack" (only when the document has layers, so older files stay as they
+// were): each layer is an object of the same fields as the document's own cage, and its name, mask and mute.
+Result<std::string> layers_text(const std::string& path, const Document& doc) {
+  if (doc.layers.empty()) return std::string();
+  std::string s = "  \"deformers\": [";
+  for (size_t i = 0; i < doc.layers.size(); ++i) {
+    const DeformerLayer& l = doc.layers[i];
+    auto fields = deformer_fields_text(path, layer_document(doc, i));
+    if (!fields) return make_error(fields.error().code, fields.error().message + " (deformer '" + l.name + "')");
+    s += std::string(i ? "," : "") + "\n  {\n" + *fields;
+    if (l.mask) {
+      s += "  \"mask\": [";
+      for (size_t p = 0; p < l.mask->size(); ++p) {
+        const float w = (*l.mask)[p];
+        if (!(w >= 0.0f && w <= 1.0f))
+          return make_error(ErrorCode::kInvalidArgument, path + ": not saved: deformer '" + l.name + "': mask weight of skin vertex " +
+                                                             std::to_string(p) + " is not in [0, 1]");
+        s += std::string(p ? "," : "") + (p % 16 == 0 ? "\n    " : " ") + number(short_float(w));
+      }
+      s += "\n  ],\n";
+    }
+    Json tail = {{"name", l.name}, {"muted", l.muted}};
+    if (!l.mask_source.empty()) tail["mask_source"] = l.mask_source;
+    const std::string t = one_line(tail);
+    s += "  " + t.substr(1, t.size() - 2) + "\n  }";
+  }
+  s += "\n  ],\n";
+  if (!(doc.stack.exponent >= 0.0) || !std::isfinite(doc.stack.exponent))
+    return make_error(ErrorCode::kInvalidArgument, path + ": not saved: the deformer stack's exponent must be a number >= 0");
+  s += "  \"deformer_stack\": " +
+       one_line(Json{{"mode", stack_mode_name(doc.stack.mode)}, {"exponent", doc.stack.exponent}}) + ",\n";
+  return s;
+}
+
+Result<std::string> project_text(const std::string& path, const Document& doc, const BindingCacheRecord* cache,
+                                 const std::optional<RecoveryInfo>& recovery) {
+  Json preserved = Json::object();
+  if (!doc.preserved_fields.empty()) {
+    preserved = Json::parse(doc.preserved_fields, nullptr, false);
+    if (!preserved.is_object())
+      return make_error(ErrorCode::kInvalidArgument, path + ": the document's preserved fields are not a JSON object");
+  }
+  std::string s = "{\n";
+  s += "  \"format\": " + Json(kProjectFormat).dump() + ",\n";
+  // the oldest version that holds the document: older builds still open what needs nothing newer
+  // (4: deformer layers, which an older build would drop; 3: an embedded character)
+  s += "  \"version\": " + std::to_string(!doc.layers.empty() ? 4 : doc.embedded_character ? 3 : 2) + ",\n";
+  if (recovery) {
+    Json r = {{"project", recovery->project}, {"pid", recovery->pid}};
+    s += "  \"recovery\": " + one_line(r) + ",\n";
+  }
+  Json character = {{"path", relative_path(path, doc.character_path)}, {"hash", doc.character_hash}};
+  if (doc.embedded_character) character["embedded"] = base64_encode(*doc.embedded_character);
+  s += "  \"character\": " + one_line(character) + ",\n";
+  auto fields = deformer_fields_text(path, doc);
+  if (!fields) return fields.error();
+  s += *fields;
+  auto layers = layers_text(path, doc);
+  if (!layers) return layers.error();
+  s += *layers;
   auto patch = patch_driver_text(path, doc);
   if (!patch) return patch.error();
   s += *patch;
@@ -689,6 +736,94 @@ std::optional<RecoveryInfo> read_recovery(const Reader& r, const Json& root) {
   return info;
 }
 
+// The fields of one deformer (the document's own cage, or a layer's) that need no character: the
+// cage, "binding", "set_edits" and the cage's "offsets".
+void read_cage_fields(const Reader& r, const Json& root, Document& doc, std::vector<std::string>& warnings,
+                      const std::string& path) {
+  doc.cage = read_cage(r, root);
+  doc.params = read_params(r, root, warnings, path);
+  doc.set_edits = read_set_edits(r, root, doc.cage ? doc.cage->num_elements() : 0);
+  if (const Json& cage = r.object(root, "", "cage"); cage.contains("offsets")) {
+    const Json& offsets = r.array(cage["offsets"], "cage.offsets");
+    const size_t nv = doc.cage ? doc.cage->num_vertices() : 0;
+    if (offsets.size() != nv)
+      r.fail(ErrorCode::kTopologyMismatch, "cage.offsets has " + std::to_string(offsets.size()) +
+                                               " entries but the cage has " + std::to_string(nv) + " vertices");
+    for (size_t v = 0; v < offsets.size(); ++v) {
+      std::string path = Reader::at("cage.offsets", v);
+      const Json& o = offsets[v];
+      if (!o.is_array() || o.size() != 3) r.fail(ErrorCode::kParse, path + " should be [x, y, z], not " + Reader::show(o));
+      doc.cage_offsets.emplace_back(r.finite_float(o[0], path + "[0]"), r.finite_float(o[1], path + "[1]"),
+                                    r.finite_float(o[2], path + "[2]"));
+    }
+  }
+}
+
+// The rest, checked against the character: set edits' points, "attachment", "keyposes", "simulation".
+void read_posing_fields(const Reader& r, const Json& root, const Character& character, Document& doc,
+                        std::vector<std::string>& warnings, const std::string& path) {
+  const size_t num_points = character.num_vertices();
+  for (size_t i = 0; i < doc.set_edits.size(); ++i)
+    if (doc.set_edits[i].point >= num_points)
+      r.fail(ErrorCode::kIndexOutOfRange, Reader::at("set_edits", i) + ".point is skin vertex " +
+                                              std::to_string(doc.set_edits[i].point) + ", but the character has " +
+                                              std::to_string(num_points) + " vertices");
+  const size_t num_cage_vertices = doc.cage ? doc.cage->num_vertices() : 0;
+  doc.attachment.mode = AttachmentMode::kRigid;  // a version 1 file: the cage followed the closest limb
+  if (root.contains("attachment"))
+    doc.attachment = read_attachment(r, root["attachment"], character, num_cage_vertices, warnings, path);
+  if (root.contains("keyposes"))
+    doc.keyposes = read_keyposes(r, root["keyposes"], character, num_cage_vertices, warnings, path);
+  if (root.contains("simulation"))
+    doc.sim = read_simulation(r, root["simulation"], character, num_cage_vertices, warnings, path);
+}
+
+// "deformers": each layer read like the document's own cage, its messages naming "deformers[i]".
+std::vector<DeformerLayer> read_layers(const std::string& path, const Json& list, const Character& character,
+                                       std::vector<std::string>& warnings) {
+  Reader top(path);
+  top.array(list, "deformers");
+  std::vector<DeformerLayer> out;
+  for (size_t i = 0; i < list.size(); ++i) {
+    const std::string where = Reader::at("deformers", i);
+    const Reader r(path + ": " + where);
+    const Json& j = list[i];
+    if (!j.is_object()) top.fail(ErrorCode::kParse, where + " should be an object, not " + Reader::show(j));
+    Document d;
+    read_cage_fields(r, j, d, warnings, r.file());
+    if (!d.cage) r.fail(ErrorCode::kParse, "the deformer has no cage");
+    read_posing_fields(r, j, character, d, warnings, r.file());
+    DeformerLayer l;
+    l.name = j.contains("name") ? r.string(j["name"], "name") : "deformer " + std::to_string(i + 1);
+    l.muted = j.contains("muted") && r.boolean(j["muted"], "muted");
+    if (j.contains("mask_source")) l.mask_source = r.string(j["mask_source"], "mask_source");
+    if (j.contains("mask")) {
+      const Json& m = r.array(j["mask"], "mask");
+      if (m.size() != character.num_vertices())
+        r.fail(ErrorCode::kTopologyMismatch, "mask has " + std::to_string(m.size()) + " weights but the character has " +
+                                                 std::to_string(character.num_vertices()) + " vertices");
+      auto mask = std::make_shared<std::vector<float>>(m.size());
+      for (size_t p = 0; p < m.size(); ++p) {
+        const float w = r.finite_float(m[p], Reader::at("mask", p));
+        if (w < 0.0f || w > 1.0f) r.fail(ErrorCode::kParse, Reader::at("mask", p) + " should be in [0, 1], not " + Reader::show(m[p]));
+        (*mask)[p] = w;
+      }
+      l.mask = std::move(mask);
+    }
+    l.cage = d.cage;
+    l.params = d.params;
+    l.set_edits = std::move(d.set_edits);
+    l.cage_offsets = std::move(d.cage_offsets);
+    l.attachment = d.attachment;
+    l.keyposes = std::move(d.keyposes);
+    l.sim = std::move(d.sim);
+    warn_unknown(j, where, {"cage", "binding", "set_edits", "attachment", "keyposes", "simulation", "mask", "mask_source", "name", "muted"},
+                 warnings, path);
+    out.push_back(std::move(l));
+  }
+  return out;
+}
+
 Result<ProjectLoad> load(const std::string& path, const std::string& character_override, std::string* missing) {
   Reader r(path);
   auto parsed = read_json_file(path);
@@ -727,23 +862,7 @@ Result<ProjectLoad> load(const std::string& path, const std::string& character_o
                                     "): the project file is damaged");
     embedded = std::make_shared<const std::string>(std::move(bytes).value());
   }
-  doc.cage = read_cage(r, root);
-  doc.params = read_params(r, root, out.warnings, path);
-  doc.set_edits = read_set_edits(r, root, doc.cage ? doc.cage->num_elements() : 0);
-  if (const Json& cage = r.object(root, "", "cage"); cage.contains("offsets")) {
-    const Json& offsets = r.array(cage["offsets"], "cage.offsets");
-    const size_t nv = doc.cage ? doc.cage->num_vertices() : 0;
-    if (offsets.size() != nv)
-      r.fail(ErrorCode::kTopologyMismatch, "cage.offsets has " + std::to_string(offsets.size()) +
-                                               " entries but the cage has " + std::to_string(nv) + " vertices");
-    for (size_t v = 0; v < offsets.size(); ++v) {
-      std::string path = Reader::at("cage.offsets", v);
-      const Json& o = offsets[v];
-      if (!o.is_array() || o.size() != 3) r.fail(ErrorCode::kParse, path + " should be [x, y, z], not " + Reader::show(o));
-      doc.cage_offsets.emplace_back(r.finite_float(o[0], path + "[0]"), r.finite_float(o[1], path + "[1]"),
-                                    r.finite_float(o[2], path + "[2]"));
-    }
-  }
+  read_cage_fields(r, root, doc, out.warnings, path);
 
   Json preserved = Json::object();
   if (root.contains("extensions")) {
@@ -793,20 +912,18 @@ Result<ProjectLoad> load(const std::string& path, const std::string& character_o
     out.warnings.push_back(path + ": the character file " + character_path +
                            " changed since the project was saved (hash " + hash + ", project says " + recorded_hash +
                            "); check that the cage and set edits still fit it");
-  const size_t num_points = loaded->num_vertices();
-  for (size_t i = 0; i < doc.set_edits.size(); ++i)
-    if (doc.set_edits[i].point >= num_points)
-      r.fail(ErrorCode::kIndexOutOfRange, Reader::at("set_edits", i) + ".point is skin vertex " +
-                                              std::to_string(doc.set_edits[i].point) + ", but the character has " +
-                                              std::to_string(num_points) + " vertices");
-  const size_t num_cage_vertices = doc.cage ? doc.cage->num_vertices() : 0;
-  doc.attachment.mode = AttachmentMode::kRigid;  // a version 1 file: the cage followed the closest limb
-  if (root.contains("attachment"))
-    doc.attachment = read_attachment(r, root["attachment"], *loaded, num_cage_vertices, out.warnings, path);
-  if (root.contains("keyposes"))
-    doc.keyposes = read_keyposes(r, root["keyposes"], *loaded, num_cage_vertices, out.warnings, path);
-  if (root.contains("simulation"))
-    doc.sim = read_simulation(r, root["simulation"], *loaded, num_cage_vertices, out.warnings, path);
+  read_posing_fields(r, root, *loaded, doc, out.warnings, path);
+  if (root.contains("deformers")) doc.layers = read_layers(path, root["deformers"], *loaded, out.warnings);
+  if (root.contains("deformer_stack")) {
+    const Json& st = r.object(root, "", "deformer_stack");
+    const std::string mode = r.string(r.field(st, "deformer_stack", "mode"), "deformer_stack.mode");
+    if (!parse_stack_mode(mode, doc.stack.mode))
+      r.fail(ErrorCode::kParse, "deformer_stack.mode should be \"in_order\", \"sum\" or \"blend\", not \"" + mode + "\"");
+    if (st.contains("exponent")) doc.stack.exponent = r.number(st["exponent"], "deformer_stack.exponent");
+    if (!(doc.stack.exponent >= 0.0))
+      r.fail(ErrorCode::kParse, "deformer_stack.exponent should be >= 0, not " + Reader::show(st["exponent"]));
+    warn_unknown(st, "deformer_stack", {"mode", "exponent"}, out.warnings, path);
+  }
   if (root.contains("patch_driver")) doc.patch_driver = read_patch_driver(r, root["patch_driver"], path, out.warnings);
   doc.character = std::make_shared<const Character>(std::move(loaded).value());
   doc.character_path = character_path;

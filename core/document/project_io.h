@@ -3,7 +3,7 @@
 // edits, the cage attachment settings, the keyposes and the record of a cached binding.
 // docs/project-format.md describes every field; this build reads every version up to
 // kProjectVersion (version 1 has no attachment and no keyposes: the defaults) and writes the
-// oldest version that holds the document (3 only when it embeds the character).
+// oldest version that holds the document (4 only with deformer layers, 3 when it embeds the character).
 #pragma once
 
 #include <cstdint>
@@ -16,7 +16,7 @@
 
 namespace cagewrap {
 
-inline constexpr int kProjectVersion = 3;
+inline constexpr int kProjectVersion = 4;
 inline constexpr const char* kProjectFormat = "cagewrap-project";
 inline constexpr const char* kProjectExtension = ".cagewrap";
 

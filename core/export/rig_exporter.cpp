@@ -181,6 +181,14 @@ Result<ExportReport> run_export(const Document& doc, Rig* rig, const ExportReque
                             (mine == doc.character_path ? "character" : "project") +
                             " file; export elsewhere");
   }
+  if (request.format == ExportFormat::kJson) {
+    size_t layers = 0;
+    for (const DeformerLayer& l : doc.layers) layers += l.muted ? 0 : 1;
+    if (layers)  // a JSON rig describes one cage: the other deformers would be lost without a word
+      return make_error(ErrorCode::kUnsupportedFormat,
+                        request.out + ": the rig JSON describes one cage, and this project has " + std::to_string(layers) +
+                            " more deformer(s): export a baked mode (glb or obj), which carries the whole stack");
+  }
   if ((request.format != ExportFormat::kJson || doc.attachment.mode == AttachmentMode::kFitted) && !rig)
     return make_error(ErrorCode::kInvalidArgument, "the document's rig is not bound yet");
   Result<ExportReport> r = request.format == ExportFormat::kGlb   ? run_glb(doc, *rig, request, progress)

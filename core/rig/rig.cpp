@@ -1,4 +1,5 @@
 #include "core/rig/rig.h"
+#include "core/rig/deformer_stack.h"
 
 #include <optional>
 
@@ -80,7 +81,31 @@ struct Rig::State {
   std::optional<Binding> fitted;     // the stencil the deformer reads when fit_rig smoothed it
   std::optional<Deformer> deformer;  // refers to fitted or binding and skin_rest: State never moves
   SimCache sims;                     // the simulated clips (pose_clip)
+  // the document's deformer layers that are not muted (issue 21): each a rig of its own
+  // (layer_document), combined with this one's skin by the document's stack
+  std::vector<size_t> layer_index;
+  std::vector<std::unique_ptr<Rig>> layers;
+  std::vector<std::vector<glm::vec3>> layer_skins;  // #P each, reused frame to frame
+  PosedCage layer_cage;
+  // Each layer's skin posed by `pose_layer(k, layer document, out)`, then combined into `skin_out`.
+  template <class PoseLayer>
+  Status pose_layers(const Document& doc, std::span<glm::vec3> skin_out, PoseLayer pose_layer);
 };
+
+template <class PoseLayer>
+Status Rig::State::pose_layers(const Document& doc, std::span<glm::vec3> skin_out, PoseLayer pose_layer) {
+  if (layers.empty()) return Ok{};
+  std::vector<std::span<const glm::vec3>> skins;
+  std::vector<std::span<const float>> masks;
+  for (size_t k = 0; k < layers.size(); ++k) {
+    const DeformerLayer& l = doc.layers[layer_index[k]];
+    if (auto s = pose_layer(*layers[k], layer_document(doc, layer_index[k]), layer_skins[k]); !s)
+      return make_error(s.error().code, "deformer '" + l.name + "': " + s.error().message);
+    skins.emplace_back(layer_skins[k]);
+    masks.emplace_back(l.mask ? std::span<const float>(*l.mask) : std::span<const float>());
+  }
+  return combine_stack(doc.stack, skin_rest, skins, masks, skin_out);
+}
 
 Rig::Rig() = default;
 Rig::Rig(Rig&&) noexcept = default;
@@ -176,6 +201,18 @@ Result<Rig> Rig::make(const Document& doc, Binding* binding, const BindProgress&
   auto deformer = Deformer::create(s.fitted ? *s.fitted : s.binding, s.skin_rest);
   if (!deformer) return make_error(deformer.error().code, "bind: " + deformer.error().message);
   s.deformer.emplace(std::move(deformer).value());
+  for (size_t i = 0; i < doc.layers.size(); ++i) {
+    const DeformerLayer& l = doc.layers[i];
+    if (l.muted) continue;
+    if (l.mask && l.mask->size() != s.skin_rest.size())
+      return make_error(ErrorCode::kTopologyMismatch, "deformer '" + l.name + "': its mask has " + std::to_string(l.mask->size()) +
+                                                          " weights but the skin has " + std::to_string(s.skin_rest.size()) + " points");
+    auto layer = Rig::create(layer_document(doc, i), progress);
+    if (!layer) return make_error(layer.error().code, "deformer '" + l.name + "': " + layer.error().message);
+    s.layer_index.push_back(i);
+    s.layers.push_back(std::make_unique<Rig>(std::move(layer).value()));
+    s.layer_skins.emplace_back(s.skin_rest.size());
+  }
   return rig;
 }
 
@@ -190,8 +227,16 @@ bool Rig::fits(const Document& doc) const {
         std::memcmp(a.positions.data(), b.positions.data(), a.positions.size() * sizeof(glm::vec3)) != 0)
       return false;
   }
-  return same_params(doc.params, mine.params) && same_set_edits(doc.set_edits, mine.set_edits) &&
-         doc.attachment == mine.attachment;
+  if (!same_params(doc.params, mine.params) || !same_set_edits(doc.set_edits, mine.set_edits) ||
+      !(doc.attachment == mine.attachment))
+    return false;
+  // the same layers, bound the same way (their offsets, keyposes, masks and the stack may differ)
+  if (doc.layers.size() != mine.layers.size()) return false;
+  for (size_t i = 0; i < doc.layers.size(); ++i)
+    if (doc.layers[i].muted != mine.layers[i].muted) return false;
+  for (size_t k = 0; k < state_->layers.size(); ++k)
+    if (!state_->layers[k]->fits(layer_document(doc, state_->layer_index[k]))) return false;
+  return true;
 }
 
 Status Rig::pose(const Document& doc, const Pose& pose, PosedCage& cage, std::span<glm::vec3> skin_out) {
@@ -199,7 +244,10 @@ Status Rig::pose(const Document& doc, const Pose& pose, PosedCage& cage, std::sp
                  "Rig::pose: the document has another cage, binding parameters or attachment than the rig");
   CAGEWRAP_CHECK(skin_out.size() == state_->skin_rest.size(), "one output position per skin point");
   pose_document_cage(doc, state_->attachment ? &*state_->attachment : nullptr, pose, cage);
-  return deform_through_cage(*state_->deformer, cage, skin_out);
+  if (auto s = deform_through_cage(*state_->deformer, cage, skin_out); !s) return s;
+  return state_->pose_layers(doc, skin_out, [&](Rig& layer, const Document& d, std::vector<glm::vec3>& out) {
+    return layer.pose(d, pose, state_->layer_cage, out);
+  });
 }
 
 Status Rig::pose_clip(const Document& doc, int32_t clip, double t, std::span<const glm::quat> overrides,
@@ -213,7 +261,10 @@ Status Rig::pose_clip(const Document& doc, int32_t clip, double t, std::span<con
                                    cage);
       !s)
     return s;
-  return deform_through_cage(*state_->deformer, cage, skin_out);
+  if (auto s = deform_through_cage(*state_->deformer, cage, skin_out); !s) return s;
+  return state_->pose_layers(doc, skin_out, [&](Rig& layer, const Document& d, std::vector<glm::vec3>& out) {
+    return layer.pose_clip(d, clip, t, overrides, state_->layer_cage, out);
+  });
 }
 
 size_t Rig::num_skin_points() const { return state_->skin_rest.size(); }

@@ -1,0 +1,273 @@
+// cagewrap deformer list|add|remove|set --project P.cagewrap [...] [--out Q.cagewrap]
+// The project's deformer stack, headless (issue 21, docs/deformer-stack.md): its own cage and the
+// layers over it (a fine face or hand cage, a garment cage), each with a name, an optional skin mask
+// and a mute switch, and how their skins combine.
+//   list                                   the stack, one line per deformer
+//   add --cage C [--name N] [--mask-joints a,b | --mask-primitives 0,2] [binding options]
+//   remove (--name N | --index I)          I: 1 = the first layer (0 is the project's own cage)
+//   set (--name N | --index I) [--rename N2] [--mute | --unmute] [--mask-joints a,b | --mask-primitives 0,2 | --no-mask]
+//       [--to K]                           (move it to position K among the layers)
+//   set --stack in_order|sum|blend [--exponent m]
+// Every change checks what it can first (the cage, the names, the mask), writes P again (or Q), and
+// prints the stack. Errors name the project, the layer and what is wrong; nothing is written then.
+#include <cstdio>
+#include <filesystem>
+#include <sstream>
+
+#include "app/cli_common.h"
+#include "app/commands.h"
+#include "core/character/skin_mask.h"
+#include "core/document/project_io.h"
+
+namespace cagewrap::app {
+
+namespace {
+
+std::vector<std::string> split_list(const std::string& text) {
+  std::vector<std::string> out;
+  std::stringstream in(text);
+  for (std::string item; std::getline(in, item, ',');)
+    if (!item.empty()) out.push_back(item);
+  return out;
+}
+
+void print_stack(const Document& doc) {
+  const auto cage_line = [](const Cage& c) {
+    return std::to_string(c.num_vertices()) + " vertices, " + std::to_string(c.polygons.num_faces()) + " faces";
+  };
+  std::printf("stack      %s%s (%zu deformer%s)\n", stack_mode_name(doc.stack.mode),
+              doc.stack.mode == StackMode::kBlend ? (" m=" + std::to_string(doc.stack.exponent)).c_str() : "",
+              1 + doc.layers.size(), doc.layers.empty() ? "" : "s");
+  std::printf("  0  %-16s %s, %s\n", "(project cage)", doc.cage ? cage_line(*doc.cage).c_str() : "no cage",
+              variant_name(doc.params.variant));
+  for (size_t i = 0; i < doc.layers.size(); ++i) {
+    const DeformerLayer& l = doc.layers[i];
+    std::string mask = "no mask";
+    if (l.mask) {
+      size_t moved = 0;
+      for (float w : *l.mask) moved += w > 0.0f ? 1 : 0;
+      mask = "mask " + (l.mask_source.empty() ? std::string("painted") : l.mask_source) + " (" + std::to_string(moved) + " of " +
+             std::to_string(l.mask->size()) + " skin vertices)";
+    }
+    std::printf("  %zu  %-16s %s, %s, %s%s\n", i + 1, l.name.c_str(), cage_line(*l.cage).c_str(), variant_name(l.params.variant),
+                mask.c_str(), l.muted ? ", muted" : "");
+  }
+}
+
+struct MaskArgs {
+  std::string joints, primitives;
+  bool none = false;
+};
+
+void add_mask_options(CLI::App& cmd, MaskArgs& m, bool with_none) {
+  auto* j = cmd.add_option("--mask-joints", m.joints, "mask: these joints and their children, feathered by the skin weights (a,b,c)");
+  auto* p = cmd.add_option("--mask-primitives", m.primitives, "mask: these primitives of the character, by index (0,2)");
+  j->excludes(p);
+  if (with_none) cmd.add_flag("--no-mask", m.none, "no mask: the layer may move every skin point")->excludes(j)->excludes(p);
+}
+
+// The layer's mask as the options say; false (printed) when it cannot be made.
+bool apply_mask(const Document& doc, const MaskArgs& m, DeformerLayer& l, const std::string& project) {
+  if (m.none) {
+    l.mask = nullptr;
+    l.mask_source.clear();
+    return true;
+  }
+  Result<std::vector<float>> mask = std::vector<float>();
+  if (!m.joints.empty()) {
+    const auto names = split_list(m.joints);
+    mask = joint_region_mask(*doc.character, names);
+    l.mask_source = "joints " + m.joints;
+  } else if (!m.primitives.empty()) {
+    std::vector<size_t> prims;
+    for (const std::string& s : split_list(m.primitives)) {
+      char* end = nullptr;
+      const unsigned long v = std::strtoul(s.c_str(), &end, 10);
+      if (s.empty() || *end != '\0') {
+        std::fprintf(stderr, "error: %s: --mask-primitives: '%s' is not a primitive index\n", project.c_str(), s.c_str());
+        return false;
+      }
+      prims.push_back(v);
+    }
+    mask = primitive_mask(*doc.character, prims);
+    l.mask_source = "primitives " + m.primitives;
+  } else {
+    return true;  // unchanged
+  }
+  if (!mask) {
+    std::fprintf(stderr, "error: %s: deformer '%s': %s\n", project.c_str(), l.name.c_str(), mask.error().message.c_str());
+    return false;
+  }
+  l.mask = std::make_shared<const std::vector<float>>(std::move(mask).value());
+  return true;
+}
+
+// The layer named `name`, or at 1-based `index`; -1 (printed) when there is none.
+long find_layer(const Document& doc, const std::string& name, long index, const std::string& project) {
+  if (!name.empty()) {
+    for (size_t i = 0; i < doc.layers.size(); ++i)
+      if (doc.layers[i].name == name) return static_cast<long>(i);
+    std::fprintf(stderr, "error: %s: has no deformer named '%s'%s\n", project.c_str(), name.c_str(),
+                 doc.layers.empty() ? " (it has no layers: `cagewrap deformer add`)" : "");
+    return -1;
+  }
+  if (index >= 1 && static_cast<size_t>(index) <= doc.layers.size()) return index - 1;
+  if (index == 0)
+    std::fprintf(stderr, "error: %s: deformer 0 is the project's own cage: edit it with `cagewrap new` or the editor\n", project.c_str());
+  else
+    std::fprintf(stderr, "error: %s: has no deformer %ld (its layers are 1 to %zu)\n", project.c_str(), index, doc.layers.size());
+  return -1;
+}
+
+// Writes the project (to `out` when given) and prints the stack; the exit code.
+int save_and_print(const Document& doc, const std::string& project, const std::string& out) {
+  const std::string to = out.empty() ? project : out;
+  if (auto s = save_project(to, doc); !s) return report_error(s.error());
+  std::printf("wrote      %s\n", to.c_str());
+  print_stack(doc);
+  return 0;
+}
+
+}  // namespace
+
+void add_deformer_command(CLI::App& app, int& exit_code) {
+  struct Args {
+    std::string project, out, cage, name, rename, stack;
+    long index = -1, to = -1;
+    double exponent = -1.0;
+    bool mute = false, unmute = false;
+    MaskArgs mask;
+    BindOptions bind;
+  };
+  auto args = std::make_shared<Args>();
+  auto* cmd = app.add_subcommand("deformer", "list and edit a project's deformers: its own cage and more cages over it");
+  cmd->require_subcommand(1);
+  auto common = [&](CLI::App* sub) {
+    sub->add_option("--project", args->project, "project file (.cagewrap)")->required();
+    sub->add_option("--out", args->out, "write the result here instead of over the project");
+  };
+  auto load = [args]() -> std::optional<Document> {
+    auto loaded = load_project_or_report(args->project);
+    if (!loaded) return std::nullopt;
+    return loaded->document;
+  };
+
+  auto* list = cmd->add_subcommand("list", "print the stack");
+  common(list);
+  list->callback([args, load, &exit_code] {
+    exit_code = 1;
+    auto doc = load();
+    if (!doc) return;
+    print_stack(*doc);
+    exit_code = 0;
+  });
+
+  auto* add = cmd->add_subcommand("add", "add a cage as a new layer at the end of the stack");
+  common(add);
+  add->add_option("--cage", args->cage, "the layer's cage at rest (.obj .ply .off .stl)")->required();
+  add->add_option("--name", args->name, "its name (default: the cage file's name)");
+  add_mask_options(*add, args->mask, false);
+  add_bind_options(*add, args->bind);
+  add->callback([args, load, &exit_code] {
+    exit_code = 1;
+    if (!finish_bind_options(args->bind)) return;
+    auto doc = load();
+    if (!doc) return;
+    auto cage = load_cage_or_report(args->cage);
+    if (!cage) return;
+    DeformerLayer l;
+    l.name = args->name.empty() ? std::filesystem::path(args->cage).stem().string() : args->name;
+    for (const DeformerLayer& other : doc->layers)
+      if (other.name == l.name) {
+        std::fprintf(stderr, "error: %s: already has a deformer named '%s' (give another with --name)\n", args->project.c_str(),
+                     l.name.c_str());
+        return;
+      }
+    l.cage = std::make_shared<const Cage>(std::move(*cage));
+    l.params = args->bind.params;
+    l.attachment = doc->attachment;
+    l.attachment.overrides.clear();  // they named the project cage's vertices
+    if (!apply_mask(*doc, args->mask, l, args->project)) return;
+    std::vector<DeformerLayer> layers = doc->layers;
+    layers.push_back(std::move(l));
+    exit_code = save_and_print(with_layers(*doc, std::move(layers)), args->project, args->out);
+  });
+
+  auto* remove = cmd->add_subcommand("remove", "remove a layer");
+  common(remove);
+  remove->add_option("--name", args->name, "the layer's name");
+  remove->add_option("--index", args->index, "or its place: 1 = the first layer");
+  remove->callback([args, load, &exit_code] {
+    exit_code = 1;
+    auto doc = load();
+    if (!doc) return;
+    const long i = find_layer(*doc, args->name, args->index, args->project);
+    if (i < 0) return;
+    std::vector<DeformerLayer> layers = doc->layers;
+    std::printf("removed    %s\n", layers[size_t(i)].name.c_str());
+    layers.erase(layers.begin() + i);
+    exit_code = save_and_print(with_layers(*doc, std::move(layers)), args->project, args->out);
+  });
+
+  auto* set = cmd->add_subcommand("set", "change a layer (name, mute, mask, place) or the stack's mode");
+  common(set);
+  set->add_option("--name", args->name, "the layer's name");
+  set->add_option("--index", args->index, "or its place: 1 = the first layer");
+  set->add_option("--rename", args->rename, "a new name");
+  auto* mute = set->add_flag("--mute", args->mute, "leave it out of the stack (kept in the project)");
+  set->add_flag("--unmute", args->unmute, "put it back into the stack")->excludes(mute);
+  set->add_option("--to", args->to, "move it to this place among the layers (1 = first)");
+  add_mask_options(*set, args->mask, true);
+  set->add_option("--stack", args->stack, "how the skins combine: in_order, sum or blend (docs/deformer-stack.md)");
+  set->add_option("--exponent", args->exponent, "the blend's exponent m (>= 0)");
+  set->callback([args, load, &exit_code] {
+    exit_code = 1;
+    auto doc = load();
+    if (!doc) return;
+    Document d = *doc;
+    if (!args->stack.empty() || args->exponent >= 0.0) {
+      DeformerStack stack = d.stack;
+      if (!args->stack.empty() && !parse_stack_mode(args->stack, stack.mode)) {
+        std::fprintf(stderr, "error: --stack '%s': use in_order, sum or blend\n", args->stack.c_str());
+        return;
+      }
+      if (args->exponent >= 0.0) stack.exponent = args->exponent;
+      d = with_stack(d, stack);
+    } else if (args->exponent != -1.0) {
+      std::fprintf(stderr, "error: --exponent %g: the blend's exponent must be >= 0\n", args->exponent);
+      return;
+    }
+    const bool layer_change = !args->rename.empty() || args->mute || args->unmute || args->to >= 0 || !args->mask.joints.empty() ||
+                              !args->mask.primitives.empty() || args->mask.none;
+    if (layer_change || !args->name.empty() || args->index >= 0) {
+      const long i = find_layer(d, args->name, args->index, args->project);
+      if (i < 0) return;
+      std::vector<DeformerLayer> layers = d.layers;
+      DeformerLayer& l = layers[size_t(i)];
+      if (!args->rename.empty()) {
+        for (size_t k = 0; k < layers.size(); ++k)
+          if (long(k) != i && layers[k].name == args->rename) {
+            std::fprintf(stderr, "error: %s: already has a deformer named '%s'\n", args->project.c_str(), args->rename.c_str());
+            return;
+          }
+        l.name = args->rename;
+      }
+      if (args->mute) l.muted = true;
+      if (args->unmute) l.muted = false;
+      if (!apply_mask(d, args->mask, l, args->project)) return;
+      if (args->to >= 0) {
+        if (args->to < 1 || size_t(args->to) > layers.size()) {
+          std::fprintf(stderr, "error: --to %ld: the layers are 1 to %zu\n", args->to, layers.size());
+          return;
+        }
+        DeformerLayer moved = std::move(l);
+        layers.erase(layers.begin() + i);
+        layers.insert(layers.begin() + (args->to - 1), std::move(moved));
+      }
+      d = with_layers(d, std::move(layers));
+    }
+    exit_code = save_and_print(d, args->project, args->out);
+  });
+}
+
+}  // namespace cagewrap::app

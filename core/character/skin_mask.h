@@ -1,0 +1,22 @@
+// Skin masks (issue 21, docs/deformer-stack.md): how much a deformer layer may move each skin point,
+// one weight in [0, 1] per skin vertex in skin_character order, made from a region of the character.
+#pragma once
+
+#include <span>
+#include <string>
+#include <vector>
+
+#include "core/base/result.h"
+#include "core/character/character.h"
+
+namespace cagewrap {
+
+// The region of the named skeleton nodes and their descendants, feathered by the character's own
+// skinning: each point's weight is the sum of its skin weights on those joints (a point of a
+// primitive with no skin: 1 when the node that instances it is in the region). Errors: a name that is
+// no node (naming it and the nearest names), no names.
+Result<std::vector<float>> joint_region_mask(const Character& character, std::span<const std::string> nodes);
+// 1 on the points of the given primitives (file order), 0 elsewhere. Errors: an index past the primitives.
+Result<std::vector<float>> primitive_mask(const Character& character, std::span<const size_t> primitives);
+
+}  // namespace cagewrap

@@ -1,0 +1,91 @@
+#!/usr/bin/env bash
+# CLI checks for the deformer stack (issue 21, docs/deformer-stack.md): `cagewrap deformer add` puts
+# a second cage over the demo's head (a head-region mask from the skin weights), `list` shows it,
+# `pose` carries the stack (a copy of the project's own cage changes nothing in order, and a sum
+# doubles the motion: the pose differs), `set --mute` takes it out again (the pose is the plain one,
+# bit for bit), `remove` and the errors (an unknown layer, an unknown joint, deformer 0, a cage file
+# that is not there) name what is wrong and write nothing. $1 = cagewrap binary.
+set -uo pipefail
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+source "$ROOT/tests/cli/harness.bash"
+need_demo_assets
+
+P="$T/hero.cagewrap"
+run new --character "$DEMO" --cage "$CAGE" --out "$P"
+check "new exits 0" test "$rc" -eq 0
+run pose --project "$P" --clip walk --time 0.4 --out "$T/plain.bin"
+check "pose of the plain project" test "$rc" -eq 0
+
+run deformer add --project "$P" --cage "$CAGE" --name face --mask-joints head
+check "deformer add exits 0" test "$rc" -eq 0
+check "it lists the layer with its mask" has "$T/out" "^  1  face .*mask joints head ("
+check "version 4 with a deformers field" grep -q '"version": 4,' "$P"
+run deformer list --project "$P"
+check "list exits 0" test "$rc" -eq 0
+check "list: the project's cage first" has "$T/out" "^  0  (project cage)"
+check "list: the stack's mode" has "$T/out" "^stack      in_order (2 deformers)"
+
+# in order, a copy of the project's own cage changes nothing
+run pose --project "$P" --clip walk --time 0.4 --out "$T/in_order.bin"
+check "pose with the layer" test "$rc" -eq 0
+cmp_close() {  # cmp_close A B TOL: every float within TOL
+  python3 - "$1" "$2" "$3" <<'PY'
+import struct, sys
+a = open(sys.argv[1], 'rb').read(); b = open(sys.argv[2], 'rb').read()
+assert len(a) == len(b), (len(a), len(b))
+fa = struct.unpack('%df' % (len(a) // 4), a); fb = struct.unpack('%df' % (len(b) // 4), b)
+worst = max(abs(x - y) for x, y in zip(fa, fb))
+sys.exit(0 if worst <= float(sys.argv[3]) else 1)
+PY
+}
+check "in order: a copy of the own cage changes nothing" cmp_close "$T/plain.bin" "$T/in_order.bin" 1e-5
+run deformer set --project "$P" --stack sum
+check "set --stack sum" test "$rc" -eq 0
+run pose --project "$P" --clip walk --time 0.4 --out "$T/sum.bin"
+check "sum: the head moves twice as far" bash -c "! cmp -s '$T/plain.bin' '$T/sum.bin'"
+run deformer set --project "$P" --name face --mute
+check "set --mute" test "$rc" -eq 0
+check "it says muted" has "$T/out" "^  1  face .*, muted$"
+run pose --project "$P" --clip walk --time 0.4 --out "$T/muted.bin"
+check "muted: the plain pose, bit for bit" cmp -s "$T/plain.bin" "$T/muted.bin"
+
+# errors name what is wrong and write nothing
+cp "$P" "$T/before.cagewrap"
+run deformer set --project "$P" --name nose --unmute
+check "an unknown layer fails" test "$rc" -ne 0
+check "naming it" hasf "$T/err" "has no deformer named 'nose'"
+run deformer set --project "$P" --name face --mask-joints hed
+check "an unknown joint fails" test "$rc" -ne 0
+check "naming it" hasf "$T/err" "has no node 'hed'"
+run deformer remove --project "$P" --index 0
+check "deformer 0 cannot be removed" test "$rc" -ne 0
+check "saying why" hasf "$T/err" "deformer 0 is the project's own cage"
+run deformer add --project "$P" --cage "$T/missing.obj"
+check "a missing cage fails" test "$rc" -ne 0
+check "naming the file" hasf "$T/err" "missing.obj"
+run deformer add --project "$P" --cage "$CAGE" --name face
+check "a second 'face' fails" test "$rc" -ne 0
+check "the project is unchanged" cmp -s "$P" "$T/before.cagewrap"
+
+run deformer remove --project "$P" --name face
+check "remove exits 0" test "$rc" -eq 0
+check "no layers left" has "$T/out" "^stack      sum (1 deformer)"
+
+# the rig JSON describes one cage: a stack is refused, naming it
+run deformer add --project "$P" --cage "$CAGE" --name coat
+run export --project "$P" --format json --out "$T/rig.json"
+check "the rig JSON refuses a stack" test "$rc" -ne 0
+check "saying how many" hasf "$T/err" "this project has 1 more deformer(s)"
+
+# `new` with two cages: the second is a layer over the first, combined as --stack says
+run new --character "$DEMO" --cage "$CAGE" --cage "$CAGE" --stack blend --out "$T/two.cagewrap"
+check "new with two cages exits 0" test "$rc" -eq 0
+check "it names the layer" has "$T/out" "^deformer   demo_cage: 1002 vertices, 2000 faces (a layer, blend)"
+run deformer list --project "$T/two.cagewrap"
+check "two deformers, blended" has "$T/out" "^stack      blend m=2"
+run pose --project "$T/two.cagewrap" --clip walk --time 0.4 --out "$T/two.bin"
+check "blend of two copies: the plain pose" cmp_close "$T/plain.bin" "$T/two.bin" 1e-5
+run new --character "$DEMO" --cage "$CAGE" --cage "$CAGE" --stack sideways --out "$T/bad.cagewrap"
+check "an unknown stack mode fails" test "$rc" -ne 0
+check "naming it" hasf "$T/err" "--stack 'sideways'"
+finish
