@@ -78,7 +78,7 @@ void CageTools::draw_windows(Workspace& ws) {
       ImGui::Checkbox("push out where skin points are outside", &params_.fit_skin);
       int wrap = static_cast<int>(params_.wrap);
       const char* wraps[] = {"auto", "always wrap", "never wrap"};
-      if (ImGui::Combo("offset wrap", &wrap, wraps, 3)) params_.wrap = static_cast<WrapMode>(wrap);
+      if (combo("offset wrap", &wrap, wraps, 3)) params_.wrap = static_cast<WrapMode>(wrap);
       const bool valid = validate(params_).ok();
       if (job_) {
         const std::string stage = job_->stage();

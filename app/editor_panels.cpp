@@ -105,7 +105,7 @@ void Editor::draw_properties() {
     ImGui::Separator();
     int variant = static_cast<int>(p.variant);
     const char* variants[] = {"basic", "clamped", "extended"};
-    if (ImGui::Combo("variant", &variant, variants, 3)) p.variant = static_cast<Variant>(variant);
+    if (combo("variant", &variant, variants, 3)) p.variant = static_cast<Variant>(variant);
     float local = static_cast<float>(p.local), eps = static_cast<float>(p.epsilon), scale = static_cast<float>(p.scale),
           maxd = static_cast<float>(p.max_distance);
     int k = static_cast<int>(p.max_elements);
@@ -234,10 +234,10 @@ void Editor::draw_move_tool() {
   if (ImGui::SliderFloat("radius", &r, 1e-3f * size, size, "%.4f", ImGuiSliderFlags_Logarithmic)) ws_.view.soft.radius = r;
   int falloff = static_cast<int>(ws_.view.soft.falloff);
   const char* falloffs[] = {"smooth", "linear", "sharp", "constant"};
-  if (ImGui::Combo("falloff", &falloff, falloffs, 4)) ws_.view.soft.falloff = static_cast<Falloff>(falloff);
+  if (combo("falloff", &falloff, falloffs, 4)) ws_.view.soft.falloff = static_cast<Falloff>(falloff);
   int dist = static_cast<int>(ws_.view.soft.distance);
   const char* dists[] = {"volume (straight line)", "surface (along edges)"};
-  if (ImGui::Combo("distance", &dist, dists, 2)) ws_.view.soft.distance = static_cast<FalloffDistance>(dist);
+  if (combo("distance", &dist, dists, 2)) ws_.view.soft.distance = static_cast<FalloffDistance>(dist);
   ImGui::EndDisabled();
   ImGui::Checkbox("X-mirror editing (Shift+X)", &ws_.view.mirror.enabled);
   ImGui::BeginDisabled(!ws_.view.mirror.enabled);

@@ -1,4 +1,5 @@
 #include "app/export_panel.h"
+#include "app/ui_text.h"
 
 #if CAGEWRAP_GUI
 #include <imgui/imgui.h>
@@ -124,7 +125,7 @@ void ExportPanel::draw(Workspace& ws) {
       if (ImGui::RadioButton("skin", !cage)) request_.options.mode = ExportMode::kBakedAnimation;
       ImGui::SameLine();
       if (ImGui::RadioButton("cage", cage)) request_.options.mode = ExportMode::kCage;
-    } else if (ImGui::Combo("##mode", &mode, modes, 3)) {
+    } else if (combo("##mode", &mode, modes, 3)) {
       request_.options.mode = static_cast<ExportMode>(mode);
     }
     if (request_.format == ExportFormat::kGlb) {

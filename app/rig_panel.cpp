@@ -43,11 +43,11 @@ void RigPanel::draw(Workspace& ws) {
   if (ImGui::CollapsingHeader("Attachment", ImGuiTreeNodeFlags_DefaultOpen)) {
     // the order of AttachmentMode
     const char* modes[] = {"rigid: closest limb", "smooth near joints", "character's skin weights",
-                           "skin weights, fitted to the file's skinning"};
+                           "skin weights, fitted"};  // to the file's skinning (the default)
     int mode = static_cast<int>(doc.attachment.mode);
     float width = static_cast<float>(doc.attachment.smooth_width);
     ImGui::SetNextItemWidth(doc.attachment.mode == AttachmentMode::kSmooth ? 220 : width_beside("cage follows"));
-    bool changed = ImGui::Combo("cage follows", &mode, modes, 4);
+    bool changed = combo("cage follows", &mode, modes, 4);
     if (doc.attachment.mode == AttachmentMode::kSmooth) {
       ImGui::SameLine();
       ImGui::SetNextItemWidth(120);
@@ -104,7 +104,7 @@ void RigPanel::draw(Workspace& ws) {
       if (ImGui::Checkbox("rest key", &set.rest_key)) edited = true, edit_label = "Rest key " + set.name;
       int interp = static_cast<int>(set.interpolation);
       const char* interps[] = {"linear", "smooth (monotone cubic)"};
-      if (ImGui::Combo("interpolation", &interp, interps, 2)) {
+      if (combo("interpolation", &interp, interps, 2)) {
         set.interpolation = static_cast<KeyInterpolation>(interp);
         edited = true, edit_label = "Interpolation of " + set.name;
       }

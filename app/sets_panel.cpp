@@ -108,8 +108,8 @@ void SetsPanel::draw(Workspace& ws) {
     return;
   }
   int map = static_cast<int>(map_);
-  const char* maps[] = {"none", "influence of the selected cage faces", "set size", "empty / edited / outside", "kept apart by separation"};
-  if (ImGui::Combo("skin map", &map, maps, 5)) map_ = static_cast<SetMap>(map);
+  const char* maps[] = {"none", "selected faces' influence", "set size", "empty / edited / outside", "kept apart by separation"};
+  if (combo("skin map", &map, maps, 5)) map_ = static_cast<SetMap>(map);
   if (map_ == SetMap::kInfluence || map_ == SetMap::kSize || map_ == SetMap::kSeparated) {  // the legend
     ImDrawList* dl = ImGui::GetWindowDrawList();
     const ImVec2 p = ImGui::GetCursorScreenPos();
@@ -143,7 +143,7 @@ void SetsPanel::draw(Workspace& ws) {
   ImGui::Separator();
   int mode = static_cast<int>(tool.mode);
   const char* modes[] = {"remove these faces", "add these faces", "only these faces", "reset to automatic"};
-  ImGui::Combo("edit", &mode, modes, 4);
+  combo("edit", &mode, modes, 4);
   tool.mode = static_cast<SetEditMode>(mode);
   ImGui::Checkbox("mirror (X)", &tool.mirror);
   hint("%zu cage faces selected (F6), %zu skin vertices (F7)", sel.cage_faces.size(), sel.skin_vertices.size());

@@ -26,6 +26,16 @@ inline float width_beside(const char* label) {
   return -(ImGui::CalcTextSize(label).x + 2 * ImGui::GetStyle().ItemInnerSpacing.x);
 }
 
+// ImGui::Combo whose chosen item, when it is wider than the box, is shown whole in a tooltip while
+// the mouse is over it (a label is never silently cut).
+inline bool combo(const char* label, int* current, const char* const items[], int count) {
+  const float box = ImGui::CalcItemWidth() - ImGui::GetFrameHeight() - 2 * ImGui::GetStyle().FramePadding.x;
+  const bool changed = ImGui::Combo(label, current, items, count);
+  if (ImGui::IsItemHovered() && *current >= 0 && *current < count && ImGui::CalcTextSize(items[*current]).x > box)
+    ImGui::SetTooltip("%s", items[*current]);
+  return changed;
+}
+
 }  // namespace cagewrap::app
 
 #endif  // CAGEWRAP_GUI
