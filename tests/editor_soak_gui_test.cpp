@@ -39,9 +39,11 @@ constexpr int kWarmupCycles = 2;
 // Each cycle ends undone to where it began (the next cycle's first edit drops that redo branch),
 // so the history holds the start and one cycle's steps: its memory is bounded by design, and the
 // resident memory should stay flat after the warm-up. malloc keeps freed bindings and skins (several MiB
-// each) for reuse, so the figure at the end of a cycle swings by up to 13 MiB between cycles and once in a
-// while jumps (+17.5 MiB in one cycle of one run): the growth from the warm-up to the end may be at most
-// kRssAllowanceKib (16 MiB until a clean-clone rehearsal failed on that jump). With the default five cycles
+// each) for reuse, so the figure at the end of a cycle swung by up to 13 MiB between cycles and once in a
+// while jumped (+17.5 MiB in one cycle of one run, +40 MiB in the last cycle of one loaded clean-clone
+// rehearsal): the `memory` action now has glibc give that back first (malloc_trim) so that the figure is
+// what is in use. The growth from the warm-up to the end may be at most kRssAllowanceKib (16 MiB until a
+// clean-clone rehearsal failed on the +17.5 MiB jump). With the default five cycles
 // that catches a leak of a binding of about 11 MiB a cycle; the history's bytes (checked above, exactly)
 // and a longer soak (make soak) catch smaller ones.
 constexpr long kRssAllowanceKib = 32 * 1024;
