@@ -36,16 +36,13 @@ void Workspace::poll_patch() {
     const std::string label = std::move(patch_.job_label);
     if (std::exchange(patch_.job_character, nullptr) != scene_->doc().character) return;  // another character opened
     Result<Binding>& b = job->result();
-    auto failed = [&](const std::string& message) {
-      report_error("parametric driver: " + message);
-      if (label.empty()) patch_.failed = scene_->doc().patch_driver;  // not retried until the driver changes
-    };
-    if (!b) {
-      if (b.error().code != ErrorCode::kCancelled) return failed(b.error().message);
-      log("parametric driver: bind cancelled" + std::string(label.empty() ? "" : "; the driver is unchanged"));
+    // a bind of the document's own driver that failed or was cancelled is not retried until the driver changes
+    auto failed = [&](const std::string& message, bool cancelled = false) {
+      if (cancelled) log("parametric driver: bind cancelled" + std::string(label.empty() ? "" : "; the driver is unchanged"));
+      else report_error("parametric driver: " + message);
       if (label.empty()) patch_.failed = scene_->doc().patch_driver;
-      return;
-    }
+    };
+    if (!b) return failed(b.error().message, b.error().code == ErrorCode::kCancelled);
     auto binding = std::make_unique<Binding>(std::move(*b));
     auto d = PatchDeformer::create(*binding, scene_->skin_rest, driver->rest, driver->density);
     if (!d) return failed(d.error().message);

@@ -12,20 +12,13 @@ namespace cagewrap::app {
 
 namespace fs = std::filesystem;
 
-namespace {
-// The folder to start browsing in: the nearest existing folder above `path`, else `fallback`'s.
-std::string nearest_folder(const std::string& path, const std::string& fallback) {
+std::string Workspace::browse_folder_near(const std::string& path, const std::string& fallback) {
   std::error_code ec;
   for (fs::path p = fs::path(path).parent_path(); !p.empty(); p = p.parent_path()) {
     if (fs::is_directory(p, ec)) return p.string();
     if (p == p.root_path()) break;
   }
   return fs::path(fallback).parent_path().string();
-}
-}  // namespace
-
-std::string Workspace::browse_folder_near(const std::string& path, const std::string& fallback) {
-  return nearest_folder(path, fallback);
 }
 
 bool Workspace::embed_character() {
@@ -51,7 +44,7 @@ std::optional<Workspace::CharacterFileAsk> Workspace::where_to_unembed() const {
   if (hash && *hash == doc.character_hash) return std::nullopt;  // the file it came from still holds these bytes
   CharacterFileAsk ask;
   ask.name = fs::path(doc.character_path).filename().string();
-  ask.directory = doc.project_path.empty() ? nearest_folder(doc.character_path, ".")
+  ask.directory = doc.project_path.empty() ? browse_folder_near(doc.character_path, ".")
                                            : fs::path(doc.project_path).parent_path().string();
   return ask;
 }
