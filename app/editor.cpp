@@ -430,7 +430,7 @@ int Editor::run() {
     // a scripted run waits for the first bind so that the steps act on the deformed skin
     const bool export_blocks = ws_.exporting() && script_waits_for_export_;
     const bool fidelity_blocks = ws_.checking_fidelity() && !ws_.fidelity().nowait;
-    if (!script_.empty() && !(ws_.scene() && (ws_.scene()->job || ws_.building_cage() || (ws_.binding_patch_driver() && !ws_.patch_state().nowait) || export_blocks ||
+    if (!script_.empty() && !(ws_.scene() && (ws_.binding_any() || ws_.building_cage() || (ws_.binding_patch_driver() && !ws_.patch_state().nowait) || export_blocks ||
                                          fidelity_blocks)))
       run_script_step();
 
@@ -490,7 +490,7 @@ int Editor::run() {
       renderer_->update_skeleton(ws_.scene()->joint_heads, ws_.scene()->bones, joint_mask_);
       std::string title = "cagewrap - " + (ws_.scene()->doc().project_path.empty() ? std::string("untitled") : ws_.scene()->doc().project_path) +
                           (recovered_ ? " (recovered)" : "") + (ws_.scene()->dirty() ? " *" : "");
-      if (auto m = autosave_->tick(ws_.scene()->doc(), ws_.scene()->dirty())) log(*m, m->rfind("error", 0) == 0);
+      if (auto m = autosave_->tick(ws_.scene()->work(), ws_.scene()->dirty())) log(*m, m->rfind("error", 0) == 0);
       if (title != title_ && window_) glfwSetWindowTitle(window_, (title_ = title).c_str());
     }
     const auto ui_start = std::chrono::steady_clock::now();

@@ -57,7 +57,7 @@ bool Editor::save_project_to(const std::string& path) {
   if (ws_.scene()->doc().cache_binding && ws_.scene()->binding && !ws_.scene()->job && !ws_.scene()->needs_rebind() &&
       binding_fits(*ws_.scene()->binding, ws_.scene()->doc()))
     options.binding = ws_.scene()->binding.get();
-  auto st = save_project(path, ws_.scene()->doc(), options);
+  auto st = save_project(path, ws_.scene()->work(), options);
   if (!st.ok()) {
     error_modal_ = st.error().message;
     log("error: " + st.error().message, true);

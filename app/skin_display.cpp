@@ -47,7 +47,8 @@ std::string SkinDisplay::init(Path path, bool synchronous) {
 }
 
 void SkinDisplay::before_pose(Scene& scene) const {
-  scene.skin_on_gpu = use_gpu_ && gpu_available() && failed_revision_ != scene.binding_revision;
+  // a stack of deformers is combined on the CPU (Scene::stacked)
+  scene.skin_on_gpu = use_gpu_ && gpu_available() && failed_revision_ != scene.binding_revision && !scene.stacked();
 }
 
 std::string SkinDisplay::update(Scene& scene, render::ViewportRenderer& renderer) {
@@ -158,6 +159,8 @@ void SkinDisplay::draw_stats(const Scene& scene) {
   ImGui::Text("%.0f fps, frame %.1f ms", shown_frame_ms_ > 0 ? 1000.0 / shown_frame_ms_ : 0.0, shown_frame_ms_);
   if (scene.skin_driven()) {
     ImGui::Text("skin deformed by the parametric driver");
+  } else if (scene.skin_from_cage && scene.stacked()) {
+    ImGui::Text("skin: %zu deformers combined on the CPU%s", deformer_count(scene.work()), scene.stack_ready() ? "" : " (binding)");
   } else if (!scene.skin_from_cage) {
     ImGui::TextDisabled("skin: file's linear blend skinning");
   } else {

@@ -4,6 +4,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 
 #include "core/document/binding_cache.h"
@@ -11,6 +12,7 @@
 #include "core/geometry/mesh_io.h"
 #include "core/document/project_io.h"
 #include "core/deform/part_labels.h"
+#include "core/rig/deformer_stack.h"
 #include "core/rig/rig.h"
 #include "core/character/skinning.h"
 
@@ -148,30 +150,83 @@ void Scene::start_bind() {
 
 void Scene::rebind() {
   if (!doc().cage || job || live) return;
-  if (!(params == doc().params)) history_.push("Change binding parameters", with_params(doc(), params));
+  if (!(params == doc().params))
+    history_.push("Change binding parameters", to_work(with_params(doc(), params), history_.current()));
   start_bind();
 }
 
+const Document& Scene::view() const {
+  const Document& w = history_.current();
+  if (active_ == 0 || active_ >= deformer_count(w)) return w;
+  if (!view_ || view_of_ != w.revision) {
+    Document v = deformer_document(w, active_);
+    // the document-wide fields stay the document's: the parametric driver, the project's storage
+    v.patch_driver = w.patch_driver;
+    v.binding_cache = {};
+    v.revision = next_revision();  // not the document's: what is keyed on it (GPU copies, caches) sees another cage
+    view_ = std::move(v);
+    view_of_ = w.revision;
+  }
+  view_->project_path = w.project_path;  // a save names it without a new revision
+  return *view_;
+}
+
+const Document& Scene::work() const {
+  if (!live) return history_.current();
+  work_live_ = to_work(*live, history_.current());
+  return *work_live_;
+}
+
+Document Scene::to_work(const Document& next, const Document& base) const {
+  if (active_ == 0 || active_ >= deformer_count(base)) return next;
+  if (view_ && view_of_ == base.revision && next.revision == view_->revision) return base;  // unchanged
+  Document out = base;
+  DeformerLayer& l = out.layers[active_ - 1];
+  if (next.cage) l.cage = next.cage;  // a layer always has a cage
+  l.params = next.params;
+  l.set_edits = next.set_edits;
+  l.cage_offsets = next.cage_offsets;
+  l.attachment = next.attachment;
+  l.keyposes = next.keyposes;
+  l.sim = next.sim;
+  out.character = next.character;
+  out.character_path = next.character_path;
+  out.character_hash = next.character_hash;
+  out.embedded_character = next.embedded_character;
+  out.patch_driver = next.patch_driver;
+  out.cache_binding = next.cache_binding;
+  out.preserved_fields = next.preserved_fields;
+  out.revision = next_revision();
+  return out;
+}
+
 bool Scene::apply(std::string label, Document next) {
+  if (!history_.push(std::move(label), to_work(next, history_.current()))) return false;
+  document_changed();
+  return true;
+}
+
+bool Scene::apply_work(std::string label, Document next) {
   if (!history_.push(std::move(label), std::move(next))) return false;
   document_changed();
   return true;
 }
 
 bool Scene::apply_set_edits(std::string label, Document next, std::span<const uint32_t> points) {
-  if (!history_.push(std::move(label), std::move(next))) return false;
+  if (!history_.push(std::move(label), to_work(next, history_.current()))) return false;
   if (!update_set_edits_live(doc().set_edits, points)) document_changed();  // a full rebind
   return true;
 }
 
 void Scene::begin_drag() {
   live.reset();
-  history_.begin(doc());
+  drag_view_ = view();
+  history_.begin(history_.current());
 }
 
 bool Scene::commit_drag(std::string label, bool refresh) {
   bool changed = false;
-  if (live) changed = history_.commit(std::move(label), *live);
+  if (live) changed = history_.commit(std::move(label), to_work(*live, history_.current()));
   else history_.cancel();
   live.reset();
   if (changed && refresh) document_changed();
@@ -203,8 +258,7 @@ std::string Scene::redo() {
   return label;
 }
 
-void Scene::document_changed() {
-  params = doc().params;
+void Scene::update_attachment() {
   const auto& cage = doc().cage;
   if (cage && (!attachment || attachment->joint.size() != cage->num_vertices() || attached_cage_ != cage ||
                attached_settings_ != doc().attachment)) {
@@ -223,12 +277,171 @@ void Scene::document_changed() {
     // separation off) is fitted to the new attachment
     if (binding && !job && !needs_rebind()) static_cast<void>(make_deformer());
   }
+}
+
+void Scene::switch_active(size_t d) {
+  // the old active deformer's registration becomes its stack rig's (update_stack_rigs), no bind again
+  handed_over_.reset();
+  if (binding && !job && active_ < deformer_count(history_.current()) && binding_fits(*binding, doc()).ok())
+    handed_over_ = HandedOver{active_, std::move(*binding)};
+  // the new one's: its stack rig's registration, when it is ready
+  std::optional<Binding> reuse;
+  for (const StackRig& r : stack_rigs)
+    if (r.deformer == d && r.rig) reuse = r.rig->binding();
+  job.reset();  // cancels and waits
+  binding.reset();
+  deformer.reset();
+  rig_binding.reset();
+  bound_cage.reset();
+  bound_edits_.clear();
+  rebinder_.reset();
+  rebinder_for_ = nullptr;
+  attachment.reset();
+  attached_cage_.reset();
+  transferred_.reset();
+  sim_cache.clear();
+  binding_revision = next_revision();
+  active_ = d;
+  view_.reset();
+  params = doc().params;
+  if (reuse && binding_fits(*reuse, doc()).ok()) {
+    update_attachment();
+    adopt_binding(std::move(*reuse));
+  }
+}
+
+bool Scene::set_active_deformer(size_t d) {
+  if (d == active_ || d >= deformer_count(history_.current()) || live || history_.dragging()) return false;
+  switch_active(d);
+  document_changed();
+  return true;
+}
+
+bool Scene::stacked() const {
+  const Document& w = history_.current();
+  return deformer_count(w) > 1 || deformer_muted(w, 0);
+}
+
+void Scene::update_stack_rigs() {
+  const Document& w = history_.current();
+  std::vector<StackRig> next;
+  for (size_t d = 0; d < deformer_count(w); ++d) {
+    if (d == active_ || deformer_muted(w, d)) continue;
+    Document dd = deformer_document(w, d);
+    if (!dd.cage) continue;  // the document has layers but no cage of its own
+    const BindingInputs in = binding_inputs(dd);
+    StackRig r;
+    // the rig (or bind) made from the same inputs, wherever it was in the stack
+    auto same = std::find_if(stack_rigs.begin(), stack_rigs.end(), [&](const StackRig& o) {
+      return (o.rig || o.job || !o.error.empty()) && o.inputs == in && o.doc.attachment == dd.attachment;
+    });
+    if (same != stack_rigs.end()) {
+      r = std::move(*same);
+      same->error.clear();
+    } else {
+      r.inputs = in;
+      const std::string label = "binding deformer '" + deformer_name(w, d) + "'";
+      if (handed_over_ && handed_over_->deformer == d && binding_fits(handed_over_->binding, dd).ok()) {
+        r.job = std::make_unique<StackRigJob>(label, [dd, b = std::move(handed_over_->binding)](const StackRigJob::Progress&,
+                                                                                               const std::atomic<bool>&) mutable {
+          return Rig::create(dd, std::move(b));
+        });
+        handed_over_.reset();
+      } else {
+        r.job = std::make_unique<StackRigJob>(label, [dd](const StackRigJob::Progress& progress, const std::atomic<bool>& cancel) {
+          return Rig::create(dd, job_progress(progress, cancel));
+        });
+      }
+    }
+    r.deformer = d;
+    r.doc = std::move(dd);
+    next.push_back(std::move(r));
+  }
+  handed_over_.reset();
+  stack_rigs = std::move(next);  // the rest are dropped (their binds cancelled)
+}
+
+std::vector<std::string> Scene::poll_stack() {
+  std::vector<std::string> out;
+  for (StackRig& r : stack_rigs) {
+    if (!r.job || !r.job->done()) continue;
+    auto& res = r.job->result();
+    const std::string name = deformer_name(history_.current(), r.deformer);
+    if (res.ok()) {
+      r.rig = std::make_unique<Rig>(std::move(res).value());
+      out.push_back("deformer '" + name + "' bound (" + std::to_string(r.rig->binding().num_points) + " points)");
+    } else if (res.error().code == ErrorCode::kCancelled) {
+      r.error = "bind cancelled";
+      out.push_back("deformer '" + name + "': bind cancelled");
+    } else {
+      r.error = res.error().message;
+      out.push_back("error: deformer '" + name + "': " + r.error);
+    }
+    r.job.reset();
+  }
+  return out;
+}
+
+void Scene::cancel_stack_binds() {
+  for (StackRig& r : stack_rigs)
+    if (r.job) r.job->cancel();
+}
+
+void Scene::retry_stack_binds() {
+  std::erase_if(stack_rigs, [](const StackRig& r) { return !r.rig && !r.job; });
+  update_stack_rigs();
+}
+
+void Scene::pose_stack(const Playback& pb) {
+  const Document& w = history_.current();
+  stack_ready_ = std::all_of(stack_rigs.begin(), stack_rigs.end(), [](const StackRig& r) { return r.rig != nullptr; });
+  if (!stack_ready_) return;  // the active deformer's skin alone until every rig is ready
+  for (StackRig& r : stack_rigs) {
+    r.skin.resize(skin_rest.size());
+    Status s = Ok{};
+    if (!r.rig->fits(r.doc)) s = make_error(ErrorCode::kInvalidArgument, "its rig is out of date");
+    else if (r.doc.sim.enabled && pb.clip >= 0) s = r.rig->pose_clip(r.doc, pb.clip, pb.player.time(), pb.pose_override, r.cage, r.skin);
+    else s = r.rig->pose(r.doc, pose_, r.cage, r.skin);
+    if (!s) {
+      r.error = s.error().message;
+      r.rig.reset();
+      stack_ready_ = false;
+      return;
+    }
+  }
+  const auto skin_of = [&](size_t d) -> const std::vector<glm::vec3>* {
+    if (d == active_) return &skin_posed_;
+    for (const StackRig& r : stack_rigs)
+      if (r.deformer == d) return &r.skin;
+    return nullptr;
+  };
+  const std::vector<glm::vec3>* base = deformer_muted(w, 0) ? nullptr : skin_of(0);
+  std::vector<glm::vec3> out = base ? *base : skin_rest;
+  std::vector<std::span<const glm::vec3>> layers;
+  std::vector<std::span<const float>> masks;
+  for (size_t d = 1; d < deformer_count(w); ++d) {
+    const std::vector<glm::vec3>* f = deformer_muted(w, d) ? nullptr : skin_of(d);
+    if (!f) continue;
+    layers.emplace_back(*f);
+    const auto& m = w.layers[d - 1].mask;
+    masks.emplace_back(m ? std::span<const float>(*m) : std::span<const float>());
+  }
+  if (combine_stack(w.stack, skin_rest, layers, masks, out).ok()) skin_posed_ = std::move(out);
+  else stack_ready_ = false;
+}
+
+void Scene::document_changed() {
+  if (active_ >= deformer_count(history_.current())) switch_active(0);  // its layer was removed (undo)
+  params = doc().params;
+  update_attachment();
+  const auto& cage = doc().cage;
   if (!cage && deformer) {
     deformer.reset();
     binding.reset();
     binding_revision = next_revision();
   }
   if (needs_rebind() && !job) start_bind();
+  update_stack_rigs();
 }
 
 // Adds the move to `values` (#cage vertices), each vertex's share taken back into its joint's bind
@@ -330,7 +543,8 @@ Pose Scene::current_pose(const Playback& pb) const {
 }
 
 std::shared_ptr<const Binding> Scene::binding_for_jobs() const {
-  if (!binding || job || !binding_fits(*binding, doc())) return nullptr;
+  // with several deformers the jobs make the whole stack's rig themselves
+  if (!binding || job || active_ != 0 || deformer_count(work()) > 1 || !binding_fits(*binding, doc())) return nullptr;
   return std::make_shared<const Binding>(*binding);
 }
 
@@ -390,14 +604,16 @@ void Scene::update_pose(const Playback& pb) {
     if (deformer && bound_cage == cage && !skin_driven_) {
       skin_posed_.resize(skin_rest.size());
       auto t0 = std::chrono::steady_clock::now();
-      auto s = skin_on_gpu ? deformer->update_maps(posed.positions, cage_vertex_frames(*binding, posed))
-                           : deform_through_cage(*deformer, posed, skin_posed_);
+      const bool on_gpu = skin_on_gpu && !stacked();  // a stack is combined on the CPU
+      auto s = on_gpu ? deformer->update_maps(posed.positions, cage_vertex_frames(*binding, posed))
+                      : deform_through_cage(*deformer, posed, skin_posed_);
+      if (s.ok() && !on_gpu && stacked() && !show_file_skinning) pose_stack(pb);
       deform_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
       skin_from_cage = s.ok();
     }
   }
   if (show_file_skinning) skin_from_cage = false;
-  skin_stale_ = skin_from_cage && skin_on_gpu;
+  skin_stale_ = skin_from_cage && skin_on_gpu && !stacked();
   if (skin_driven_) {
     if (skin_posed_from_ != driven_skin) skin_posed_ = *driven_skin;  // copied once per change
     skin_posed_from_ = driven_skin;

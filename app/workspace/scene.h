@@ -20,6 +20,7 @@
 #include "core/rig/clip_sim.h"
 #include "core/deform/deformer.h"
 #include "core/deform/patch_binding.h"
+#include "core/document/binding_cache.h"
 #include "core/document/document.h"
 #include "core/document/project_io.h"
 #include "app/workspace/history.h"
@@ -60,16 +61,56 @@ std::unique_ptr<BindJob> start_rest_edit_job(std::vector<glm::vec3> skin, Docume
                                              std::optional<CageAttachment> previous_attachment,
                                              std::shared_ptr<RestRebindReport> report, FitRequest fit = {});
 
+// A deformer of the stack other than the active one (issue 21): a rig of its own, bound in the
+// background, posed every frame and combined with the active deformer's skin.
+using StackRigJob = BackgroundTask<Rig>;
+struct StackRig {
+  size_t deformer = 0;            // its number in the stack (0 = the document's cage, k = layer k - 1)
+  Document doc;                   // deformer_document of the whole document as it is now
+  BindingInputs inputs;           // what its rig was (or is being) made from
+  std::unique_ptr<Rig> rig;       // null while binding or after a failure
+  std::unique_ptr<StackRigJob> job;
+  std::string error;              // why it has no rig ("" = none)
+  std::vector<glm::vec3> skin;    // its posed skin of the current frame
+  PosedCage cage;                 // its posed cage of the current frame
+};
+
 struct Scene {
   explicit Scene(Document doc) : history_(std::move(doc)) {}
-  std::optional<Document> live;  // during a drag: the document being edited (history holds its start)
-  const Document& doc() const { return live ? *live : history_.current(); }
+  // During a drag: the document being edited (history holds its start), as the active deformer sees it.
+  std::optional<Document> live;
+  // The document as the active deformer sees it (deformer_document, with the document-wide fields:
+  // the character, the parametric driver, the project's storage): what the tools, panels and the
+  // binding below act on. With one deformer (or the document's own cage active) it is the document.
+  const Document& doc() const { return live ? *live : view(); }
+  // The whole document (every deformer): what is saved, exported, checked and autosaved.
+  const Document& work() const;
+
+  // ---- Several deformers (issue 21, docs/deformer-stack.md)
+  size_t active_deformer() const { return active_; }
+  // Makes deformer `d` the one edited (not an undo step): its binding is taken from its stack rig when
+  // that is ready, else bound in the background. False when there is no such deformer or a drag is open.
+  bool set_active_deformer(size_t d);
+  // The other deformers that move the skin (not muted), each with its rig or its bind.
+  std::vector<StackRig> stack_rigs;
+  // Whether the skin shown is a stack's (another deformer moves it, or the active one is muted): it
+  // is then made on the CPU each frame (the GPU path deforms one cage).
+  bool stacked() const;
+  // Whether every other deformer's rig is ready (else the active deformer's skin is shown alone).
+  bool stack_ready() const { return stack_ready_; }
+  // Polls the stack rigs' binds; a message per bind that ended.
+  std::vector<std::string> poll_stack();
+  void cancel_stack_binds();
+  // Binds again the other deformers whose bind failed or was cancelled.
+  void retry_stack_binds();
 
   // ---- Changing the document: the only place that records undo steps and refreshes what derives
   // from the document (attachment, binding, deformer). Panels and tools change it only through these.
   // One edit, one undo step ("Move cage vertices"); then everything derived is brought up to date
   // (document_changed). False when `next` is the current document (nothing recorded).
   bool apply(std::string label, Document next);
+  // The same for a change of the whole document (work(): the deformer stack's settings, a layer added).
+  bool apply_work(std::string label, Document next);
   // The same for a set edit of `points`: re-registers only those points when it can
   // (update_set_edits_live), else rebinds.
   bool apply_set_edits(std::string label, Document next, std::span<const uint32_t> points);
@@ -79,7 +120,8 @@ struct Scene {
   void begin_drag();
   void drag(Document next) { live = std::move(next); }
   bool dragging() const { return history_.dragging(); }
-  const Document* drag_start() const { return history_.drag_start(); }  // null when not dragging
+  // The document the open drag started from, as the active deformer sees it; null when not dragging.
+  const Document* drag_start() const { return history_.dragging() && drag_view_ ? &*drag_view_ : nullptr; }
   bool commit_drag(std::string label, bool refresh = true);
   void cancel_drag();
   // Undo and redo one step; return the step's label ("" when there was none).
@@ -90,7 +132,7 @@ struct Scene {
   // The document was written to `path` (the save point) / came from a recovery file (dirty until saved).
   void mark_saved(const std::string& path) { history_.mark_saved(path); }
   void mark_unsaved() { history_.mark_unsaved(); }
-  bool dirty() const { return history_.dirty(doc()); }
+  bool dirty() const { return history_.dirty(work()); }
 
   std::vector<glm::vec3> skin_rest;  // #V bind pose, every primitive in file order
   double skin_diagonal = 1.0;        // of skin_rest's bounding box (grid, tolerances; never 0)
@@ -209,6 +251,24 @@ struct Scene {
 
  private:
   History history_;  // the document and its undo steps
+  size_t active_ = 0;  // the active deformer
+  mutable std::optional<Document> view_;       // doc() for a layer: made when the document or active_ changes
+  mutable uint64_t view_of_ = 0;               // the revision of the document view_ was made from
+  mutable std::optional<Document> work_live_;  // work() during a drag
+  std::optional<Document> drag_view_;          // doc() when the drag began
+  const Document& view() const;
+  // `next` (a document as the active deformer sees it, made from doc()) back into the whole document `base`.
+  Document to_work(const Document& next, const Document& base) const;
+  void update_attachment();
+  void switch_active(size_t d);
+  struct HandedOver {  // the registration of the deformer that stopped being active, for its stack rig
+    size_t deformer;
+    Binding binding;
+  };
+  std::optional<HandedOver> handed_over_;
+  void update_stack_rigs();
+  void pose_stack(const Playback& pb);
+  bool stack_ready_ = true;
   std::shared_ptr<const Cage> pending_cage_;   // the cage the running job binds
   std::vector<SetEdit> pending_edits_, bound_edits_;  // the set edits of the running job / the binding
   std::optional<CageAttachment> pending_attachment_data_, bound_attachment_data_;  // the attachment they used

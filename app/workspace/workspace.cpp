@@ -34,7 +34,10 @@ const char* select_op_name(SelectOp op) {
   return "?";
 }
 
-Workspace::Workspace() { add_actions(); }
+Workspace::Workspace() {
+  add_actions();
+  add_stack_actions();
+}
 
 void Workspace::set_scene(std::unique_ptr<Scene> scene) {
   move_.reset();
@@ -46,10 +49,9 @@ void Workspace::set_scene(std::unique_ptr<Scene> scene) {
   view.patch.point = -1;
   view.playback = scene_ ? Playback::first_of(scene_->doc().character->clips) : Playback();
   view.soft.radius = 0.1 * scene_size();
-  if (scene_ && !scene_->doc().layers.empty())  // issue 21: not drawn yet; say so rather than show less than ships
-    log("warning: this project has " + std::to_string(scene_->doc().layers.size()) +
-        " more deformer(s) (cagewrap deformer list); the editor shows and edits its own cage only, while pose, check and "
-        "export use them all", true);
+  if (scene_ && !scene_->work().layers.empty())
+    log("this project has " + std::to_string(deformer_count(scene_->work())) +
+        " deformers (outliner: Deformers); the cage is active, the others bind in the background");
 }
 
 void Workspace::log(std::string text, bool error) {
@@ -265,6 +267,8 @@ const glm::dvec3& Workspace::move_total() const {
 }
 
 void Workspace::poll_jobs() {
+  if (scene_)
+    for (const std::string& m : scene_->poll_stack()) log(m, m.rfind("error", 0) == 0);  // the other deformers' binds
   poll_auto_cage();  // workspace_cage.cpp
   poll_export();     // workspace_export.cpp
   poll_patch();      // workspace_patch.cpp

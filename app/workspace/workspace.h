@@ -285,6 +285,21 @@ class Workspace {
   // The nearest existing folder above `path`, else `fallback`'s (where a file browser starts).
   static std::string browse_folder_near(const std::string& path, const std::string& fallback);
 
+  // ---- the deformer stack (workspace_stack.cpp, issue 21; the outliner's Deformers and the deformer_*
+  // actions): deformer 0 is the document's own cage, k the layer k - 1. Every change but the active
+  // deformer is one undo step; false (said why, the document kept) when refused.
+  bool set_active_deformer(size_t d);  // what the tools, sets, keyposes and Rebind act on
+  bool add_deformer(const std::string& cage_path, std::string name = "");  // a layer at the end
+  bool remove_deformer(size_t d);                                          // a layer (d >= 1)
+  bool set_deformer_muted(size_t d, bool muted);
+  bool set_deformer_hidden(size_t d, bool hidden);
+  bool set_deformer_solo(long d);  // -1: none
+  bool move_deformer(size_t d, size_t to);  // layers only: 1 .. layers
+  bool set_stack_mode(StackMode mode, double exponent);
+  bool rename_deformer(size_t d, const std::string& name);
+  // Whether a bind runs: the active deformer's or another's (a script waits for both).
+  bool binding_any() const;
+
   // ---- playing and posing (view.playback: never undone)
   void set_pose_override(uint32_t node, const glm::quat& q);
   // Shows the clip `name` from its start, paused ("rest": the bind pose); false
@@ -296,6 +311,9 @@ class Workspace {
 
  private:
   void add_actions();  // workspace_actions.cpp
+  void add_stack_actions();  // workspace_stack.cpp
+  bool change_stack(const std::string& label, Document next);
+  bool check_deformer(size_t d, bool layer_only);
   // Logs "error: <where the running action came from>: text".
   void fail(const std::string& text);
   std::string where_ = "action";

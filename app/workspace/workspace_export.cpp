@@ -62,7 +62,7 @@ bool Workspace::start_export(const ExportRequest& request) {
   e.request = request;
   e.report.reset();
   e.outcome.clear();
-  const Document& doc = scene_->doc();
+  const Document& doc = scene_->work();  // every deformer
   if (!doc.cage) return refuse("the document has no cage yet: build or import one first (Cage menu)");
   if (request.format != ExportFormat::kJson && doc.character->clips.empty()) return refuse("the character has no animation clip to bake");
   if (request.format != ExportFormat::kJson && request.options.clips.empty()) return refuse("choose at least one clip to bake");

@@ -24,7 +24,7 @@ glm::vec4 fidelity_color(float share) {
 
 std::string Workspace::rig_key() const {
   if (!scene_) return {};
-  return std::to_string(scene_->doc().revision) + "/" + std::to_string(scene_->binding_revision) + "/" +
+  return std::to_string(scene_->work().revision) + "/" + std::to_string(scene_->binding_revision) + "/" +
          std::to_string(scene_->attachment_revision);
 }
 
@@ -103,7 +103,7 @@ bool Workspace::start_fidelity_check(bool nowait) {
     report_error("fidelity: the character has no skin: there is no skinning to compare with");
     return false;
   }
-  Document doc = scene_->doc();
+  Document doc = scene_->work();  // every deformer
   FidelityOptions options;
   options.thresholds = view.fidelity.thresholds;
   f.report_key = rig_key();

@@ -150,6 +150,32 @@ Document layer_document(const Document& doc, size_t i) {
   return out;  // the same revision: the same document, seen through one layer
 }
 
+bool deformer_muted(const Document& doc, size_t d) {
+  if (doc.stack.solo >= 0 && static_cast<size_t>(doc.stack.solo) < deformer_count(doc)) return d != static_cast<size_t>(doc.stack.solo);
+  if (d == 0) return doc.stack.base_muted;
+  return d - 1 < doc.layers.size() ? doc.layers[d - 1].muted : true;
+}
+
+bool deformer_hidden(const Document& doc, size_t d) {
+  if (d == 0) return doc.stack.base_hidden;
+  return d - 1 < doc.layers.size() ? doc.layers[d - 1].hidden : true;
+}
+
+std::string deformer_name(const Document& doc, size_t d) {
+  if (d == 0) return "cage";
+  return d - 1 < doc.layers.size() ? doc.layers[d - 1].name : std::string();
+}
+
+Document deformer_document(const Document& doc, size_t d) {
+  CAGEWRAP_CHECK(d < deformer_count(doc), "deformer_document: no such deformer");
+  if (d > 0) return layer_document(doc, d - 1);
+  Document out = doc;
+  out.patch_driver = nullptr;
+  out.layers.clear();
+  out.stack = {};
+  return out;  // the same revision, like layer_document
+}
+
 const char* stack_mode_name(StackMode mode) {
   switch (mode) {
     case StackMode::kInOrder: return "in_order";
@@ -236,7 +262,7 @@ size_t vector_bytes(const std::vector<T>& v) {
 
 bool same_layer(const DeformerLayer& a, const DeformerLayer& b) {
   const bool same_mask = a.mask == b.mask || (a.mask && b.mask && *a.mask == *b.mask);
-  return a.name == b.name && a.muted == b.muted && same_cage(a.cage.get(), b.cage.get()) && same_params(a.params, b.params) &&
+  return a.name == b.name && a.muted == b.muted && a.hidden == b.hidden && same_cage(a.cage.get(), b.cage.get()) && same_params(a.params, b.params) &&
          same_set_edits(a.set_edits, b.set_edits) && same_offsets(a.cage_offsets, b.cage_offsets) &&
          a.attachment == b.attachment && a.keyposes == b.keyposes && a.sim == b.sim && same_mask &&
          a.mask_source == b.mask_source;

@@ -64,6 +64,7 @@ struct DeformerLayer {
   std::shared_ptr<const std::vector<float>> mask;
   std::string mask_source;  // how the mask was made ("joints head,neck"; "" = none or painted)
   bool muted = false;       // left out of the stack (kept in the project)
+  bool hidden = false;      // its cage not drawn in the editor (a view setting, saved with the project)
 };
 
 // How the deformers' results make the skin (docs/deformer-stack.md). f_0 is the document's own cage,
@@ -76,6 +77,10 @@ enum class StackMode : uint8_t { kInOrder, kSum, kBlend };
 struct DeformerStack {
   StackMode mode = StackMode::kInOrder;
   double exponent = 2.0;  // kBlend's m (>= 0)
+  // Deformers are numbered 0 (the document's own cage) to layers.size() (layer k - 1).
+  bool base_muted = false;   // the document's cage left out: its skin is the rest skin (f_0 = p)
+  bool base_hidden = false;  // its cage not drawn in the editor
+  int32_t solo = -1;         // only this deformer moves the skin (the others as if muted); -1 = none
   bool operator==(const DeformerStack&) const = default;
 };
 const char* stack_mode_name(StackMode mode);               // "in_order", "sum", "blend"
@@ -167,6 +172,16 @@ Document with_stack(const Document& doc, DeformerStack stack);
 // and simulation in the document's own fields, no layers and no parametric driver (what a Rig is made
 // for, and what `cagewrap bind` and the binding cache take). i < doc.layers.size(): checked.
 Document layer_document(const Document& doc, size_t i);
+// The deformers: 0 is the document's own cage, k the layer k - 1.
+inline size_t deformer_count(const Document& doc) { return 1 + doc.layers.size(); }
+// Whether deformer `d` is left out of the stack: muted, or another one is soloed.
+bool deformer_muted(const Document& doc, size_t d);
+bool deformer_hidden(const Document& doc, size_t d);
+// "cage" for 0, else the layer's name.
+std::string deformer_name(const Document& doc, size_t d);
+// The document as deformer `d` sees it: 0 = the document's cage alone (no layers, no parametric
+// driver), else layer_document(doc, d - 1). d < deformer_count(doc): checked.
+Document deformer_document(const Document& doc, size_t d);
 // Whether two layers are the same work (cage bit for bit, parameters, edits, offsets, attachment,
 // keyposes, simulation, mask, name, mute).
 bool same_layer(const DeformerLayer& a, const DeformerLayer& b);

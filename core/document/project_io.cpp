@@ -269,8 +269,9 @@ Result<std::string> deformer_fields_text(const std::string& path, const Document
 // "deformers" and "deformer_stack" (only when the document has layers, so older files stay as they
 // were): each layer is an object of the same fields as the document's own cage, and its name, mask and mute.
 Result<std::string> layers_text(const std::string& path, const Document& doc) {
-  if (doc.layers.empty()) return std::string();
-  std::string s = "  \"deformers\": [";
+  if (doc.layers.empty() && doc.stack == DeformerStack{}) return std::string();
+  std::string s;
+  if (!doc.layers.empty()) s += "  \"deformers\": [";
   for (size_t i = 0; i < doc.layers.size(); ++i) {
     const DeformerLayer& l = doc.layers[i];
     auto fields = deformer_fields_text(path, layer_document(doc, i));
@@ -288,15 +289,22 @@ Result<std::string> layers_text(const std::string& path, const Document& doc) {
       s += "\n  ],\n";
     }
     Json tail = {{"name", l.name}, {"muted", l.muted}};
+    if (l.hidden) tail["hidden"] = true;
     if (!l.mask_source.empty()) tail["mask_source"] = l.mask_source;
     const std::string t = one_line(tail);
     s += "  " + t.substr(1, t.size() - 2) + "\n  }";
   }
-  s += "\n  ],\n";
+  if (!doc.layers.empty()) s += "\n  ],\n";
   if (!(doc.stack.exponent >= 0.0) || !std::isfinite(doc.stack.exponent))
     return make_error(ErrorCode::kInvalidArgument, path + ": not saved: the deformer stack's exponent must be a number >= 0");
-  s += "  \"deformer_stack\": " +
-       one_line(Json{{"mode", stack_mode_name(doc.stack.mode)}, {"exponent", doc.stack.exponent}}) + ",\n";
+  if (doc.stack.solo >= 0 && static_cast<size_t>(doc.stack.solo) >= deformer_count(doc))
+    return make_error(ErrorCode::kInvalidArgument, path + ": not saved: the soloed deformer " + std::to_string(doc.stack.solo) +
+                                                       " does not exist (the deformers are 0 to " + std::to_string(doc.layers.size()) + ")");
+  Json stack = {{"mode", stack_mode_name(doc.stack.mode)}, {"exponent", doc.stack.exponent}};
+  if (doc.stack.base_muted) stack["base_muted"] = true;
+  if (doc.stack.base_hidden) stack["base_hidden"] = true;
+  if (doc.stack.solo >= 0) stack["solo"] = doc.stack.solo;
+  s += "  \"deformer_stack\": " + one_line(stack) + ",\n";
   return s;
 }
 
@@ -796,6 +804,7 @@ std::vector<DeformerLayer> read_layers(const std::string& path, const Json& list
     DeformerLayer l;
     l.name = j.contains("name") ? r.string(j["name"], "name") : "deformer " + std::to_string(i + 1);
     l.muted = j.contains("muted") && r.boolean(j["muted"], "muted");
+    l.hidden = j.contains("hidden") && r.boolean(j["hidden"], "hidden");
     if (j.contains("mask_source")) l.mask_source = r.string(j["mask_source"], "mask_source");
     if (j.contains("mask")) {
       const Json& m = r.array(j["mask"], "mask");
@@ -817,7 +826,7 @@ std::vector<DeformerLayer> read_layers(const std::string& path, const Json& list
     l.attachment = d.attachment;
     l.keyposes = std::move(d.keyposes);
     l.sim = std::move(d.sim);
-    warn_unknown(j, where, {"cage", "binding", "set_edits", "attachment", "keyposes", "simulation", "mask", "mask_source", "name", "muted"},
+    warn_unknown(j, where, {"cage", "binding", "set_edits", "attachment", "keyposes", "simulation", "mask", "mask_source", "name", "muted", "hidden"},
                  warnings, path);
     out.push_back(std::move(l));
   }
@@ -922,7 +931,16 @@ Result<ProjectLoad> load(const std::string& path, const std::string& character_o
     if (st.contains("exponent")) doc.stack.exponent = r.number(st["exponent"], "deformer_stack.exponent");
     if (!(doc.stack.exponent >= 0.0))
       r.fail(ErrorCode::kParse, "deformer_stack.exponent should be >= 0, not " + Reader::show(st["exponent"]));
-    warn_unknown(st, "deformer_stack", {"mode", "exponent"}, out.warnings, path);
+    doc.stack.base_muted = st.contains("base_muted") && r.boolean(st["base_muted"], "deformer_stack.base_muted");
+    doc.stack.base_hidden = st.contains("base_hidden") && r.boolean(st["base_hidden"], "deformer_stack.base_hidden");
+    if (st.contains("solo")) {
+      const uint32_t solo = r.index(st["solo"], "deformer_stack.solo");
+      if (solo >= deformer_count(doc))
+        r.fail(ErrorCode::kParse, "deformer_stack.solo is " + std::to_string(solo) + " but the deformers are 0 to " +
+                                      std::to_string(doc.layers.size()));
+      doc.stack.solo = static_cast<int32_t>(solo);
+    }
+    warn_unknown(st, "deformer_stack", {"mode", "exponent", "base_muted", "base_hidden", "solo"}, out.warnings, path);
   }
   if (root.contains("patch_driver")) doc.patch_driver = read_patch_driver(r, root["patch_driver"], path, out.warnings);
   doc.character = std::make_shared<const Character>(std::move(loaded).value());

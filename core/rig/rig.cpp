@@ -9,6 +9,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <algorithm>
 #include <cstring>
 #include <numbers>
 
@@ -203,7 +204,7 @@ Result<Rig> Rig::make(const Document& doc, Binding* binding, const BindProgress&
   s.deformer.emplace(std::move(deformer).value());
   for (size_t i = 0; i < doc.layers.size(); ++i) {
     const DeformerLayer& l = doc.layers[i];
-    if (l.muted) continue;
+    if (deformer_muted(doc, i + 1)) continue;  // muted, or another deformer soloed
     if (l.mask && l.mask->size() != s.skin_rest.size())
       return make_error(ErrorCode::kTopologyMismatch, "deformer '" + l.name + "': its mask has " + std::to_string(l.mask->size()) +
                                                           " weights but the skin has " + std::to_string(s.skin_rest.size()) + " points");
@@ -233,7 +234,7 @@ bool Rig::fits(const Document& doc) const {
   // the same layers, bound the same way (their offsets, keyposes, masks and the stack may differ)
   if (doc.layers.size() != mine.layers.size()) return false;
   for (size_t i = 0; i < doc.layers.size(); ++i)
-    if (doc.layers[i].muted != mine.layers[i].muted) return false;
+    if (deformer_muted(doc, i + 1) != deformer_muted(mine, i + 1)) return false;
   for (size_t k = 0; k < state_->layers.size(); ++k)
     if (!state_->layers[k]->fits(layer_document(doc, state_->layer_index[k]))) return false;
   return true;
@@ -245,6 +246,7 @@ Status Rig::pose(const Document& doc, const Pose& pose, PosedCage& cage, std::sp
   CAGEWRAP_CHECK(skin_out.size() == state_->skin_rest.size(), "one output position per skin point");
   pose_document_cage(doc, state_->attachment ? &*state_->attachment : nullptr, pose, cage);
   if (auto s = deform_through_cage(*state_->deformer, cage, skin_out); !s) return s;
+  if (deformer_muted(doc, 0)) std::copy(state_->skin_rest.begin(), state_->skin_rest.end(), skin_out.begin());  // f_0 = p
   return state_->pose_layers(doc, skin_out, [&](Rig& layer, const Document& d, std::vector<glm::vec3>& out) {
     return layer.pose(d, pose, state_->layer_cage, out);
   });
@@ -262,6 +264,7 @@ Status Rig::pose_clip(const Document& doc, int32_t clip, double t, std::span<con
       !s)
     return s;
   if (auto s = deform_through_cage(*state_->deformer, cage, skin_out); !s) return s;
+  if (deformer_muted(doc, 0)) std::copy(state_->skin_rest.begin(), state_->skin_rest.end(), skin_out.begin());  // f_0 = p
   return state_->pose_layers(doc, skin_out, [&](Rig& layer, const Document& d, std::vector<glm::vec3>& out) {
     return layer.pose_clip(d, clip, t, overrides, state_->layer_cage, out);
   });
