@@ -5,12 +5,14 @@
 // the largest skin-edge stretch, and where each happens. Exit 0 within the thresholds, 2 over them,
 // 1 on an error.
 #include <cstdio>
+#include <sstream>
 
 #include <nlohmann/json.hpp>
 
 #include "app/auto_cage_options.h"
 #include "app/cli_common.h"
 #include "app/commands.h"
+#include "core/character/skin_mask.h"
 #include "core/rig/fidelity.h"
 #include "core/document/project_io.h"
 
@@ -86,7 +88,7 @@ void print_fidelity_table(const FidelityReport& r, const Skeleton& sk) {
 
 void add_check_command(CLI::App& app, int& exit_code) {
   struct Args {
-    std::string project, character, cage;
+    std::string project, character, cage, region_joints;
     std::vector<std::string> clips;
     FidelityOptions options;
     AutoCageOptions auto_cage;
@@ -112,6 +114,8 @@ void add_check_command(CLI::App& app, int& exit_code) {
       ->capture_default_str();
   cmd->add_option("--max-stretch", args->options.thresholds.stretch, "threshold: largest skin-edge stretch")
       ->capture_default_str();
+  cmd->add_option("--region-joints", args->region_joints,
+                  "judge only the skin these joints and their children move (a,b,c: their skin weights over 0.5)");
   cmd->add_flag("--json", args->json, "print the report as JSON");
   cmd->callback([args, &exit_code] {
     exit_code = 1;
@@ -164,6 +168,19 @@ void add_check_command(CLI::App& app, int& exit_code) {
         return;
       }
       args->options.clips.push_back(i);
+    }
+    if (!args->region_joints.empty()) {
+      std::vector<std::string> names;
+      std::stringstream in(args->region_joints);
+      for (std::string item; std::getline(in, item, ',');)
+        if (!item.empty()) names.push_back(item);
+      auto region = joint_region_mask(ch, names);
+      if (!region) {
+        std::fprintf(stderr, "error: %s: --region-joints: %s\n", name.c_str(), region.error().message.c_str());
+        return;
+      }
+      args->options.region = std::move(region).value();
+      if (!args->json) std::printf("region: the skin of joints %s\n", args->region_joints.c_str());
     }
     std::optional<Rig> rig = rig_of_project(doc, name);
     if (!rig) return;

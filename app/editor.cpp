@@ -139,6 +139,7 @@ void Editor::draw_menu() {
     }
     ImGui::Separator();
     if (ImGui::MenuItem("Import cage...", nullptr, false, ws_.scene() != nullptr)) browse(FilePurpose::kImportCage);
+    if (ImGui::MenuItem("Add cage as a deformer layer...", nullptr, false, ws_.scene() != nullptr)) browse(FilePurpose::kAddDeformer);
     if (ImGui::MenuItem("Export...", nullptr, false, ws_.scene() != nullptr)) export_panel_.open(*ws_.scene());
     ImGui::Separator();
     if (ImGui::MenuItem("Screenshot...", "F12")) browse(FilePurpose::kScreenshot);
@@ -481,6 +482,7 @@ int Editor::run() {
         }
       }
       if (ws_.scene()->doc().cage) renderer_->update_cage(ws_.scene()->cage_posed, cage_weights_, face_mask_, bone_colors_);
+      update_other_cages();
       // the skin's CPU copy only when points are shown on it (the GPU path makes it on demand)
       const std::span<const uint32_t> failing = cage_tools_.failing_points(ws_);
       const bool skin_points = !ws_.view.selection.skin_vertices.empty() || !failing.empty();
@@ -512,7 +514,10 @@ int Editor::run() {
       v.projection = glm::mat4(ws_.view.camera.projection(double(v.width) / double(v.height)));
       v.grid_spacing = static_cast<float>(ws_.grid_spacing());
       skin_display_.begin(FramePart::kDraw);
-      renderer_->draw(v, style_);
+      render::ViewportStyle style = style_;
+      if (deformer_hidden(ws_.scene()->work(), ws_.scene()->active_deformer())) style.show_cage = false;  // hidden in the outliner
+      style.show_other_cages = style_.show_cage;
+      renderer_->draw(v, style);
       skin_display_.end(FramePart::kDraw);
     }
     skin_display_.begin(FramePart::kUiDraw);
@@ -575,7 +580,7 @@ int run_editor(const EditorOptions& options) {
 }
 
 bool Editor::background_busy() const {
-  return ws_.scene() && (ws_.scene()->job || ws_.building_cage() || ws_.binding_patch_driver() || ws_.exporting() || ws_.checking_fidelity());
+  return ws_.scene() && (ws_.binding_any() || ws_.building_cage() || ws_.binding_patch_driver() || ws_.exporting() || ws_.checking_fidelity());
 }
 
 std::string Editor::action_reference() const { return ws_.actions.reference(); }

@@ -57,6 +57,7 @@ void Editor::draw_outliner() {
       }
       ImGui::TreePop();
     }
+    draw_deformers();
     const JointTree& tree = outliner_tree(ch);
     if (ImGui::TreeNodeEx("Skeleton", ImGuiTreeNodeFlags_DefaultOpen, "Skeleton (%zu joints)", tree.joints)) {
       if (tree.joints == 0) ImGui::TextDisabled("no joints: the character is not skinned");
@@ -70,15 +71,6 @@ void Editor::draw_outliner() {
         ImGui::BulletText("%s%s", ch.skeleton.node(n).name.c_str(), tree.mesh_node[n] ? " (mesh)" : "");
       ImGui::TreePop();
     }
-    if (ImGui::TreeNodeEx("Cage", ImGuiTreeNodeFlags_DefaultOpen)) {
-      if (ws_.scene()->doc().cage) {
-        ImGui::Text("%zu vertices, %zu faces", ws_.scene()->doc().cage->num_vertices(), ws_.scene()->doc().cage->polygons.num_faces());
-        ImGui::TextDisabled("%zu control elements", ws_.scene()->doc().cage->num_elements());
-      } else {
-        ImGui::TextDisabled("no cage");
-      }
-      ImGui::TreePop();
-    }
     if (ImGui::TreeNodeEx("Binding", ImGuiTreeNodeFlags_DefaultOpen)) {
       if (ws_.scene()->binding) ImGui::Text("%s, %u points", variant_name(ws_.scene()->binding->params.variant), ws_.scene()->binding->num_points);
       else ImGui::TextDisabled(ws_.scene()->job ? "binding..." : "not bound");
@@ -86,6 +78,101 @@ void Editor::draw_outliner() {
     }
   }
   ImGui::End();
+}
+
+void Editor::update_other_cages() {
+  other_cage_segments_.clear();
+  const Scene& scene = *ws_.scene();
+  for (const StackRig& r : scene.stack_rigs) {
+    if (!r.rig || !r.doc.cage || deformer_hidden(scene.work(), r.deformer)) continue;
+    const PolyMesh& m = r.doc.cage->polygons;
+    if (r.cage.positions.size() != m.positions.size()) continue;  // not posed yet
+    for (size_t f = 0; f + 1 < m.face_start.size(); ++f)
+      for (uint32_t k = m.face_start[f]; k < m.face_start[f + 1]; ++k) {
+        const uint32_t next = k + 1 < m.face_start[f + 1] ? k + 1 : m.face_start[f];
+        other_cage_segments_.push_back(r.cage.positions[m.face_vertices[k]]);
+        other_cage_segments_.push_back(r.cage.positions[m.face_vertices[next]]);
+      }
+  }
+  renderer_->update_other_cages(other_cage_segments_);
+}
+
+// The deformer stack (issue 21): every deformer with its cage, its bind, and its switches; the radio
+// button makes it the one edited. Each switch runs the workspace's action (one undo step).
+void Editor::draw_deformers() {
+  Scene& scene = *ws_.scene();
+  const Document& w = scene.work();
+  const size_t n = deformer_count(w);
+  if (!ImGui::TreeNodeEx("Deformers", ImGuiTreeNodeFlags_DefaultOpen, "Deformers (%zu)", n)) return;
+  for (size_t d = 0; d < n; ++d) {
+    ImGui::PushID(static_cast<int>(d));
+    const std::string ds = std::to_string(d);
+    if (ImGui::RadioButton("##active", scene.active_deformer() == d)) ws_.run("deformer_active " + ds);
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("edit this deformer: selection, gizmo, sets, keyposes and Rebind act on it");
+    ImGui::SameLine();
+    const bool muted = deformer_muted(w, d);
+    const std::string name = deformer_name(w, d);
+    if (muted) ImGui::TextDisabled("%s", name.c_str());
+    else ImGui::TextUnformatted(name.c_str());
+    // its state: the active one's bind is the scene's; the others' are their stack rigs
+    std::string state;
+    if (d == scene.active_deformer()) {
+      state = scene.job ? "binding" : scene.binding ? "bound" : "not bound";
+    } else if (muted) {
+      state = w.stack.solo >= 0 && static_cast<size_t>(w.stack.solo) != d ? "not soloed" : "muted";
+    } else {
+      for (const StackRig& r : scene.stack_rigs)
+        if (r.deformer == d) state = r.job ? "binding " + std::to_string(int(100 * r.job->progress())) + "%" : r.rig ? "bound" : r.error;
+    }
+    const Cage* cage = d == 0 ? w.cage.get() : w.layers[d - 1].cage.get();
+    hint("%s%s%s", cage ? (std::to_string(cage->num_vertices()) + " vertices, " + std::to_string(cage->polygons.num_faces()) + " faces").c_str() : "no cage",
+         state.empty() ? "" : ", ", state.c_str());
+    const bool hidden = deformer_hidden(w, d);
+    if (ImGui::SmallButton(hidden ? "show" : "hide")) ws_.run("deformer_hide " + ds + (hidden ? " off" : " on"));
+    ImGui::SameLine();
+    const bool own_mute = d == 0 ? w.stack.base_muted : w.layers[d - 1].muted;
+    if (ImGui::SmallButton(own_mute ? "unmute" : "mute")) ws_.run("deformer_mute " + ds + (own_mute ? " off" : " on"));
+    ImGui::SameLine();
+    const bool solo = w.stack.solo == static_cast<int32_t>(d);
+    if (ImGui::SmallButton(solo ? "unsolo" : "solo")) ws_.run(solo ? std::string("deformer_solo off") : "deformer_solo " + ds);
+    if (d >= 2) {
+      ImGui::SameLine();
+      if (ImGui::SmallButton("up")) ws_.run("deformer_move " + ds + " " + std::to_string(d - 1));
+    }
+    if (d >= 1 && d < n - 1) {
+      ImGui::SameLine();
+      if (ImGui::SmallButton("down")) ws_.run("deformer_move " + ds + " " + std::to_string(d + 1));
+    }
+    if (d >= 1) {
+      ImGui::SameLine();
+      if (ImGui::SmallButton("remove")) ws_.run("deformer_remove " + ds);
+    }
+    ImGui::PopID();
+  }
+  if (n > 1) {
+    int mode = static_cast<int>(w.stack.mode);
+    const char* modes[] = {"in order", "sum", "blend"};
+    ImGui::PushItemWidth(-(ImGui::CalcTextSize("exponent m").x + 2 * ImGui::GetStyle().ItemInnerSpacing.x));
+    if (combo("combine", &mode, modes, 3)) ws_.run(std::string("deformer_stack ") + stack_mode_name(static_cast<StackMode>(mode)));
+    if (w.stack.mode == StackMode::kBlend) {
+      float m = static_cast<float>(w.stack.exponent);
+      if (ImGui::InputFloat("exponent m", &m, 0.5f, 1.0f, "%.2f", ImGuiInputTextFlags_EnterReturnsTrue))
+        ws_.run("deformer_stack blend " + std::to_string(m));
+    }
+    ImGui::PopItemWidth();
+  }
+  bool binding = false, failed = false;
+  for (const StackRig& r : scene.stack_rigs) {
+    binding |= r.job != nullptr;
+    failed |= !r.job && !r.rig;
+  }
+  if (binding) {
+    if (ImGui::SmallButton("Cancel binds")) ws_.run("deformer_cancel");
+  } else if (failed) {
+    if (ImGui::SmallButton("Bind again")) ws_.run("deformer_bind");
+  }
+  if (ImGui::SmallButton("Add a cage as a layer...")) browse(FilePurpose::kAddDeformer);
+  ImGui::TreePop();
 }
 
 void Editor::draw_properties() {

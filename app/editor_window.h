@@ -107,6 +107,8 @@ class Editor {
   void begin_rotate(RotateHandle handle, glm::dvec2 from);
   void apply_rotate(double angle);
   void update_selection_display();
+  void update_other_cages();  // the other deformers' posed cages, for the view
+  void draw_deformers();      // the outliner's Deformers (issue 21)
   void draw_gizmo();
   void request_save();
   bool save_project_to(const std::string& path);
@@ -178,6 +180,7 @@ class Editor {
   // what the viewport shows of the selection, rebuilt when the selection or the tool changes
   std::vector<float> cage_weights_;
   std::vector<uint8_t> face_mask_, joint_mask_;
+  std::vector<glm::vec3> other_cage_segments_;
   std::vector<glm::vec4> bone_colors_;  // per cage vertex, when colouring the cage by bone
   bool color_by_bone_ = false;
   // What the selection's display was built from: rebuilt when any of it changes.

@@ -16,6 +16,7 @@ enum class FilePurpose {
   kOpen,
   kSaveProject,
   kImportCage,
+  kAddDeformer,  // a cage added as a layer of the deformer stack
   kScreenshot,
   kNewFromCharacter,
   kExportGlb,

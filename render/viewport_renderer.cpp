@@ -41,6 +41,7 @@ bool ViewportRenderer::init(std::string& log) {
   axes_ = std::make_unique<LineBuffer>();
   net_edges_ = std::make_unique<LineBuffer>();
   net_points_ = std::make_unique<LineBuffer>();
+  other_cages_ = std::make_unique<LineBuffer>();
   return true;
 }
 
@@ -126,6 +127,11 @@ void ViewportRenderer::update_control_net(std::span<const glm::vec3> points,
   scratch_colors_.assign(points.size(), kNetColor);
   if (selected >= 0 && size_t(selected) < points.size()) scratch_colors_[size_t(selected)] = kSelectedColor;
   net_points_->upload(points, scratch_colors_);
+}
+
+void ViewportRenderer::update_other_cages(std::span<const glm::vec3> segments) {
+  scratch_colors_.assign(segments.size(), glm::vec4(0.55f, 0.75f, 0.95f, 0.55f));
+  other_cages_->upload(segments, scratch_colors_);
 }
 
 void ViewportRenderer::update_skeleton(std::span<const glm::vec3> heads, std::span<const std::array<uint32_t, 2>> bones,
@@ -241,6 +247,12 @@ void ViewportRenderer::draw(const ViewParams& v, const ViewportStyle& style) {
     glLineWidth(1.5f);
     cage_edges_->draw(GL_LINES);
     draw_round_points(*cage_points_, 5.0f);
+  }
+  if (style.show_other_cages && other_cages_->size() > 0) {
+    line_program_.use();
+    line_program_.set("u_depth_bias", on_top ? 1.0f : 0.0005f);
+    glLineWidth(1.0f);
+    other_cages_->draw(GL_LINES);
   }
   if (skin_points_->size() > 0) {
     line_program_.use();

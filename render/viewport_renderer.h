@@ -21,6 +21,7 @@ namespace cagewrap::render {
 struct ViewportStyle {
   bool show_skin = true;
   bool show_cage = true;
+  bool show_other_cages = true;  // the other deformers' cages (update_other_cages)
   bool show_skeleton = true;
   bool show_grid = true;
   bool wireframe = false;  // skin as wireframe
@@ -64,6 +65,10 @@ class ViewportRenderer {
   void update_control_net(std::span<const glm::vec3> points, std::span<const std::array<uint32_t, 2>> edges,
                           int selected);
 
+  // The cages of the other deformers of the stack (issue 21), as line segments (pairs of points), drawn
+  // fainter than the active cage when the cage is shown; empty hides them.
+  void update_other_cages(std::span<const glm::vec3> segments);
+
   // Joint heads (#J) and bones as joint index pairs; `selected` (#J mask, may be empty) highlighted.
   void update_skeleton(std::span<const glm::vec3> heads, std::span<const std::array<uint32_t, 2>> bones,
                        std::span<const uint8_t> selected);
@@ -78,7 +83,7 @@ class ViewportRenderer {
   GlProgram mesh_program_, line_program_;
   std::unique_ptr<TriangleBuffer> skin_, cage_faces_, cage_selected_faces_;
   std::unique_ptr<LineBuffer> cage_edges_, cage_points_, skin_points_, bones_, joints_, grid_, axes_;
-  std::unique_ptr<LineBuffer> net_edges_, net_points_;
+  std::unique_ptr<LineBuffer> net_edges_, net_points_, other_cages_;
   std::vector<Tri> cage_elements_, selected_elements_;
   std::vector<uint32_t> element_face_;
   std::vector<uint8_t> uploaded_face_mask_;

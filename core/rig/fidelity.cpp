@@ -190,7 +190,26 @@ Result<FidelityReport> check_fidelity(const Document& doc, Rig& rig, const Fidel
                                                          " points, the character " + std::to_string(ch.num_vertices()));
   report.diagonal = bounding_box(bind).diagonal();
   report.units = scene_units(report.diagonal);
-  const auto edges = skin_edges(ch);
+  auto edges = skin_edges(ch);
+  // a region: the points outside it are given the reference's position (no error), the edges leaving
+  // it are not judged, and the RMS is over the region's points
+  std::vector<uint8_t> outside;
+  double rms_scale = 1.0;
+  if (!options.region.empty()) {
+    if (options.region.size() != bind.size())
+      return make_error(ErrorCode::kInvalidArgument, "the region has " + std::to_string(options.region.size()) +
+                                                         " weights but the skin has " + std::to_string(bind.size()) + " points");
+    outside.resize(bind.size());
+    size_t inside = 0;
+    for (size_t i = 0; i < bind.size(); ++i) {
+      outside[i] = !(options.region[i] > 0.5f);
+      inside += outside[i] ? 0 : 1;
+    }
+    if (inside == 0) return make_error(ErrorCode::kInvalidArgument, "the region holds no skin point");
+    std::erase_if(edges, [&](const std::pair<uint32_t, uint32_t>& e) { return outside[e.first] || outside[e.second]; });
+    rms_scale = std::sqrt(double(bind.size()) / double(inside));
+    report.vertices = inside;
+  }
   const auto joints = heaviest_joints(ch);
   // how many edges are judged (rest lengths are close enough to tell)
   for (const auto& [a, b] : edges)
@@ -225,7 +244,10 @@ Result<FidelityReport> check_fidelity(const Document& doc, Rig& rig, const Fidel
       if (progress.cancel && progress.cancel->load()) return make_error(ErrorCode::kCancelled, "the check was cancelled");
       if (auto s = rig.pose_clip(doc, j.clip, t, {}, cage, skin); !s) return s.error();
       const std::vector<glm::vec3> ref = skin_character(ch, compose_pose(ch, j.clip, t, false));
+      for (size_t i = 0; i < outside.size(); ++i)
+        if (outside[i]) skin[i] = ref[i];
       FrameFidelity f = compare_skins(skin, ref, edges, joints, report.diagonal, options.min_edge);
+      f.rms *= rms_scale;
       f.clip = j.clip;
       f.time = t;
       sum2 += f.rms * f.rms;

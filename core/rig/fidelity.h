@@ -41,6 +41,9 @@ struct FidelityOptions {
   // clips to judge (indices); empty = every clip
   std::vector<int32_t> clips;
   FidelityThresholds thresholds;
+  // Judge only these skin points (#P weights, e.g. core/character/skin_mask.h joint_region_mask: the
+  // points weighing more than 0.5, and the edges between two of them); empty = every point.
+  std::vector<float> region;
 };
 
 struct FrameFidelity {
