@@ -168,6 +168,15 @@ std::optional<Rig> rig_of_project(const Document& doc, const std::string& projec
                  project.c_str());
     return std::nullopt;
   }
+  // what the stack leaves out is said: a solo or a mute left on by mistake would ship a different rig
+  if (doc.stack.solo >= 0 && deformer_count(doc) > 1)
+    std::fprintf(stderr, "warning: %s: deformer %d '%s' is soloed: the other deformers are left out (cagewrap deformer set --solo none)\n",
+                 project.c_str(), doc.stack.solo, deformer_name(doc, static_cast<size_t>(doc.stack.solo)).c_str());
+  else
+    for (size_t d = 0; d < deformer_count(doc); ++d)
+      if (deformer_muted(doc, d))
+        std::fprintf(stderr, "warning: %s: deformer %zu '%s' is muted: it is left out\n", project.c_str(), d,
+                     deformer_name(doc, d).c_str());
   if (!doc.binding_cache.file.empty()) {  // a cached binding, when it is still the project's
     auto cached = load_binding_cache(doc);
     if (cached) {

@@ -5,9 +5,10 @@
 //   list                                   the stack, one line per deformer
 //   add --cage C [--name N] [--mask-joints a,b | --mask-primitives 0,2] [binding options]
 //   remove (--name N | --index I)          I: 1 = the first layer (0 is the project's own cage)
-//   set (--name N | --index I) [--rename N2] [--mute | --unmute] [--mask-joints a,b | --mask-primitives 0,2 | --no-mask]
-//       [--to K]                           (move it to position K among the layers)
-//   set --stack in_order|sum|blend [--exponent m]
+//   set (--name N | --index I) [--rename N2] [--mute | --unmute] [--hide | --show]
+//       [--mask-joints a,b | --mask-primitives 0,2 | --no-mask] [--to K]   (move it to position K among the layers)
+//   set --index 0 [--mute | --unmute] [--hide | --show]   (the project's own cage)
+//   set --stack in_order|sum|blend [--exponent m] [--solo D|none]
 // Every change checks what it can first (the cage, the names, the mask), writes P again (or Q), and
 // prints the stack. Errors name the project, the layer and what is wrong; nothing is written then.
 #include <cstdio>
@@ -38,8 +39,18 @@ void print_stack(const Document& doc) {
   std::printf("stack      %s%s (%zu deformer%s)\n", stack_mode_name(doc.stack.mode),
               doc.stack.mode == StackMode::kBlend ? (" m=" + std::to_string(doc.stack.exponent)).c_str() : "",
               1 + doc.layers.size(), doc.layers.empty() ? "" : "s");
-  std::printf("  0  %-16s %s, %s\n", "(project cage)", doc.cage ? cage_line(*doc.cage).c_str() : "no cage",
-              variant_name(doc.params.variant));
+  // what leaves a deformer out, or hides its cage in the editor
+  const auto flags = [&doc](size_t d) {
+    std::string f;
+    const bool own = d == 0 ? doc.stack.base_muted : doc.layers[d - 1].muted;
+    if (own) f += ", muted";
+    else if (deformer_muted(doc, d)) f += ", left out (deformer " + std::to_string(doc.stack.solo) + " is soloed)";
+    if (doc.stack.solo == static_cast<int32_t>(d)) f += ", soloed";
+    if (deformer_hidden(doc, d)) f += ", hidden";
+    return f;
+  };
+  std::printf("  0  %-16s %s, %s%s\n", "(project cage)", doc.cage ? cage_line(*doc.cage).c_str() : "no cage",
+              variant_name(doc.params.variant), flags(0).c_str());
   for (size_t i = 0; i < doc.layers.size(); ++i) {
     const DeformerLayer& l = doc.layers[i];
     std::string mask = "no mask";
@@ -50,7 +61,7 @@ void print_stack(const Document& doc) {
              std::to_string(l.mask->size()) + " skin vertices)";
     }
     std::printf("  %zu  %-16s %s, %s, %s%s\n", i + 1, l.name.c_str(), cage_line(*l.cage).c_str(), variant_name(l.params.variant),
-                mask.c_str(), l.muted ? ", muted" : "");
+                mask.c_str(), flags(i + 1).c_str());
   }
 }
 
@@ -135,7 +146,8 @@ void add_deformer_command(CLI::App& app, int& exit_code) {
     std::string project, out, cage, name, rename, stack;
     long index = -1, to = -1;
     double exponent = -1.0;
-    bool mute = false, unmute = false;
+    bool mute = false, unmute = false, hide = false, show = false;
+    std::string solo;
     MaskArgs mask;
     BindOptions bind;
   };
@@ -216,6 +228,9 @@ void add_deformer_command(CLI::App& app, int& exit_code) {
   set->add_option("--rename", args->rename, "a new name");
   auto* mute = set->add_flag("--mute", args->mute, "leave it out of the stack (kept in the project)");
   set->add_flag("--unmute", args->unmute, "put it back into the stack")->excludes(mute);
+  auto* hide = set->add_flag("--hide", args->hide, "hide its cage in the editor (saved with the project)");
+  set->add_flag("--show", args->show, "show its cage in the editor again")->excludes(hide);
+  set->add_option("--solo", args->solo, "only this deformer moves the skin (0 = the project's cage, 1 = the first layer; none = off)");
   set->add_option("--to", args->to, "move it to this place among the layers (1 = first)");
   add_mask_options(*set, args->mask, true);
   set->add_option("--stack", args->stack, "how the skins combine: in_order, sum or blend (docs/deformer-stack.md)");
@@ -237,9 +252,38 @@ void add_deformer_command(CLI::App& app, int& exit_code) {
       std::fprintf(stderr, "error: --exponent %g: the blend's exponent must be >= 0\n", args->exponent);
       return;
     }
-    const bool layer_change = !args->rename.empty() || args->mute || args->unmute || args->to >= 0 || !args->mask.joints.empty() ||
+    if (!args->solo.empty()) {
+      DeformerStack stack = d.stack;
+      if (args->solo == "none") {
+        stack.solo = -1;
+      } else {
+        char* end = nullptr;
+        const long v = std::strtol(args->solo.c_str(), &end, 10);
+        if (*end || v < 0 || static_cast<size_t>(v) >= deformer_count(d)) {
+          std::fprintf(stderr, "error: %s: --solo '%s': the deformers are 0 to %zu (or none)\n", args->project.c_str(),
+                       args->solo.c_str(), d.layers.size());
+          return;
+        }
+        stack.solo = static_cast<int32_t>(v);
+      }
+      d = with_stack(d, stack);
+    }
+    const bool switches = args->mute || args->unmute || args->hide || args->show;
+    const bool layer_change = !args->rename.empty() || switches || args->to >= 0 || !args->mask.joints.empty() ||
                               !args->mask.primitives.empty() || args->mask.none;
-    if (layer_change || !args->name.empty() || args->index >= 0) {
+    if (args->index == 0 && args->name.empty()) {  // the project's own cage: only its switches
+      if (!args->rename.empty() || args->to >= 0 || !args->mask.joints.empty() || !args->mask.primitives.empty() || args->mask.none) {
+        std::fprintf(stderr, "error: %s: deformer 0 is the project's own cage: it can be muted, hidden or soloed, not renamed, "
+                             "moved or masked\n", args->project.c_str());
+        return;
+      }
+      DeformerStack stack = d.stack;
+      if (args->mute) stack.base_muted = true;
+      if (args->unmute) stack.base_muted = false;
+      if (args->hide) stack.base_hidden = true;
+      if (args->show) stack.base_hidden = false;
+      d = with_stack(d, stack);
+    } else if (layer_change || !args->name.empty() || args->index >= 0) {
       const long i = find_layer(d, args->name, args->index, args->project);
       if (i < 0) return;
       std::vector<DeformerLayer> layers = d.layers;
@@ -254,6 +298,8 @@ void add_deformer_command(CLI::App& app, int& exit_code) {
       }
       if (args->mute) l.muted = true;
       if (args->unmute) l.muted = false;
+      if (args->hide) l.hidden = true;
+      if (args->show) l.hidden = false;
       if (!apply_mask(d, args->mask, l, args->project)) return;
       if (args->to >= 0) {
         if (args->to < 1 || size_t(args->to) > layers.size()) {

@@ -48,6 +48,29 @@ check "set --mute" test "$rc" -eq 0
 check "it says muted" has "$T/out" "^  1  face .*, muted$"
 run pose --project "$P" --clip walk --time 0.4 --out "$T/muted.bin"
 check "muted: the plain pose, bit for bit" cmp -s "$T/plain.bin" "$T/muted.bin"
+check "pose says what is muted" hasf "$T/err" "deformer 1 'face' is muted: it is left out"
+# solo: only that deformer moves the skin; the project's own cage muted leaves the layer alone
+run deformer set --project "$P" --name face --unmute --hide
+check "unmute and hide" has "$T/out" "^  1  face .*, hidden$"
+run deformer set --project "$P" --solo 0
+check "solo 0" has "$T/out" "^  0  (project cage) .*, soloed$"
+check "the layer is left out" has "$T/out" "^  1  face .*left out (deformer 0 is soloed)"
+run pose --project "$P" --clip walk --time 0.4 --out "$T/solo.bin"
+check "solo 0: the plain pose, bit for bit" cmp -s "$T/plain.bin" "$T/solo.bin"
+check "pose says what is soloed" hasf "$T/err" "deformer 0 'cage' is soloed"
+run deformer set --project "$P" --solo 5
+check "a solo out of range fails" test "$rc" -ne 0
+check "naming the range" hasf "$T/err" "--solo '5': the deformers are 0 to 1"
+run deformer set --project "$P" --name face --no-mask
+run deformer set --project "$P" --solo none --index 0 --mute
+check "mute the project's cage" has "$T/out" "^  0  (project cage) .*, muted$"
+run pose --project "$P" --clip walk --time 0.4 --out "$T/base_muted.bin"
+check "in a sum, the unmasked copy alone moves the skin: the plain pose" cmp_close "$T/plain.bin" "$T/base_muted.bin" 1e-5
+run deformer set --project "$P" --index 0 --unmute
+run deformer set --project "$P" --name face --mute --mask-joints head
+check "the project's cage back, the layer muted" has "$T/out" "^  1  face .*, muted, hidden$"
+run deformer set --project "$P" --index 0 --rename x
+check "deformer 0 cannot be renamed" test "$rc" -ne 0
 
 # errors name what is wrong and write nothing
 cp "$P" "$T/before.cagewrap"
