@@ -50,16 +50,19 @@ constexpr uint32_t kBenchProbeSamples = 1025;
 void add_bench_command(CLI::App& app, int& exit_code) {
   struct Args {
     std::string mesh, cage, posed, twist, variant_list = variant_name(BindParams{}.variant);
-    std::string export_skin, score_deformed;
+    std::string export_skin, score_deformed, project, clip = "0";
     uint32_t subdivide = 0, changes = 20;
     bool json = false, gpu = false;
     BindOptions bind;
   };
   auto args = std::make_shared<Args>();
   auto* cmd = app.add_subcommand("bench", "time bind and deform, measure memory and twist fidelity");
-  cmd->add_option("--mesh", args->mesh, "skin mesh at rest")->required();
-  cmd->add_option("--cage", args->cage, "cage at rest")->required();
-  cmd->add_option("--posed-cage", args->posed, "the same cage, moved")->required();
+  cmd->add_option("--mesh", args->mesh, "skin mesh at rest (required without --project)");
+  cmd->add_option("--cage", args->cage, "cage at rest (required without --project)");
+  cmd->add_option("--posed-cage", args->posed, "the same cage, moved (required without --project)");
+  cmd->add_option("--project", args->project,
+                  "instead: time a project's deformer stack (each deformer's bind and pose, the stack's, the combination)");
+  cmd->add_option("--clip", args->clip, "with --project: the clip posed, by name or index")->capture_default_str();
   cmd->add_option("--subdivide", args->subdivide, "cut every skin edge n times first ((n+1)^2 triangles each)");
   cmd->add_option("--changes", args->changes, "cage changes to time (>= 20)")->capture_default_str();
   cmd->add_option("--twist", args->twist, "inputs.json with the analytic twist: report fidelity to it");
@@ -79,6 +82,14 @@ void add_bench_command(CLI::App& app, int& exit_code) {
     exit_code = 1;
     if (args->changes < 20) {
       std::fprintf(stderr, "error: --changes must be at least 20\n");
+      return;
+    }
+    if (!args->project.empty()) {
+      exit_code = bench_stack(args->project, args->clip, args->changes, args->json);
+      return;
+    }
+    if (args->mesh.empty() || args->cage.empty() || args->posed.empty()) {
+      std::fprintf(stderr, "error: give --mesh, --cage and --posed-cage (or --project)\n");
       return;
     }
     if (!args->score_deformed.empty() && args->twist.empty()) {

@@ -10,6 +10,8 @@ namespace cagewrap::app {
 void add_bind_command(CLI::App& app, int& exit_code);
 void add_deform_command(CLI::App& app, int& exit_code);
 void add_bench_command(CLI::App& app, int& exit_code);
+// bench --project (app/cmd_bench_stack.cpp): the deformer stack's cost against the sum of its deformers'.
+int bench_stack(const std::string& project, const std::string& clip, uint32_t frames, bool json);
 void add_info_command(CLI::App& app, int& exit_code);
 void add_skin_command(CLI::App& app, int& exit_code);
 void add_make_demo_command(CLI::App& app, int& exit_code);

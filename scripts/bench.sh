@@ -25,6 +25,13 @@ if [ "$mode" = cpu ]; then
         --subdivide "$sub" --variant all
     done
   done
+  # the deformer stack (issue 21): the demo's body cage and fine arm cage, each alone and together
+  stack_dir=$(mktemp -d)
+  bash "$(dirname "$0")/demo_stack.sh" "$bin" "$stack_dir" >/dev/null
+  echo
+  echo "== deformer stack (scripts/demo_stack.sh)"
+  "$bin" bench --project "$stack_dir/stack.cagewrap" --clip walk
+  rm -rf "$stack_dir"
   exit 0
 fi
 [ "$mode" = gpu ] || { echo "bench: mode must be cpu or gpu, not '$mode'" >&2; exit 1; }
