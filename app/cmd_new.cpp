@@ -8,6 +8,7 @@
 #include "app/auto_cage_options.h"
 #include "app/cli_common.h"
 #include "app/commands.h"
+#include "core/io/patch_io.h"
 #include "core/document/binding_cache.h"
 #include "core/document/character_embedding.h"
 #include "core/document/document.h"
@@ -17,7 +18,8 @@ namespace cagewrap::app {
 
 void add_new_command(CLI::App& app, int& exit_code) {
   struct Args {
-    std::string character, cage, out, stack;
+    std::string character, cage, out, stack, patch, posed_patch;
+    uint32_t patch_density = 2;
     std::vector<std::string> cages;
     BindOptions bind;
     AutoCageOptions auto_cage;
@@ -31,6 +33,12 @@ void add_new_command(CLI::App& app, int& exit_code) {
                   "cage at rest (.obj .ply .off .stl); without it the project has no cage yet. Given again: more cages, "
                   "each a deformer layer over the first (docs/deformer-stack.md)");
   cmd->add_option("--stack", args->stack, "with several cages: how their skins combine (in_order, sum or blend)");
+  cmd->add_option("--patch", args->patch,
+                  "a parametric driver (.cwpatch .gltf .glb) that drives the skin: its sculpt (posed minus rest control "
+                  "points) follows the skeleton after the cages (docs/parametric-drivers.md)");
+  cmd->add_option("--posed-patch", args->posed_patch,
+                  "the same driver sculpted (its control points moved at the bind pose); default: as --patch (no sculpt)");
+  cmd->add_option("--patch-density", args->patch_density, "the driver's samples per knot span (1..1024)")->capture_default_str();
   cmd->add_option("--out", args->out, "project file to write (.cagewrap)")->required();
   cmd->add_flag("--embed", args->embed, "put the character file into the project: it opens with no other file");
   cmd->add_flag("--cache-binding", args->cache,
@@ -75,6 +83,40 @@ void add_new_command(CLI::App& app, int& exit_code) {
       }
       *doc = with_stack(with_layers(*doc, std::move(layers)), stack);
     }
+    if (!args->patch.empty()) {
+      if (args->patch_density < 1 || args->patch_density > 1024) {
+        std::fprintf(stderr, "error: --patch-density %u: use 1..1024\n", args->patch_density);
+        return;
+      }
+      auto surface = load_patch_any(args->patch);
+      if (!surface) {
+        report_error(surface.error());
+        return;
+      }
+      auto driver = std::make_shared<PatchDriver>();
+      driver->rest = *surface;
+      driver->posed = std::move(surface).value();
+      if (!args->posed_patch.empty()) {
+        auto posed = load_patch_any(args->posed_patch);
+        if (!posed) {
+          report_error(posed.error());
+          return;
+        }
+        bool same_grids = posed->grids.size() == driver->rest.grids.size();
+        for (size_t g = 0; same_grids && g < posed->grids.size(); ++g)
+          same_grids = posed->grids[g].rows == driver->rest.grids[g].rows && posed->grids[g].cols == driver->rest.grids[g].cols &&
+                       posed->grids[g].basis == driver->rest.grids[g].basis;
+        if (!same_grids) {
+          std::fprintf(stderr, "error: %s: its grids are not those of %s (the same grids, sizes and basis, moved)\n",
+                       args->posed_patch.c_str(), args->patch.c_str());
+          return;
+        }
+        driver->posed = std::move(posed).value();
+      }
+      driver->density = args->patch_density;
+      driver->drive_skin = true;
+      *doc = with_patch_driver(*doc, std::move(driver));
+    }
     if (automatic && !add_automatic_cage(*doc, args->auto_cage.params, args->character, false)) return;
     if (args->embed) {
       auto e = embed_character(*doc);
@@ -111,6 +153,9 @@ void add_new_command(CLI::App& app, int& exit_code) {
     for (const DeformerLayer& l : doc->layers)
       std::printf("deformer   %s: %zu vertices, %zu faces (a layer, %s)\n", l.name.c_str(), l.cage->num_vertices(),
                   l.cage->polygons.num_faces(), stack_mode_name(doc->stack.mode));
+    if (doc->patch_driver)
+      std::printf("driver     %s: %zu control points, density %u (drives the skin)\n", args->patch.c_str(),
+                  doc->patch_driver->rest.num_control_points(), doc->patch_driver->density);
     if (doc->embedded_character)
       std::printf("embedded   the character (%zu bytes)\n", doc->embedded_character->size());
     if (rig)

@@ -65,16 +65,6 @@ std::string SkinDisplay::put_skin(Scene& scene, render::ViewportRenderer& render
   std::string message;
   on_gpu_ = false;
   from_cage_ = scene.skin_from_cage;
-  if (scene.skin_driven()) {  // another deformer's skin (the parametric driver): uploaded when it changes
-    if (uploaded_driven_ != scene.driven_skin) {
-      begin(FramePart::kNormals);
-      renderer.update_skin(scene.skin_posed());
-      end(FramePart::kNormals);
-      uploaded_driven_ = scene.driven_skin;
-    }
-    return message;
-  }
-  uploaded_driven_.reset();
   if (scene.skin_from_cage) add_cpu_ms(FramePart::kDeform, scene.deform_ms);  // the CPU deform, or the maps alone
   if (scene.skin_on_gpu && scene.skin_from_cage && scene.deformer) {
     if (!gpu_ || gpu_revision_ != scene.binding_revision) {
@@ -157,10 +147,12 @@ void SkinDisplay::menu_item() {
 
 void SkinDisplay::draw_stats(const Scene& scene) {
   ImGui::Text("%.0f fps, frame %.1f ms", shown_frame_ms_ > 0 ? 1000.0 / shown_frame_ms_ : 0.0, shown_frame_ms_);
-  if (scene.skin_driven()) {
-    ImGui::Text("skin deformed by the parametric driver");
-  } else if (scene.skin_from_cage && scene.stacked()) {
-    ImGui::Text("skin: %zu deformers combined on the CPU%s", deformer_count(scene.work()), scene.stack_ready() ? "" : " (binding)");
+  if (scene.skin_from_cage && scene.stacked()) {
+    if (scene.cage_stack())
+      ImGui::Text("skin: %zu deformers, CPU%s", deformer_count(scene.work()), scene.stack_ready() ? "" : " (binding)");
+    else
+      ImGui::Text("skin deformed on the CPU");
+    if (scene.skin_driven()) ImGui::Text("+ the driver's sculpt");
   } else if (!scene.skin_from_cage) {
     ImGui::TextDisabled("skin: file's linear blend skinning");
   } else {

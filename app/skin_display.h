@@ -84,7 +84,6 @@ class SkinDisplay {
 
   std::unique_ptr<render::GpuDeformer> gpu_;
   std::unique_ptr<render::GpuTimer> timer_;
-  std::shared_ptr<const std::vector<glm::vec3>> uploaded_driven_;  // the scene's driven skin now in the renderer
   uint64_t gpu_revision_ = 0;   // the scene's binding_revision the GPU table was made for
   uint64_t failed_revision_ = 0;  // a revision the GPU could not take (logged once; CPU used)
   std::string unavailable_;  // why there is no GPU path (empty: there is)

@@ -19,6 +19,7 @@
 #include "core/document/project_io.h"
 #include "core/geometry/mesh_io.h"
 #include "core/rig/fidelity.h"
+#include "core/rig/rig.h"
 #include "tests/workspace_fixtures.h"
 
 namespace cagewrap::app {
@@ -83,6 +84,7 @@ TEST_F(WorkspacePatchTest, FitMovesUndoDensityAndCancel) {
 
   // driving the skin: the frame shows the driver's skin, moved around the chest only
   ws.run("patch_drive on");
+  ws.run("clip rest");
   ws.update_pose();
   ASSERT_TRUE(ws.scene()->skin_driven());
   const std::vector<glm::vec3>& skin = ws.scene()->skin_posed();
@@ -90,6 +92,25 @@ TEST_F(WorkspacePatchTest, FitMovesUndoDensityAndCancel) {
   for (size_t i = 0; i < skin.size(); ++i) largest = std::max(largest, glm::length(skin[i] - ws.scene()->skin_rest[i]));
   EXPECT_GT(largest, 0.01f);
   EXPECT_LT(largest, 0.5f);
+  // posed, the frame is what the rig (pose, the exports) makes: the sculpt carried by the skeleton
+  finish_bind();  // the sheet's own bind (the cage), so that the frame is the cage's skin and the sculpt
+  ws.run("clip walk");
+  ws.run("time 0.3");
+  ws.update_pose();
+  ASSERT_TRUE(ws.scene()->skin_driven());
+  ASSERT_TRUE(ws.scene()->skin_from_cage);
+  {
+    auto rig = Rig::create(doc());
+    ASSERT_TRUE(rig.ok()) << rig.error().message;
+    std::vector<glm::vec3> expected(rig->num_skin_points());
+    PosedCage cage;
+    const auto& pb = ws.view.playback;
+    ASSERT_TRUE(rig->pose_clip(doc(), pb.clip, pb.player.time(), pb.pose_override, cage, expected).ok());
+    double gap = 0.0;
+    for (size_t i = 0; i < expected.size(); ++i) gap = std::max(gap, double(glm::distance(expected[i], ws.scene()->skin_posed()[i])));
+    EXPECT_LT(gap, 1e-5 * ws.scene()->skin_diagonal);
+  }
+  ws.run("clip rest");
 
   // undo and redo the second move
   ws.run("undo");  // drive

@@ -317,7 +317,7 @@ bool Scene::set_active_deformer(size_t d) {
   return true;
 }
 
-bool Scene::stacked() const {
+bool Scene::cage_stack() const {
   const Document& w = history_.current();
   return deformer_count(w) > 1 || deformer_muted(w, 0);
 }
@@ -555,23 +555,12 @@ bool Scene::driver_bound() const {
          (b.driver.get() == want || (b.driver->density == want->density && b.driver->rest == want->rest));
 }
 
-void Scene::drive_skin() {
-  const auto& driver = doc().patch_driver;
-  if (!driver || !driver->drive_skin || !driver_bound()) {
-    driven_skin.reset();
-    return;
-  }
-  DriverBinding& b = driver_binding;
-  if (b.shown != driver) {
-    auto skin = std::make_shared<std::vector<glm::vec3>>(skin_rest.size());
-    b.skin = b.deformer->deform(driver->posed, *skin).ok() ? std::move(skin) : nullptr;
-    b.shown = driver;
-  }
-  driven_skin = b.skin;
+bool Scene::driving() const {
+  const auto& d = doc().patch_driver;
+  return d && d->drive_skin && driver_binding.layer && driver_bound() && driver_binding.layer->fits(*d);
 }
 
 void Scene::update_pose(const Playback& pb) {
-  drive_skin();  // a parametric driver's skin replaces the cage's
   const Character& ch = *doc().character;
   const bool show_file_skinning = pb.show_file_skinning;
   pose_ = current_pose(pb);
@@ -585,7 +574,7 @@ void Scene::update_pose(const Playback& pb) {
     if (ch.skeleton.node(i).parent >= 0) bones.push_back({static_cast<uint32_t>(ch.skeleton.node(i).parent), static_cast<uint32_t>(i)});
 
   skin_from_cage = false;
-  skin_driven_ = driven_skin && driven_skin->size() == skin_rest.size() && !show_file_skinning;
+  skin_driven_ = false;
   const auto& cage = doc().cage;
   if (cage) {
     // the driver: rest cage + the artist's offsets + keyposes, carried by the skeleton (core/rig/rig.h)
@@ -601,26 +590,23 @@ void Scene::update_pose(const Playback& pb) {
     cage_posed = posed.positions;
     cage_linear = posed.linear;
     cage_skinning = posed.skinning;
-    if (deformer && bound_cage == cage && !skin_driven_) {
+    if (deformer && bound_cage == cage) {
       skin_posed_.resize(skin_rest.size());
       auto t0 = std::chrono::steady_clock::now();
       const bool on_gpu = skin_on_gpu && !stacked();  // a stack is combined on the CPU
       auto s = on_gpu ? deformer->update_maps(posed.positions, cage_vertex_frames(*binding, posed))
                       : deform_through_cage(*deformer, posed, skin_posed_);
-      if (s.ok() && !on_gpu && stacked() && !show_file_skinning) pose_stack(pb);
+      if (s.ok() && !on_gpu && cage_stack() && !show_file_skinning) pose_stack(pb);
       deform_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
       skin_from_cage = s.ok();
     }
   }
   if (show_file_skinning) skin_from_cage = false;
   skin_stale_ = skin_from_cage && skin_on_gpu && !stacked();
-  if (skin_driven_) {
-    if (skin_posed_from_ != driven_skin) skin_posed_ = *driven_skin;  // copied once per change
-    skin_posed_from_ = driven_skin;
-    return;
-  }
-  skin_posed_from_.reset();
   if (!skin_from_cage) skin_posed_ = skin_character(ch, pose);
+  // the parametric driver's sculpt, carried by the skeleton (core/rig/driver_layer.h, as Rig adds it)
+  if (!show_file_skinning && driving())
+    skin_driven_ = driver_binding.layer->add(*doc().patch_driver, joint_globals, skin_posed_).ok();
 }
 
 ClipSimulation* Scene::simulation(int32_t clip) {

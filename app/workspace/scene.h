@@ -25,6 +25,7 @@
 #include "core/document/project_io.h"
 #include "app/workspace/history.h"
 #include "core/deform/registration.h"
+#include "core/rig/driver_layer.h"
 #include "core/rig/rig.h"
 #include "core/character/skeleton.h"
 #include "app/workspace/soft_selection.h"
@@ -93,9 +94,10 @@ struct Scene {
   bool set_active_deformer(size_t d);
   // The other deformers that move the skin (not muted), each with its rig or its bind.
   std::vector<StackRig> stack_rigs;
-  // Whether the skin shown is a stack's (another deformer moves it, or the active one is muted): it
-  // is then made on the CPU each frame (the GPU path deforms one cage).
-  bool stacked() const;
+  // Whether the skin shown is a stack's (another deformer moves it, or the active one is muted) or has the
+  // parametric driver's sculpt: it is then made on the CPU each frame (the GPU path deforms one cage).
+  bool stacked() const { return cage_stack() || driving(); }
+  bool cage_stack() const;  // more than the active cage moves the skin
   // Whether every other deformer's rig is ready (else the active deformer's skin is shown alone).
   bool stack_ready() const { return stack_ready_; }
   // Polls the stack rigs' binds; a message per bind that ended.
@@ -160,27 +162,22 @@ struct Scene {
   // Changes (to a value never used before, by any scene) whenever `deformer` is replaced or its
   // table changes in place, so a GPU copy of the table knows to follow.
   uint64_t binding_revision = 0;
-  // A skin deformed by something other than the cage (the parametric driver: drive_skin), shown
-  // instead of the cage-deformed one while set (#V, the order of skin_rest); a new one (a new pointer)
-  // is made whenever its contents change, so it is copied and uploaded only then.
-  std::shared_ptr<const std::vector<glm::vec3>> driven_skin;
   // The parametric driver's binding (derived from the document like `binding` is for the cage): made
   // by the workspace's background bind (app/workspace/workspace_patch.cpp) for `driver`'s rest grids
-  // and density and `character`'s rest skin; `skin` is the rest skin deformed by `shown`'s control points.
+  // and density and `character`'s rest skin; `layer` adds the driver's sculpt, carried by the skeleton,
+  // to the frame's skin (core/rig/driver_layer.h, as Rig does for pose and the exports).
   struct DriverBinding {
     std::unique_ptr<Binding> binding;
     std::unique_ptr<PatchDeformer> deformer;
+    std::unique_ptr<DriverLayer> layer;  // null when the driver cannot follow the skeleton (no skin)
     std::shared_ptr<const PatchDriver> driver;
     std::shared_ptr<const Character> character;
-    std::shared_ptr<const PatchDriver> shown;
-    std::shared_ptr<const std::vector<glm::vec3>> skin;  // null: deforming failed
   } driver_binding;
   // Whether driver_binding serves the document's driver (same rest grids and density) and skin.
   bool driver_bound() const;
-  // driven_skin from the document's driver while it drives the skin and is bound (deformed again only
-  // when the driver changes), else none. update_pose calls it first.
-  void drive_skin();
-  // Whether this frame shows driven_skin (set by update_pose).
+  // Whether the document's driver drives the skin and is bound: update_pose adds its sculpt.
+  bool driving() const;
+  // Whether this frame's skin has the driver's sculpt (set by update_pose).
   bool skin_driven() const { return skin_driven_; }
   // The deformed skin of the current frame (#V, the order of skin_rest), for picking, brushes and
   // the skin points; with skin_on_gpu it is deformed on the CPU here, at the first call per frame.
@@ -282,8 +279,7 @@ struct Scene {
   Pose pose_;                          // the pose of the current frame (update_pose)
   std::vector<glm::vec3> skin_posed_;  // see skin_posed()
   bool skin_stale_ = false;            // the GPU has this frame's skin; skin_posed_ is older
-  bool skin_driven_ = false;           // this frame shows driven_skin
-  std::shared_ptr<const std::vector<glm::vec3>> skin_posed_from_;  // the driven_skin skin_posed_ holds, if any
+  bool skin_driven_ = false;           // this frame has the driver's sculpt
   AttachmentSettings pending_attachment_, bound_attachment_;
   std::shared_ptr<const Cage> attached_cage_;  // the cage `attachment` was made for
   AttachmentSettings attached_settings_;       // and the settings it was made with

@@ -52,7 +52,11 @@ void Workspace::poll_patch() {
     bound.deformer = std::make_unique<PatchDeformer>(std::move(*d));
     bound.driver = driver;
     bound.character = scene_->doc().character;
-    bound.shown.reset();
+    // the driver's sculpt follows the skeleton (core/rig/driver_layer.h): its own copy of the binding
+    bound.layer.reset();
+    auto layer = DriverLayer::create(*bound.character, scene_->skin_rest, *driver, *bound.binding);
+    if (layer) bound.layer = std::make_unique<DriverLayer>(std::move(layer).value());
+    else report_error("parametric driver: it cannot follow the skeleton: " + layer.error().message);
     char line[200];
     std::snprintf(line, sizeof line,
                   "parametric driver: bound %u skin points to %u samples (density %u, %zu degenerate) in %.0f ms",

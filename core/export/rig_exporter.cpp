@@ -188,6 +188,10 @@ Result<ExportReport> run_export(const Document& doc, Rig* rig, const ExportReque
       return make_error(ErrorCode::kUnsupportedFormat,
                         request.out + ": the rig JSON describes one cage, and this project has " + std::to_string(layers) +
                             " more deformer(s): export a baked mode (glb or obj), which carries the whole stack");
+    if (doc.patch_driver && doc.patch_driver->drive_skin && !(doc.patch_driver->posed == doc.patch_driver->rest))
+      return make_error(ErrorCode::kUnsupportedFormat,
+                        request.out + ": the rig JSON describes one cage, and this project's parametric driver moves the skin: "
+                                      "export a baked mode (glb or obj), which carries it");
   }
   if ((request.format != ExportFormat::kJson || doc.attachment.mode == AttachmentMode::kFitted) && !rig)
     return make_error(ErrorCode::kInvalidArgument, "the document's rig is not bound yet");

@@ -1,5 +1,6 @@
 #include "core/rig/rig.h"
 #include "core/rig/deformer_stack.h"
+#include "core/rig/driver_layer.h"
 
 #include <optional>
 
@@ -88,6 +89,9 @@ struct Rig::State {
   std::vector<std::unique_ptr<Rig>> layers;
   std::vector<std::vector<glm::vec3>> layer_skins;  // #P each, reused frame to frame
   PosedCage layer_cage;
+  // the parametric driver when it drives the skin (core/rig/driver_layer.h): its sculpt, carried by the
+  // skeleton, added after the stack
+  std::optional<DriverLayer> driver;
   // Each layer's skin posed by `pose_layer(k, layer document, out)`, then combined into `skin_out`.
   template <class PoseLayer>
   Status pose_layers(const Document& doc, std::span<glm::vec3> skin_out, PoseLayer pose_layer);
@@ -214,6 +218,11 @@ Result<Rig> Rig::make(const Document& doc, Binding* binding, const BindProgress&
     s.layers.push_back(std::make_unique<Rig>(std::move(layer).value()));
     s.layer_skins.emplace_back(s.skin_rest.size());
   }
+  if (doc.patch_driver && doc.patch_driver->drive_skin) {
+    auto d = DriverLayer::create(ch, s.skin_rest, *doc.patch_driver, doc.params, progress);
+    if (!d) return make_error(d.error().code, "parametric driver: " + d.error().message);
+    s.driver.emplace(std::move(d).value());
+  }
   return rig;
 }
 
@@ -237,7 +246,10 @@ bool Rig::fits(const Document& doc) const {
     if (deformer_muted(doc, i + 1) != deformer_muted(mine, i + 1)) return false;
   for (size_t k = 0; k < state_->layers.size(); ++k)
     if (!state_->layers[k]->fits(layer_document(doc, state_->layer_index[k]))) return false;
-  return true;
+  // the same parametric driver surface and density, when it drives the skin (its sculpt may differ)
+  const bool drives = doc.patch_driver && doc.patch_driver->drive_skin;
+  if (drives != state_->driver.has_value()) return false;
+  return !drives || state_->driver->fits(*doc.patch_driver);
 }
 
 Status Rig::pose(const Document& doc, const Pose& pose, PosedCage& cage, std::span<glm::vec3> skin_out) {
@@ -247,9 +259,12 @@ Status Rig::pose(const Document& doc, const Pose& pose, PosedCage& cage, std::sp
   pose_document_cage(doc, state_->attachment ? &*state_->attachment : nullptr, pose, cage);
   if (auto s = deform_through_cage(*state_->deformer, cage, skin_out); !s) return s;
   if (deformer_muted(doc, 0)) std::copy(state_->skin_rest.begin(), state_->skin_rest.end(), skin_out.begin());  // f_0 = p
-  return state_->pose_layers(doc, skin_out, [&](Rig& layer, const Document& d, std::vector<glm::vec3>& out) {
-    return layer.pose(d, pose, state_->layer_cage, out);
-  });
+  if (auto s = state_->pose_layers(doc, skin_out, [&](Rig& layer, const Document& d, std::vector<glm::vec3>& out) {
+        return layer.pose(d, pose, state_->layer_cage, out);
+      });
+      !s)
+    return s;
+  return state_->driver ? state_->driver->add(*doc.patch_driver, cage.globals, skin_out) : Status(Ok{});
 }
 
 Status Rig::pose_clip(const Document& doc, int32_t clip, double t, std::span<const glm::quat> overrides,
@@ -265,9 +280,12 @@ Status Rig::pose_clip(const Document& doc, int32_t clip, double t, std::span<con
     return s;
   if (auto s = deform_through_cage(*state_->deformer, cage, skin_out); !s) return s;
   if (deformer_muted(doc, 0)) std::copy(state_->skin_rest.begin(), state_->skin_rest.end(), skin_out.begin());  // f_0 = p
-  return state_->pose_layers(doc, skin_out, [&](Rig& layer, const Document& d, std::vector<glm::vec3>& out) {
-    return layer.pose_clip(d, clip, t, overrides, state_->layer_cage, out);
-  });
+  if (auto s = state_->pose_layers(doc, skin_out, [&](Rig& layer, const Document& d, std::vector<glm::vec3>& out) {
+        return layer.pose_clip(d, clip, t, overrides, state_->layer_cage, out);
+      });
+      !s)
+    return s;
+  return state_->driver ? state_->driver->add(*doc.patch_driver, cage.globals, skin_out) : Status(Ok{});
 }
 
 size_t Rig::num_skin_points() const { return state_->skin_rest.size(); }

@@ -1,0 +1,56 @@
+// The parametric driver as a deformer of the posed skin (issue 21, docs/parametric-drivers.md): its
+// control points follow the skeleton like cage vertices (rigidly, each to its closest limb:
+// attach_to_closest_limb), and its sculpt -- the posed control points minus the rest ones, both in the
+// bind pose -- is added to the skin the cages make:
+//   s += D(M (rest + sculpt)) - D(M rest)
+// with D the driver's deformer (core/deform/patch_binding.h) and M each control point's joint at the
+// pose, each skin point taking it in full within 1.5 h of the driver's nearest sample and none beyond
+// 3 h (h: the control net's scale), so that the sculpt stays where the driver is. At the bind pose M is the identity and D(rest) is the rest skin, so this is the driven skin
+// the editor always showed there; posed, the sculpt travels with the limbs. A driver with no sculpt
+// adds nothing. Rig (core/rig/rig.h) adds it after the deformer stack, so `pose`, `check` and the
+// exports carry it; the editor adds it to the frame it shows.
+#pragma once
+
+#include <memory>
+#include <span>
+#include <vector>
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec3.hpp>
+
+#include "core/base/result.h"
+#include "core/character/character.h"
+#include "core/deform/binding.h"
+#include "core/deform/patch_surface.h"
+#include "core/deform/registration.h"
+
+namespace cagewrap {
+
+class DriverLayer {
+ public:
+  // Binds `skin_rest` (#P, skin_character order) to the driver's rest surface at its density
+  // (bind_skin_to_patches with `params`) and attaches its control points to the skeleton. Fails when the
+  // character has no skin, or the bind fails (the message says which).
+  static Result<DriverLayer> create(const Character& character, std::span<const glm::vec3> skin_rest,
+                                    const PatchDriver& driver, const BindParams& params, const BindProgress& progress = {});
+  // The same from a binding made earlier for this driver and skin (the editor's).
+  static Result<DriverLayer> create(const Character& character, std::span<const glm::vec3> skin_rest,
+                                    const PatchDriver& driver, Binding binding);
+
+  // Whether `driver` has the rest surface and density this layer was bound for (its sculpt may differ).
+  bool fits(const PatchDriver& driver) const;
+  // Adds the driver's sculpt, carried by the skeleton at the pose whose node world transforms are
+  // `globals` (#nodes), to `skin` (#P). Errors: a driver that does not fit, sizes that differ.
+  Status add(const PatchDriver& driver, std::span<const glm::mat4> globals, std::span<glm::vec3> skin);
+
+  DriverLayer(DriverLayer&&) noexcept;
+  DriverLayer& operator=(DriverLayer&&) noexcept;
+  ~DriverLayer();
+
+ private:
+  DriverLayer();
+  struct State;
+  std::unique_ptr<State> s_;
+};
+
+}  // namespace cagewrap

@@ -1,0 +1,74 @@
+#!/usr/bin/env bash
+# CLI checks for the parametric driver in the rig (issue 21, core/rig/driver_layer.h): a driver fitted
+# to a sheet in front of the demo's chest (`patch fit`), one control point pushed out (the sculpt),
+# `new --patch --posed-patch` makes the project; `pose` carries the sculpt (the walk at 0.4 s differs
+# from the plain project's by 1 to 6 cm, only above the legs), a driver without a sculpt changes
+# nothing, the rig JSON refuses a sculpted driver, bad files are named. $1 = cagewrap binary.
+set -uo pipefail
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+source "$ROOT/tests/cli/harness.bash"
+need_demo_assets
+
+# the chest sheet of tests/patch_fixtures.h: 5 x 4 quads at z = 0.1
+python3 - "$T/sheet.obj" <<'PY'
+import sys
+nx, ny = 5, 4
+with open(sys.argv[1], 'w') as f:
+    for j in range(ny + 1):
+        for i in range(nx + 1):
+            f.write('v %f %f 0.1\n' % (-0.25 + 0.5 * i / nx, 0.95 + 0.5 * j / ny))
+    for j in range(ny):
+        for i in range(nx):
+            a = j * (nx + 1) + i + 1
+            f.write('f %d %d %d %d\n' % (a, a + 1, a + nx + 2, a + nx + 1))
+PY
+run patch fit --cage "$T/sheet.obj" --faces 0,1,2,3,4,5,6,7,8,9,10,11,12,13,14,15,16,17,18,19 --out "$T/rest.cwpatch"
+check "patch fit exits 0" test "$rc" -eq 0
+python3 - "$T/rest.cwpatch" "$T/posed.cwpatch" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+g = d['grids'][0]
+r, c = divmod(14, g['cols'])
+g['points'][r][c][2] += 0.06  # control point 14 pushed out of the chest
+json.dump(d, open(sys.argv[2], 'w'))
+PY
+check "a sculpted copy" test -s "$T/posed.cwpatch"
+
+run new --character "$DEMO" --cage "$CAGE" --out "$T/plain.cagewrap"
+run pose --project "$T/plain.cagewrap" --clip walk --time 0.4 --out "$T/plain.bin"
+check "pose of the plain project" test "$rc" -eq 0
+run new --character "$DEMO" --cage "$CAGE" --patch "$T/rest.cwpatch" --posed-patch "$T/posed.cwpatch" --out "$T/driven.cagewrap"
+check "new --patch exits 0" test "$rc" -eq 0
+check "it names the driver" has "$T/out" "^driver     .*rest.cwpatch: .* control points, density 2 (drives the skin)"
+run pose --project "$T/driven.cagewrap" --clip walk --time 0.4 --out "$T/driven.bin"
+check "pose with the driver" test "$rc" -eq 0
+compare() {  # compare A B: the largest distance between the poses, and the largest below y = 0.6 (the legs)
+  python3 - "$1" "$2" "$3" <<'PY'
+import struct, sys
+a = open(sys.argv[1], 'rb').read(); b = open(sys.argv[2], 'rb').read()
+assert len(a) == len(b), (len(a), len(b))
+fa = struct.unpack('%df' % (len(a) // 4), a); fb = struct.unpack('%df' % (len(b) // 4), b)
+worst = legs = 0.0
+for i in range(0, len(fa), 3):
+    d = sum((fa[i + k] - fb[i + k]) ** 2 for k in range(3)) ** 0.5
+    worst = max(worst, d)
+    if fa[i + 1] < 0.6: legs = max(legs, d)
+lo, hi, legs_max = map(float, sys.argv[3].split(','))
+print('largest %.5f, legs %.6f' % (worst, legs))
+sys.exit(0 if lo <= worst <= hi and legs <= legs_max else 1)
+PY
+}
+check "the sculpt moves the chest 1 to 6 cm and not the legs" compare "$T/plain.bin" "$T/driven.bin" 0.01,0.06,0.0001
+run new --character "$DEMO" --cage "$CAGE" --patch "$T/rest.cwpatch" --out "$T/idle.cagewrap"
+run pose --project "$T/idle.cagewrap" --clip walk --time 0.4 --out "$T/idle.bin"
+check "a driver without a sculpt changes nothing" cmp -s "$T/plain.bin" "$T/idle.bin"
+run export --project "$T/driven.cagewrap" --format json --out "$T/rig.json"
+check "the rig JSON refuses a sculpted driver" test "$rc" -ne 0
+check "saying why" hasf "$T/err" "parametric driver moves the skin"
+run new --character "$DEMO" --cage "$CAGE" --patch "$T/missing.cwpatch" --out "$T/bad.cagewrap"
+check "a missing driver file fails" test "$rc" -ne 0
+check "naming it" hasf "$T/err" "missing.cwpatch"
+run new --character "$DEMO" --cage "$CAGE" --patch "$T/rest.cwpatch" --patch-density 0 --out "$T/bad.cagewrap"
+check "density 0 fails" test "$rc" -ne 0
+check "naming the range" hasf "$T/err" "--patch-density 0: use 1..1024"
+finish
