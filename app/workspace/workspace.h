@@ -313,6 +313,9 @@ class Workspace {
   void add_actions();  // workspace_actions.cpp
   void add_stack_actions();  // workspace_stack.cpp
   bool change_stack(const std::string& label, Document next);
+  bool set_deformer_switch(size_t d, bool on, bool DeformerStack::*base, bool DeformerLayer::*layer, const std::string& label);
+  // A cage file loaded, checked and made into a cage; none (said why) when it cannot be.
+  std::optional<Cage> read_cage(const std::string& path);
   bool check_deformer(size_t d, bool layer_only);
   // Logs "error: <where the running action came from>: text".
   void fail(const std::string& text);

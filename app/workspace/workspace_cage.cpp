@@ -47,22 +47,28 @@ void Workspace::clip_cage_selection() {
   clip(view.selection.cage_faces, cage ? cage->polygons.num_faces() : 0);
 }
 
-bool Workspace::import_cage(const std::string& path) {
-  if (!scene_) return false;
+std::optional<Cage> Workspace::read_cage(const std::string& path) {
   auto mesh = load_cage_mesh(path);
   if (!mesh) {
     report_error(mesh.error().message);
-    return false;
+    return std::nullopt;
   }
   if (auto st = validate_mesh(*mesh, path); !st.ok()) {
     report_error(st.error().message);
-    return false;
+    return std::nullopt;
   }
   auto cage = make_cage(std::move(mesh).value(), path);
   if (!cage) {
     report_error(cage.error().message);
-    return false;
+    return std::nullopt;
   }
+  return std::move(cage).value();
+}
+
+bool Workspace::import_cage(const std::string& path) {
+  if (!scene_) return false;
+  auto cage = read_cage(path);
+  if (!cage) return false;
   const CageProblems problems = find_cage_problems(*cage);
   log("imported cage " + path + ": " + std::to_string(cage->num_vertices()) + " vertices, " + std::to_string(cage->polygons.num_faces()) +
       " faces" +

@@ -1,12 +1,11 @@
 // The deformer stack in the editor (issue 21, docs/deformer-stack.md): which deformer the tools act on,
 // and the stack's edits (a layer added or removed, muted, hidden, soloed, moved, renamed; the mode),
 // each one undo step. The outliner's Deformers list and the deformer_* actions run these.
+#include <cmath>
+#include <cstdlib>
 #include <filesystem>
 
 #include "app/workspace/workspace.h"
-#include "core/character/skin_mask.h"
-#include "core/geometry/mesh_io.h"
-#include "core/io/cage_import.h"
 
 namespace cagewrap::app {
 
@@ -57,20 +56,8 @@ bool Workspace::set_active_deformer(size_t d) {
 
 bool Workspace::add_deformer(const std::string& cage_path, std::string name) {
   if (!scene_) return false;
-  auto mesh = load_cage_mesh(cage_path);
-  if (!mesh) {
-    report_error(mesh.error().message);
-    return false;
-  }
-  if (auto st = validate_mesh(*mesh, cage_path); !st.ok()) {
-    report_error(st.error().message);
-    return false;
-  }
-  auto cage = make_cage(std::move(mesh).value(), cage_path);
-  if (!cage) {
-    report_error(cage.error().message);
-    return false;
-  }
+  auto cage = read_cage(cage_path);
+  if (!cage) return false;
   const Document& w = scene_->work();
   if (name.empty()) name = std::filesystem::path(cage_path).stem().string();
   for (size_t d = 0; d < deformer_count(w); ++d)
@@ -80,7 +67,7 @@ bool Workspace::add_deformer(const std::string& cage_path, std::string name) {
     }
   DeformerLayer l;
   l.name = name;
-  l.cage = std::make_shared<const Cage>(std::move(cage).value());
+  l.cage = std::make_shared<const Cage>(std::move(*cage));
   l.params = w.params;
   l.attachment = w.attachment;
   l.attachment.overrides.clear();  // they named the document cage's vertices
@@ -107,32 +94,27 @@ bool Workspace::remove_deformer(size_t d) {
   return change_stack("Remove deformer " + name, std::move(next));
 }
 
-bool Workspace::set_deformer_muted(size_t d, bool muted) {
+// A deformer's switch (mute or hide): the stack's for the document's own cage, the layer's for a layer.
+bool Workspace::set_deformer_switch(size_t d, bool on, bool DeformerStack::*base, bool DeformerLayer::*layer, const std::string& label) {
   if (!check_deformer(d, false)) return false;
   const Document& w = scene_->work();
-  const std::string what = (muted ? "Mute deformer " : "Unmute deformer ") + deformer_name(w, d);
+  const std::string what = label + " " + deformer_name(w, d);
   if (d == 0) {
     DeformerStack st = w.stack;
-    st.base_muted = muted;
+    st.*base = on;
     return change_stack(what, with_stack(w, st));
   }
   std::vector<DeformerLayer> layers = w.layers;
-  layers[d - 1].muted = muted;
+  layers[d - 1].*layer = on;
   return change_stack(what, with_layers(w, std::move(layers)));
 }
 
+bool Workspace::set_deformer_muted(size_t d, bool muted) {
+  return set_deformer_switch(d, muted, &DeformerStack::base_muted, &DeformerLayer::muted, muted ? "Mute deformer" : "Unmute deformer");
+}
+
 bool Workspace::set_deformer_hidden(size_t d, bool hidden) {
-  if (!check_deformer(d, false)) return false;
-  const Document& w = scene_->work();
-  const std::string what = (hidden ? "Hide deformer " : "Show deformer ") + deformer_name(w, d);
-  if (d == 0) {
-    DeformerStack st = w.stack;
-    st.base_hidden = hidden;
-    return change_stack(what, with_stack(w, st));
-  }
-  std::vector<DeformerLayer> layers = w.layers;
-  layers[d - 1].hidden = hidden;
-  return change_stack(what, with_layers(w, std::move(layers)));
+  return set_deformer_switch(d, hidden, &DeformerStack::base_hidden, &DeformerLayer::hidden, hidden ? "Hide deformer" : "Show deformer");
 }
 
 bool Workspace::set_deformer_solo(long d) {
