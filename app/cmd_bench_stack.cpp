@@ -90,15 +90,12 @@ int bench_stack(const std::string& project, const std::string& clip_name, uint32
     std::fprintf(stderr, "error: %s: %s\n", project.c_str(), stack.error().message.c_str());
     return 1;
   }
-  // the combination alone, on the last frame's skins
-  std::vector<std::span<const glm::vec3>> layers;
-  std::vector<std::span<const float>> masks;
-  for (size_t k = 0; k < which.size(); ++k)
-    if (which[k] > 0) {
-      layers.emplace_back(skins[k]);
-      const auto& m = doc.layers[which[k] - 1].mask;
-      masks.emplace_back(m ? std::span<const float>(*m) : std::span<const float>());
-    }
+  // the combination alone (the editor's: core/rig/deformer_stack.h), on the last frame's skins
+  const auto skin_of = [&](size_t d) -> const std::vector<glm::vec3>* {
+    for (size_t k = 0; k < which.size(); ++k)
+      if (which[k] == d) return &skins[k];
+    return nullptr;
+  };
   std::vector<glm::vec3> rest(doc.character->num_vertices());
   {
     size_t i = 0;
@@ -107,9 +104,9 @@ int bench_stack(const std::string& project, const std::string& clip_name, uint32
   }
   std::vector<double> combine_ms;
   for (uint32_t f = 0; f < frames; ++f) {
-    std::vector<glm::vec3> out = !which.empty() && which[0] == 0 ? skins[0] : rest;
+    std::vector<glm::vec3> out;
     const auto c0 = std::chrono::steady_clock::now();
-    if (auto s = combine_stack(doc.stack, rest, layers, masks, out); !s) {
+    if (auto s = combine_document_stack(doc, rest, skin_of, out); !s) {
       std::fprintf(stderr, "error: %s: %s\n", project.c_str(), s.error().message.c_str());
       return 1;
     }

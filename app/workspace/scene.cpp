@@ -415,18 +415,8 @@ void Scene::pose_stack(const Playback& pb) {
       if (r.deformer == d) return &r.skin;
     return nullptr;
   };
-  const std::vector<glm::vec3>* base = deformer_muted(w, 0) ? nullptr : skin_of(0);
-  std::vector<glm::vec3> out = base ? *base : skin_rest;
-  std::vector<std::span<const glm::vec3>> layers;
-  std::vector<std::span<const float>> masks;
-  for (size_t d = 1; d < deformer_count(w); ++d) {
-    const std::vector<glm::vec3>* f = deformer_muted(w, d) ? nullptr : skin_of(d);
-    if (!f) continue;
-    layers.emplace_back(*f);
-    const auto& m = w.layers[d - 1].mask;
-    masks.emplace_back(m ? std::span<const float>(*m) : std::span<const float>());
-  }
-  if (combine_stack(w.stack, skin_rest, layers, masks, out).ok()) skin_posed_ = std::move(out);
+  std::vector<glm::vec3> out;
+  if (combine_document_stack(w, skin_rest, skin_of, out).ok()) skin_posed_ = std::move(out);
   else stack_ready_ = false;
 }
 

@@ -61,4 +61,21 @@ Status combine_stack(const DeformerStack& stack, std::span<const glm::vec3> rest
   return Ok{};
 }
 
+Status combine_document_stack(const Document& doc, std::span<const glm::vec3> rest,
+                              const std::function<const std::vector<glm::vec3>*(size_t)>& skin_of, std::vector<glm::vec3>& out) {
+  const std::vector<glm::vec3>* base = deformer_muted(doc, 0) ? nullptr : skin_of(0);
+  if (base) out = *base;
+  else out.assign(rest.begin(), rest.end());
+  std::vector<std::span<const glm::vec3>> layers;
+  std::vector<std::span<const float>> masks;
+  for (size_t d = 1; d < deformer_count(doc); ++d) {
+    const std::vector<glm::vec3>* f = deformer_muted(doc, d) ? nullptr : skin_of(d);
+    if (!f) continue;
+    layers.emplace_back(*f);
+    const auto& m = doc.layers[d - 1].mask;
+    masks.emplace_back(m ? std::span<const float>(*m) : std::span<const float>());
+  }
+  return combine_stack(doc.stack, rest, layers, masks, out);
+}
+
 }  // namespace cagewrap

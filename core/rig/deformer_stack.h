@@ -3,7 +3,9 @@
 // the document's DeformerStack says, every layer's share scaled per point by its mask.
 #pragma once
 
+#include <functional>
 #include <span>
+#include <vector>
 
 #include <glm/vec3.hpp>
 
@@ -18,5 +20,11 @@ namespace cagewrap {
 Status combine_stack(const DeformerStack& stack, std::span<const glm::vec3> rest,
                      std::span<const std::span<const glm::vec3>> layers, std::span<const std::span<const float>> masks,
                      std::span<glm::vec3> skin);
+
+// The same for a whole document: `skin_of(d)` gives deformer d's posed skin (0: the document's cage, k: layer
+// k - 1; null: it has none and is left out). The muted deformers are left out (a muted document cage is the
+// rest skin), each layer's mask is its own; `out` (#P) receives the skin.
+Status combine_document_stack(const Document& doc, std::span<const glm::vec3> rest,
+                              const std::function<const std::vector<glm::vec3>*(size_t)>& skin_of, std::vector<glm::vec3>& out);
 
 }  // namespace cagewrap
