@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "core/base/stats.h"
 #include "core/geometry/mesh_normals.h"
 #include "core/deform/twist.h"
 
@@ -18,10 +19,6 @@ namespace cagewrap::app {
 #if CAGEWRAP_GUI
 
 namespace {
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0.0 : v[v.size() / 2];
-}
 double ms_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }

@@ -39,6 +39,32 @@ bool finish_bind_options(BindOptions& o) {
   return true;
 }
 
+bool any_bind_option(const BindOptions& o) {
+  for (const CLI::Option* opt : {o.local_option, o.epsilon_option, o.max_elements_option, o.scale_option, o.max_distance_option,
+                                 o.variant_option})
+    if (opt && opt->count() > 0) return true;
+  return false;
+}
+
+std::optional<BindParams> bind_options_over(const BindOptions& o, const BindParams& base) {
+  auto given = [](const CLI::Option* opt) { return opt && opt->count() > 0; };
+  BindParams p = base;
+  if (given(o.variant_option) && !parse_variant(o.variant, p.variant)) {
+    std::fprintf(stderr, "error: unknown variant '%s' (use basic, clamped or extended)\n", o.variant.c_str());
+    return std::nullopt;
+  }
+  if (given(o.local_option)) p.local = o.params.local;
+  if (given(o.epsilon_option)) p.epsilon = o.params.epsilon;
+  if (given(o.max_elements_option)) p.max_elements = o.params.max_elements;
+  if (given(o.scale_option)) p.scale = o.params.scale;
+  if (given(o.max_distance_option)) p.max_distance = o.params.max_distance;
+  if (auto v = validate(p); !v) {
+    std::fprintf(stderr, "error: %s\n", v.error().message.c_str());
+    return std::nullopt;
+  }
+  return p;
+}
+
 std::string bind_options_differing(const BindOptions& o, const BindParams& bound) {
   std::string out;
   auto given = [](const CLI::Option* opt) { return opt && opt->count() > 0; };
@@ -177,21 +203,25 @@ std::optional<Rig> rig_of_project(const Document& doc, const std::string& projec
       if (deformer_muted(doc, d))
         std::fprintf(stderr, "warning: %s: deformer %zu '%s' is muted: it is left out\n", project.c_str(), d,
                      deformer_name(doc, d).c_str());
-  if (!doc.binding_cache.file.empty()) {  // a cached binding, when it is still the project's
-    auto cached = load_binding_cache(doc);
-    if (cached) {
-      auto rig = Rig::create(doc, std::move(cached).value());
-      if (rig) {
-        std::fprintf(stderr, "note: %s: using the cached binding %s (no bind)\n", project.c_str(),
-                     doc.binding_cache.file.c_str());
-        return std::move(rig).value();
-      }
-      std::fprintf(stderr, "warning: %s: the cached binding was not used (%s); binding again\n", project.c_str(),
-                   rig.error().message.c_str());
-    } else {
-      std::fprintf(stderr, "warning: binding cache not used: %s; binding again (`cagewrap project %s --cache-binding` refreshes it)\n",
-                   cached.error().message.c_str(), project.c_str());
+  // the cached bindings (the document's cage's and each layer's), those still the project's
+  StackBindingCache cached = load_stack_binding_caches(doc);
+  for (const std::string& why : cached.not_used)
+    std::fprintf(stderr, "warning: binding cache not used: %s; binding again (`cagewrap project %s --cache-binding` refreshes it)\n",
+                 why.c_str(), project.c_str());
+  if (cached.used > 0) {
+    size_t moving = 0;  // the deformers that move the skin
+    for (size_t d = 0; d < deformer_count(doc); ++d) moving += !deformer_muted(doc, d);
+    auto rig = Rig::create(doc, std::move(cached.bindings), terminal_progress("bind"));
+    if (rig) {
+      if (deformer_count(doc) == 1)
+        std::fprintf(stderr, "note: %s: using the cached binding %s (no bind)\n", project.c_str(), doc.binding_cache.file.c_str());
+      else
+        std::fprintf(stderr, "note: %s: using the cached bindings of %zu of %zu deformers (%s)\n", project.c_str(), cached.used,
+                     moving, cached.used == moving ? "no bind" : "the others bound");
+      return std::move(rig).value();
     }
+    std::fprintf(stderr, "warning: %s: the cached binding was not used (%s); binding again\n", project.c_str(),
+                 rig.error().message.c_str());
   }
   auto rig = Rig::create(doc, terminal_progress("bind"));
   if (!rig) {
@@ -199,6 +229,13 @@ std::optional<Rig> rig_of_project(const Document& doc, const std::string& projec
     return std::nullopt;
   }
   return std::move(rig).value();
+}
+
+SaveOptions save_options_caching(const Rig& rig, const Document& doc) {
+  SaveOptions options;
+  options.binding = &rig.binding();
+  for (size_t i = 0; i < doc.layers.size(); ++i) options.layer_bindings.push_back(rig.layer_binding(i));
+  return options;
 }
 
 }  // namespace cagewrap::app

@@ -34,6 +34,10 @@ bool finish_bind_options(BindOptions& opts);
 // `bound`, the parameters a loaded binding was made with, as "--variant extended (the binding's:
 // clamped)", joined by ", "; empty when there are none.
 std::string bind_options_differing(const BindOptions& opts, const BindParams& bound);
+// Whether any bind option was given, and `base` with those given laid over it (printing the error and
+// returning nullopt when the result is not valid): `deformer set` changes one deformer's parameters.
+bool any_bind_option(const BindOptions& opts);
+std::optional<BindParams> bind_options_over(const BindOptions& opts, const BindParams& base);
 
 // Loads a mesh or cage, printing "error: <message>" on failure.
 std::optional<PolyMesh> load_mesh_or_report(const std::string& path);
@@ -59,5 +63,7 @@ BindProgress terminal_progress(const char* label);
 // progress bar (saying why the cache was not used). Prints the error (no cage yet, a failed bind)
 // and returns nullopt.
 std::optional<Rig> rig_of_project(const Document& doc, const std::string& project);
+// Save options that cache every binding of `rig` (the document's cage's and each layer's that is not muted).
+SaveOptions save_options_caching(const Rig& rig, const Document& doc);
 
 }  // namespace cagewrap::app

@@ -11,6 +11,7 @@
 
 #include "app/cli_common.h"
 #include "app/commands.h"
+#include "core/base/stats.h"
 #include "core/document/project_io.h"
 #include "core/rig/deformer_stack.h"
 #include "core/rig/rig.h"
@@ -21,11 +22,6 @@ namespace {
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0.0 : v[v.size() / 2];
 }
 
 struct Timed {

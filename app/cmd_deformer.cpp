@@ -221,7 +221,7 @@ void add_deformer_command(CLI::App& app, int& exit_code) {
     exit_code = save_and_print(with_layers(*doc, std::move(layers)), args->project, args->out);
   });
 
-  auto* set = cmd->add_subcommand("set", "change a layer (name, mute, mask, place) or the stack's mode");
+  auto* set = cmd->add_subcommand("set", "change a deformer (name, mute, mask, place, binding parameters) or the stack's mode");
   common(set);
   set->add_option("--name", args->name, "the layer's name");
   set->add_option("--index", args->index, "or its place: 1 = the first layer");
@@ -235,6 +235,7 @@ void add_deformer_command(CLI::App& app, int& exit_code) {
   add_mask_options(*set, args->mask, true);
   set->add_option("--stack", args->stack, "how the skins combine: in_order, sum or blend (docs/deformer-stack.md)");
   set->add_option("--exponent", args->exponent, "the blend's exponent m (>= 0)");
+  add_bind_options(*set, args->bind);  // given ones change that deformer's binding parameters
   set->callback([args, load, &exit_code] {
     exit_code = 1;
     auto doc = load();
@@ -269,12 +270,13 @@ void add_deformer_command(CLI::App& app, int& exit_code) {
       d = with_stack(d, stack);
     }
     const bool switches = args->mute || args->unmute || args->hide || args->show;
+    const bool params = any_bind_option(args->bind);
     const bool layer_change = !args->rename.empty() || switches || args->to >= 0 || !args->mask.joints.empty() ||
-                              !args->mask.primitives.empty() || args->mask.none;
+                              !args->mask.primitives.empty() || args->mask.none || params;
     if (args->index == 0 && args->name.empty()) {  // the project's own cage: only its switches
       if (!args->rename.empty() || args->to >= 0 || !args->mask.joints.empty() || !args->mask.primitives.empty() || args->mask.none) {
-        std::fprintf(stderr, "error: %s: deformer 0 is the project's own cage: it can be muted, hidden or soloed, not renamed, "
-                             "moved or masked\n", args->project.c_str());
+        std::fprintf(stderr, "error: %s: deformer 0 is the project's own cage: it can be muted, hidden, soloed or given binding "
+                             "parameters, not renamed, moved or masked\n", args->project.c_str());
         return;
       }
       DeformerStack stack = d.stack;
@@ -283,6 +285,11 @@ void add_deformer_command(CLI::App& app, int& exit_code) {
       if (args->hide) stack.base_hidden = true;
       if (args->show) stack.base_hidden = false;
       d = with_stack(d, stack);
+      if (params) {
+        auto p = bind_options_over(args->bind, d.params);
+        if (!p) return;
+        d = with_params(d, *p);
+      }
     } else if (layer_change || !args->name.empty() || args->index >= 0) {
       const long i = find_layer(d, args->name, args->index, args->project);
       if (i < 0) return;
@@ -300,6 +307,11 @@ void add_deformer_command(CLI::App& app, int& exit_code) {
       if (args->unmute) l.muted = false;
       if (args->hide) l.hidden = true;
       if (args->show) l.hidden = false;
+      if (params) {
+        auto p = bind_options_over(args->bind, l.params);
+        if (!p) return;
+        l.params = *p;
+      }
       if (!apply_mask(d, args->mask, l, args->project)) return;
       if (args->to >= 0) {
         if (args->to < 1 || size_t(args->to) > layers.size()) {

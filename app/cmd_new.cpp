@@ -136,8 +136,7 @@ void add_new_command(CLI::App& app, int& exit_code) {
       rig = rig_of_project(*doc, args->out);
       if (!rig) return;
     }
-    SaveOptions options;
-    if (rig) options.binding = &rig->binding();
+    const SaveOptions options = rig ? save_options_caching(*rig, *doc) : SaveOptions{};
     if (auto s = save_project(args->out, *doc, options); !s) {
       report_error(s.error());
       return;
@@ -159,8 +158,12 @@ void add_new_command(CLI::App& app, int& exit_code) {
     if (doc->embedded_character)
       std::printf("embedded   the character (%zu bytes)\n", doc->embedded_character->size());
     if (rig)
-      std::printf("cached     the binding in %s (%u points, %zu entries)\n", binding_cache_path(args->out).c_str(),
-                  rig->binding().num_points, rig->binding().num_entries());
+      for (size_t d = 0; d < deformer_count(*doc); ++d) {
+        const Binding* b = d == 0 ? &rig->binding() : rig->layer_binding(d - 1);
+        if (b)
+          std::printf("cached     %s in %s (%u points, %zu entries)\n", d == 0 ? "the binding" : ("deformer " + std::to_string(d) + "'s binding").c_str(),
+                      binding_cache_path(args->out, d).c_str(), b->num_points, b->num_entries());
+      }
     std::printf("wrote      %s\n", args->out.c_str());
     exit_code = 0;
   });

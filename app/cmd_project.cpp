@@ -27,14 +27,20 @@ void print_storage(const Document& doc) {
     std::printf("character  file %s (%s)\n", doc.character_path.c_str(), doc.character_hash.c_str());
   if (!doc.cache_binding) {
     std::printf("binding    not cached (bound when opened)\n");
-  } else if (doc.binding_cache.file.empty()) {
-    std::printf("binding    cached on save; nothing cached yet\n");
-  } else {
-    auto cached = load_binding_cache(doc);
+    return;
+  }
+  for (size_t d = 0; d < deformer_count(doc); ++d) {
+    const Document view = deformer_document(doc, d);
+    const std::string what = d == 0 ? "binding   " : "deformer " + std::to_string(d) + " '" + deformer_name(doc, d) + "':";
+    if (view.binding_cache.file.empty()) {
+      std::printf("%s cached on save; nothing cached yet\n", what.c_str());
+      continue;
+    }
+    auto cached = load_binding_cache(view);
     if (cached)
-      std::printf("binding    cached in %s (up to date)\n", doc.binding_cache.file.c_str());
+      std::printf("%s cached in %s (up to date)\n", what.c_str(), view.binding_cache.file.c_str());
     else
-      std::printf("binding    cache not usable: %s\n", cached.error().message.c_str());
+      std::printf("%s cache not usable: %s\n", what.c_str(), cached.error().message.c_str());
   }
 }
 
@@ -104,7 +110,11 @@ void add_project_command(CLI::App& app, int& exit_code) {
     if (doc.cache_binding && doc.cage) {
       // asked to cache: bind and write it when there is none yet or it is out of date; showing
       // the project (no option) never writes
-      if (args->cache && !load_binding_cache(doc)) changed = true;
+      if (args->cache) {
+        size_t moving = 0;  // the deformers that move the skin, each needing its cache
+        for (size_t d = 0; d < deformer_count(doc); ++d) moving += !deformer_muted(doc, d);
+        if (load_stack_binding_caches(doc).used < moving) changed = true;
+      }
       if (changed) {
         rig = rig_of_project(doc, P);
         if (!rig) return;
@@ -113,26 +123,28 @@ void add_project_command(CLI::App& app, int& exit_code) {
       std::fprintf(stderr, "warning: %s: the project has no cage yet; there is no binding to cache\n", P.c_str());
     }
     if (changed) {
-      SaveOptions options;
-      if (rig) options.binding = &rig->binding();
+      const SaveOptions options = rig ? save_options_caching(*rig, doc) : SaveOptions{};
       if (auto s = save_project(out, doc, options); !s) {
         report_error(s.error());
         return;
       }
       doc.project_path = out;
-      if (rig) {  // what the file now records
-        doc.binding_cache.file = std::filesystem::absolute(binding_cache_path(out)).lexically_normal().string();
-        auto h = hash_file(doc.binding_cache.file);
-        doc.binding_cache.file_hash = h ? *h : std::string();
-        doc.binding_cache.inputs = binding_inputs(doc);
+      for (size_t d = 0; rig && d < deformer_count(doc); ++d) {  // what the file now records
+        if (!(d == 0 ? options.binding : options.layer_bindings[d - 1])) continue;
+        BindingCacheRecord& r = d == 0 ? doc.binding_cache : doc.layers[d - 1].binding_cache;
+        r.file = std::filesystem::absolute(binding_cache_path(out, d)).lexically_normal().string();
+        auto h = hash_file(r.file);
+        r.file_hash = h ? *h : std::string();
+        r.inputs = binding_inputs(deformer_document(doc, d));
       }
       std::printf("wrote      %s\n", out.c_str());
     }
-    if (args->no_cache) {
-      const std::string old_cache = binding_cache_path(out);
-      std::error_code ec;
-      if (std::filesystem::remove(old_cache, ec)) std::printf("removed    %s\n", old_cache.c_str());
-    }
+    if (args->no_cache)
+      for (size_t d = 0; d < deformer_count(doc); ++d) {
+        const std::string old_cache = binding_cache_path(out, d);
+        std::error_code ec;
+        if (std::filesystem::remove(old_cache, ec)) std::printf("removed    %s\n", old_cache.c_str());
+      }
     std::printf("project    %s\n", (changed ? out : P).c_str());
     print_storage(doc);
     exit_code = 0;

@@ -1,5 +1,7 @@
 #include "app/editor_window.h"
 
+#include <algorithm>
+
 #if CAGEWRAP_GUI
 
 namespace cagewrap::app {
@@ -53,10 +55,14 @@ void Editor::request_save() {
 }
 
 bool Editor::save_project_to(const std::string& path) {
-  SaveOptions options;  // the binding goes beside the project when it is cached and up to date
-  if (ws_.scene()->doc().cache_binding && ws_.scene()->binding && !ws_.scene()->job && !ws_.scene()->needs_rebind() &&
-      binding_fits(*ws_.scene()->binding, ws_.scene()->doc()))
-    options.binding = ws_.scene()->binding.get();
+  SaveOptions options;  // each deformer's binding goes beside the project when it is cached and up to date
+  size_t cached = 0;
+  if (ws_.scene()->work().cache_binding) {
+    const std::vector<const Binding*> bindings = ws_.scene()->deformer_bindings();
+    options.binding = bindings[0];
+    options.layer_bindings.assign(bindings.begin() + 1, bindings.end());
+    cached = static_cast<size_t>(std::count_if(bindings.begin(), bindings.end(), [](const Binding* b) { return b != nullptr; }));
+  }
   auto st = save_project(path, ws_.scene()->work(), options);
   if (!st.ok()) {
     error_modal_ = st.error().message;
@@ -66,7 +72,8 @@ bool Editor::save_project_to(const std::string& path) {
   ws_.scene()->mark_saved(path);
   if (autosave_) autosave_->discard();
   recovered_ = false;
-  log("saved " + path + (options.binding ? " (and its binding, " + binding_cache_path(path) + ")" : ""));
+  log("saved " + path + (cached == 1 && options.binding ? " (and its binding, " + binding_cache_path(path) + ")"
+                         : cached > 0 ? " (and " + std::to_string(cached) + " bindings beside it)" : ""));
   if (auto e = files_.add_recent(path); !e.empty()) log("warning: " + e);
   return true;
 }

@@ -2,6 +2,7 @@
 
 #include "app/skin_display.h"
 
+#include "core/base/stats.h"
 #include "render/headless_gl.h"
 
 #include <imgui/imgui.h>
@@ -18,12 +19,6 @@ const char* const kPartNames[kFrameParts] = {"deform", "normals", "scene", "draw
 
 double ms_between(std::chrono::steady_clock::time_point a, std::chrono::steady_clock::time_point b) {
   return std::chrono::duration<double, std::milli>(b - a).count();
-}
-
-double median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer harnesses (tests/fuzz/) with clang, ASan and UBSan in their own build folder
-# and runs each for a bounded time. Seeds are made fresh by the project's own writers
+# (or in a clang sanitizer tree BUILD already configured: make test uses build-sanitize, whose CMake
+# configuration instruments it for libFuzzer too) and runs each for a bounded time. Seeds are made fresh by the project's own writers
 # (cagewrap_fuzz_seeds); what the fuzzer adds stays in BUILD/corpus/<harness>, crashes go to
 # BUILD/artifacts/<harness>/ and fail the run.
 # Usage: fuzz.sh [BUILD (build-fuzz)] [SECONDS per harness (60)] [JOBS]

@@ -18,6 +18,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/character/skin_mask.h"
 #include "core/document/binding_cache.h"
 #include "core/io/binding_io.h"
 #include "core/character/demo_character.h"
@@ -69,7 +70,7 @@ struct DemoProject {
   std::string path(const std::string& name) const { return (dir / name).string(); }
 };
 
-DemoProject& demo() {
+DemoProject& demo_project() {
   static DemoProject d = [] {
     DemoProject d;
     d.dir = fs::temp_directory_path() / ("cagewrap-binding-cache-" + std::to_string(::getpid()));
@@ -109,20 +110,20 @@ class BindingCacheTest : public ::testing::Test {
  protected:
   static void TearDownTestSuite() {
     std::error_code ec;
-    fs::remove_all(demo().dir, ec);
+    fs::remove_all(demo_project().dir, ec);
   }
   // The saved project's JSON, edited, written as `name`; returns its path.
   std::string edited(const std::string& name, const std::function<void(Json&)>& edit) {
-    Json j = Json::parse(read_text(demo().path("demo.cagewrap")));
+    Json j = Json::parse(read_text(demo_project().path("demo.cagewrap")));
     edit(j);
-    const std::string p = demo().path(name);
+    const std::string p = demo_project().path(name);
     write_text(p, j.dump(1));
     return p;
   }
 };
 
 TEST_F(BindingCacheTest, SaveLoadReproducesTheDeformationBitForBit) {
-  DemoProject& d = demo();
+  DemoProject& d = demo_project();
   auto loaded = load_project(d.path("demo.cagewrap"));
   ASSERT_TRUE(loaded.ok()) << loaded.error().message;
   const Document& back = loaded->document;
@@ -154,7 +155,7 @@ TEST_F(BindingCacheTest, SaveLoadReproducesTheDeformationBitForBit) {
 }
 
 TEST_F(BindingCacheTest, CachedOpenDeformsLikeAFreshBindWithoutBinding) {
-  DemoProject& d = demo();
+  DemoProject& d = demo_project();
   const auto t0 = Clock::now();
   auto loaded = load_project(d.path("demo.cagewrap"));
   ASSERT_TRUE(loaded.ok()) << loaded.error().message;
@@ -219,7 +220,7 @@ TEST_F(BindingCacheTest, StaleCacheIsDetectedNamesTheChangeAndIsNotUsed) {
     auto loaded = load_project(p);
     ASSERT_TRUE(loaded.ok()) << loaded.error().message;
     auto cached = load_binding_cache(loaded->document);
-    EXPECT_TRUE(Fails(cached, ErrorCode::kInvalidArgument, {demo().path("demo.cagewrap.cwb"), c.says}));
+    EXPECT_TRUE(Fails(cached, ErrorCode::kInvalidArgument, {demo_project().path("demo.cagewrap.cwb"), c.says}));
   }
   // a cache that is still right loads from any copy of the project beside it
   auto same = load_project(edited("same.cagewrap", [](Json&) {}));
@@ -228,7 +229,7 @@ TEST_F(BindingCacheTest, StaleCacheIsDetectedNamesTheChangeAndIsNotUsed) {
 }
 
 TEST_F(BindingCacheTest, ReplacedOrMissingCacheFileIsNotUsed) {
-  DemoProject& d = demo();
+  DemoProject& d = demo_project();
   fs::create_directories(d.dir / "copy");
   fs::copy_file(d.path("demo.cagewrap"), d.path("copy/demo.cagewrap"));
   fs::copy_file(d.path("demo.glb"), d.path("copy/demo.glb"));
@@ -334,6 +335,83 @@ TEST(BindingInputs, EachInputIsNamedWhenItChanges) {
   EXPECT_EQ(changed_inputs(a, binding_inputs(f)), "the character file and the binding parameters");
   f.set_edits = {SetEdit{0, {1}, {}}};
   EXPECT_EQ(changed_inputs(a, binding_inputs(f)), "the character file, the binding parameters and the set edits");
+}
+
+// A deformer stack caches each deformer's binding (issue 21): the demo with two layers (a sculpted copy of its
+// cage under the head's mask, and a muted copy) saved with the rig's bindings writes P.cwb and P.1.cwb (the
+// muted layer moves nothing: no file); opened again, both are used and the rig made from them poses the skin
+// bit for bit like the one that bound; a change of the layer's parameters makes its cache alone stale (named),
+// and saving again keeps deformer 0's record and drops the layer's.
+TEST(BindingCacheStack, EachLayerIsCachedAndAStaleLayerAloneBindsAgain) {
+  const fs::path dir = fs::temp_directory_path() / ("cagewrap-binding-cache-stack-" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  ASSERT_TRUE(write_glb((dir / "demo.glb").string(), make_demo_character()).ok());
+  auto loaded = document_from_files((dir / "demo.glb").string(), std::string(CAGEWRAP_SOURCE_DIR) + "/assets/demo_cage.obj");
+  ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+  Document doc = with_cache_binding(*loaded, true);
+  DeformerLayer face;
+  face.name = "face";
+  face.cage = doc.cage;
+  face.params = doc.params;
+  face.attachment = doc.attachment;
+  face.cage_offsets.assign(face.cage->num_vertices(), glm::vec3(0.0f, 0.0f, 0.02f));
+  const std::string head[] = {"head"};
+  auto mask = joint_region_mask(*doc.character, head);
+  ASSERT_TRUE(mask.ok());
+  face.mask = std::make_shared<const std::vector<float>>(*mask);
+  DeformerLayer muted = face;
+  muted.name = "muted";
+  muted.muted = true;
+  doc = with_layers(doc, {face, muted});
+  auto rig = Rig::create(doc);
+  ASSERT_TRUE(rig.ok()) << rig.error().message;
+  ASSERT_NE(rig->layer_binding(0), nullptr);
+  EXPECT_EQ(rig->layer_binding(1), nullptr) << "a muted layer is not bound";
+  const std::string P = (dir / "demo.cagewrap").string();
+  SaveOptions options;
+  options.binding = &rig->binding();
+  options.layer_bindings = {rig->layer_binding(0), rig->layer_binding(1)};
+  ASSERT_TRUE(save_project(P, doc, options).ok());
+  EXPECT_TRUE(fs::exists(P + ".cwb"));
+  EXPECT_TRUE(fs::exists(P + ".1.cwb"));
+  EXPECT_FALSE(fs::exists(P + ".2.cwb"));
+  const Json j = Json::parse(read_text(P));
+  EXPECT_EQ(j["deformers"][0]["binding_cache"]["file"], "demo.cagewrap.1.cwb");
+  EXPECT_EQ(j["deformers"][1]["binding_cache"], Json::object()) << "caching on, nothing cached for the muted layer";
+
+  auto opened = load_project(P);
+  ASSERT_TRUE(opened.ok()) << opened.error().message;
+  Document again = opened->document;
+  StackBindingCache cached = load_stack_binding_caches(again);
+  EXPECT_EQ(cached.used, 2u);
+  EXPECT_TRUE(cached.not_used.empty()) << cached.not_used.front();
+  ASSERT_EQ(cached.bindings.size(), 3u);
+  EXPECT_TRUE(cached.bindings[0] && cached.bindings[1]);
+  EXPECT_FALSE(cached.bindings[2]);
+  auto from_cache = Rig::create(again, std::move(cached.bindings));
+  ASSERT_TRUE(from_cache.ok()) << from_cache.error().message;
+  std::vector<glm::vec3> a(rig->num_skin_points()), b(from_cache->num_skin_points());
+  PosedCage ca, cb;
+  ASSERT_TRUE(rig->pose_clip(doc, 0, 0.4, {}, ca, a).ok());
+  ASSERT_TRUE(from_cache->pose_clip(again, 0, 0.4, {}, cb, b).ok());
+  EXPECT_TRUE(same_bits(a, b)) << "the stack from the caches poses like the one that bound";
+
+  // the layer's parameters changed: its cache alone is stale, and says so
+  std::vector<DeformerLayer> layers = again.layers;
+  layers[0].params.epsilon *= 2.0;
+  Document changed = with_layers(again, layers);
+  StackBindingCache stale = load_stack_binding_caches(changed);
+  EXPECT_EQ(stale.used, 1u);
+  ASSERT_EQ(stale.not_used.size(), 1u);
+  EXPECT_NE(stale.not_used[0].find("demo.cagewrap.1.cwb is out of date: the binding parameters changed"), std::string::npos)
+      << stale.not_used[0];
+  ASSERT_TRUE(save_project(P, changed).ok());
+  auto reopened = load_project(P);
+  ASSERT_TRUE(reopened.ok());
+  EXPECT_FALSE(reopened->document.binding_cache.file.empty()) << "deformer 0's record is still valid: kept";
+  EXPECT_TRUE(reopened->document.layers[0].binding_cache.file.empty()) << "the stale layer's record is dropped";
+  fs::remove_all(dir);
 }
 
 }  // namespace

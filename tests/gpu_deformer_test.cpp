@@ -84,7 +84,7 @@ void expect_agreement(const Agreement& a, const std::string& what, Worst& worst)
 }
 
 // A skin with its triangles, and a cage at rest.
-struct Skin {
+struct GpuTestSkin {
   std::vector<glm::vec3> rest;
   std::vector<Tri> triangles;
   double diagonal = 0;
@@ -92,7 +92,7 @@ struct Skin {
 
 // A bench triplet from the shared assets: the skin, the cage and the twisted cage.
 struct Triplet {
-  Skin skin;
+  GpuTestSkin skin;
   std::optional<Cage> cage;
   std::vector<glm::vec3> posed;
 };
@@ -120,7 +120,7 @@ Triplet load_triplet(const std::string& dir, const std::string& mesh_name) {
 // from a deliberately wrong table) to show that a difference is caught.
 class Paths {
  public:
-  Paths(Deformer& cpu, const Skin& skin, Deformer* gpu_maps = nullptr)
+  Paths(Deformer& cpu, const GpuTestSkin& skin, Deformer* gpu_maps = nullptr)
       : cpu_(cpu), gpu_maps_(gpu_maps ? *gpu_maps : cpu), skin_(skin), normals_(skin.rest.size(), skin.triangles) {
     target_.upload_indices(skin.triangles);
     auto g = render::GpuDeformer::create(gpu_maps_, skin.triangles);
@@ -152,7 +152,7 @@ class Paths {
  private:
   Deformer& cpu_;
   Deformer& gpu_maps_;
-  const Skin& skin_;
+  const GpuTestSkin& skin_;
   NormalComputer normals_;
   render::TriangleBuffer target_;
   std::unique_ptr<render::GpuDeformer> gpu_;
@@ -201,7 +201,7 @@ TEST_F(GpuDeformerTest, DemoCharacterPosedByItsClipsAgreesEveryVariant) {
   auto doc = document_from_files(assets + "demo_character.glb", assets + "demo_cage.obj");
   ASSERT_TRUE(doc.ok()) << doc.error().message;
   const Character& ch = *doc->character;
-  Skin skin;
+  GpuTestSkin skin;
   for (const auto& prim : ch.primitives) skin.rest.insert(skin.rest.end(), prim.positions.begin(), prim.positions.end());
   skin.triangles = triangulate(combined_topology(ch)).triangles;
   skin.diagonal = bounding_box(skin.rest).diagonal();

@@ -15,7 +15,7 @@
 namespace cagewrap {
 namespace {
 
-constexpr Viewport kView{800, 600};
+constexpr Viewport kPickView{800, 600};
 
 // Unit cube [-0.5, 0.5]^3 as 6 quads (outward), faces in the order -X, +X, -Y, +Y, -Z, +Z.
 PolyMesh unit_cube() {
@@ -69,7 +69,7 @@ TEST(Picking, CubeSeenFromTheFrontPicksTheFrontFace) {
   const Camera cam = front_camera();
   // centre, and off-centre pixels that still land on the front face
   for (glm::dvec2 px : {glm::dvec2(400, 300), glm::dvec2(380, 320), glm::dvec2(430, 270)}) {
-    const Ray ray = cam.ray(px.x, px.y, kView.width, kView.height);
+    const Ray ray = cam.ray(px.x, px.y, kPickView.width, kPickView.height);
     auto face = pick_polygon_face(ray, cube);
     ASSERT_TRUE(face.has_value());
     EXPECT_EQ(face->face, 5u) << "+Z is the face toward the camera";
@@ -160,24 +160,24 @@ TEST(Picking, VertexBehindTheCubeIsOccluded) {
   const glm::dvec2 back = cam.project(glm::dvec3(cube.positions[0]), 800, 600).pixel;
   const glm::dvec2 front = cam.project(glm::dvec3(cube.positions[4]), 800, 600).pixel;
   ASSERT_GT(glm::length(back - front), 10.0);  // perspective: the back corner projects inside the face
-  EXPECT_EQ(pick_vertex(cam, kView, back, cube.positions, 3.0), std::optional<uint32_t>(0));
-  EXPECT_EQ(pick_vertex(cam, kView, back, cube.positions, 3.0, &occluder), std::nullopt);
-  EXPECT_EQ(pick_vertex(cam, kView, front, cube.positions, 3.0, &occluder), std::optional<uint32_t>(4));
+  EXPECT_EQ(pick_vertex(cam, kPickView, back, cube.positions, 3.0), std::optional<uint32_t>(0));
+  EXPECT_EQ(pick_vertex(cam, kPickView, back, cube.positions, 3.0, &occluder), std::nullopt);
+  EXPECT_EQ(pick_vertex(cam, kPickView, front, cube.positions, 3.0, &occluder), std::optional<uint32_t>(4));
   // with a generous radius the visible front corner wins even though the back corner is nearer on screen
-  EXPECT_EQ(pick_vertex(cam, kView, back, cube.positions, 1000.0, &occluder), std::optional<uint32_t>(4));
+  EXPECT_EQ(pick_vertex(cam, kPickView, back, cube.positions, 1000.0, &occluder), std::optional<uint32_t>(4));
   EXPECT_TRUE(is_occluded(cam, glm::dvec3(cube.positions[0]), occluder));
   EXPECT_FALSE(is_occluded(cam, glm::dvec3(cube.positions[4]), occluder));
   // nothing within the radius
-  EXPECT_EQ(pick_vertex(cam, kView, {5, 5}, cube.positions, 10.0), std::nullopt);
+  EXPECT_EQ(pick_vertex(cam, kPickView, {5, 5}, cube.positions, 10.0), std::nullopt);
 }
 
 TEST(Picking, CoincidentProjectionsGoToTheNearerVertex) {
   const Camera cam = front_camera();
   std::vector<glm::vec3> pts = {{0, 0, -1}, {0, 0, 0.5f}, {0.2f, 0, 0}};
-  EXPECT_EQ(pick_vertex(cam, kView, {400, 300}, pts, 5.0), std::optional<uint32_t>(1));
+  EXPECT_EQ(pick_vertex(cam, kPickView, {400, 300}, pts, 5.0), std::optional<uint32_t>(1));
   // a point behind the camera never picks, even when its projection formula lands on the cursor
   std::vector<glm::vec3> behind = {{0, 0, 5}};
-  EXPECT_EQ(pick_vertex(cam, kView, {400, 300}, behind, 50.0), std::nullopt);
+  EXPECT_EQ(pick_vertex(cam, kPickView, {400, 300}, behind, 50.0), std::nullopt);
 }
 
 TEST(Picking, BoxSelectCountsAGrid) {
@@ -187,10 +187,10 @@ TEST(Picking, BoxSelectCountsAGrid) {
   std::vector<glm::vec3> grid;
   for (int j = 0; j <= 10; ++j)
     for (int i = 0; i <= 10; ++i) grid.emplace_back(-0.5f + 0.1f * i, -0.5f + 0.1f * j, 0.0f);
-  const double ppu = 1.0 / cam.world_per_pixel(kView.height);  // pixels per world unit
+  const double ppu = 1.0 / cam.world_per_pixel(kPickView.height);  // pixels per world unit
   auto to_px = [&](double x, double y) { return glm::dvec2(400 + x * ppu, 300 - y * ppu); };
   // x in [-0.25, 0.15] -> columns -0.2..0.1 (4), y in [-0.05, 0.35] -> rows 0..0.3 (4)
-  auto sel = box_select(cam, kView, to_px(0.15, -0.05), to_px(-0.25, 0.35), grid);
+  auto sel = box_select(cam, kPickView, to_px(0.15, -0.05), to_px(-0.25, 0.35), grid);
   ASSERT_EQ(sel.size(), 16u);
   for (uint32_t i : sel) {
     const int col = static_cast<int>(i % 11), row = static_cast<int>(i / 11);
@@ -200,22 +200,22 @@ TEST(Picking, BoxSelectCountsAGrid) {
     EXPECT_LE(row, 8);
   }
   EXPECT_TRUE(std::is_sorted(sel.begin(), sel.end()));
-  EXPECT_EQ(box_select(cam, kView, {0, 0}, {800, 600}, grid).size(), 121u);
-  EXPECT_TRUE(box_select(cam, kView, {0, 0}, {10, 10}, grid).empty());
+  EXPECT_EQ(box_select(cam, kPickView, {0, 0}, {800, 600}, grid).size(), 121u);
+  EXPECT_TRUE(box_select(cam, kPickView, {0, 0}, {10, 10}, grid).empty());
 }
 
 TEST(Picking, BoxSelectSkipsPointsBehindTheCameraAndHidden) {
   const Camera cam = front_camera(3.0);
   // in front at z = 0, behind the eye at z = 6 (mirror image through the eye would land on screen)
   std::vector<glm::vec3> pts = {{0.1f, 0.1f, 0}, {-0.1f, -0.1f, 6}, {0, 0, -0.2f}};
-  auto sel = box_select(cam, kView, {0, 0}, {800, 600}, pts);
+  auto sel = box_select(cam, kPickView, {0, 0}, {800, 600}, pts);
   EXPECT_EQ(sel, (std::vector<uint32_t>{0, 2}));
   // a cube around the third point hides it
   PolyMesh cube = unit_cube();
   TriangleBvh occluder(cube.positions, triangles_of(cube));
-  EXPECT_EQ(box_select(cam, kView, {0, 0}, {800, 600}, pts, &occluder), (std::vector<uint32_t>{}));
+  EXPECT_EQ(box_select(cam, kPickView, {0, 0}, {800, 600}, pts, &occluder), (std::vector<uint32_t>{}));
   std::vector<glm::vec3> outside = {{0.1f, 0.1f, 0.9f}, {0, 0, -0.2f}};
-  EXPECT_EQ(box_select(cam, kView, {0, 0}, {800, 600}, outside, &occluder), (std::vector<uint32_t>{0}));
+  EXPECT_EQ(box_select(cam, kPickView, {0, 0}, {800, 600}, outside, &occluder), (std::vector<uint32_t>{0}));
 }
 
 TEST(Picking, JointNearestWithinRadius) {
@@ -223,9 +223,9 @@ TEST(Picking, JointNearestWithinRadius) {
   std::vector<glm::vec3> joints = {
       {0, 0, 0}, {0.3f, 0, 0}, {0.3f, 0, -1}};  // 2 lies just behind 1, about 11 px away on screen
   const glm::dvec2 j1 = cam.project({0.3, 0, 0}, 800, 600).pixel;
-  EXPECT_EQ(pick_joint(cam, kView, j1 + glm::dvec2(2, -1), joints, 8.0), std::optional<uint32_t>(1));
-  EXPECT_EQ(pick_joint(cam, kView, {400, 300}, joints, 8.0), std::optional<uint32_t>(0));
-  EXPECT_EQ(pick_joint(cam, kView, {400, 200}, joints, 8.0), std::nullopt);
+  EXPECT_EQ(pick_joint(cam, kPickView, j1 + glm::dvec2(2, -1), joints, 8.0), std::optional<uint32_t>(1));
+  EXPECT_EQ(pick_joint(cam, kPickView, {400, 300}, joints, 8.0), std::optional<uint32_t>(0));
+  EXPECT_EQ(pick_joint(cam, kPickView, {400, 200}, joints, 8.0), std::nullopt);
 }
 
 TEST(Picking, DemoSkinPicksWellUnderAMillisecond) {

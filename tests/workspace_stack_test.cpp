@@ -9,6 +9,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "core/document/binding_cache.h"
 #include "core/document/project_io.h"
 #include "core/rig/rig.h"
 #include "tests/workspace_fixtures.h"
@@ -145,6 +146,22 @@ TEST_F(WorkspaceStackTest, AnActiveLayerIsSculptedAndTheViewIsWhatTheRigShips) {
   ASSERT_TRUE(loaded.ok()) << loaded.error().message;
   EXPECT_TRUE(same_content(loaded->document, ws.scene()->work()));
   EXPECT_TRUE(loaded->document.layers[0].hidden);
+
+  // saved with caching on and the editor's bindings (the active layer's own, the other deformers' rigs'):
+  // each goes to its deformer's cache file, and opened again each is used
+  const std::vector<const Binding*> bindings = ws.scene()->deformer_bindings();
+  ASSERT_EQ(bindings.size(), 3u);
+  for (size_t d = 0; d < bindings.size(); ++d) EXPECT_NE(bindings[d], nullptr) << "deformer " << d;
+  SaveOptions cache;
+  cache.binding = bindings[0];
+  cache.layer_bindings.assign(bindings.begin() + 1, bindings.end());
+  const std::string cached_path = (dir / "cached.cagewrap").string();
+  ASSERT_TRUE(save_project(cached_path, with_cache_binding(ws.scene()->work(), true), cache).ok());
+  auto reopened = load_project(cached_path);
+  ASSERT_TRUE(reopened.ok()) << reopened.error().message;
+  const StackBindingCache caches = load_stack_binding_caches(reopened->document);
+  EXPECT_EQ(caches.used, 3u);
+  EXPECT_TRUE(caches.not_used.empty()) << caches.not_used.front();
 
   // remove the active layer: one step, the document's cage is active again; undo brings it back
   const size_t before_remove = undo_steps();

@@ -348,7 +348,11 @@ void Scene::update_stack_rigs() {
         });
         handed_over_.reset();
       } else {
+        // its cache beside the project when that is still its binding, else a bind
         r.job = std::make_unique<StackRigJob>(label, [dd](const StackRigJob::Progress& progress, const std::atomic<bool>& cancel) {
+          if (!dd.binding_cache.file.empty())
+            if (auto cached = load_binding_cache(dd))
+              if (auto rig = Rig::create(dd, std::move(cached).value())) return rig;
           return Rig::create(dd, job_progress(progress, cancel));
         });
       }
@@ -359,6 +363,22 @@ void Scene::update_stack_rigs() {
   }
   handed_over_.reset();
   stack_rigs = std::move(next);  // the rest are dropped (their binds cancelled)
+}
+
+std::vector<const Binding*> Scene::deformer_bindings() const {
+  const Document& w = work();
+  std::vector<const Binding*> out(deformer_count(w), nullptr);
+  for (size_t d = 0; d < out.size(); ++d) {
+    const Binding* b = nullptr;
+    if (d == active_) {
+      if (binding && !job && !needs_rebind()) b = binding.get();
+    } else {
+      for (const StackRig& r : stack_rigs)
+        if (r.deformer == d && r.rig) b = &r.rig->binding();
+    }
+    if (b && binding_fits(*b, deformer_document(w, d))) out[d] = b;
+  }
+  return out;
 }
 
 std::vector<std::string> Scene::poll_stack() {

@@ -100,6 +100,9 @@ struct Scene {
   bool cage_stack() const;  // more than the active cage moves the skin
   // Whether every other deformer's rig is ready (else the active deformer's skin is shown alone).
   bool stack_ready() const { return stack_ready_; }
+  // Each deformer's binding when it is ready and is that of the document as it is (index = deformer; null
+  // = none: binding, failed or muted): what a save caches beside the project.
+  std::vector<const Binding*> deformer_bindings() const;
   // Polls the stack rigs' binds; a message per bind that ended.
   std::vector<std::string> poll_stack();
   void cancel_stack_binds();

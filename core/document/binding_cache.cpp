@@ -42,7 +42,9 @@ bool same_floats(const std::vector<glm::vec3>& a, std::span<const glm::vec3> b) 
 
 }  // namespace
 
-std::string binding_cache_path(const std::string& project_path) { return project_path + ".cwb"; }
+std::string binding_cache_path(const std::string& project_path, size_t deformer) {
+  return deformer == 0 ? project_path + ".cwb" : project_path + "." + std::to_string(deformer) + ".cwb";
+}
 
 BindingInputs binding_inputs(const Document& doc) {
   CAGEWRAP_CHECK(doc.cage, "a binding's inputs need a cage");
@@ -116,9 +118,9 @@ Status binding_fits(const Binding& binding, const Document& doc) {
 }
 
 Result<BindingCacheFile> make_binding_cache(const std::string& project_path, const Document& doc,
-                                            const Binding& binding) {
+                                            const Binding& binding, size_t deformer) {
   BindingCacheFile out;
-  out.path = binding_cache_path(project_path);
+  out.path = binding_cache_path(project_path, deformer);
   if (auto fits = binding_fits(binding, doc); !fits)
     return make_error(fits.error().code, out.path + ": the binding was not cached: " + fits.error().message);
   out.bytes = binding_bytes(binding);
@@ -148,6 +150,24 @@ Result<Binding> load_binding_cache(const Document& doc) {
   if (auto fits = binding_fits(*binding, doc); !fits)
     return make_error(fits.error().code, r.file + " does not fit the project: " + fits.error().message);
   return binding;
+}
+
+StackBindingCache load_stack_binding_caches(const Document& doc) {
+  StackBindingCache out;
+  out.bindings.resize(deformer_count(doc));
+  for (size_t d = 0; d < out.bindings.size(); ++d) {
+    if (deformer_muted(doc, d)) continue;
+    const BindingCacheRecord& r = d == 0 ? doc.binding_cache : doc.layers[d - 1].binding_cache;
+    if (r.file.empty() || (d == 0 && !doc.cage)) continue;
+    auto b = load_binding_cache(deformer_document(doc, d));
+    if (b) {
+      out.bindings[d] = std::move(b).value();
+      ++out.used;
+    } else {
+      out.not_used.push_back(b.error().message);
+    }
+  }
+  return out;
 }
 
 }  // namespace cagewrap

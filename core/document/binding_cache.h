@@ -7,7 +7,9 @@
 // docs/project-format.md, "binding_cache".
 #pragma once
 
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "core/deform/binding.h"
 #include "core/document/document.h"
@@ -15,8 +17,9 @@
 
 namespace cagewrap {
 
-// Where the cache of the project at `project_path` goes: the project's path + ".cwb".
-std::string binding_cache_path(const std::string& project_path);
+// Where the cache of the project at `project_path` goes: the project's path + ".cwb" for the document's own
+// cage (deformer 0), + ".<d>.cwb" for deformer d (layer d - 1 of the stack, docs/deformer-stack.md).
+std::string binding_cache_path(const std::string& project_path, size_t deformer = 0);
 
 // The inputs of binding `doc` as it is now (the document must have a cage: checked).
 BindingInputs binding_inputs(const Document& doc);
@@ -35,8 +38,10 @@ struct BindingCacheFile {
   std::string bytes;
   BindingCacheRecord record;
 };
+// `doc` is the deformer's view (deformer_document) and `deformer` its number: the cache goes to
+// binding_cache_path(project_path, deformer).
 Result<BindingCacheFile> make_binding_cache(const std::string& project_path, const Document& doc,
-                                            const Binding& binding);
+                                            const Binding& binding, size_t deformer = 0);
 
 // The binding the document's project recorded (doc.binding_cache), when it is still valid for
 // `doc`: the file exists, has the recorded hash, loads, its inputs equal binding_inputs(doc) and it
@@ -45,5 +50,15 @@ Result<BindingCacheFile> make_binding_cache(const std::string& project_path, con
 // cached or the file is gone, kInvalidArgument when it is out of date or was replaced, else the
 // load error.
 Result<Binding> load_binding_cache(const Document& doc);
+
+// The cached bindings of every deformer of the stack that moves the skin (not muted), each loaded with
+// load_binding_cache(deformer_document(doc, d)): bindings[d] for deformer d (nullopt where nothing usable is
+// cached), and for each deformer that recorded a cache it cannot use, why (load_binding_cache's sentence).
+struct StackBindingCache {
+  std::vector<std::optional<Binding>> bindings;  // #deformers
+  std::vector<std::string> not_used;
+  size_t used = 0;  // how many bindings came from the cache
+};
+StackBindingCache load_stack_binding_caches(const Document& doc);
 
 }  // namespace cagewrap

@@ -146,7 +146,7 @@ Document layer_document(const Document& doc, size_t i) {
   out.patch_driver = nullptr;
   out.layers.clear();
   out.stack = {};
-  out.binding_cache = {};
+  out.binding_cache = l.binding_cache;
   return out;  // the same revision: the same document, seen through one layer
 }
 

@@ -65,6 +65,9 @@ struct DeformerLayer {
   std::string mask_source;  // how the mask was made ("joints head,neck"; "" = none or painted)
   bool muted = false;       // left out of the stack (kept in the project)
   bool hidden = false;      // its cage not drawn in the editor (a view setting, saved with the project)
+  // Its binding cached beside the project (P.cagewrap.<d>.cwb; core/document/binding_cache.h), when
+  // the document caches bindings (Document::cache_binding): deformer_document puts it in the view's binding_cache.
+  BindingCacheRecord binding_cache;
 };
 
 // How the deformers' results make the skin (docs/deformer-stack.md). f_0 is the document's own cage,

@@ -268,7 +268,8 @@ Result<std::string> deformer_fields_text(const std::string& path, const Document
 
 // "deformers" and "deformer_stack" (only when the document has layers, so older files stay as they
 // were): each layer is an object of the same fields as the document's own cage, and its name, mask and mute.
-Result<std::string> layers_text(const std::string& path, const Document& doc) {
+// `caches`: each layer's binding cache record to write (null: caching is off).
+Result<std::string> layers_text(const std::string& path, const Document& doc, const std::vector<BindingCacheRecord>* caches) {
   if (doc.layers.empty() && doc.stack == DeformerStack{}) return std::string();
   std::string s;
   if (!doc.layers.empty()) s += "  \"deformers\": [";
@@ -288,6 +289,7 @@ Result<std::string> layers_text(const std::string& path, const Document& doc) {
       }
       s += "\n  ],\n";
     }
+    if (caches && i < caches->size()) s += binding_cache_text(path, (*caches)[i]);
     Json tail = {{"name", l.name}, {"muted", l.muted}};
     if (l.hidden) tail["hidden"] = true;
     if (!l.mask_source.empty()) tail["mask_source"] = l.mask_source;
@@ -309,6 +311,7 @@ Result<std::string> layers_text(const std::string& path, const Document& doc) {
 }
 
 Result<std::string> project_text(const std::string& path, const Document& doc, const BindingCacheRecord* cache,
+                                 const std::vector<BindingCacheRecord>* layer_caches,
                                  const std::optional<RecoveryInfo>& recovery) {
   Json preserved = Json::object();
   if (!doc.preserved_fields.empty()) {
@@ -331,7 +334,7 @@ Result<std::string> project_text(const std::string& path, const Document& doc, c
   auto fields = deformer_fields_text(path, doc);
   if (!fields) return fields.error();
   s += *fields;
-  auto layers = layers_text(path, doc);
+  auto layers = layers_text(path, doc, layer_caches);
   if (!layers) return layers.error();
   s += *layers;
   auto patch = patch_driver_text(path, doc);
@@ -803,6 +806,8 @@ std::vector<DeformerLayer> read_layers(const std::string& path, const Json& list
     read_posing_fields(r, j, character, d, warnings, r.file());
     DeformerLayer l;
     l.name = j.contains("name") ? r.string(j["name"], "name") : "deformer " + std::to_string(i + 1);
+    read_binding_cache(j, path, d, warnings);
+    l.binding_cache = std::move(d.binding_cache);
     l.muted = j.contains("muted") && r.boolean(j["muted"], "muted");
     l.hidden = j.contains("hidden") && r.boolean(j["hidden"], "hidden");
     if (j.contains("mask_source")) l.mask_source = r.string(j["mask_source"], "mask_source");
@@ -826,7 +831,8 @@ std::vector<DeformerLayer> read_layers(const std::string& path, const Json& list
     l.attachment = d.attachment;
     l.keyposes = std::move(d.keyposes);
     l.sim = std::move(d.sim);
-    warn_unknown(j, where, {"cage", "binding", "set_edits", "attachment", "keyposes", "simulation", "mask", "mask_source", "name", "muted", "hidden"},
+    warn_unknown(j, where, {"cage", "binding", "set_edits", "attachment", "keyposes", "simulation", "mask", "mask_source", "name", "muted", "hidden",
+                          "binding_cache"},
                  warnings, path);
     out.push_back(std::move(l));
   }
@@ -965,25 +971,33 @@ Status save_project(const std::string& path, const Document& doc, const SaveOpti
                       path + ": not saved: that is the character file; choose another name for the project");
   if (auto v = validate(doc.params); !v)
     return make_error(ErrorCode::kInvalidArgument, path + ": not saved: " + v.error().message);
-  // the binding cache: written first, so a project never names a cache file that is not there yet
-  std::optional<BindingCacheFile> cache_file;
-  BindingCacheRecord record;  // what the project records; empty = nothing cached
+  // the binding caches (the document's cage's and each layer's): written first, so a project never names
+  // a cache file that is not there yet
+  std::vector<BindingCacheFile> cache_files;
+  std::vector<BindingCacheRecord> records(deformer_count(doc));  // what the project records; empty = nothing cached
   if (doc.cache_binding && !options.recovery && doc.cage) {
-    if (options.binding) {
-      auto made = make_binding_cache(path, doc, *options.binding);
-      if (!made) return made.error();
-      cache_file = std::move(made).value();
-      record = cache_file->record;
-    } else if (doc.binding_cache.file == fs::absolute(binding_cache_path(path)).lexically_normal().string() &&
-               doc.binding_cache.inputs == binding_inputs(doc)) {
-      record = doc.binding_cache;  // saved again, nothing the binding depends on changed
+    for (size_t d = 0; d < records.size(); ++d) {
+      const Binding* binding = d == 0 ? options.binding
+                                      : d - 1 < options.layer_bindings.size() ? options.layer_bindings[d - 1] : nullptr;
+      const Document view = deformer_document(doc, d);
+      if (binding) {
+        auto made = make_binding_cache(path, view, *binding, d);
+        if (!made) return make_error(made.error().code, made.error().message + (d ? " (deformer '" + doc.layers[d - 1].name + "')" : ""));
+        records[d] = made->record;
+        cache_files.push_back(std::move(made).value());
+      } else if (view.binding_cache.file == fs::absolute(binding_cache_path(path, d)).lexically_normal().string() &&
+                 view.binding_cache.inputs == binding_inputs(view)) {
+        records[d] = view.binding_cache;  // saved again, nothing the binding depends on changed
+      }
     }
   }
   try {
-    auto text = project_text(path, doc, doc.cache_binding ? &record : nullptr, options.recovery);
+    const std::vector<BindingCacheRecord> layer_records(records.begin() + (records.empty() ? 0 : 1), records.end());
+    auto text = project_text(path, doc, doc.cache_binding && !records.empty() ? &records[0] : nullptr,
+                             doc.cache_binding ? &layer_records : nullptr, options.recovery);
     if (!text) return text.error();
-    if (cache_file)
-      if (auto s = write_file_atomic(cache_file->path, cache_file->bytes); !s) return s.error();
+    for (const BindingCacheFile& f : cache_files)
+      if (auto s = write_file_atomic(f.path, f.bytes); !s) return s.error();
     return write_file_atomic(path, *text);
   } catch (const Json::exception& e) {  // a string that is not UTF-8 (a file name, a preserved field)
     return make_error(ErrorCode::kInvalidArgument, path + ": not saved: " + e.what());

@@ -32,6 +32,9 @@ struct SaveOptions {
   // (core/document/binding_cache.h) just before the project. Without one, a still valid record of the
   // document's (same file, same inputs) is kept, else the project records that nothing is cached.
   const Binding* binding = nullptr;
+  // The same for each layer of the stack (index = layer; missing or null = keep a valid record or none);
+  // layer i's cache is binding_cache_path(path, i + 1).
+  std::vector<const Binding*> layer_bindings;
   // Writing a recovery file: recorded in it; no binding cache is written then.
   std::optional<RecoveryInfo> recovery;
 };

@@ -168,14 +168,20 @@ Result<Binding> rebind_document(const Document& doc, std::span<const glm::vec3> 
 }
 
 Result<Rig> Rig::create(const Document& doc, const BindProgress& progress) {
-  return make(doc, nullptr, progress);
+  return make(doc, {}, progress);
 }
 
 Result<Rig> Rig::create(const Document& doc, Binding binding) {
-  return make(doc, &binding, {});
+  std::vector<std::optional<Binding>> bindings(1);
+  bindings[0] = std::move(binding);
+  return make(doc, std::move(bindings), {});
 }
 
-Result<Rig> Rig::make(const Document& doc, Binding* binding, const BindProgress& progress) {
+Result<Rig> Rig::create(const Document& doc, std::vector<std::optional<Binding>> bindings, const BindProgress& progress) {
+  return make(doc, std::move(bindings), progress);
+}
+
+Result<Rig> Rig::make(const Document& doc, std::vector<std::optional<Binding>> bindings, const BindProgress& progress) {
   if (!doc.character) return make_error(ErrorCode::kInvalidArgument, "the document has no character");
   if (!doc.cage)
     return make_error(ErrorCode::kInvalidArgument, "the document has no cage to pose the skin with");
@@ -191,8 +197,8 @@ Result<Rig> Rig::make(const Document& doc, Binding* binding, const BindProgress&
   }
   for (const Primitive& p : ch.primitives)
     s.skin_rest.insert(s.skin_rest.end(), p.positions.begin(), p.positions.end());
-  if (binding) {
-    s.binding = std::move(*binding);
+  if (!bindings.empty() && bindings[0]) {
+    s.binding = std::move(*bindings[0]);
   } else {
     auto bound = bind_document(doc, s.skin_rest, s.attachment ? &*s.attachment : nullptr, progress);
     if (!bound) return make_error(bound.error().code, "bind: " + bound.error().message);
@@ -212,7 +218,8 @@ Result<Rig> Rig::make(const Document& doc, Binding* binding, const BindProgress&
     if (l.mask && l.mask->size() != s.skin_rest.size())
       return make_error(ErrorCode::kTopologyMismatch, "deformer '" + l.name + "': its mask has " + std::to_string(l.mask->size()) +
                                                           " weights but the skin has " + std::to_string(s.skin_rest.size()) + " points");
-    auto layer = Rig::create(layer_document(doc, i), progress);
+    auto layer = i + 1 < bindings.size() && bindings[i + 1] ? Rig::create(layer_document(doc, i), std::move(*bindings[i + 1]))
+                                                            : Rig::create(layer_document(doc, i), progress);
     if (!layer) return make_error(layer.error().code, "deformer '" + l.name + "': " + layer.error().message);
     s.layer_index.push_back(i);
     s.layers.push_back(std::make_unique<Rig>(std::move(layer).value()));
@@ -224,6 +231,12 @@ Result<Rig> Rig::make(const Document& doc, Binding* binding, const BindProgress&
     s.driver.emplace(std::move(d).value());
   }
   return rig;
+}
+
+const Binding* Rig::layer_binding(size_t layer) const {
+  for (size_t k = 0; k < state_->layers.size(); ++k)
+    if (state_->layer_index[k] == layer) return &state_->layers[k]->binding();
+  return nullptr;
 }
 
 bool Rig::fits(const Document& doc) const {

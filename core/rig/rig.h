@@ -10,6 +10,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -89,6 +90,11 @@ class Rig {
   // The same with a binding made earlier for this document (a project's cache, core/document/binding_cache.h:
   // the caller has checked that it fits): no bind.
   static Result<Rig> create(const Document& doc, Binding binding);
+  // The same with bindings made earlier for some of the stack's deformers (index = deformer: 0 the
+  // document's cage, k layer k - 1; core/document/binding_cache.h load_stack_binding_caches, which checks
+  // that they fit): those are not bound again, the others are.
+  static Result<Rig> create(const Document& doc, std::vector<std::optional<Binding>> bindings,
+                            const BindProgress& progress = {});
 
   // Whether `doc` has this rig's cage (same object or same content), parameters and attachment.
   bool fits(const Document& doc) const;
@@ -106,6 +112,9 @@ class Rig {
   std::span<const glm::vec3> skin_rest() const;
   // The registration: the sets, what a project's cache holds (bind_document's result).
   const Binding& binding() const;
+  // The registration of layer `layer` of the stack (its rig's binding()); null when it is muted or there
+  // is no such layer. What the project caches for it.
+  const Binding* layer_binding(size_t layer) const;
   // What the deformer reads: the registration, or with a fitted attachment its stencil smoothed
   // where the rig would stretch the skin (core/deform/attachment_fit.h fit_rig).
   const Binding& deformer_binding() const;
@@ -117,7 +126,7 @@ class Rig {
 
  private:
   Rig();
-  static Result<Rig> make(const Document& doc, Binding* binding, const BindProgress& progress);
+  static Result<Rig> make(const Document& doc, std::vector<std::optional<Binding>> bindings, const BindProgress& progress);
   struct State;
   std::unique_ptr<State> state_;
 };

@@ -108,6 +108,26 @@ run deformer list --project "$T/two.cagewrap"
 check "two deformers, blended" has "$T/out" "^stack      blend m=2"
 run pose --project "$T/two.cagewrap" --clip walk --time 0.4 --out "$T/two.bin"
 check "blend of two copies: the plain pose" cmp_close "$T/plain.bin" "$T/two.bin" 1e-5
+# each deformer's binding cached beside the project (P.cwb, P.1.cwb), and used by pose
+run project "$T/two.cagewrap" --cache-binding
+check "project --cache-binding exits 0" test "$rc" -eq 0
+check "the layer's cache is listed" has "$T/out" "^deformer 1 'demo_cage': cached in .*two.cagewrap.1.cwb (up to date)"
+check "both files are there" test -f "$T/two.cagewrap.cwb" -a -f "$T/two.cagewrap.1.cwb"
+run pose --project "$T/two.cagewrap" --clip walk --time 0.4 --out "$T/two_cached.bin"
+check "pose uses both caches" hasf "$T/err" "using the cached bindings of 2 of 2 deformers (no bind)"
+check "the same pose, bit for bit" cmp -s "$T/two.bin" "$T/two_cached.bin"
+# a layer's own binding parameters changed (deformer set --epsilon; 0.2 binds the demo as 0.1 does): saved, its stale record is dropped; the
+# project's cage keeps its cache
+run deformer set --project "$T/two.cagewrap" --name demo_cage --epsilon 0.3
+check "set --epsilon on a layer" test "$rc" -eq 0
+run project "$T/two.cagewrap"
+check "the layer's record is dropped" has "$T/out" "^deformer 1 'demo_cage': cached on save; nothing cached yet"
+check "deformer 0's is kept" has "$T/out" "^binding    cached in .*two.cagewrap.cwb (up to date)"
+run pose --project "$T/two.cagewrap" --clip walk --time 0.4 --out "$T/two_eps.bin"
+check "pose binds the layer alone" hasf "$T/err" "using the cached bindings of 1 of 2 deformers (the others bound)"
+check "its new parameters change the pose" bash -c "! cmp -s '$T/two.bin' '$T/two_eps.bin'"
+run deformer set --project "$T/two.cagewrap" --index 0 --epsilon 2
+check "a bad parameter fails" test "$rc" -ne 0
 run new --character "$DEMO" --cage "$CAGE" --cage "$CAGE" --stack sideways --out "$T/bad.cagewrap"
 check "an unknown stack mode fails" test "$rc" -ne 0
 check "naming it" hasf "$T/err" "--stack 'sideways'"
