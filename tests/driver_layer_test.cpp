@@ -11,30 +11,12 @@
 #include <glm/gtc/quaternion.hpp>
 #include <gtest/gtest.h>
 
-#include "core/deform/patch_fit.h"
 #include "core/rig/rig.h"
-#include "tests/patch_fixtures.h"
+#include "tests/driver_fixtures.h"
 #include "tests/rig_fixtures.h"
 
 namespace cagewrap {
 namespace {
-
-std::shared_ptr<PatchDriver> chest_driver(double push) {
-  const PolyMesh sheet = test::chest_sheet();
-  std::vector<uint32_t> faces(sheet.num_faces());
-  std::iota(faces.begin(), faces.end(), 0u);
-  auto grid = fit_patch_to_faces(sheet, sheet.positions, faces);
-  EXPECT_TRUE(grid.ok()) << grid.error().message;
-  auto d = std::make_shared<PatchDriver>();
-  d->rest.grids = {*grid};
-  d->posed = d->rest;
-  auto points = d->posed.control_points();
-  points[14] += glm::dvec3(0.0, 0.0, push);  // pushed out of the chest
-  d->posed.set_control_points(points);
-  d->density = 2;
-  d->drive_skin = true;
-  return d;
-}
 
 std::vector<glm::vec3> posed_skin(const Document& doc, Rig& rig, std::span<const glm::quat> overrides) {
   std::vector<glm::vec3> skin(rig.num_skin_points());
@@ -45,7 +27,7 @@ std::vector<glm::vec3> posed_skin(const Document& doc, Rig& rig, std::span<const
 
 TEST(DriverLayer, TheSculptIsAddedToTheCageSkinAndFollowsTheSkeleton) {
   const Document plain = test::demo_document();
-  const Document driven = with_patch_driver(plain, chest_driver(0.06));
+  const Document driven = with_patch_driver(plain, test::chest_driver(0.06));
   auto without = Rig::create(plain);
   auto with = Rig::create(driven);
   ASSERT_TRUE(without.ok()) << without.error().message;
@@ -84,7 +66,7 @@ TEST(DriverLayer, TheSculptIsAddedToTheCageSkinAndFollowsTheSkeleton) {
   EXPECT_GT(glm::length(sculpt_turned - sculpt_rest), 0.5 * glm::length(sculpt_rest)) << "not left where it was at rest";
 
   // a driver with no sculpt adds nothing
-  const Document idle = with_patch_driver(plain, chest_driver(0.0));
+  const Document idle = with_patch_driver(plain, test::chest_driver(0.0));
   auto idle_rig = Rig::create(idle);
   ASSERT_TRUE(idle_rig.ok());
   EXPECT_EQ(posed_skin(idle, *idle_rig, turn), ta);

@@ -15,7 +15,6 @@
 
 #include "core/character/skin_mask.h"
 #include "core/character/skinning.h"
-#include "core/deform/patch_fit.h"
 #include "core/document/document.h"
 #include "core/export/rig_export.h"
 #include "core/io/gltf_loader.h"
@@ -23,30 +22,13 @@
 #include "core/rig/deformer_stack.h"
 #include "core/rig/rig.h"
 #include "tests/gltf_builder.h"
-#include "tests/patch_fixtures.h"
+#include "tests/driver_fixtures.h"
 #include "tests/rig_fixtures.h"
 
 namespace cagewrap {
 namespace {
 
 constexpr double kExportFps = 4.0;
-
-std::shared_ptr<PatchDriver> pushed_chest_driver() {
-  const PolyMesh sheet = test::chest_sheet();
-  std::vector<uint32_t> faces(sheet.num_faces());
-  std::iota(faces.begin(), faces.end(), 0u);
-  auto grid = fit_patch_to_faces(sheet, sheet.positions, faces);
-  EXPECT_TRUE(grid.ok()) << grid.error().message;
-  auto d = std::make_shared<PatchDriver>();
-  d->rest.grids = {*grid};
-  d->posed = d->rest;
-  auto points = d->posed.control_points();
-  points[14] += glm::dvec3(0.0, 0.0, 0.06);
-  d->posed.set_control_points(points);
-  d->density = 2;
-  d->drive_skin = true;
-  return d;
-}
 
 DeformerLayer masked_copy(const Document& doc, const std::string& name, std::vector<std::string> joints,
                           glm::vec3 sculpt) {
@@ -74,7 +56,7 @@ TEST(StackExport, BakedFilesOfThreeDeformersAndADriverAreTheRigsPoseAtEveryFrame
   Document doc = with_layers(plain, {masked_copy(plain, "face", {"head"}, glm::vec3(0.0f, 0.0f, 0.03f)),
                                      masked_copy(plain, "arms", {"shoulder.L", "shoulder.R"}, glm::vec3(0.0f))});
   doc = with_stack(doc, {StackMode::kSum, 2.0});
-  doc = with_patch_driver(doc, pushed_chest_driver());
+  doc = with_patch_driver(doc, test::chest_driver(0.06));
   auto rig = Rig::create(doc);
   ASSERT_TRUE(rig.ok()) << rig.error().message;
   auto plain_rig = Rig::create(plain);

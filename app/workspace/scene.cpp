@@ -349,10 +349,21 @@ void Scene::update_stack_rigs() {
         handed_over_.reset();
       } else {
         // its cache beside the project when that is still its binding, else a bind
-        r.job = std::make_unique<StackRigJob>(label, [dd](const StackRigJob::Progress& progress, const std::atomic<bool>& cancel) {
-          if (!dd.binding_cache.file.empty())
-            if (auto cached = load_binding_cache(dd))
-              if (auto rig = Rig::create(dd, std::move(cached).value())) return rig;
+        r.job = std::make_unique<StackRigJob>(label, [dd, note = r.cache_note](const StackRigJob::Progress& progress,
+                                                                              const std::atomic<bool>& cancel) {
+          if (!dd.binding_cache.file.empty()) {
+            auto cached = load_binding_cache(dd);
+            if (cached) {
+              auto rig = Rig::create(dd, std::move(cached).value());
+              if (rig) {
+                *note = "used: " + dd.binding_cache.file;
+                return rig;
+              }
+              *note = "not used: " + rig.error().message;
+            } else {
+              *note = "not used: " + cached.error().message;
+            }
+          }
           return Rig::create(dd, job_progress(progress, cancel));
         });
       }
@@ -389,7 +400,12 @@ std::vector<std::string> Scene::poll_stack() {
     const std::string name = deformer_name(history_.current(), r.deformer);
     if (res.ok()) {
       r.rig = std::make_unique<Rig>(std::move(res).value());
-      out.push_back("deformer '" + name + "' bound (" + std::to_string(r.rig->binding().num_points) + " points)");
+      const std::string& note = *r.cache_note;
+      if (note.starts_with("used: "))
+        out.push_back("deformer '" + name + "': using the cached binding " + note.substr(6) + " (no bind)");
+      else
+        out.push_back((note.empty() ? "" : "warning: deformer '" + name + "': binding cache " + note + "; ") + "deformer '" + name +
+                      "' bound (" + std::to_string(r.rig->binding().num_points) + " points)");
     } else if (res.error().code == ErrorCode::kCancelled) {
       r.error = "bind cancelled";
       out.push_back("deformer '" + name + "': bind cancelled");

@@ -71,6 +71,9 @@ struct StackRig {
   BindingInputs inputs;           // what its rig was (or is being) made from
   std::unique_ptr<Rig> rig;       // null while binding or after a failure
   std::unique_ptr<StackRigJob> job;
+  // What the job did with the deformer's binding cache, written by the job before it ends: "" (none
+  // recorded), "used: FILE" or "not used: why"
+  std::shared_ptr<std::string> cache_note = std::make_shared<std::string>();
   std::string error;              // why it has no rig ("" = none)
   std::vector<glm::vec3> skin;    // its posed skin of the current frame
   PosedCage cage;                 // its posed cage of the current frame
