@@ -209,8 +209,7 @@ std::optional<Rig> rig_of_project(const Document& doc, const std::string& projec
     std::fprintf(stderr, "warning: binding cache not used: %s; binding again (`cagewrap project %s --cache-binding` refreshes it)\n",
                  why.c_str(), project.c_str());
   if (cached.used > 0) {
-    size_t moving = 0;  // the deformers that move the skin
-    for (size_t d = 0; d < deformer_count(doc); ++d) moving += !deformer_muted(doc, d);
+    const size_t moving = moving_deformers(doc);
     auto rig = Rig::create(doc, std::move(cached.bindings), terminal_progress("bind"));
     if (rig) {
       if (deformer_count(doc) == 1)

@@ -9,6 +9,8 @@
 //       [--mask-joints a,b | --mask-primitives 0,2 | --no-mask] [--to K]   (move it to position K among the layers)
 //   set --index 0 [--mute | --unmute] [--hide | --show]   (the project's own cage)
 //   set --stack in_order|sum|blend [--exponent m] [--solo D|none]
+//   set --driver [--mute | --unmute] [--after K|last] [--mask-joints a,b | --mask-primitives 0,2 | --no-mask]
+//       (the parametric driver: its switch, its place among the layers and its mask)
 // Every change checks what it can first (the cage, the names, the mask), writes P again (or Q), and
 // prints the stack. Errors name the project, the layer and what is wrong; nothing is written then.
 #include <cstdio>
@@ -51,17 +53,31 @@ void print_stack(const Document& doc) {
   };
   std::printf("  0  %-16s %s, %s%s\n", "(project cage)", doc.cage ? cage_line(*doc.cage).c_str() : "no cage",
               variant_name(doc.params.variant), flags(0).c_str());
+  const auto mask_line = [](const std::shared_ptr<const std::vector<float>>& m, const std::string& source) {
+    if (!m) return std::string("no mask");
+    size_t moved = 0;
+    for (float w : *m) moved += w > 0.0f ? 1 : 0;
+    return "mask " + (source.empty() ? std::string("painted") : source) + " (" + std::to_string(moved) + " of " +
+           std::to_string(m->size()) + " skin vertices)";
+  };
+  // the parametric driver, where it sits (only in_order has an order)
+  const auto driver_line = [&](size_t after) {
+    if (!doc.patch_driver || driver_position(doc) != after) return;
+    const PatchDriver& p = *doc.patch_driver;
+    const DriverPlacement& place = doc.driver_place;
+    std::string f = p.drive_skin ? "" : ", muted";
+    if (p.drive_skin && !driver_moves_skin(doc)) f += ", left out (deformer " + std::to_string(doc.stack.solo) + " is soloed)";
+    std::printf("  D  %-16s parametric driver, %zu control points, density %u, %zu keypose set%s, %s, %s%s\n", "(driver)",
+                p.rest.num_control_points(), p.density, place.keyposes.size(), place.keyposes.size() == 1 ? "" : "s",
+                mask_line(place.mask, place.mask_source).c_str(),
+                place.after < 0 ? "after every layer" : ("after layer " + std::to_string(driver_position(doc))).c_str(), f.c_str());
+  };
+  driver_line(0);
   for (size_t i = 0; i < doc.layers.size(); ++i) {
     const DeformerLayer& l = doc.layers[i];
-    std::string mask = "no mask";
-    if (l.mask) {
-      size_t moved = 0;
-      for (float w : *l.mask) moved += w > 0.0f ? 1 : 0;
-      mask = "mask " + (l.mask_source.empty() ? std::string("painted") : l.mask_source) + " (" + std::to_string(moved) + " of " +
-             std::to_string(l.mask->size()) + " skin vertices)";
-    }
     std::printf("  %zu  %-16s %s, %s, %s%s\n", i + 1, l.name.c_str(), cage_line(*l.cage).c_str(), variant_name(l.params.variant),
-                mask.c_str(), flags(i + 1).c_str());
+                mask_line(l.mask, l.mask_source).c_str(), flags(i + 1).c_str());
+    driver_line(i + 1);
   }
 }
 
@@ -77,18 +93,19 @@ void add_mask_options(CLI::App& cmd, MaskArgs& m, bool with_none) {
   if (with_none) cmd.add_flag("--no-mask", m.none, "no mask: the layer may move every skin point")->excludes(j)->excludes(p);
 }
 
-// The layer's mask as the options say; false (printed) when it cannot be made.
-bool apply_mask(const Document& doc, const MaskArgs& m, DeformerLayer& l, const std::string& project) {
+// A deformer's mask (`mask`, `source`) as the options say; false (printed) when it cannot be made.
+bool apply_mask(const Document& doc, const MaskArgs& m, const std::string& name, std::shared_ptr<const std::vector<float>>& out,
+                std::string& source, const std::string& project) {
   if (m.none) {
-    l.mask = nullptr;
-    l.mask_source.clear();
+    out = nullptr;
+    source.clear();
     return true;
   }
   Result<std::vector<float>> mask = std::vector<float>();
   if (!m.joints.empty()) {
     const auto names = split_list(m.joints);
     mask = joint_region_mask(*doc.character, names);
-    l.mask_source = "joints " + m.joints;
+    source = "joints " + m.joints;
   } else if (!m.primitives.empty()) {
     std::vector<size_t> prims;
     for (const std::string& s : split_list(m.primitives)) {
@@ -101,16 +118,19 @@ bool apply_mask(const Document& doc, const MaskArgs& m, DeformerLayer& l, const 
       prims.push_back(v);
     }
     mask = primitive_mask(*doc.character, prims);
-    l.mask_source = "primitives " + m.primitives;
+    source = "primitives " + m.primitives;
   } else {
     return true;  // unchanged
   }
   if (!mask) {
-    std::fprintf(stderr, "error: %s: deformer '%s': %s\n", project.c_str(), l.name.c_str(), mask.error().message.c_str());
+    std::fprintf(stderr, "error: %s: deformer '%s': %s\n", project.c_str(), name.c_str(), mask.error().message.c_str());
     return false;
   }
-  l.mask = std::make_shared<const std::vector<float>>(std::move(mask).value());
+  out = std::make_shared<const std::vector<float>>(std::move(mask).value());
   return true;
+}
+bool apply_mask(const Document& doc, const MaskArgs& m, DeformerLayer& l, const std::string& project) {
+  return apply_mask(doc, m, l.name, l.mask, l.mask_source, project);
 }
 
 // The layer named `name`, or at 1-based `index`; -1 (printed) when there is none.
@@ -146,8 +166,8 @@ void add_deformer_command(CLI::App& app, int& exit_code) {
     std::string project, out, cage, name, rename, stack;
     long index = -1, to = -1;
     double exponent = -1.0;
-    bool mute = false, unmute = false, hide = false, show = false;
-    std::string solo;
+    bool mute = false, unmute = false, hide = false, show = false, driver = false;
+    std::string solo, after;
     MaskArgs mask;
     BindOptions bind;
   };
@@ -232,6 +252,8 @@ void add_deformer_command(CLI::App& app, int& exit_code) {
   set->add_flag("--show", args->show, "show its cage in the editor again")->excludes(hide);
   set->add_option("--solo", args->solo, "only this deformer moves the skin (0 = the project's cage, 1 = the first layer; none = off)");
   set->add_option("--to", args->to, "move it to this place among the layers (1 = first)");
+  set->add_flag("--driver", args->driver, "change the project's parametric driver (its mute, mask, keyposes kept, place)");
+  set->add_option("--after", args->after, "with --driver: the number of layers before it (0 = right after the project's cage; last = after them all)");
   add_mask_options(*set, args->mask, true);
   set->add_option("--stack", args->stack, "how the skins combine: in_order, sum or blend (docs/deformer-stack.md)");
   set->add_option("--exponent", args->exponent, "the blend's exponent m (>= 0)");
@@ -273,7 +295,41 @@ void add_deformer_command(CLI::App& app, int& exit_code) {
     const bool params = any_bind_option(args->bind);
     const bool layer_change = !args->rename.empty() || switches || args->to >= 0 || !args->mask.joints.empty() ||
                               !args->mask.primitives.empty() || args->mask.none || params;
-    if (args->index == 0 && args->name.empty()) {  // the project's own cage: only its switches
+    if (args->driver) {  // the parametric driver: its switch, place and mask
+      if (!d.patch_driver) {
+        std::fprintf(stderr, "error: %s: has no parametric driver (cagewrap new --patch, or the editor's Rig > Parametric driver)\n",
+                     args->project.c_str());
+        return;
+      }
+      if (!args->name.empty() || args->index >= 0 || !args->rename.empty() || args->to >= 0 || args->hide || args->show || params) {
+        std::fprintf(stderr, "error: %s: --driver takes --mute, --unmute, --after and the mask options only\n", args->project.c_str());
+        return;
+      }
+      if (args->mute || args->unmute) {
+        PatchDriver p = *d.patch_driver;
+        p.drive_skin = args->unmute;
+        d = with_patch_driver(d, std::make_shared<const PatchDriver>(std::move(p)));
+      }
+      DriverPlacement place = d.driver_place;
+      if (!args->after.empty()) {
+        char* end = nullptr;
+        const long v = std::strtol(args->after.c_str(), &end, 10);
+        if (args->after == "last") {
+          place.after = -1;
+        } else if (*end || args->after.empty() || v < 0 || static_cast<size_t>(v) > d.layers.size()) {
+          std::fprintf(stderr, "error: %s: --after '%s': give 0 to %zu layers, or last\n", args->project.c_str(), args->after.c_str(),
+                       d.layers.size());
+          return;
+        } else {
+          place.after = static_cast<int32_t>(v);
+        }
+      }
+      if (!apply_mask(d, args->mask, "driver", place.mask, place.mask_source, args->project)) return;
+      d = with_driver_place(d, std::move(place));
+    } else if (!args->after.empty()) {
+      std::fprintf(stderr, "error: %s: --after places the parametric driver: give --driver too\n", args->project.c_str());
+      return;
+    } else if (args->index == 0 && args->name.empty()) {  // the project's own cage: only its switches
       if (!args->rename.empty() || args->to >= 0 || !args->mask.joints.empty() || !args->mask.primitives.empty() || args->mask.none) {
         std::fprintf(stderr, "error: %s: deformer 0 is the project's own cage: it can be muted, hidden, soloed or given binding "
                              "parameters, not renamed, moved or masked\n", args->project.c_str());

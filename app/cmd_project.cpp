@@ -32,6 +32,10 @@ void print_storage(const Document& doc) {
   for (size_t d = 0; d < deformer_count(doc); ++d) {
     const Document view = deformer_document(doc, d);
     const std::string what = d == 0 ? "binding   " : "deformer " + std::to_string(d) + " '" + deformer_name(doc, d) + "':";
+    if (deformer_muted(doc, d)) {
+      std::printf("%s muted: not bound, not cached\n", what.c_str());
+      continue;
+    }
     if (view.binding_cache.file.empty()) {
       std::printf("%s cached on save; nothing cached yet\n", what.c_str());
       continue;
@@ -111,9 +115,8 @@ void add_project_command(CLI::App& app, int& exit_code) {
       // asked to cache: bind and write it when there is none yet or it is out of date; showing
       // the project (no option) never writes
       if (args->cache) {
-        size_t moving = 0;  // the deformers that move the skin, each needing its cache
-        for (size_t d = 0; d < deformer_count(doc); ++d) moving += !deformer_muted(doc, d);
-        if (load_stack_binding_caches(doc).used < moving) changed = true;
+        // each deformer that moves the skin needs its cache
+        if (load_stack_binding_caches(doc).used < moving_deformers(doc)) changed = true;
       }
       if (changed) {
         rig = rig_of_project(doc, P);

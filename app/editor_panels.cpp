@@ -103,7 +103,7 @@ void Editor::draw_deformers() {
   Scene& scene = *ws_.scene();
   const Document& w = scene.work();
   const size_t n = deformer_count(w);
-  if (!ImGui::TreeNodeEx("Deformers", ImGuiTreeNodeFlags_DefaultOpen, "Deformers (%zu)", n)) return;
+  if (!ImGui::TreeNodeEx("Deformers", ImGuiTreeNodeFlags_DefaultOpen, "Deformers (%zu%s)", n, w.patch_driver ? " and a driver" : "")) return;
   for (size_t d = 0; d < n; ++d) {
     ImGui::PushID(static_cast<int>(d));
     const std::string ds = std::to_string(d);
@@ -148,6 +148,7 @@ void Editor::draw_deformers() {
       if (ImGui::SmallButton("remove")) ws_.run("deformer_remove " + ds);
     }
     ImGui::PopID();
+    if (w.patch_driver && driver_position(w) == d) draw_driver_row();
   }
   if (n > 1) {
     int mode = static_cast<int>(w.stack.mode);
@@ -173,6 +174,36 @@ void Editor::draw_deformers() {
   }
   if (ImGui::SmallButton("Add a cage as a layer...")) browse(FilePurpose::kAddDeformer);
   ImGui::TreePop();
+}
+
+// The parametric driver's row among the deformers (Document::driver_place): its place, mute, keyposes and mask;
+// its control points are edited in the Parametric driver window.
+void Editor::draw_driver_row() {
+  Scene& scene = *ws_.scene();
+  const Document& w = scene.work();
+  const PatchDriver& p = *w.patch_driver;
+  const size_t pos = driver_position(w);
+  ImGui::PushID("driver");
+  if (ImGui::SmallButton("edit")) ws_.run("patch_panel");
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("edit its control points, mask and keyposes in the Parametric driver window");
+  ImGui::SameLine();
+  const bool moves = driver_moves_skin(w);
+  if (moves) ImGui::TextUnformatted("parametric driver");
+  else ImGui::TextDisabled("parametric driver");
+  const std::string state = !p.drive_skin ? "muted" : !moves ? "not soloed" : ws_.binding_patch_driver() ? "binding" : scene.driving() ? "bound" : "not bound";
+  hint("%zu control points, %zu keypose set%s, %s, %s", p.rest.num_control_points(), w.driver_place.keyposes.size(),
+       w.driver_place.keyposes.size() == 1 ? "" : "s",
+       w.driver_place.mask ? ("mask " + w.driver_place.mask_source).c_str() : "no mask", state.c_str());
+  if (ImGui::SmallButton(p.drive_skin ? "mute" : "unmute")) ws_.run(p.drive_skin ? "patch_drive off" : "patch_drive on");
+  if (pos > 0) {
+    ImGui::SameLine();
+    if (ImGui::SmallButton("up")) ws_.run("patch_after " + std::to_string(pos - 1));
+  }
+  if (pos < w.layers.size()) {
+    ImGui::SameLine();
+    if (ImGui::SmallButton("down")) ws_.run(pos + 1 == w.layers.size() ? std::string("patch_after last") : "patch_after " + std::to_string(pos + 1));
+  }
+  ImGui::PopID();
 }
 
 void Editor::draw_properties() {

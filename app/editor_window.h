@@ -109,6 +109,7 @@ class Editor {
   void update_selection_display();
   void update_other_cages();  // the other deformers' posed cages, for the view
   void draw_deformers();      // the outliner's Deformers (issue 21)
+  void draw_driver_row();     // the parametric driver among them
   void draw_gizmo();
   void request_save();
   bool save_project_to(const std::string& path);

@@ -1,6 +1,7 @@
 #include "app/patch_panel.h"
 #include "app/ui_text.h"
 
+#include <algorithm>
 #include <vector>
 
 #if CAGEWRAP_GUI
@@ -94,7 +95,46 @@ void PatchPanel::draw(Workspace& ws) {
     if (ImGui::IsItemDeactivated() && ws.moving()) ws.end_move();
   }
   if (ImGui::Button("Reset the control points")) ws.reset_patch_driver();
+  draw_stack_place(ws);
   ImGui::End();
+}
+
+// The driver as a deformer of the stack (Document::driver_place): its place among the layers, its mask
+// and its keyposes (the sculpt keyed against a joint's rotation).
+void PatchPanel::draw_stack_place(Workspace& ws) {
+  const Document& w = ws.scene()->work();
+  const DriverPlacement& place = w.driver_place;
+  ImGui::Separator();
+  ImGui::TextUnformatted("In the deformer stack");
+  int after = place.after < 0 ? int(w.layers.size()) : std::min(place.after, int(w.layers.size()));
+  ImGui::SliderInt("after layers", &after, 0, int(w.layers.size()));
+  if (ImGui::IsItemDeactivatedAfterEdit()) ws.set_driver_after(after == int(w.layers.size()) ? -1 : after);
+  hint("in order: the layers after it take over their regions; sum and blend add it to the result");
+  ImGui::PushItemWidth(-ImGui::CalcTextSize("mask joints Apply").x - 4 * ImGui::GetStyle().ItemInnerSpacing.x);
+  ImGui::InputText("##mask", mask_field_, sizeof mask_field_);
+  ImGui::PopItemWidth();
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("joints whose region (with their children) it may move, a,b,c; empty: no mask");
+  ImGui::SameLine();
+  if (ImGui::SmallButton("Apply")) ws.set_driver_mask(mask_field_);
+  ImGui::SameLine();
+  ImGui::TextUnformatted("mask joints");
+  hint("%s", place.mask ? ("mask: " + (place.mask_source.empty() ? std::string("painted") : place.mask_source)).c_str()
+                        : "no mask: it may move every skin point it reaches");
+  ImGui::TextUnformatted("Key the sculpt at this pose, against");
+  ImGui::TextUnformatted("the selected joint's rotation about");
+  for (int a = 0; a < 3; ++a) {
+    ImGui::SameLine();
+    const char label[2] = {char('X' + a), 0};
+    if (ImGui::SmallButton(label)) ws.key_driver_sculpt(a);
+  }
+  for (size_t i = 0; i < place.keyposes.size(); ++i) {
+    ImGui::PushID(static_cast<int>(i));
+    ImGui::BulletText("%s: %zu key%s", place.keyposes[i].name.c_str(), place.keyposes[i].keys.size(),
+                      place.keyposes[i].keys.size() == 1 ? "" : "s");
+    ImGui::SameLine();
+    if (ImGui::SmallButton("remove")) ws.remove_driver_keyset(i);
+    ImGui::PopID();
+  }
 }
 #endif  // CAGEWRAP_GUI
 

@@ -25,7 +25,11 @@ class PatchPanel {
   bool pick(Workspace& ws, const Camera& camera, Viewport viewport, glm::dvec2 pixel);
 
  private:
+#if CAGEWRAP_GUI
+  void draw_stack_place(Workspace& ws);
+#endif
   char path_field_[512] = "";
+  char mask_field_[256] = "";
 };
 
 }  // namespace cagewrap::app

@@ -11,6 +11,7 @@
 #include <glm/gtc/quaternion.hpp>
 #include <gtest/gtest.h>
 
+#include "core/cage/keyposes.h"
 #include "core/rig/rig.h"
 #include "tests/driver_fixtures.h"
 #include "tests/rig_fixtures.h"
@@ -70,6 +71,114 @@ TEST(DriverLayer, TheSculptIsAddedToTheCageSkinAndFollowsTheSkeleton) {
   auto idle_rig = Rig::create(idle);
   ASSERT_TRUE(idle_rig.ok());
   EXPECT_EQ(posed_skin(idle, *idle_rig, turn), ta);
+}
+
+uint32_t node_named(const Skeleton& sk, const std::string& name) {
+  for (uint32_t n = 0; n < sk.size(); ++n)
+    if (sk.node(n).name == name) return n;
+  ADD_FAILURE() << "no node " << name;
+  return 0;
+}
+
+double largest_distance(std::span<const glm::vec3> a, std::span<const glm::vec3> b) {
+  double d = 0.0;
+  for (size_t i = 0; i < a.size(); ++i) d = std::max(d, double(glm::distance(a[i], b[i])));
+  return d;
+}
+
+// The driver as a deformer of the stack (Document::driver_place): its mask scales its displacement per
+// point, its place decides whether a later layer takes over its region (in order), and its keyposes add a
+// sculpt at a joint angle that is not there at rest.
+TEST(DriverLayer, ItsMaskPlaceAndKeyposesMakeItADeformerOfTheStack) {
+  const Document plain = test::demo_document();
+  const Document driven = with_patch_driver(plain, test::chest_driver(0.06));
+  auto base_rig = Rig::create(plain);
+  auto driven_rig = Rig::create(driven);
+  ASSERT_TRUE(base_rig.ok() && driven_rig.ok());
+  const std::vector<glm::vec3> a = posed_skin(plain, *base_rig, {}), b = posed_skin(driven, *driven_rig, {});
+  ASSERT_GT(largest_distance(a, b), 0.01) << "the sculpt moves the chest";
+
+  // the mask: its right half (x >= 0) only; the rig made for the driver poses it (the mask is no bind input)
+  {
+    DriverPlacement place;
+    auto mask = std::make_shared<std::vector<float>>(a.size());
+    const std::span<const glm::vec3> rest = driven_rig->skin_rest();
+    for (size_t i = 0; i < mask->size(); ++i) (*mask)[i] = rest[i].x >= 0.0f ? 1.0f : 0.0f;
+    place.mask = mask;
+    const Document masked = with_driver_place(driven, place);
+    ASSERT_TRUE(driven_rig->fits(masked));
+    const std::vector<glm::vec3> m = posed_skin(masked, *driven_rig, {});
+    double left = 0.0, right = 0.0, right_moved = 0.0;
+    for (size_t i = 0; i < m.size(); ++i) {
+      if (rest[i].x < 0.0f) left = std::max(left, double(glm::distance(m[i], a[i])));
+      else right = std::max(right, double(glm::distance(m[i], b[i]))), right_moved = std::max(right_moved, double(glm::distance(a[i], b[i])));
+    }
+    EXPECT_EQ(left, 0.0) << "masked out: the cage's skin alone";
+    EXPECT_LT(right, 1e-6) << "mask 1: the whole sculpt";
+    EXPECT_GT(right_moved, 0.005) << "the half kept is one the sculpt moves";
+  }
+
+  // the place: a layer (the same cage, every point) after the driver takes over in order; before it, not
+  {
+    std::vector<DeformerLayer> layers(1);
+    layers[0].name = "over";
+    layers[0].cage = plain.cage;
+    layers[0].params = plain.params;
+    layers[0].attachment = plain.attachment;
+    DriverPlacement first;
+    first.after = 0;
+    const Document under = with_driver_place(with_layers(driven, layers), first);
+    const Document over = with_layers(driven, layers);  // after = -1: after every layer
+    auto stack_rig = Rig::create(under);
+    ASSERT_TRUE(stack_rig.ok()) << stack_rig.error().message;
+    ASSERT_TRUE(stack_rig->fits(over));
+    const std::vector<glm::vec3> s_under = posed_skin(under, *stack_rig, {}), s_over = posed_skin(over, *stack_rig, {});
+    EXPECT_LT(largest_distance(s_under, a), 1e-5) << "the layer after the driver gives its own skin: the sculpt is gone";
+    EXPECT_LT(largest_distance(s_over, b), 1e-5) << "the driver after the layer: the sculpt on it";
+    // sum and blend have no order: the driver is added to the combined skin wherever it sits
+    DeformerStack sum;
+    sum.mode = StackMode::kSum;
+    sum.base_muted = true;  // f_0 = p, so the sum is the layer's skin
+    const std::vector<glm::vec3> s_sum = posed_skin(with_stack(under, sum), *stack_rig, {});
+    EXPECT_LT(largest_distance(s_sum, b), 1e-5);
+  }
+
+  // keyposes: the sculpt keyed at 40 degrees of the spine about its X; none at rest, all of it at 40
+  {
+    const Skeleton& sk = plain.character->skeleton;
+    const Document idle_doc = with_patch_driver(plain, test::chest_driver(0.0));
+    KeyposeSet set;
+    set.name = "spine_X";
+    JointDriver jd;
+    jd.node = node_named(sk, "spine");
+    set.drivers.push_back(jd);
+    const std::vector<glm::dvec3> sculpted = test::chest_driver(0.06)->posed.control_points(),
+                                  rest = test::chest_driver(0.0)->rest.control_points();
+    std::vector<glm::vec3> delta(rest.size());
+    for (size_t c = 0; c < rest.size(); ++c) delta[c] = glm::vec3(sculpted[c] - rest[c]);
+    DriverPlacement place;
+    place.keyposes.push_back(key_sculpt(set, {40.0}, delta));
+    const Document keyed = with_driver_place(idle_doc, place);
+    auto keyed_rig = Rig::create(keyed);
+    ASSERT_TRUE(keyed_rig.ok());
+    const Pose at_rest = compose_pose(*plain.character, -1, 0.0, false);
+    const Pose bent = pose_at_driver_values(set, std::vector<double>{40.0}, sk, at_rest);
+    const Pose half = pose_at_driver_values(set, std::vector<double>{20.0}, sk, at_rest);
+    auto pose = [](Rig& rig, const Document& doc, const Pose& p) {
+      std::vector<glm::vec3> skin(rig.num_skin_points());
+      PosedCage cage;
+      EXPECT_TRUE(rig.pose(doc, p, cage, skin).ok());
+      return skin;
+    };
+    EXPECT_EQ(largest_distance(pose(*keyed_rig, keyed, at_rest), pose(*base_rig, plain, at_rest)), 0.0) << "no sculpt at rest";
+    const std::vector<glm::vec3> k40 = pose(*keyed_rig, keyed, bent), s40 = pose(*driven_rig, driven, bent);
+    EXPECT_LT(largest_distance(k40, s40), 1e-6) << "at the key: the sculpt, carried by the bent spine";
+    const double full = largest_distance(s40, pose(*base_rig, plain, bent));
+    EXPECT_GT(full, 0.01);
+    const double at_half = largest_distance(pose(*keyed_rig, keyed, half), pose(*base_rig, plain, half));
+    EXPECT_GT(at_half, 0.3 * full) << "between the keys: part of it (linear)";
+    EXPECT_LT(at_half, 0.7 * full);
+  }
 }
 
 }  // namespace

@@ -234,6 +234,59 @@ TEST_F(ProjectIoTest, CagePositionsRoundTripBitForBit) {
   EXPECT_TRUE(same_content(doc, back));
 }
 
+// The driver's place in the stack, mask and keyposes (Document::driver_place) are saved inside "patch_driver"
+// only when set; a file without them (every project before them) opens with the driver after every layer.
+TEST_F(ProjectIoTest, ParametricDriverPlaceMaskAndKeyposesRoundTrip) {
+  Document doc = make_doc();
+  PatchDriver d;
+  d.rest = PatchSurface{{test::wavy_grid(4, 5)}};
+  d.posed = d.rest;
+  doc = with_patch_driver(doc, std::make_shared<const PatchDriver>(d));
+  ASSERT_TRUE(save_project(path("unplaced.cagewrap"), doc).ok());
+  EXPECT_EQ(read_text(path("unplaced.cagewrap")).find("\"after\""), std::string::npos);
+  EXPECT_EQ(load_ok(path("unplaced.cagewrap")).document.driver_place, DriverPlacement{});
+  EXPECT_EQ(DriverPlacement{}.after, -1);
+
+  DriverPlacement place;
+  place.after = 0;
+  auto mask = std::make_shared<std::vector<float>>(doc.character->num_vertices(), 0.25f);
+  (*mask)[0] = 1.0f;
+  place.mask = mask;
+  place.mask_source = "joints spine";
+  KeyposeSet set;
+  set.name = "bend";
+  set.drivers.push_back(JointDriver{});
+  set.keys.push_back(make_key({30.0}, std::vector<glm::vec3>{glm::vec3(0.0f), glm::vec3(0.0f, 0.125f, -0.5f)}));
+  place.keyposes.push_back(set);
+  doc = with_driver_place(doc, place);
+  const std::string project = path("placed.cagewrap");
+  ASSERT_TRUE(save_project(project, doc).ok());
+  ProjectLoad loaded = load_ok(project);
+  EXPECT_TRUE(loaded.warnings.empty());
+  EXPECT_EQ(loaded.document.driver_place, place);
+  EXPECT_TRUE(same_content(doc, loaded.document));
+  EXPECT_FALSE(same_content(doc, with_driver_place(doc, DriverPlacement{})));
+  ASSERT_TRUE(save_project(path("placed_again.cagewrap"), loaded.document).ok());
+  EXPECT_EQ(read_text(path("placed_again.cagewrap")), read_text(project));
+
+  const Json saved = Json::parse(read_text(project))["patch_driver"];
+  auto with = [&](auto change) {
+    return error_after([&](Json& j) {
+      j["patch_driver"] = saved;
+      change(j["patch_driver"]);
+    });
+  };
+  Error e = with([](Json& p) { p["mask"].erase(0); });
+  EXPECT_EQ(e.code, ErrorCode::kTopologyMismatch);
+  EXPECT_CONTAINS(e.message, "patch_driver.mask has");
+  e = with([](Json& p) { p["mask"][3] = 1.5; });
+  EXPECT_CONTAINS(e.message, "patch_driver.mask[3] should be in [0, 1]");
+  e = with([](Json& p) { p["keyposes"][0]["keys"][0]["vertices"][0] = 20; });  // the driver has 20 control points: 0..19
+  EXPECT_CONTAINS(e.message, "20");
+  e = with([](Json& p) { p["after"] = -2; });
+  EXPECT_CONTAINS(e.message, "patch_driver.after");
+}
+
 TEST_F(ProjectIoTest, DriverOffsetsRoundTripAndMustMatchTheCage) {
   Document doc = make_doc();
   std::vector<glm::vec3> offsets(doc.cage->num_vertices(), glm::vec3(0.f));

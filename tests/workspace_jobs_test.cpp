@@ -110,6 +110,53 @@ TEST_F(WorkspacePatchTest, FitMovesUndoDensityAndCancel) {
     for (size_t i = 0; i < expected.size(); ++i) gap = std::max(gap, double(glm::distance(expected[i], ws.scene()->skin_posed()[i])));
     EXPECT_LT(gap, 1e-5 * ws.scene()->skin_diagonal);
   }
+  // the driver as a deformer of the stack: its sculpt keyed against the spine's X at this pose, a mask, a
+  // place; each one undo step, and the frame still the rig's (pose, the exports)
+  {
+    const auto frame_gap = [this] {
+      ws.update_pose();
+      EXPECT_TRUE(ws.scene()->skin_driven());
+      auto rig = Rig::create(doc());
+      EXPECT_TRUE(rig.ok()) << rig.error().message;
+      if (!rig) return 1.0;
+      std::vector<glm::vec3> expected(rig->num_skin_points());
+      PosedCage cage;
+      const auto& pb = ws.view.playback;
+      EXPECT_TRUE(rig->pose_clip(doc(), pb.clip, pb.player.time(), pb.pose_override, cage, expected).ok());
+      double gap = 0.0;
+      for (size_t i = 0; i < expected.size(); ++i) gap = std::max(gap, double(glm::distance(expected[i], ws.scene()->skin_posed()[i])));
+      return gap / ws.scene()->skin_diagonal;
+    };
+    const Skeleton& sk = doc().character->skeleton;
+    uint32_t spine = 0;
+    for (uint32_t n = 0; n < sk.size(); ++n)
+      if (sk.node(n).name == "spine") spine = n;
+    const size_t before_key = undo_steps();
+    const PatchDriver sculpted = *doc().patch_driver;
+    ws.run("patch_key X");
+    EXPECT_TRUE(logged("select the joint whose rotation keys the sculpt")) << "no joint selected: refused";
+    ws.run("select_joint " + std::to_string(spine));
+    ws.run("patch_key X");
+    EXPECT_EQ(undo_steps(), before_key + 1);
+    ASSERT_EQ(doc().driver_place.keyposes.size(), 1u);
+    EXPECT_EQ(doc().driver_place.keyposes[0].name, "spine_X");
+    EXPECT_TRUE(doc().patch_driver->posed == doc().patch_driver->rest) << "the sculpt went into the key";
+    EXPECT_LT(frame_gap(), 1e-5);
+    ws.run("patch_mask joints chest,nope");
+    EXPECT_TRUE(logged("nope")) << "an unknown joint is named";
+    ws.run("patch_mask joints chest");
+    ASSERT_TRUE(doc().driver_place.mask);
+    EXPECT_EQ(doc().driver_place.mask_source, "joints chest");
+    EXPECT_LT(frame_gap(), 1e-5);
+    ws.run("patch_after 0");
+    EXPECT_EQ(doc().driver_place.after, 0);
+    EXPECT_EQ(undo_steps(), before_key + 3);
+    ws.run("undo");
+    ws.run("undo");
+    ws.run("undo");
+    EXPECT_EQ(doc().driver_place, DriverPlacement{});
+    EXPECT_TRUE(*doc().patch_driver == sculpted) << "the sculpt is back";
+  }
   ws.run("clip rest");
 
   // undo and redo the second move

@@ -162,6 +162,7 @@ const Document& Scene::view() const {
     Document v = deformer_document(w, active_);
     // the document-wide fields stay the document's: the parametric driver, the project's storage
     v.patch_driver = w.patch_driver;
+    v.driver_place = w.driver_place;
     v.binding_cache = {};
     v.revision = next_revision();  // not the document's: what is keyed on it (GPU copies, caches) sees another cage
     view_ = std::move(v);
@@ -194,6 +195,7 @@ Document Scene::to_work(const Document& next, const Document& base) const {
   out.character_hash = next.character_hash;
   out.embedded_character = next.embedded_character;
   out.patch_driver = next.patch_driver;
+  out.driver_place = next.driver_place;
   out.cache_binding = next.cache_binding;
   out.preserved_fields = next.preserved_fields;
   out.revision = next_revision();
@@ -428,11 +430,11 @@ void Scene::retry_stack_binds() {
   update_stack_rigs();
 }
 
-void Scene::pose_stack(const Playback& pb) {
+void Scene::pose_stack(const Playback& pb, std::span<const glm::vec3> driver) {
   const Document& w = history_.current();
   stack_ready_ = std::all_of(stack_rigs.begin(), stack_rigs.end(), [](const StackRig& r) { return r.rig != nullptr; });
-  if (!stack_ready_) return;  // the active deformer's skin alone until every rig is ready
   for (StackRig& r : stack_rigs) {
+    if (!stack_ready_) break;  // the active deformer's skin alone (and the driver) until every rig is ready
     r.skin.resize(skin_rest.size());
     Status s = Ok{};
     if (!r.rig->fits(r.doc)) s = make_error(ErrorCode::kInvalidArgument, "its rig is out of date");
@@ -442,8 +444,11 @@ void Scene::pose_stack(const Playback& pb) {
       r.error = s.error().message;
       r.rig.reset();
       stack_ready_ = false;
-      return;
     }
+  }
+  if (!stack_ready_) {
+    add_driver_alone(driver);
+    return;
   }
   const auto skin_of = [&](size_t d) -> const std::vector<glm::vec3>* {
     if (d == active_) return &skin_posed_;
@@ -452,8 +457,31 @@ void Scene::pose_stack(const Playback& pb) {
     return nullptr;
   };
   std::vector<glm::vec3> out;
-  if (combine_document_stack(w, skin_rest, skin_of, out).ok()) skin_posed_ = std::move(out);
-  else stack_ready_ = false;
+  if (combine_document_stack(w, skin_rest, skin_of, out, driver).ok()) {
+    skin_posed_ = std::move(out);
+    skin_driven_ = !driver.empty();
+  } else {
+    stack_ready_ = false;
+  }
+}
+
+void Scene::add_driver_alone(std::span<const glm::vec3> driver) {
+  if (driver.empty()) return;
+  const auto& m = history_.current().driver_place.mask;
+  if (m && m->size() != skin_posed_.size()) return;
+  for (size_t i = 0; i < skin_posed_.size(); ++i)
+    skin_posed_[i] = glm::vec3(glm::dvec3(skin_posed_[i]) + (m ? double((*m)[i]) : 1.0) * glm::dvec3(driver[i]));
+  skin_driven_ = true;
+}
+
+bool Scene::driver_displacement() {
+  const Document& d = doc();
+  const std::vector<KeyposeSet>& keyed = d.driver_place.keyposes;
+  driver_offsets_.assign(keyed.empty() ? 0 : driver_binding.layer->num_control_points(), glm::vec3(0.0f));
+  if (!keyed.empty()) evaluate_keyposes(keyed, d.character->skeleton, pose_, driver_offsets_);
+  driver_delta_.resize(skin_rest.size());
+  auto any = driver_binding.layer->displacement(*d.patch_driver, driver_offsets_, joint_globals, driver_delta_);
+  return any.ok() && *any;
 }
 
 void Scene::document_changed() {
@@ -583,7 +611,7 @@ bool Scene::driver_bound() const {
 
 bool Scene::driving() const {
   const auto& d = doc().patch_driver;
-  return d && d->drive_skin && driver_binding.layer && driver_bound() && driver_binding.layer->fits(*d);
+  return driver_moves_skin(history_.current()) && d && driver_binding.layer && driver_bound() && driver_binding.layer->fits(*d);
 }
 
 void Scene::update_pose(const Playback& pb) {
@@ -601,6 +629,9 @@ void Scene::update_pose(const Playback& pb) {
 
   skin_from_cage = false;
   skin_driven_ = false;
+  // the parametric driver's displacement (its sculpt and keyposes, carried by the skeleton), added where it
+  // sits in the stack as Rig adds it
+  const bool driven = !show_file_skinning && driving() && driver_displacement();
   const auto& cage = doc().cage;
   if (cage) {
     // the driver: rest cage + the artist's offsets + keyposes, carried by the skeleton (core/rig/rig.h)
@@ -622,17 +653,18 @@ void Scene::update_pose(const Playback& pb) {
       const bool on_gpu = skin_on_gpu && !stacked();  // a stack is combined on the CPU
       auto s = on_gpu ? deformer->update_maps(posed.positions, cage_vertex_frames(*binding, posed))
                       : deform_through_cage(*deformer, posed, skin_posed_);
-      if (s.ok() && !on_gpu && cage_stack() && !show_file_skinning) pose_stack(pb);
+      if (s.ok() && !on_gpu && !show_file_skinning && stacked()) pose_stack(pb, driven ? std::span<const glm::vec3>(driver_delta_) : std::span<const glm::vec3>());
       deform_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
       skin_from_cage = s.ok();
     }
   }
   if (show_file_skinning) skin_from_cage = false;
   skin_stale_ = skin_from_cage && skin_on_gpu && !stacked();
-  if (!skin_from_cage) skin_posed_ = skin_character(ch, pose);
-  // the parametric driver's sculpt, carried by the skeleton (core/rig/driver_layer.h, as Rig adds it)
-  if (!show_file_skinning && driving())
-    skin_driven_ = driver_binding.layer->add(*doc().patch_driver, joint_globals, skin_posed_).ok();
+  if (!skin_from_cage) {
+    skin_posed_ = skin_character(ch, pose);
+    // no binding yet: the driver's sculpt on the file's own skinning
+    if (driven) add_driver_alone(driver_delta_);
+  }
 }
 
 ClipSimulation* Scene::simulation(int32_t clip) {

@@ -270,7 +270,15 @@ struct Scene {
   };
   std::optional<HandedOver> handed_over_;
   void update_stack_rigs();
-  void pose_stack(const Playback& pb);
+  // The other deformers' skins combined with the active one's in skin_posed_, and `driver` (the parametric
+  // driver's displacement, or empty) at its place (core/rig/deformer_stack.h combine_document_stack).
+  void pose_stack(const Playback& pb, std::span<const glm::vec3> driver);
+  // The parametric driver's displacement at this frame (its sculpt and keyposes, carried by the skeleton)
+  // into driver_delta_; false when it adds nothing (no sculpt) or fails.
+  bool driver_displacement();
+  // skin_posed_ += the driver's mask * `driver` (the stack's other deformers not ready, or no binding yet).
+  void add_driver_alone(std::span<const glm::vec3> driver);
+  std::vector<glm::vec3> driver_delta_, driver_offsets_;  // #P, #C
   bool stack_ready_ = true;
   std::shared_ptr<const Cage> pending_cage_;   // the cage the running job binds
   std::vector<SetEdit> pending_edits_, bound_edits_;  // the set edits of the running job / the binding

@@ -226,6 +226,14 @@ class Workspace {
   bool move_patch_point(const glm::dvec3& delta);      // the selected control point
   bool set_patch_drive(bool drive);
   bool reset_patch_driver();                           // the control points back to rest
+  // The driver as a deformer of the stack (Document::driver_place, docs/deformer-stack.md), each one undo step:
+  bool set_driver_after(int after);                    // after that many layers (-1: after them all)
+  bool set_driver_mask(const std::string& joints);     // these joints' region (a,b,c); "" = no mask
+  // Keys the driver's sculpt (posed minus rest control points) against the selected joint's rotation about
+  // its local axis (0 X, 1 Y, 2 Z) at the current pose, in the driver's keypose set for it (made when
+  // missing), and puts the control points back at rest: posed, the keyposes bring the sculpt back.
+  bool key_driver_sculpt(int axis);
+  bool remove_driver_keyset(size_t i);
   void bind_patch_driver();                            // binds the document's driver again (after a failure)
   void cancel_patch_bind();
   // `from` with the selected control point moved by `total` (a drag rebuilds from its start).

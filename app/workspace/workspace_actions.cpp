@@ -334,6 +334,36 @@ void Workspace::add_actions() {
   add_bind("patch_bind", "", "Binds the document's driver to the skin again.", [this](std::istringstream&) { bind_patch_driver(); });
   add_bind("patch_cancel", "", "Cancels the driver's bind under way (the driver is unchanged).",
       [this](std::istringstream&) { cancel_patch_bind(); });
+  add("patch_after", "K|last", "Where the driver sits in the stack: after K layers (0: right after the document's cage), or after them all.",
+      [this](std::istringstream& in) {
+        std::string k;
+        in >> k;
+        char* end = nullptr;
+        const long v = std::strtol(k.c_str(), &end, 10);
+        if (k == "last") set_driver_after(-1);
+        else if (k.empty() || *end || v < 0) fail("patch_after K|last");
+        else set_driver_after(static_cast<int>(v));
+      });
+  add("patch_mask", "joints a,b,c | none", "The skin the driver may move: these joints' region (feathered by the skin weights), or all of it.",
+      [this](std::istringstream& in) {
+        std::string kind, joints;
+        in >> kind >> joints;
+        if (kind == "none") set_driver_mask("");
+        else if (kind == "joints" && !joints.empty()) set_driver_mask(joints);
+        else fail("patch_mask joints a,b,c | none");
+      });
+  add("patch_key", "X|Y|Z", "Keys the driver's sculpt against the selected joint's rotation about its local axis at this pose (the control points go back to rest).",
+      [this](std::istringstream& in) {
+        std::string a;
+        in >> a;
+        if (a != "X" && a != "Y" && a != "Z") return fail("patch_key X|Y|Z");
+        key_driver_sculpt(a[0] - 'X');
+      });
+  add("patch_keyset_remove", "I", "Removes the driver's keypose set I.", [this](std::istringstream& in) {
+    size_t i = 0;
+    if (!(in >> i)) return fail("patch_keyset_remove I");
+    remove_driver_keyset(i);
+  });
   add("patch_panel", "", "Edits the parametric driver: clicks pick control points, the move gizmo moves them.",
       [this](std::istringstream&) { view.patch.editing = true; });
 

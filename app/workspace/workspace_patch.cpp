@@ -5,6 +5,10 @@
 #include <utility>
 
 #include "app/workspace/workspace.h"
+#include <cmath>
+#include <sstream>
+
+#include "core/character/skin_mask.h"
 #include "core/deform/patch_fit.h"
 #include "core/io/patch_io.h"
 
@@ -216,6 +220,107 @@ bool Workspace::set_patch_drive(bool drive) {
 
 bool Workspace::reset_patch_driver() {
   return change_patch_driver([](PatchDriver& d) { d.posed = d.rest; }, "Reset the control points");
+}
+
+// ---- the driver as a deformer of the stack (Document::driver_place): its place, mask and keyposes
+
+bool Workspace::set_driver_after(int after) {
+  if (!scene_ || !scene_->doc().patch_driver) {
+    fail(kNoDriver);
+    return false;
+  }
+  const Document& w = scene_->work();
+  if (after > static_cast<int>(w.layers.size())) {
+    fail("parametric driver: it goes after 0 to " + std::to_string(w.layers.size()) + " layers (-1: after them all)");
+    return false;
+  }
+  DriverPlacement place = w.driver_place;
+  place.after = after < 0 ? -1 : after;
+  const std::string label = after < 0 ? std::string("Put the driver after every layer")
+                                      : "Put the driver after " + std::to_string(after) + " layer" + (after == 1 ? "" : "s");
+  if (!scene_->apply_work(label, with_driver_place(w, std::move(place)))) return false;
+  log(label);
+  return true;
+}
+
+bool Workspace::set_driver_mask(const std::string& joints) {
+  if (!scene_ || !scene_->doc().patch_driver) {
+    fail(kNoDriver);
+    return false;
+  }
+  const Document& w = scene_->work();
+  DriverPlacement place = w.driver_place;
+  if (joints.empty()) {
+    place.mask = nullptr;
+    place.mask_source.clear();
+  } else {
+    std::vector<std::string> names;
+    std::stringstream in(joints);
+    for (std::string item; std::getline(in, item, ',');)
+      if (!item.empty()) names.push_back(item);
+    auto mask = joint_region_mask(*w.character, names);
+    if (!mask) {
+      fail("parametric driver: mask: " + mask.error().message);
+      return false;
+    }
+    place.mask = std::make_shared<const std::vector<float>>(std::move(mask).value());
+    place.mask_source = "joints " + joints;
+  }
+  const std::string label = joints.empty() ? std::string("Remove the driver's mask") : "Mask the driver to " + joints;
+  if (!scene_->apply_work(label, with_driver_place(w, std::move(place)))) return false;
+  log(label);
+  return true;
+}
+
+bool Workspace::key_driver_sculpt(int axis) {
+  if (!scene_ || !scene_->doc().patch_driver) {
+    fail(kNoDriver);
+    return false;
+  }
+  const Document& doc = scene_->doc();
+  if (view.selection.joints.size() != 1) {
+    fail("parametric driver: select the joint whose rotation keys the sculpt (F8)");
+    return false;
+  }
+  const uint32_t node = view.selection.joints.indices()[0];
+  KeyposeSet set;
+  set.name = doc.character->skeleton.node(node).name + "_" + "XYZ"[axis % 3];
+  JointDriver jd;
+  jd.node = node;
+  jd.axis = glm::vec3(0.f);
+  jd.axis[axis % 3] = 1.f;
+  set.drivers.push_back(jd);
+  DriverPlacement place = doc.driver_place;
+  for (const KeyposeSet& k : place.keyposes)
+    if (k.name == set.name && k.drivers == set.drivers) set = k;  // key into the existing set
+  std::vector<double> values = driver_values(set, doc.character->skeleton, current_pose());
+  for (double& v : values) v = std::round(v * 10.0) / 10.0;  // keys at tenths of a degree
+  // the sculpt since the last key (posed minus rest control points, bind space) goes into the key
+  const std::vector<glm::dvec3> posed = doc.patch_driver->posed.control_points(), rest = doc.patch_driver->rest.control_points();
+  std::vector<glm::vec3> delta(posed.size());
+  for (size_t c = 0; c < posed.size(); ++c) delta[c] = glm::vec3(posed[c] - rest[c]);
+  upsert_keypose_set(place.keyposes, cagewrap::key_sculpt(set, values, delta));
+  PatchDriver d = *doc.patch_driver;
+  d.posed = d.rest;
+  char label[160];
+  std::snprintf(label, sizeof label, "Key the driver's sculpt: %s at %.1f", set.name.c_str(), values.empty() ? 0.0 : values[0]);
+  scene_->apply(label, with_driver_place(with_patch_driver(doc, std::make_shared<const PatchDriver>(std::move(d))), std::move(place)));
+  log(label);
+  return true;
+}
+
+bool Workspace::remove_driver_keyset(size_t i) {
+  const size_t n = scene_ ? scene_->work().driver_place.keyposes.size() : 0;
+  if (i >= n) {
+    fail("parametric driver: no keypose set " + std::to_string(i) + " (it has " + std::to_string(n) + ")");
+    return false;
+  }
+  DriverPlacement place = scene_->work().driver_place;
+  const std::string label = "Remove the driver's keypose set " + place.keyposes[i].name;
+  place.keyposes.erase(place.keyposes.begin() + static_cast<long>(i));
+  if (!scene_->apply_work(label, with_driver_place(scene_->work(), std::move(place)))) return false;
+  log(label);
+  return true;
 }
 
 }  // namespace cagewrap::app

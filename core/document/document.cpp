@@ -117,6 +117,23 @@ Document with_patch_driver(const Document& doc, std::shared_ptr<const PatchDrive
   return out;
 }
 
+Document with_driver_place(const Document& doc, DriverPlacement place) {
+  Document out = doc;
+  out.driver_place = std::move(place);
+  out.revision = next_revision();
+  return out;
+}
+
+size_t driver_position(const Document& doc) {
+  const int32_t a = doc.driver_place.after;
+  return a < 0 ? doc.layers.size() : std::min(static_cast<size_t>(a), doc.layers.size());
+}
+
+bool driver_moves_skin(const Document& doc) {
+  const bool solo = doc.stack.solo >= 0 && static_cast<size_t>(doc.stack.solo) < deformer_count(doc);
+  return doc.patch_driver && doc.patch_driver->drive_skin && !solo;
+}
+
 Document with_layers(const Document& doc, std::vector<DeformerLayer> layers) {
   for (const DeformerLayer& l : layers) CAGEWRAP_CHECK(l.cage != nullptr, "a deformer layer needs a cage");
   Document out = doc;
@@ -144,6 +161,7 @@ Document layer_document(const Document& doc, size_t i) {
   out.keyposes = l.keyposes;
   out.sim = l.sim;
   out.patch_driver = nullptr;
+  out.driver_place = {};
   out.layers.clear();
   out.stack = {};
   out.binding_cache = l.binding_cache;
@@ -154,6 +172,12 @@ bool deformer_muted(const Document& doc, size_t d) {
   if (doc.stack.solo >= 0 && static_cast<size_t>(doc.stack.solo) < deformer_count(doc)) return d != static_cast<size_t>(doc.stack.solo);
   if (d == 0) return doc.stack.base_muted;
   return d - 1 < doc.layers.size() ? doc.layers[d - 1].muted : true;
+}
+
+size_t moving_deformers(const Document& doc) {
+  size_t n = 0;
+  for (size_t d = 0; d < deformer_count(doc); ++d) n += !deformer_muted(doc, d);
+  return n;
 }
 
 bool deformer_hidden(const Document& doc, size_t d) {
@@ -171,6 +195,7 @@ Document deformer_document(const Document& doc, size_t d) {
   if (d > 0) return layer_document(doc, d - 1);
   Document out = doc;
   out.patch_driver = nullptr;
+  out.driver_place = {};
   out.layers.clear();
   out.stack = {};
   return out;  // the same revision, like layer_document
@@ -283,7 +308,8 @@ bool same_content(const Document& a, const Document& b) {
          same_offsets(a.cage_offsets, b.cage_offsets) && same_params(a.params, b.params) &&
          same_set_edits(a.set_edits, b.set_edits) && a.attachment == b.attachment &&
          a.keyposes == b.keyposes && a.sim == b.sim &&
-         same_patch_driver(a.patch_driver.get(), b.patch_driver.get()) && a.preserved_fields == b.preserved_fields &&
+         same_patch_driver(a.patch_driver.get(), b.patch_driver.get()) && a.driver_place == b.driver_place &&
+         a.preserved_fields == b.preserved_fields &&
          same_layers(a.layers, b.layers) && a.stack == b.stack;
 }
 
@@ -334,7 +360,7 @@ size_t estimated_own_bytes(const Document& doc) {
     }
     return n;
   };
-  n += keyposes(doc.keyposes) - vector_bytes(doc.keyposes);
+  n += keyposes(doc.keyposes) - vector_bytes(doc.keyposes) + keyposes(doc.driver_place.keyposes) + doc.driver_place.mask_source.size();
   n += vector_bytes(doc.layers);
   for (const DeformerLayer& l : doc.layers) {
     n += l.name.size() + l.mask_source.size() + vector_bytes(l.set_edits) + vector_bytes(l.cage_offsets) +

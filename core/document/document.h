@@ -87,6 +87,30 @@ struct DeformerStack {
   bool operator==(const DeformerStack&) const = default;
 };
 const char* stack_mode_name(StackMode mode);               // "in_order", "sum", "blend"
+
+// The parametric driver as a deformer of the stack (issue 21, docs/deformer-stack.md): where it sits,
+// which skin points it may move and its keyposes. Its sculpt (the posed control points minus the rest
+// ones, plus the keyposes' offsets at the pose, in bind space) is carried by the skeleton and gives a
+// displacement of the skin (core/rig/driver_layer.h), scaled per point by the mask. Its on/off switch
+// is PatchDriver::drive_skin; a soloed deformer leaves it out like the others.
+struct DriverPlacement {
+  // How many of the document's layers come before it: 0 = right after the document's cage, so that
+  // every layer may take over its region; -1 (or more than there are) = after them all, as projects
+  // before this field had it. Only kInOrder has an order: sum and blend add the driver's displacement
+  // to the combined skin.
+  int32_t after = -1;
+  // How much of its displacement each skin point takes, in [0, 1] (#P, skin_character order); null =
+  // all of it (within the driver's own reach).
+  std::shared_ptr<const std::vector<float>> mask;
+  std::string mask_source;  // how the mask was made ("joints spine,chest"; "" = none or painted)
+  // Control point offsets keyed against joint angles (core/cage/keyposes.h: a key's "vertices" are
+  // control points, global index grid by grid), added to the sculpt at each pose.
+  std::vector<KeyposeSet> keyposes;
+  bool operator==(const DriverPlacement& o) const {
+    return after == o.after && (mask == o.mask || (mask && o.mask && *mask == *o.mask)) && mask_source == o.mask_source &&
+           keyposes == o.keyposes;
+  }
+};
 bool parse_stack_mode(std::string_view name, StackMode& out);
 
 struct Document {
@@ -115,6 +139,9 @@ struct Document {
   // The parametric driver (core/deform/patch_surface.h, docs/parametric-drivers.md); null = none. Replaced,
   // never mutated, like the cage.
   std::shared_ptr<const PatchDriver> patch_driver;
+  // Its place in the deformer stack, mask and keyposes (kept when the driver is replaced; ignored
+  // without one).
+  DriverPlacement driver_place;
   // More deformers of the skin (issue 21): each a cage of its own, combined with the document's cage
   // as `stack` says; empty = the document's cage alone.
   std::vector<DeformerLayer> layers;
@@ -163,6 +190,12 @@ Document with_attachment(const Document& doc, AttachmentSettings attachment);
 Document with_keyposes(const Document& doc, std::vector<KeyposeSet> keyposes);
 Document with_sim(const Document& doc, SimSettings sim);
 Document with_patch_driver(const Document& doc, std::shared_ptr<const PatchDriver> driver);
+Document with_driver_place(const Document& doc, DriverPlacement place);
+// Where the driver sits among the layers: driver_place.after clamped to [0, layers.size()].
+size_t driver_position(const Document& doc);
+// Whether the document's parametric driver moves the skin: it has one, drive_skin is on and no
+// deformer is soloed.
+bool driver_moves_skin(const Document& doc);
 // The character file moved (or was replaced): new path, hash and data.
 Document with_character(const Document& doc, std::shared_ptr<const Character> character, std::string path,
                         std::string hash);
@@ -179,6 +212,8 @@ Document layer_document(const Document& doc, size_t i);
 inline size_t deformer_count(const Document& doc) { return 1 + doc.layers.size(); }
 // Whether deformer `d` is left out of the stack: muted, or another one is soloed.
 bool deformer_muted(const Document& doc, size_t d);
+// How many deformers move the skin (those deformer_muted leaves in).
+size_t moving_deformers(const Document& doc);
 bool deformer_hidden(const Document& doc, size_t d);
 // "cage" for 0, else the layer's name.
 std::string deformer_name(const Document& doc, size_t d);

@@ -102,10 +102,11 @@ std::string attachment_text(const Document& doc) {
   return s;
 }
 
-std::string keyposes_text(const Document& doc) {
+// "keyposes": `sets` (the document's own, a layer's or the parametric driver's).
+std::string keyposes_text(const Document& doc, std::span<const KeyposeSet> sets) {
   std::string s = "  \"keyposes\": [";
-  for (size_t i = 0; i < doc.keyposes.size(); ++i) {
-    const KeyposeSet& k = doc.keyposes[i];
+  for (size_t i = 0; i < sets.size(); ++i) {
+    const KeyposeSet& k = sets[i];
     s += std::string(i ? "," : "") + "\n    {\"name\": " + Json(k.name).dump() + ",\n     \"drivers\": [";
     for (size_t d = 0; d < k.drivers.size(); ++d) {
       const JointDriver& dr = k.drivers[d];
@@ -128,7 +129,7 @@ std::string keyposes_text(const Document& doc) {
     }
     s += k.keys.empty() ? "]}" : "\n     ]}";
   }
-  s += doc.keyposes.empty() ? "],\n" : "\n  ],\n";
+  s += sets.empty() ? "],\n" : "\n  ],\n";
   return s;
 }
 
@@ -177,8 +178,22 @@ std::string simulation_text(const Document& doc) {
   return s;
 }
 
+// "mask": a deformer's skin mask, 16 weights a line; `what` names the deformer in errors.
+Result<std::string> mask_text(const std::string& path, const std::string& what, const std::vector<float>& mask) {
+  std::string s = "  \"mask\": [";
+  for (size_t p = 0; p < mask.size(); ++p) {
+    const float w = mask[p];
+    if (!(w >= 0.0f && w <= 1.0f))
+      return make_error(ErrorCode::kInvalidArgument, path + ": not saved: " + what + ": mask weight of skin vertex " +
+                                                         std::to_string(p) + " is not in [0, 1]");
+    s += std::string(p ? "," : "") + (p % 16 == 0 ? "\n    " : " ") + number(short_float(w));
+  }
+  return s + "\n  ],\n";
+}
+
 // "patch_driver" (only when the document has one): the rest grids in the .cwpatch layout, the
-// density, whether it drives the skin and the posed control points, grid by grid.
+// density, whether it drives the skin and the posed control points, grid by grid; then its place in the
+// stack, mask and keyposes (Document::driver_place) when they are not the defaults.
 Result<std::string> patch_driver_text(const std::string& path, const Document& doc) {
   if (!doc.patch_driver) return std::string();
   const PatchDriver& d = *doc.patch_driver;
@@ -197,7 +212,23 @@ Result<std::string> patch_driver_text(const std::string& path, const Document& d
   const std::vector<glm::dvec3> posed = d.posed.control_points();
   for (size_t k = 0; k < posed.size(); ++k)
     s += std::string(k ? ", " : "") + Json::array({posed[k].x, posed[k].y, posed[k].z}).dump();
-  return s + "]},\n";
+  s += "]";
+  const DriverPlacement& place = doc.driver_place;
+  if (place.after >= 0) s += ",\n    \"after\": " + std::to_string(place.after);
+  if (!place.mask_source.empty()) s += ",\n    \"mask_source\": " + Json(place.mask_source).dump();
+  if (place.mask) {
+    auto m = mask_text(path, "the parametric driver", *place.mask);
+    if (!m) return m.error();
+    s += ",\n" + m->substr(0, m->size() - 2);  // without its ",\n"
+  }
+  for (const KeyposeSet& k : place.keyposes)
+    if (auto v = validate_keypose_set(k, doc.character ? doc.character->skeleton.size() : SIZE_MAX, posed.size()); !v)
+      return make_error(v.error().code, path + ": not saved: the parametric driver's " + v.error().message);
+  if (!place.keyposes.empty()) {
+    const std::string k = keyposes_text(doc, place.keyposes);
+    s += ",\n" + k.substr(0, k.size() - 2);
+  }
+  return s + "},\n";
 }
 
 // "binding_cache": the record (its file relative to the project's folder), or {} when caching is on
@@ -259,7 +290,7 @@ Result<std::string> deformer_fields_text(const std::string& path, const Document
   }
   s += doc.set_edits.empty() ? "],\n" : "\n  ],\n";
   s += attachment_text(doc);
-  s += keyposes_text(doc);
+  s += keyposes_text(doc, doc.keyposes);
   if (auto v = validate_sim_settings(doc.sim, positions.size(), num_nodes); !v)
     return make_error(v.error().code, path + ": not saved: " + v.error().message);
   s += simulation_text(doc);
@@ -279,15 +310,9 @@ Result<std::string> layers_text(const std::string& path, const Document& doc, co
     if (!fields) return make_error(fields.error().code, fields.error().message + " (deformer '" + l.name + "')");
     s += std::string(i ? "," : "") + "\n  {\n" + *fields;
     if (l.mask) {
-      s += "  \"mask\": [";
-      for (size_t p = 0; p < l.mask->size(); ++p) {
-        const float w = (*l.mask)[p];
-        if (!(w >= 0.0f && w <= 1.0f))
-          return make_error(ErrorCode::kInvalidArgument, path + ": not saved: deformer '" + l.name + "': mask weight of skin vertex " +
-                                                             std::to_string(p) + " is not in [0, 1]");
-        s += std::string(p ? "," : "") + (p % 16 == 0 ? "\n    " : " ") + number(short_float(w));
-      }
-      s += "\n  ],\n";
+      auto m = mask_text(path, "deformer '" + l.name + "'", *l.mask);
+      if (!m) return m.error();
+      s += *m;
     }
     if (caches && i < caches->size()) s += binding_cache_text(path, (*caches)[i]);
     Json tail = {{"name", l.name}, {"muted", l.muted}};
@@ -606,7 +631,7 @@ std::shared_ptr<const PatchDriver> read_patch_driver(const Reader& r, const Json
     for (size_t k = 0; k < n; ++k) points[k] = read_dvec3(r, list[k], Reader::at("patch_driver.posed", k));
     d.posed.set_control_points(points);
   }
-  warn_unknown(j, "patch_driver", {"density", "drive_skin", "rest", "posed"}, warnings, file);
+  warn_unknown(j, "patch_driver", {"density", "drive_skin", "rest", "posed", "after", "mask", "mask_source", "keyposes"}, warnings, file);
   return std::make_shared<const PatchDriver>(std::move(d));
 }
 
@@ -790,6 +815,33 @@ void read_posing_fields(const Reader& r, const Json& root, const Character& char
 }
 
 // "deformers": each layer read like the document's own cage, its messages naming "deformers[i]".
+// A deformer's "mask": one weight in [0, 1] per skin vertex of the character.
+std::shared_ptr<const std::vector<float>> read_mask(const Reader& r, const Json& j, const std::string& where, const Character& character) {
+  const Json& m = r.array(j, where);
+  if (m.size() != character.num_vertices())
+    r.fail(ErrorCode::kTopologyMismatch, where + " has " + std::to_string(m.size()) + " weights but the character has " +
+                                             std::to_string(character.num_vertices()) + " vertices");
+  auto mask = std::make_shared<std::vector<float>>(m.size());
+  for (size_t p = 0; p < m.size(); ++p) {
+    const float w = r.finite_float(m[p], Reader::at(where, p));
+    if (w < 0.0f || w > 1.0f) r.fail(ErrorCode::kParse, Reader::at(where, p) + " should be in [0, 1], not " + Reader::show(m[p]));
+    (*mask)[p] = w;
+  }
+  return mask;
+}
+
+// The parametric driver's place in the stack, mask and keyposes ("patch_driver"'s "after", "mask",
+// "mask_source", "keyposes"), checked against the character and the driver's control points.
+DriverPlacement read_driver_place(const Reader& r, const Json& j, const Character& character, size_t num_control_points,
+                                  std::vector<std::string>& warnings, const std::string& file) {
+  DriverPlacement place;
+  if (j.contains("after")) place.after = static_cast<int32_t>(r.index(j["after"], "patch_driver.after"));
+  if (j.contains("mask_source")) place.mask_source = r.string(j["mask_source"], "patch_driver.mask_source");
+  if (j.contains("mask")) place.mask = read_mask(r, j["mask"], "patch_driver.mask", character);
+  if (j.contains("keyposes")) place.keyposes = read_keyposes(r, j["keyposes"], character, num_control_points, warnings, file);
+  return place;
+}
+
 std::vector<DeformerLayer> read_layers(const std::string& path, const Json& list, const Character& character,
                                        std::vector<std::string>& warnings) {
   Reader top(path);
@@ -811,19 +863,7 @@ std::vector<DeformerLayer> read_layers(const std::string& path, const Json& list
     l.muted = j.contains("muted") && r.boolean(j["muted"], "muted");
     l.hidden = j.contains("hidden") && r.boolean(j["hidden"], "hidden");
     if (j.contains("mask_source")) l.mask_source = r.string(j["mask_source"], "mask_source");
-    if (j.contains("mask")) {
-      const Json& m = r.array(j["mask"], "mask");
-      if (m.size() != character.num_vertices())
-        r.fail(ErrorCode::kTopologyMismatch, "mask has " + std::to_string(m.size()) + " weights but the character has " +
-                                                 std::to_string(character.num_vertices()) + " vertices");
-      auto mask = std::make_shared<std::vector<float>>(m.size());
-      for (size_t p = 0; p < m.size(); ++p) {
-        const float w = r.finite_float(m[p], Reader::at("mask", p));
-        if (w < 0.0f || w > 1.0f) r.fail(ErrorCode::kParse, Reader::at("mask", p) + " should be in [0, 1], not " + Reader::show(m[p]));
-        (*mask)[p] = w;
-      }
-      l.mask = std::move(mask);
-    }
+    if (j.contains("mask")) l.mask = read_mask(r, j["mask"], "mask", character);
     l.cage = d.cage;
     l.params = d.params;
     l.set_edits = std::move(d.set_edits);
@@ -948,7 +988,10 @@ Result<ProjectLoad> load(const std::string& path, const std::string& character_o
     }
     warn_unknown(st, "deformer_stack", {"mode", "exponent", "base_muted", "base_hidden", "solo"}, out.warnings, path);
   }
-  if (root.contains("patch_driver")) doc.patch_driver = read_patch_driver(r, root["patch_driver"], path, out.warnings);
+  if (root.contains("patch_driver")) {
+    doc.patch_driver = read_patch_driver(r, root["patch_driver"], path, out.warnings);
+    doc.driver_place = read_driver_place(r, root["patch_driver"], *loaded, doc.patch_driver->rest.num_control_points(), out.warnings, path);
+  }
   doc.character = std::make_shared<const Character>(std::move(loaded).value());
   doc.character_path = character_path;
   doc.character_hash = std::move(hash);

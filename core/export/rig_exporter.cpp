@@ -188,7 +188,7 @@ Result<ExportReport> run_export(const Document& doc, Rig* rig, const ExportReque
       return make_error(ErrorCode::kUnsupportedFormat,
                         request.out + ": the rig JSON describes one cage, and this project has " + std::to_string(layers) +
                             " more deformer(s): export a baked mode (glb or obj), which carries the whole stack");
-    if (doc.patch_driver && doc.patch_driver->drive_skin && !(doc.patch_driver->posed == doc.patch_driver->rest))
+    if (driver_moves_skin(doc) && (!(doc.patch_driver->posed == doc.patch_driver->rest) || !doc.driver_place.keyposes.empty()))
       return make_error(ErrorCode::kUnsupportedFormat,
                         request.out + ": the rig JSON describes one cage, and this project's parametric driver moves the skin: "
                                       "export a baked mode (glb or obj), which carries it");

@@ -61,21 +61,50 @@ Status combine_stack(const DeformerStack& stack, std::span<const glm::vec3> rest
   return Ok{};
 }
 
+Status combine_layers(const Document& doc, std::span<const glm::vec3> rest, std::span<const std::span<const glm::vec3>> layer_skins,
+                      std::span<const glm::vec3> driver, std::span<glm::vec3> skin) {
+  if (layer_skins.size() != doc.layers.size())
+    return make_error(ErrorCode::kInvalidArgument, "the deformer stack: " + std::to_string(layer_skins.size()) + " skins for " +
+                                                       std::to_string(doc.layers.size()) + " layers");
+  if (!driver.empty() && driver.size() != rest.size())
+    return make_error(ErrorCode::kInvalidArgument, "the deformer stack: the driver moves " + std::to_string(driver.size()) +
+                                                       " points but the skin has " + std::to_string(rest.size()));
+  const auto& dm = doc.driver_place.mask;
+  if (!driver.empty() && dm && dm->size() != rest.size())
+    return make_error(ErrorCode::kInvalidArgument, "the deformer stack: the driver's mask has " + std::to_string(dm->size()) +
+                                                       " weights but the skin has " + std::to_string(rest.size()) + " points");
+  // the layers in two runs: those before the driver's place and those after it (kInOrder; the other modes
+  // combine every layer at once and add the driver to the result)
+  const size_t split = doc.stack.mode == StackMode::kInOrder ? driver_position(doc) : doc.layers.size();
+  for (int run = 0; run < 2; ++run) {
+    const size_t from = run == 0 ? 0 : split, to = run == 0 ? split : doc.layers.size();
+    std::vector<std::span<const glm::vec3>> layers;
+    std::vector<std::span<const float>> masks;
+    for (size_t k = from; k < to; ++k) {
+      if (deformer_muted(doc, k + 1) || layer_skins[k].empty()) continue;
+      layers.push_back(layer_skins[k]);
+      const auto& m = doc.layers[k].mask;
+      masks.emplace_back(m ? std::span<const float>(*m) : std::span<const float>());
+    }
+    if (auto s = combine_stack(doc.stack, rest, layers, masks, skin); !s) return s;
+    if (run == 0 && !driver.empty())
+      for (size_t i = 0; i < skin.size(); ++i)
+        skin[i] = glm::vec3(glm::dvec3(skin[i]) + (dm ? double((*dm)[i]) : 1.0) * glm::dvec3(driver[i]));
+  }
+  return Ok{};
+}
+
 Status combine_document_stack(const Document& doc, std::span<const glm::vec3> rest,
-                              const std::function<const std::vector<glm::vec3>*(size_t)>& skin_of, std::vector<glm::vec3>& out) {
+                              const std::function<const std::vector<glm::vec3>*(size_t)>& skin_of, std::vector<glm::vec3>& out,
+                              std::span<const glm::vec3> driver) {
   const std::vector<glm::vec3>* base = deformer_muted(doc, 0) ? nullptr : skin_of(0);
   if (base) out = *base;
   else out.assign(rest.begin(), rest.end());
-  std::vector<std::span<const glm::vec3>> layers;
-  std::vector<std::span<const float>> masks;
-  for (size_t d = 1; d < deformer_count(doc); ++d) {
-    const std::vector<glm::vec3>* f = deformer_muted(doc, d) ? nullptr : skin_of(d);
-    if (!f) continue;
-    layers.emplace_back(*f);
-    const auto& m = doc.layers[d - 1].mask;
-    masks.emplace_back(m ? std::span<const float>(*m) : std::span<const float>());
-  }
-  return combine_stack(doc.stack, rest, layers, masks, out);
+  std::vector<std::span<const glm::vec3>> layers(doc.layers.size());
+  for (size_t d = 1; d < deformer_count(doc); ++d)
+    if (!deformer_muted(doc, d))
+      if (const std::vector<glm::vec3>* f = skin_of(d)) layers[d - 1] = *f;
+  return combine_layers(doc, rest, layers, driver, out);
 }
 
 }  // namespace cagewrap

@@ -85,38 +85,60 @@ Result<DriverLayer> DriverLayer::create(const Character& character, std::span<co
 
 bool DriverLayer::fits(const PatchDriver& driver) const { return driver.density == s_->density && driver.rest == s_->rest; }
 
+size_t DriverLayer::num_control_points() const { return s_->rest_points.size(); }
+
 Status DriverLayer::add(const PatchDriver& driver, std::span<const glm::mat4> globals, std::span<glm::vec3> skin) {
+  if (skin.size() != s_->skin_rest.size())
+    return make_error(ErrorCode::kTopologyMismatch, "the skin has " + std::to_string(skin.size()) + " points, the driver's binding " +
+                                                        std::to_string(s_->skin_rest.size()));
+  std::vector<glm::vec3> delta(skin.size());
+  auto any = displacement(driver, {}, globals, delta);
+  if (!any) return any.error();
+  if (*any)
+    for (size_t i = 0; i < skin.size(); ++i) skin[i] = glm::vec3(glm::dvec3(skin[i]) + glm::dvec3(delta[i]));
+  return Ok{};
+}
+
+Result<bool> DriverLayer::displacement(const PatchDriver& driver, std::span<const glm::vec3> offsets,
+                                       std::span<const glm::mat4> globals, std::span<glm::vec3> delta) {
   State& s = *s_;
   if (!fits(driver)) return make_error(ErrorCode::kInvalidArgument, "the parametric driver changed since it was bound");
-  if (skin.size() != s.skin_rest.size())
-    return make_error(ErrorCode::kTopologyMismatch, "the skin has " + std::to_string(skin.size()) + " points, the driver's binding " +
+  if (delta.size() != s.skin_rest.size())
+    return make_error(ErrorCode::kTopologyMismatch, "the skin has " + std::to_string(delta.size()) + " points, the driver's binding " +
                                                         std::to_string(s.skin_rest.size()));
-  if (driver.posed == driver.rest) return Ok{};  // no sculpt
   const std::vector<glm::dvec3> posed = driver.posed.control_points();
-  if (posed.size() != s.rest_points.size())
+  const size_t nc = s.rest_points.size();
+  if (posed.size() != nc)
     return make_error(ErrorCode::kTopologyMismatch, "the driver's posed surface has another number of control points");
-  const size_t nc = posed.size();
+  if (!offsets.empty() && offsets.size() != nc)
+    return make_error(ErrorCode::kTopologyMismatch, "the driver's keyposes give " + std::to_string(offsets.size()) +
+                                                        " offsets for " + std::to_string(nc) + " control points");
+  const bool keyed = std::any_of(offsets.begin(), offsets.end(), [](const glm::vec3& o) { return o != glm::vec3(0.0f); });
+  if (driver.posed == driver.rest && !keyed) {  // no sculpt
+    std::fill(delta.begin(), delta.end(), glm::vec3(0.0f));
+    return false;
+  }
   s.sculpted.resize(nc);
-  for (size_t c = 0; c < nc; ++c) s.sculpted[c] = glm::vec3(posed[c]);
+  for (size_t c = 0; c < nc; ++c) s.sculpted[c] = glm::vec3(posed[c]) + (offsets.empty() ? glm::vec3(0.0f) : offsets[c]);
   s.joints.resize(s.skin.joints.size());
   joint_matrices(s.skin, globals, s.joints);
   s.carried_rest.resize(nc);
   s.carried_sculpted.resize(nc);
   pose_cage(s.attachment, s.joints, s.rest_points, s.carried_rest);
   pose_cage(s.attachment, s.joints, s.sculpted, s.carried_sculpted);
-  const size_t np = skin.size();
+  const size_t np = delta.size();
   s.with_sculpt.resize(np);
   s.without.resize(np);
   s.points.resize(nc);
   for (size_t c = 0; c < nc; ++c) s.points[c] = glm::dvec3(s.carried_sculpted[c]);
   s.surface.set_control_points(s.points);
-  if (auto st = s.deformer->deform(s.surface, s.with_sculpt); !st) return st;
+  if (auto st = s.deformer->deform(s.surface, s.with_sculpt); !st) return st.error();
   for (size_t c = 0; c < nc; ++c) s.points[c] = glm::dvec3(s.carried_rest[c]);
   s.surface.set_control_points(s.points);
-  if (auto st = s.deformer->deform(s.surface, s.without); !st) return st;
+  if (auto st = s.deformer->deform(s.surface, s.without); !st) return st.error();
   for (size_t i = 0; i < np; ++i)
-    skin[i] = glm::vec3(glm::dvec3(skin[i]) + double(s.reach[i]) * (glm::dvec3(s.with_sculpt[i]) - glm::dvec3(s.without[i])));
-  return Ok{};
+    delta[i] = glm::vec3(double(s.reach[i]) * (glm::dvec3(s.with_sculpt[i]) - glm::dvec3(s.without[i])));
+  return true;
 }
 
 }  // namespace cagewrap

@@ -7,8 +7,9 @@
 // pose, each skin point taking it in full within 1.5 h of the driver's nearest sample and none beyond
 // 3 h (h: the control net's scale), so that the sculpt stays where the driver is. At the bind pose M is the identity and D(rest) is the rest skin, so this is the driven skin
 // the editor always showed there; posed, the sculpt travels with the limbs. A driver with no sculpt
-// adds nothing. Rig (core/rig/rig.h) adds it after the deformer stack, so `pose`, `check` and the
-// exports carry it; the editor adds it to the frame it shows.
+// adds nothing. Keyposes (Document::driver_place.keyposes) add their offsets to the sculpt at each pose.
+// The displacement takes its place in the deformer stack (Document::driver_place, core/rig/deformer_stack.h
+// combine_document_stack), so `pose`, `check`, the exports and the editor's frame carry it alike.
 #pragma once
 
 #include <memory>
@@ -42,6 +43,12 @@ class DriverLayer {
   // Adds the driver's sculpt, carried by the skeleton at the pose whose node world transforms are
   // `globals` (#nodes), to `skin` (#P). Errors: a driver that does not fit, sizes that differ.
   Status add(const PatchDriver& driver, std::span<const glm::mat4> globals, std::span<glm::vec3> skin);
+  // The sculpt's displacement of the skin alone, written into `delta` (#P): the sculpt is the posed control
+  // points minus the rest ones plus `offsets` (#C, the driver's keyposes at the pose in bind space, or
+  // empty). Returns whether there is any (false: `delta` is all zero).
+  Result<bool> displacement(const PatchDriver& driver, std::span<const glm::vec3> offsets, std::span<const glm::mat4> globals,
+                            std::span<glm::vec3> delta);
+  size_t num_control_points() const;
 
   DriverLayer(DriverLayer&&) noexcept;
   DriverLayer& operator=(DriverLayer&&) noexcept;

@@ -92,24 +92,37 @@ struct Rig::State {
   // the parametric driver when it drives the skin (core/rig/driver_layer.h): its sculpt, carried by the
   // skeleton, added after the stack
   std::optional<DriverLayer> driver;
-  // Each layer's skin posed by `pose_layer(k, layer document, out)`, then combined into `skin_out`.
+  std::vector<glm::vec3> driver_offsets, driver_delta;  // #C, #P, reused frame to frame
+  // Each layer's skin posed by `pose_layer(layer rig, layer document, out)`, the parametric driver's displacement
+  // at `pose` (node world transforms `globals`), then all combined with `skin_out` (f_0) by the document's stack.
   template <class PoseLayer>
-  Status pose_layers(const Document& doc, std::span<glm::vec3> skin_out, PoseLayer pose_layer);
+  Status pose_stack(const Document& doc, const Pose& pose, std::span<const glm::mat4> globals, std::span<glm::vec3> skin_out,
+                    PoseLayer pose_layer);
 };
 
 template <class PoseLayer>
-Status Rig::State::pose_layers(const Document& doc, std::span<glm::vec3> skin_out, PoseLayer pose_layer) {
-  if (layers.empty()) return Ok{};
-  std::vector<std::span<const glm::vec3>> skins;
-  std::vector<std::span<const float>> masks;
+Status Rig::State::pose_stack(const Document& doc, const Pose& pose, std::span<const glm::mat4> globals,
+                              std::span<glm::vec3> skin_out, PoseLayer pose_layer) {
+  const bool drives = driver && driver_moves_skin(doc);
+  if (layers.empty() && !drives) return Ok{};
+  std::vector<std::span<const glm::vec3>> skins(doc.layers.size());
   for (size_t k = 0; k < layers.size(); ++k) {
     const DeformerLayer& l = doc.layers[layer_index[k]];
     if (auto s = pose_layer(*layers[k], layer_document(doc, layer_index[k]), layer_skins[k]); !s)
       return make_error(s.error().code, "deformer '" + l.name + "': " + s.error().message);
-    skins.emplace_back(layer_skins[k]);
-    masks.emplace_back(l.mask ? std::span<const float>(*l.mask) : std::span<const float>());
+    skins[layer_index[k]] = layer_skins[k];
   }
-  return combine_stack(doc.stack, skin_rest, skins, masks, skin_out);
+  std::span<const glm::vec3> delta;
+  if (drives) {
+    const std::vector<KeyposeSet>& keyed = doc.driver_place.keyposes;
+    driver_offsets.assign(keyed.empty() ? 0 : driver->num_control_points(), glm::vec3(0.0f));
+    if (!keyed.empty()) evaluate_keyposes(keyed, doc.character->skeleton, pose, driver_offsets);
+    driver_delta.resize(skin_rest.size());
+    auto any = driver->displacement(*doc.patch_driver, driver_offsets, globals, driver_delta);
+    if (!any) return make_error(any.error().code, "parametric driver: " + any.error().message);
+    if (*any) delta = driver_delta;
+  }
+  return combine_layers(doc, skin_rest, skins, delta, skin_out);
 }
 
 Rig::Rig() = default;
@@ -272,12 +285,9 @@ Status Rig::pose(const Document& doc, const Pose& pose, PosedCage& cage, std::sp
   pose_document_cage(doc, state_->attachment ? &*state_->attachment : nullptr, pose, cage);
   if (auto s = deform_through_cage(*state_->deformer, cage, skin_out); !s) return s;
   if (deformer_muted(doc, 0)) std::copy(state_->skin_rest.begin(), state_->skin_rest.end(), skin_out.begin());  // f_0 = p
-  if (auto s = state_->pose_layers(doc, skin_out, [&](Rig& layer, const Document& d, std::vector<glm::vec3>& out) {
-        return layer.pose(d, pose, state_->layer_cage, out);
-      });
-      !s)
-    return s;
-  return state_->driver ? state_->driver->add(*doc.patch_driver, cage.globals, skin_out) : Status(Ok{});
+  return state_->pose_stack(doc, pose, cage.globals, skin_out, [&](Rig& layer, const Document& d, std::vector<glm::vec3>& out) {
+    return layer.pose(d, pose, state_->layer_cage, out);
+  });
 }
 
 Status Rig::pose_clip(const Document& doc, int32_t clip, double t, std::span<const glm::quat> overrides,
@@ -287,18 +297,13 @@ Status Rig::pose_clip(const Document& doc, int32_t clip, double t, std::span<con
   CAGEWRAP_CHECK(skin_out.size() == state_->skin_rest.size(), "one output position per skin point");
   const Character& ch = *doc.character;
   if (clip >= 0) t = clip_time(t, ch.clips[static_cast<size_t>(clip)].duration, false);
-  if (auto s = pose_simulated_cage(state_->sims, doc, attachment(), clip, t, compose_pose(ch, clip, t, false, overrides),
-                                   cage);
-      !s)
-    return s;
+  const Pose pose = compose_pose(ch, clip, t, false, overrides);
+  if (auto s = pose_simulated_cage(state_->sims, doc, attachment(), clip, t, pose, cage); !s) return s;
   if (auto s = deform_through_cage(*state_->deformer, cage, skin_out); !s) return s;
   if (deformer_muted(doc, 0)) std::copy(state_->skin_rest.begin(), state_->skin_rest.end(), skin_out.begin());  // f_0 = p
-  if (auto s = state_->pose_layers(doc, skin_out, [&](Rig& layer, const Document& d, std::vector<glm::vec3>& out) {
-        return layer.pose_clip(d, clip, t, overrides, state_->layer_cage, out);
-      });
-      !s)
-    return s;
-  return state_->driver ? state_->driver->add(*doc.patch_driver, cage.globals, skin_out) : Status(Ok{});
+  return state_->pose_stack(doc, pose, cage.globals, skin_out, [&](Rig& layer, const Document& d, std::vector<glm::vec3>& out) {
+    return layer.pose_clip(d, clip, t, overrides, state_->layer_cage, out);
+  });
 }
 
 size_t Rig::num_skin_points() const { return state_->skin_rest.size(); }

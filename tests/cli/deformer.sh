@@ -28,16 +28,6 @@ check "list: the stack's mode" has "$T/out" "^stack      in_order (2 deformers)"
 # in order, a copy of the project's own cage changes nothing
 run pose --project "$P" --clip walk --time 0.4 --out "$T/in_order.bin"
 check "pose with the layer" test "$rc" -eq 0
-cmp_close() {  # cmp_close A B TOL: every float within TOL
-  python3 - "$1" "$2" "$3" <<'PY'
-import struct, sys
-a = open(sys.argv[1], 'rb').read(); b = open(sys.argv[2], 'rb').read()
-assert len(a) == len(b), (len(a), len(b))
-fa = struct.unpack('%df' % (len(a) // 4), a); fb = struct.unpack('%df' % (len(b) // 4), b)
-worst = max(abs(x - y) for x, y in zip(fa, fb))
-sys.exit(0 if worst <= float(sys.argv[3]) else 1)
-PY
-}
 check "in order: a copy of the own cage changes nothing" cmp_close "$T/plain.bin" "$T/in_order.bin" 1e-5
 run deformer set --project "$P" --stack sum
 check "set --stack sum" test "$rc" -eq 0
@@ -126,6 +116,10 @@ check "deformer 0's is kept" has "$T/out" "^binding    cached in .*two.cagewrap.
 run pose --project "$T/two.cagewrap" --clip walk --time 0.4 --out "$T/two_eps.bin"
 check "pose binds the layer alone" hasf "$T/err" "using the cached bindings of 1 of 2 deformers (the others bound)"
 check "its new parameters change the pose" bash -c "! cmp -s '$T/two.bin' '$T/two_eps.bin'"
+# a muted deformer is neither bound nor cached, and the listing says so
+run deformer set --project "$T/two.cagewrap" --name demo_cage --mute
+run project "$T/two.cagewrap"
+check "a muted layer: not cached" has "$T/out" "^deformer 1 'demo_cage': muted: not bound, not cached"
 run deformer set --project "$T/two.cagewrap" --index 0 --epsilon 2
 check "a bad parameter fails" test "$rc" -ne 0
 run new --character "$DEMO" --cage "$CAGE" --cage "$CAGE" --stack sideways --out "$T/bad.cagewrap"

@@ -65,6 +65,31 @@ check "a driver without a sculpt changes nothing" cmp -s "$T/plain.bin" "$T/idle
 run export --project "$T/driven.cagewrap" --format json --out "$T/rig.json"
 check "the rig JSON refuses a sculpted driver" test "$rc" -ne 0
 check "saying why" hasf "$T/err" "parametric driver moves the skin"
+# the driver as a deformer of the stack (deformer set --driver): listed at its place, masked, muted, placed
+run deformer list --project "$T/driven.cagewrap"
+check "deformer list shows the driver" has "$T/out" "^  D  (driver) *parametric driver, .* control points, density 2, 0 keypose sets, no mask, after every layer$"
+run deformer set --project "$T/driven.cagewrap" --driver --mask-joints foot.L --out "$T/legmask.cagewrap"
+check "set --driver --mask-joints exits 0" test "$rc" -eq 0
+check "it lists the mask" has "$T/out" "^  D  (driver) .*mask joints foot.L ("
+run pose --project "$T/legmask.cagewrap" --clip walk --time 0.4 --out "$T/legmask.bin"
+check "masked to a foot: the chest sculpt is gone" cmp -s "$T/plain.bin" "$T/legmask.bin"
+run deformer set --project "$T/driven.cagewrap" --driver --mute --out "$T/drmuted.cagewrap"
+check "set --driver --mute says so" has "$T/out" "^  D  (driver) .*, muted$"
+run pose --project "$T/drmuted.cagewrap" --clip walk --time 0.4 --out "$T/drmuted.bin"
+check "muted: the plain pose" cmp -s "$T/plain.bin" "$T/drmuted.bin"
+# a copy of the project's cage as a layer: before it (--after 0) the driver is taken over, after it (last) not
+run deformer add --project "$T/driven.cagewrap" --cage "$CAGE" --name over --out "$T/layered.cagewrap"
+run deformer set --project "$T/layered.cagewrap" --driver --after 0 --out "$T/under.cagewrap"
+check "set --driver --after 0" has "$T/out" "^  D  (driver) .*, after layer 0$"
+run pose --project "$T/under.cagewrap" --clip walk --time 0.4 --out "$T/under.bin"
+check "under the layer: the sculpt is gone" cmp_close "$T/plain.bin" "$T/under.bin" 1e-5
+run pose --project "$T/layered.cagewrap" --clip walk --time 0.4 --out "$T/layered.bin"
+check "over the layer: the sculpt" compare "$T/plain.bin" "$T/layered.bin" 0.01,0.06,0.0001
+run deformer set --project "$T/layered.cagewrap" --driver --after 2
+check "--after past the layers fails" test "$rc" -ne 0
+check "naming the range" hasf "$T/err" "--after '2': give 0 to 1 layers, or last"
+run deformer set --project "$T/plain.cagewrap" --driver --mute
+check "--driver without a driver fails" hasf "$T/err" "has no parametric driver"
 run new --character "$DEMO" --cage "$CAGE" --patch "$T/missing.cwpatch" --out "$T/bad.cagewrap"
 check "a missing driver file fails" test "$rc" -ne 0
 check "naming it" hasf "$T/err" "missing.cwpatch"

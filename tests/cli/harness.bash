@@ -119,3 +119,14 @@ need_demo_assets() {
   CAGE="$root/assets/demo_cage.obj"
   [ -f "$DEMO" ] && [ -f "$CAGE" ] || { echo "skipped: $DEMO or $CAGE not found"; exit 77; }
 }
+
+cmp_close() {  # cmp_close A B TOL: two float32 files (pose --out .bin) of the same length, every float within TOL
+  python3 - "$1" "$2" "$3" <<'PY'
+import struct, sys
+a = open(sys.argv[1], 'rb').read(); b = open(sys.argv[2], 'rb').read()
+assert len(a) == len(b), (len(a), len(b))
+fa = struct.unpack('%df' % (len(a) // 4), a); fb = struct.unpack('%df' % (len(b) // 4), b)
+worst = max(abs(x - y) for x, y in zip(fa, fb))
+sys.exit(0 if worst <= float(sys.argv[3]) else 1)
+PY
+}
