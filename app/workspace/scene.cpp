@@ -400,6 +400,7 @@ std::vector<std::string> Scene::poll_stack() {
     const std::string name = deformer_name(history_.current(), r.deformer);
     if (res.ok()) {
       r.rig = std::make_unique<Rig>(std::move(res).value());
+      r.revision = next_revision();
       const std::string& note = *r.cache_note;
       if (note.starts_with("used: "))
         out.push_back("deformer '" + name + "': using the cached binding " + note.substr(6) + " (no bind)");
@@ -428,16 +429,25 @@ void Scene::retry_stack_binds() {
   update_stack_rigs();
 }
 
-void Scene::pose_stack(const Playback& pb) {
+void Scene::pose_stack(const Playback& pb, bool maps_only) {
   const Document& w = history_.current();
   stack_ready_ = std::all_of(stack_rigs.begin(), stack_rigs.end(), [](const StackRig& r) { return r.rig != nullptr; });
   if (!stack_ready_) return;  // the active deformer's skin alone until every rig is ready
   for (StackRig& r : stack_rigs) {
-    r.skin.resize(skin_rest.size());
     Status s = Ok{};
-    if (!r.rig->fits(r.doc)) s = make_error(ErrorCode::kInvalidArgument, "its rig is out of date");
-    else if (r.doc.sim.enabled && pb.clip >= 0) s = r.rig->pose_clip(r.doc, pb.clip, pb.player.time(), pb.pose_override, r.cage, r.skin);
-    else s = r.rig->pose(r.doc, pose_, r.cage, r.skin);
+    const bool simulated = r.doc.sim.enabled && pb.clip >= 0;
+    if (!r.rig->fits(r.doc)) {
+      s = make_error(ErrorCode::kInvalidArgument, "its rig is out of date");
+    } else if (maps_only) {  // the cage alone, as pose and pose_clip pose it, and its maps for the GPU
+      if (simulated) s = r.rig->pose_clip_cage(r.doc, pb.clip, pb.player.time(), pb.pose_override, r.cage);
+      else pose_document_cage(r.doc, r.rig->attachment(), pose_, r.cage);
+      Deformer& d = r.rig->deformer();
+      if (s) s = d.update_maps(r.cage.positions, cage_vertex_frames(d.binding(), r.cage));
+    } else {
+      r.skin.resize(skin_rest.size());
+      if (simulated) s = r.rig->pose_clip(r.doc, pb.clip, pb.player.time(), pb.pose_override, r.cage, r.skin);
+      else s = r.rig->pose(r.doc, pose_, r.cage, r.skin);
+    }
     if (!s) {
       r.error = s.error().message;
       r.rig.reset();
@@ -445,6 +455,37 @@ void Scene::pose_stack(const Playback& pb) {
       return;
     }
   }
+  if (!maps_only) {
+    stack_ready_ = combine_skins();
+    stack_combined_ = stack_ready_;
+    return;
+  }
+  // what combine_document_stack combines, for the GPU: the deformers not muted, each layer with its mask
+  gpu_frame_.stack = w.stack;
+  for (size_t d = 0; d < deformer_count(w); ++d) {
+    if (deformer_muted(w, d)) continue;
+    GpuFrame::Deformed f;
+    f.index = d;
+    if (d == active_) {
+      f.deformer = &*deformer;
+      f.revision = binding_revision;
+    } else {
+      auto r = std::find_if(stack_rigs.begin(), stack_rigs.end(), [&](const StackRig& o) { return o.deformer == d; });
+      if (r == stack_rigs.end()) continue;  // it has no cage: left out, as on the CPU
+      f.deformer = &r->rig->deformer();
+      f.revision = r->revision;
+    }
+    if (d == 0) {
+      gpu_frame_.base = std::move(f);
+    } else {
+      f.mask = w.layers[d - 1].mask;
+      gpu_frame_.layers.push_back(std::move(f));
+    }
+  }
+  stack_combined_ = true;
+}
+
+bool Scene::combine_skins() {
   const auto skin_of = [&](size_t d) -> const std::vector<glm::vec3>* {
     if (d == active_) return &skin_posed_;
     for (const StackRig& r : stack_rigs)
@@ -452,8 +493,18 @@ void Scene::pose_stack(const Playback& pb) {
     return nullptr;
   };
   std::vector<glm::vec3> out;
-  if (combine_document_stack(w, skin_rest, skin_of, out).ok()) skin_posed_ = std::move(out);
-  else stack_ready_ = false;
+  if (!combine_document_stack(history_.current(), skin_rest, skin_of, out).ok()) return false;
+  skin_posed_ = std::move(out);
+  return true;
+}
+
+bool Scene::combine_stack_on_cpu() {
+  for (StackRig& r : stack_rigs) {
+    if (!r.rig) return false;
+    r.skin.resize(skin_rest.size());
+    if (!deform_through_cage(r.rig->deformer(), r.cage, r.skin).ok()) return false;
+  }
+  return combine_skins();
 }
 
 void Scene::document_changed() {
@@ -601,6 +652,10 @@ void Scene::update_pose(const Playback& pb) {
 
   skin_from_cage = false;
   skin_driven_ = false;
+  gpu_frame_ = {};
+  stack_combined_ = false;
+  // the parametric driver's sculpt is added to the skin on the CPU: a driven skin is made there
+  const bool on_gpu = skin_on_gpu && !driving();
   const auto& cage = doc().cage;
   if (cage) {
     // the driver: rest cage + the artist's offsets + keyposes, carried by the skeleton (core/rig/rig.h)
@@ -619,17 +674,23 @@ void Scene::update_pose(const Playback& pb) {
     if (deformer && bound_cage == cage) {
       skin_posed_.resize(skin_rest.size());
       auto t0 = std::chrono::steady_clock::now();
-      const bool on_gpu = skin_on_gpu && !stacked();  // a stack is combined on the CPU
       auto s = on_gpu ? deformer->update_maps(posed.positions, cage_vertex_frames(*binding, posed))
                       : deform_through_cage(*deformer, posed, skin_posed_);
-      if (s.ok() && !on_gpu && cage_stack() && !show_file_skinning) pose_stack(pb);
+      if (s.ok() && cage_stack() && !show_file_skinning) pose_stack(pb, on_gpu);
+      if (s.ok() && on_gpu && !stack_combined_)  // the active deformer's skin alone, as the CPU path shows it
+        gpu_frame_.base = GpuFrame::Deformed{active_, &*deformer, binding_revision, nullptr};
+      gpu_frame_.built = s.ok() && on_gpu;
       deform_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
       skin_from_cage = s.ok();
     }
   }
   if (show_file_skinning) skin_from_cage = false;
-  skin_stale_ = skin_from_cage && skin_on_gpu && !stacked();
-  if (!skin_from_cage) skin_posed_ = skin_character(ch, pose);
+  skin_stale_ = skin_from_cage && on_gpu;
+  if (!skin_from_cage) {
+    skin_posed_ = skin_character(ch, pose);
+    gpu_frame_ = {};
+    stack_combined_ = false;
+  }
   // the parametric driver's sculpt, carried by the skeleton (core/rig/driver_layer.h, as Rig adds it)
   if (!show_file_skinning && driving())
     skin_driven_ = driver_binding.layer->add(*doc().patch_driver, joint_globals, skin_posed_).ok();
@@ -657,8 +718,9 @@ const std::vector<glm::vec3>& Scene::skin_posed() {
     skin_stale_ = false;
     skin_posed_.resize(skin_rest.size());
     // the deformer was replaced since update_pose (a bind finished) and no longer fits: the file's skinning
-    if (!deformer || !deform_through_cage(*deformer, posed, skin_posed_).ok())
-      skin_posed_ = skin_character(*doc().character, pose_);
+    bool ok = deformer && deform_through_cage(*deformer, posed, skin_posed_).ok();
+    if (ok && stack_combined_) ok = combine_stack_on_cpu();  // the stack the GPU combined, made here too
+    if (!ok) skin_posed_ = skin_character(*doc().character, pose_);
   }
   return skin_posed_;
 }
