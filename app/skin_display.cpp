@@ -41,13 +41,27 @@ std::string SkinDisplay::init(Path path, bool synchronous) {
   return "skin deformed on the GPU (OpenGL compute shaders, " + gl + ")";
 }
 
+std::vector<uint64_t> SkinDisplay::revisions(const Scene& scene) {
+  std::vector<uint64_t> out{scene.binding_revision};
+  for (const StackRig& r : scene.stack_rigs) out.push_back(r.rig ? r.revision : 0);
+  return out;
+}
+
 void SkinDisplay::before_pose(Scene& scene) const {
-  // a stack of deformers is combined on the CPU (Scene::stacked)
-  scene.skin_on_gpu = use_gpu_ && gpu_available() && failed_revision_ != scene.binding_revision && !scene.stacked();
+  // a stack of cages too (Scene::gpu_frame); the parametric driver's sculpt is added on the CPU
+  scene.skin_on_gpu = use_gpu_ && gpu_available() && !scene.driving() &&
+                      (failed_revisions_.empty() || failed_revisions_ != revisions(scene));
 }
 
 std::string SkinDisplay::update(Scene& scene, render::ViewportRenderer& renderer) {
   std::string message = put_skin(scene, renderer);
+  const bool driven_on_cpu = use_gpu_ && gpu_available() && scene.skin_from_cage && scene.driving();
+  if (!driven_on_cpu) {
+    driver_noted_ = false;
+  } else if (!driver_noted_ && message.empty()) {
+    message = "skin deformed on the CPU while the parametric driver drives it (its sculpt is added on the CPU)";
+    driver_noted_ = true;
+  }
   if (from_cage_) {
     if (shown_path_ >= 0 && shown_path_ != int(on_gpu_) && message.empty())
       message = std::string("skin now deformed on the ") + (on_gpu_ ? "GPU" : "CPU");
@@ -61,34 +75,40 @@ std::string SkinDisplay::put_skin(Scene& scene, render::ViewportRenderer& render
   on_gpu_ = false;
   from_cage_ = scene.skin_from_cage;
   if (scene.skin_from_cage) add_cpu_ms(FramePart::kDeform, scene.deform_ms);  // the CPU deform, or the maps alone
-  if (scene.skin_on_gpu && scene.skin_from_cage && scene.deformer) {
-    if (!gpu_ || gpu_revision_ != scene.binding_revision) {
-      // the first binding of this scene: kernels, skin topology and table; later ones (a rebind, a
-      // live set edit) only replace the table: the deformer lives in the same place, the skin is the same
-      Status s = Ok{};
-      if (gpu_) {
-        s = gpu_->table_changed();
+  const GpuFrame& frame = scene.gpu_frame();
+  if (scene.skin_on_gpu && scene.skin_from_cage && frame.built) {
+    if (!gpu_) {
+      // the first frame of this scene on the GPU: kernels, rest skin and topology; each deformer's
+      // table comes with the first frame that has it (GpuStack::deform)
+      auto g = render::GpuStack::create(scene.skin_rest, scene.skin_triangles());
+      if (g) {
+        gpu_ = std::move(g).value();
       } else {
-        auto g = render::GpuDeformer::create(*scene.deformer, scene.skin_triangles());
-        if (g) gpu_ = std::move(g).value();
-        else s = g.error();
-      }
-      gpu_revision_ = scene.binding_revision;
-      if (!s) {
-        gpu_.reset();
-        failed_revision_ = scene.binding_revision;  // the CPU deforms this binding; tried again after a rebind
-        message = "warning: the skin is deformed on the CPU, the GPU cannot take it: " + s.error().message;
+        failed_revisions_ = revisions(scene);
+        message = "warning: the skin is deformed on the CPU, the GPU cannot take it: " + g.error().message;
       }
     }
     if (gpu_) {
+      const auto to_gpu = [](const GpuFrame::Deformed& d) {
+        return render::GpuStack::Deformed{d.index, d.deformer, d.revision, d.mask};
+      };
+      std::optional<render::GpuStack::Deformed> base;
+      if (frame.base) base = to_gpu(*frame.base);
+      std::vector<render::GpuStack::Deformed> layers;
+      for (const GpuFrame::Deformed& l : frame.layers) layers.push_back(to_gpu(l));
       begin(FramePart::kDeform);
-      gpu_->deform(renderer.skin_buffer());
+      Status s = gpu_->deform(frame.stack, base ? &*base : nullptr, layers, renderer.skin_buffer());
       end(FramePart::kDeform);
-      begin(FramePart::kNormals);
-      gpu_->normals(renderer.skin_buffer());
-      end(FramePart::kNormals);
-      on_gpu_ = true;
-      return message;
+      if (s) {
+        begin(FramePart::kNormals);
+        gpu_->normals(renderer.skin_buffer());
+        end(FramePart::kNormals);
+        on_gpu_ = true;
+        return message;
+      }
+      gpu_.reset();
+      failed_revisions_ = revisions(scene);  // the CPU deforms these bindings; tried again after a rebind
+      message = "warning: the skin is deformed on the CPU, the GPU cannot take it: " + s.error().message;
     }
   }
   auto t0 = std::chrono::steady_clock::now();
@@ -144,7 +164,8 @@ void SkinDisplay::draw_stats(const Scene& scene) {
   ImGui::Text("%.0f fps, frame %.1f ms", shown_frame_ms_ > 0 ? 1000.0 / shown_frame_ms_ : 0.0, shown_frame_ms_);
   if (scene.skin_from_cage && scene.stacked()) {
     if (scene.cage_stack())
-      ImGui::Text("skin: %zu deformers, CPU%s", deformer_count(scene.work()), scene.stack_ready() ? "" : " (binding)");
+      ImGui::Text("skin: %zu deformers, %s%s", deformer_count(scene.work()), on_gpu_ ? "GPU" : "CPU",
+                  scene.stack_ready() ? "" : " (binding)");
     else
       ImGui::Text("skin deformed on the CPU");
     if (scene.skin_driven()) ImGui::Text("+ the driver's sculpt");

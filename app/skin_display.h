@@ -4,7 +4,11 @@
 // deformed and its normals recomputed by compute shaders straight into the vertex buffers that are
 // drawn (render/gpu_deformer.h); the scene then builds only the cage-sized maps on the CPU, and a
 // CPU copy of the skin is made only when picking or a brush asks for one (Scene::skin_posed).
-// Otherwise the CPU deforms, computes normals and uploads them (the renderer's update_skin).
+// A stack of deformers (docs/deformer-stack.md) runs there too: every deformer that moves the skin
+// deforms on the GPU from its own maps (the scene poses each one's cage), one pass combines them as
+// the project's stack says, then the normals (render/gpu_deformer.h GpuStack). While the parametric
+// driver drives the skin its sculpt is added on the CPU, and so the skin is made there (logged once).
+// Otherwise the CPU deforms, combines, computes normals and uploads them (the renderer's update_skin).
 // The stats overlay shows the frame split into deform, normals, draw and UI: CPU time, and GPU time
 // from timer queries (read a few frames late, so the GPU never waits for the CPU).
 #pragma once
@@ -82,12 +86,17 @@ class SkinDisplay {
  private:
   std::string put_skin(Scene& scene, render::ViewportRenderer& renderer);
 
-  std::unique_ptr<render::GpuDeformer> gpu_;
+  // The revisions of the scene's deformers: the active one's binding and each other's rig.
+  static std::vector<uint64_t> revisions(const Scene& scene);
+
+  std::unique_ptr<render::GpuStack> gpu_;  // every deformer's table, kept while the scene is the same
   std::unique_ptr<render::GpuTimer> timer_;
-  uint64_t gpu_revision_ = 0;   // the scene's binding_revision the GPU table was made for
-  uint64_t failed_revision_ = 0;  // a revision the GPU could not take (logged once; CPU used)
+  // the scene's deformers' revisions when the GPU could not take them (logged once; the CPU deforms
+  // until one of them changes: a rebind)
+  std::vector<uint64_t> failed_revisions_;
   std::string unavailable_;  // why there is no GPU path (empty: there is)
   bool use_gpu_ = true, synchronous_ = false, on_gpu_ = false, from_cage_ = false;
+  bool driver_noted_ = false;  // the log said that the driven skin is made on the CPU
   int shown_path_ = -1;  // the path of the last frame deformed through the cage: 1 GPU, 0 CPU, -1 none yet
   std::array<double, kFrameParts> cpu_ms_{}, gpu_ms_{};  // this frame's, then shown
   std::array<double, kFrameParts> shown_cpu_{}, shown_gpu_{};

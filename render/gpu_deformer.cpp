@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cmath>
 #include <cstdio>
 #include <vector>
 
@@ -14,7 +15,8 @@ namespace cagewrap::render {
 
 namespace {
 
-constexpr size_t kGroupSize = 256;  // local_size_x of both compute shaders
+constexpr size_t kGroupSize = 256;  // local_size_x of every compute shader
+constexpr uint32_t kNoMask = 0xffffffffu;  // shaders/combine_stack.comp.glsl: a layer without a mask
 
 std::string megabytes(size_t bytes) {
   char buf[32];
@@ -62,6 +64,13 @@ Status fill_storage(GLuint& buffer, std::span<const T> data, const std::string& 
 
 void bind(GLuint index, GLuint buffer) { glBindBufferBase(GL_SHADER_STORAGE_BUFFER, index, buffer); }
 
+// GL_MAX_COMPUTE_WORK_GROUP_COUNT[0]: GL 4.3 guarantees at least 65535.
+size_t max_groups_per_row() {
+  GLint max_x = 0;
+  glGetIntegeri_v(GL_MAX_COMPUTE_WORK_GROUP_COUNT, 0, &max_x);
+  return static_cast<size_t>(std::max(max_x, 65535));
+}
+
 // Runs `count` invocations of the program in use, on a 2-D grid of groups when one row would exceed
 // the GL's group-count limit (u_row tells the kernel the row length).
 void dispatch(const GlProgram& program, size_t count, size_t max_groups_x) {
@@ -105,28 +114,84 @@ std::string GpuDeformer::unsupported_reason() {
   return buf;
 }
 
-Result<std::unique_ptr<GpuDeformer>> GpuDeformer::create(const Deformer& deformer, std::span<const Tri> triangles) {
+Result<std::unique_ptr<GpuNormals>> GpuNormals::create(size_t num_vertices, std::span<const Tri> triangles) {
+  if (auto why = GpuDeformer::unsupported_reason(); !why.empty()) return make_error(ErrorCode::kUnsupportedFormat, why);
+  std::unique_ptr<GpuNormals> g(new GpuNormals());
+  g->max_groups_x_ = max_groups_per_row();
+  std::string log;
+  if (!g->faces_.build_compute("normals.comp.glsl", {"KERNEL_FACES"}, log) ||
+      !g->vertices_.build_compute("normals.comp.glsl", {"KERNEL_VERTICES"}, log))
+    return make_error(ErrorCode::kParse, "a GPU normals kernel does not compile: " + log);
+  if (auto s = check_storage(triangles.size_bytes(), "the skin's triangles (" + std::to_string(triangles.size()) + ")");
+      !s)
+    return s.error();
+  NormalComputer adjacency(num_vertices, triangles);  // the CPU path's own vertex -> triangles table
+  size_t bytes = 0;
+  if (auto s = fill_storage(g->starts_, adjacency.starts(), "the skin's vertex -> triangle starts", bytes); !s)
+    return s.error();
+  if (auto s = fill_storage(g->incident_, adjacency.incident(), "the skin's vertex -> triangle table", bytes); !s)
+    return s.error();
+  if (auto s = fill_storage(g->face_normals_, nullptr, triangles.size_bytes(), "the skin's triangle normals", bytes,
+                            GL_DYNAMIC_COPY);
+      !s)
+    return s.error();
+  g->num_triangles_ = triangles.size();
+  g->num_vertices_ = num_vertices;
+  g->bytes_ = bytes;
+  return g;
+}
+
+GpuNormals::~GpuNormals() {
+  GLuint buffers[] = {starts_, incident_, face_normals_};
+  glDeleteBuffers(static_cast<GLsizei>(std::size(buffers)), buffers);
+}
+
+void GpuNormals::compute(TriangleBuffer& target) {
+  CAGEWRAP_CHECK(target.num_triangles() == num_triangles_ && target.num_vertices() == num_vertices_,
+                 "the target holds the skin the GPU normals were made for");
+  faces_.use();
+  faces_.set("u_vertices", static_cast<unsigned>(num_vertices_));
+  bind(0, target.position_buffer());
+  bind(1, target.index_buffer());
+  bind(2, face_normals_);
+  dispatch(faces_, num_triangles_, max_groups_x_);
+  barrier();
+  vertices_.use();
+  bind(0, target.normal_buffer());
+  bind(1, starts_);
+  bind(2, face_normals_);
+  bind(3, incident_);
+  dispatch(vertices_, num_vertices_, max_groups_x_);
+  barrier();
+}
+
+Result<std::unique_ptr<GpuDeformer>> GpuDeformer::make(const Deformer& deformer) {
   if (auto why = unsupported_reason(); !why.empty()) return make_error(ErrorCode::kUnsupportedFormat, why);
   std::unique_ptr<GpuDeformer> g(new GpuDeformer());
   g->deformer_ = &deformer;
-  GLint max_x = 0;
-  glGetIntegeri_v(GL_MAX_COMPUTE_WORK_GROUP_COUNT, 0, &max_x);
-  g->max_groups_x_ = static_cast<size_t>(std::max(max_x, 65535));  // GL 4.3 guarantees at least 65535
+  g->max_groups_x_ = max_groups_per_row();
   std::string log;
   if (!g->affine_.build_compute("deform.comp.glsl", {"KERNEL_AFFINE"}, log) ||
       !g->rigid_.build_compute("deform.comp.glsl", {"KERNEL_RIGID"}, log) ||
-      !g->fallback_.build_compute("deform.comp.glsl", {"KERNEL_FALLBACK"}, log) ||
-      !g->faces_.build_compute("normals.comp.glsl", {"KERNEL_FACES"}, log) ||
-      !g->vertices_.build_compute("normals.comp.glsl", {"KERNEL_VERTICES"}, log))
+      !g->fallback_.build_compute("deform.comp.glsl", {"KERNEL_FALLBACK"}, log))
     return make_error(ErrorCode::kParse, "a GPU deformer kernel does not compile: " + log);
   if (auto s = g->upload_table(); !s) return s.error();
-  if (auto s = g->upload_topology(triangles); !s) return s.error();
+  return g;
+}
+
+Result<std::unique_ptr<GpuDeformer>> GpuDeformer::create(const Deformer& deformer) { return make(deformer); }
+
+Result<std::unique_ptr<GpuDeformer>> GpuDeformer::create(const Deformer& deformer, std::span<const Tri> triangles) {
+  auto g = make(deformer);
+  if (!g) return g;
+  auto n = GpuNormals::create(deformer.binding().num_points, triangles);
+  if (!n) return n.error();
+  (*g)->normals_ = std::move(n).value();
   return g;
 }
 
 GpuDeformer::~GpuDeformer() {
-  GLuint buffers[] = {rest_,      offsets_, ids_, weights_, bary_, fallback_list_, affine_maps_, rigid_maps_, starts_,
-                      incident_, face_normals_};
+  GLuint buffers[] = {rest_, offsets_, ids_, weights_, bary_, fallback_list_, affine_maps_, rigid_maps_};
   glDeleteBuffers(static_cast<GLsizei>(std::size(buffers)), buffers);
 }
 
@@ -161,31 +226,15 @@ Status GpuDeformer::upload_table() {
   return Ok{};
 }
 
-Status GpuDeformer::upload_topology(std::span<const Tri> triangles) {
-  const size_t nv = deformer_->binding().num_points;
-  if (auto s = check_storage(triangles.size_bytes(), "the skin's triangles (" + std::to_string(triangles.size()) + ")");
-      !s)
-    return s;
-  NormalComputer adjacency(nv, triangles);  // the CPU path's own vertex -> triangles table
-  size_t bytes = 0;
-  if (auto s = fill_storage(starts_, adjacency.starts(), "the skin's vertex -> triangle starts", bytes); !s) return s;
-  if (auto s = fill_storage(incident_, adjacency.incident(), "the skin's vertex -> triangle table", bytes); !s)
-    return s;
-  if (auto s = fill_storage(face_normals_, nullptr, triangles.size_bytes(), "the skin's triangle normals", bytes,
-                            GL_DYNAMIC_COPY);
-      !s)
-    return s;
-  num_triangles_ = triangles.size();
-  num_vertices_ = nv;
-  topology_bytes_ = bytes;
-  return Ok{};
-}
-
 Status GpuDeformer::table_changed() { return upload_table(); }
 
 void GpuDeformer::deform(TriangleBuffer& target) {
+  target.allocate_vertices(deformer_->binding().num_points);
+  deform_into(target.position_buffer(), 0);
+}
+
+void GpuDeformer::deform_into(GLuint buffer, size_t offset) {
   const Binding& b = deformer_->binding();
-  target.allocate_vertices(b.num_points);
   const bool clamped = b.params.variant == Variant::kClamped;
   static_assert(sizeof(Affine) == 16 * sizeof(float) && sizeof(RigidMap) == 20 * sizeof(float),
                 "the kernels read these layouts");
@@ -193,7 +242,8 @@ void GpuDeformer::deform(TriangleBuffer& target) {
   if (clamped || num_fallback_) upload_maps(rigid_maps_, rigid_allocated_, deformer_->rigid_maps(), maps_bytes_);
 
   bind(0, rest_);
-  bind(7, target.position_buffer());
+  glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 7, buffer, static_cast<GLintptr>(offset),
+                    static_cast<GLsizeiptr>(std::max<size_t>(size_t{b.num_points} * sizeof(glm::vec3), 16)));
   const glm::vec3 origin(b.origin);
   const GlProgram& main = clamped ? rigid_ : affine_;
   main.use();
@@ -220,22 +270,159 @@ void GpuDeformer::deform(TriangleBuffer& target) {
 }
 
 void GpuDeformer::normals(TriangleBuffer& target) {
-  CAGEWRAP_CHECK(target.num_triangles() == num_triangles_ && target.num_vertices() == num_vertices_,
-                 "the target holds the skin the GPU deformer was made for");
-  faces_.use();
-  faces_.set("u_vertices", static_cast<unsigned>(num_vertices_));
-  bind(0, target.position_buffer());
-  bind(1, target.index_buffer());
-  bind(2, face_normals_);
-  dispatch(faces_, num_triangles_, max_groups_x_);
-  barrier();
-  vertices_.use();
-  bind(0, target.normal_buffer());
-  bind(1, starts_);
-  bind(2, face_normals_);
-  bind(3, incident_);
-  dispatch(vertices_, num_vertices_, max_groups_x_);
-  barrier();
+  CAGEWRAP_CHECK(normals_ != nullptr, "GpuDeformer::normals: made for the positions alone");
+  normals_->compute(target);
 }
+
+Result<std::unique_ptr<GpuStack>> GpuStack::create(std::span<const glm::vec3> skin_rest,
+                                                   std::span<const Tri> triangles) {
+  if (auto why = GpuDeformer::unsupported_reason(); !why.empty()) return make_error(ErrorCode::kUnsupportedFormat, why);
+  std::unique_ptr<GpuStack> g(new GpuStack());
+  g->num_points_ = skin_rest.size();
+  g->max_groups_x_ = max_groups_per_row();
+  std::string log;
+  if (!g->combine_.build_compute("combine_stack.comp.glsl", {}, log))
+    return make_error(ErrorCode::kParse, "the GPU stack's combine kernel does not compile: " + log);
+  auto n = GpuNormals::create(skin_rest.size(), triangles);
+  if (!n) return n.error();
+  g->normals_ = std::move(n).value();
+  if (auto s = fill_storage(g->rest_, skin_rest, "the rest skin", g->rest_bytes_); !s) return s.error();
+  // each layer's slice starts where a storage buffer may be bound (GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT)
+  GLint align = 0;
+  glGetIntegerv(GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT, &align);
+  const size_t a = static_cast<size_t>(std::max(align, 16));
+  g->stride_ = (skin_rest.size_bytes() + a - 1) / a * a;
+  glGenBuffers(1, &g->layer_skins_);
+  glGenBuffers(1, &g->masks_);
+  glGenBuffers(1, &g->mask_starts_);
+  return g;
+}
+
+GpuStack::~GpuStack() {
+  GLuint buffers[] = {rest_, layer_skins_, masks_, mask_starts_};
+  glDeleteBuffers(static_cast<GLsizei>(std::size(buffers)), buffers);
+}
+
+size_t GpuStack::gpu_bytes() const {
+  size_t bytes = rest_bytes_ + layers_allocated_ * stride_ + mask_bytes_ + normals_->gpu_bytes();
+  for (const Held& h : deformers_) bytes += h.gpu->gpu_bytes();
+  return bytes;
+}
+
+namespace {
+std::string deformer_label(size_t index) {
+  return index == 0 ? std::string("the document's cage (deformer 0)") : "deformer " + std::to_string(index);
+}
+}  // namespace
+
+Result<GpuDeformer*> GpuStack::deformer_for(const Deformed& d) {
+  CAGEWRAP_CHECK(d.deformer != nullptr, "GpuStack: a deformer of the frame has no deformer");
+  if (d.deformer->binding().num_points != num_points_)
+    return make_error(ErrorCode::kInvalidArgument, deformer_label(d.index) + " deforms " +
+                                                       std::to_string(d.deformer->binding().num_points) +
+                                                       " points but the skin has " + std::to_string(num_points_));
+  auto it = std::find_if(deformers_.begin(), deformers_.end(), [&](const Held& h) { return h.deformer == d.deformer; });
+  if (it == deformers_.end()) {
+    auto g = GpuDeformer::create(*d.deformer);
+    if (!g) return make_error(g.error().code, deformer_label(d.index) + ": " + g.error().message);
+    deformers_.push_back({d.deformer, d.revision, std::move(g).value()});
+    return deformers_.back().gpu.get();
+  }
+  if (it->revision != d.revision) {
+    // the deformer was made again in the same place, or its table changed in place (a live set edit)
+    if (auto s = it->gpu->table_changed(); !s) {
+      deformers_.erase(it);
+      return make_error(s.error().code, deformer_label(d.index) + ": " + s.error().message);
+    }
+    it->revision = d.revision;
+  }
+  return it->gpu.get();
+}
+
+Status GpuStack::upload_masks(std::span<const Deformed> layers) {
+  bool same = masks_held_.size() == layers.size();
+  for (size_t k = 0; same && k < layers.size(); ++k) same = masks_held_[k] == layers[k].mask;
+  if (same) return Ok{};
+  std::vector<uint32_t> starts(layers.size(), kNoMask);
+  size_t total = 0;
+  for (size_t k = 0; k < layers.size(); ++k)
+    if (layers[k].mask) total += layers[k].mask->size();
+  if (total >= kNoMask)
+    return make_error(ErrorCode::kInvalidArgument, "the layers' masks have " + std::to_string(total) +
+                                                       " weights, more than the GPU stack indexes");
+  std::vector<float> all;
+  all.reserve(total);
+  for (size_t k = 0; k < layers.size(); ++k)
+    if (layers[k].mask) {
+      starts[k] = static_cast<uint32_t>(all.size());
+      all.insert(all.end(), layers[k].mask->begin(), layers[k].mask->end());
+    }
+  size_t bytes = 0;
+  if (auto s = fill_storage(masks_, std::span<const float>(all), "the layers' masks", bytes); !s) return s;
+  if (auto s = fill_storage(mask_starts_, std::span<const uint32_t>(starts), "the layers' mask starts", bytes); !s)
+    return s;
+  mask_bytes_ = bytes;
+  masks_held_.clear();
+  for (const Deformed& l : layers) masks_held_.push_back(l.mask);
+  return Ok{};
+}
+
+Status GpuStack::deform(const DeformerStack& stack, const Deformed* base, std::span<const Deformed> layers,
+                        TriangleBuffer& target) {
+  if (stack.mode == StackMode::kBlend && !(stack.exponent >= 0 && std::isfinite(stack.exponent)))
+    return make_error(ErrorCode::kInvalidArgument, "the deformer stack's blend exponent must be a finite number >= 0, not " +
+                                                       std::to_string(stack.exponent));
+  for (const Deformed& l : layers)
+    if (l.mask && l.mask->size() != num_points_)
+      return make_error(ErrorCode::kInvalidArgument, deformer_label(l.index) + "'s mask has " +
+                                                         std::to_string(l.mask->size()) + " weights but the skin has " +
+                                                         std::to_string(num_points_) + " points");
+  // the deformers this frame leaves out go first: theirs may be gone (a rig dropped), so they are never used again
+  std::erase_if(deformers_, [&](const Held& h) {
+    if (base && base->deformer == h.deformer) return false;
+    return std::none_of(layers.begin(), layers.end(), [&](const Deformed& l) { return l.deformer == h.deformer; });
+  });
+  target.allocate_vertices(num_points_);
+  if (base) {
+    auto g = deformer_for(*base);
+    if (!g) return g.error();
+    (*g)->deform_into(target.position_buffer(), 0);
+  } else {  // f_0 is the rest skin
+    glBindBuffer(GL_COPY_READ_BUFFER, rest_);
+    glBindBuffer(GL_COPY_WRITE_BUFFER, target.position_buffer());
+    glCopyBufferSubData(GL_COPY_READ_BUFFER, GL_COPY_WRITE_BUFFER, 0, 0,
+                        static_cast<GLsizeiptr>(num_points_ * sizeof(glm::vec3)));
+  }
+  if (layers.empty()) return Ok{};
+  if (layers.size() > layers_allocated_) {
+    size_t bytes = 0;
+    if (auto s = fill_storage(layer_skins_, nullptr, layers.size() * stride_,
+                              "the skins of " + std::to_string(layers.size()) + " layers", bytes, GL_DYNAMIC_COPY);
+        !s)
+      return s;
+    layers_allocated_ = layers.size();
+  }
+  for (size_t k = 0; k < layers.size(); ++k) {
+    auto g = deformer_for(layers[k]);
+    if (!g) return g.error();
+    (*g)->deform_into(layer_skins_, k * stride_);
+  }
+  if (auto s = upload_masks(layers); !s) return s;
+  combine_.use();
+  combine_.set("u_layers", static_cast<unsigned>(layers.size()));
+  combine_.set("u_stride", static_cast<unsigned>(stride_ / sizeof(float)));
+  combine_.set("u_mode", static_cast<unsigned>(stack.mode));
+  combine_.set("u_exponent", static_cast<float>(stack.exponent));
+  bind(0, rest_);
+  bind(1, layer_skins_);
+  bind(2, masks_);
+  bind(3, mask_starts_);
+  bind(7, target.position_buffer());
+  dispatch(combine_, num_points_, max_groups_x_);
+  barrier();
+  return Ok{};
+}
+
+void GpuStack::normals(TriangleBuffer& target) { normals_->compute(target); }
 
 }  // namespace cagewrap::render

@@ -402,6 +402,7 @@ std::vector<std::string> Scene::poll_stack() {
     const std::string name = deformer_name(history_.current(), r.deformer);
     if (res.ok()) {
       r.rig = std::make_unique<Rig>(std::move(res).value());
+      r.revision = next_revision();
       const std::string& note = *r.cache_note;
       if (note.starts_with("used: "))
         out.push_back("deformer '" + name + "': using the cached binding " + note.substr(6) + " (no bind)");
@@ -430,16 +431,25 @@ void Scene::retry_stack_binds() {
   update_stack_rigs();
 }
 
-void Scene::pose_stack(const Playback& pb, std::span<const glm::vec3> driver) {
+void Scene::pose_stack(const Playback& pb, bool maps_only, std::span<const glm::vec3> driver) {
   const Document& w = history_.current();
   stack_ready_ = std::all_of(stack_rigs.begin(), stack_rigs.end(), [](const StackRig& r) { return r.rig != nullptr; });
   for (StackRig& r : stack_rigs) {
     if (!stack_ready_) break;  // the active deformer's skin alone (and the driver) until every rig is ready
-    r.skin.resize(skin_rest.size());
     Status s = Ok{};
-    if (!r.rig->fits(r.doc)) s = make_error(ErrorCode::kInvalidArgument, "its rig is out of date");
-    else if (r.doc.sim.enabled && pb.clip >= 0) s = r.rig->pose_clip(r.doc, pb.clip, pb.player.time(), pb.pose_override, r.cage, r.skin);
-    else s = r.rig->pose(r.doc, pose_, r.cage, r.skin);
+    const bool simulated = r.doc.sim.enabled && pb.clip >= 0;
+    if (!r.rig->fits(r.doc)) {
+      s = make_error(ErrorCode::kInvalidArgument, "its rig is out of date");
+    } else if (maps_only) {  // the cage alone, as pose and pose_clip pose it, and its maps for the GPU
+      if (simulated) s = r.rig->pose_clip_cage(r.doc, pb.clip, pb.player.time(), pb.pose_override, r.cage);
+      else pose_document_cage(r.doc, r.rig->attachment(), pose_, r.cage);
+      Deformer& d = r.rig->deformer();
+      if (s) s = d.update_maps(r.cage.positions, cage_vertex_frames(d.binding(), r.cage));
+    } else {
+      r.skin.resize(skin_rest.size());
+      if (simulated) s = r.rig->pose_clip(r.doc, pb.clip, pb.player.time(), pb.pose_override, r.cage, r.skin);
+      else s = r.rig->pose(r.doc, pose_, r.cage, r.skin);
+    }
     if (!s) {
       r.error = s.error().message;
       r.rig.reset();
@@ -447,9 +457,41 @@ void Scene::pose_stack(const Playback& pb, std::span<const glm::vec3> driver) {
     }
   }
   if (!stack_ready_) {
-    add_driver_alone(driver);
+    if (!maps_only) add_driver_alone(driver);
     return;
   }
+  if (!maps_only) {
+    stack_ready_ = combine_skins(driver);
+    stack_combined_ = stack_ready_;
+    return;
+  }
+  // what combine_document_stack combines, for the GPU: the deformers not muted, each layer with its mask
+  // (the parametric driver is added on the CPU: update_pose does not come here while it drives the skin)
+  gpu_frame_.stack = w.stack;
+  for (size_t d = 0; d < deformer_count(w); ++d) {
+    if (deformer_muted(w, d)) continue;
+    GpuFrame::Deformed f;
+    f.index = d;
+    if (d == active_) {
+      f.deformer = &*deformer;
+      f.revision = binding_revision;
+    } else {
+      auto r = std::find_if(stack_rigs.begin(), stack_rigs.end(), [&](const StackRig& o) { return o.deformer == d; });
+      if (r == stack_rigs.end()) continue;  // it has no cage: left out, as on the CPU
+      f.deformer = &r->rig->deformer();
+      f.revision = r->revision;
+    }
+    if (d == 0) {
+      gpu_frame_.base = std::move(f);
+    } else {
+      f.mask = w.layers[d - 1].mask;
+      gpu_frame_.layers.push_back(std::move(f));
+    }
+  }
+  stack_combined_ = true;
+}
+
+bool Scene::combine_skins(std::span<const glm::vec3> driver) {
   const auto skin_of = [&](size_t d) -> const std::vector<glm::vec3>* {
     if (d == active_) return &skin_posed_;
     for (const StackRig& r : stack_rigs)
@@ -457,12 +499,19 @@ void Scene::pose_stack(const Playback& pb, std::span<const glm::vec3> driver) {
     return nullptr;
   };
   std::vector<glm::vec3> out;
-  if (combine_document_stack(w, skin_rest, skin_of, out, driver).ok()) {
-    skin_posed_ = std::move(out);
-    skin_driven_ = !driver.empty();
-  } else {
-    stack_ready_ = false;
+  if (!combine_document_stack(history_.current(), skin_rest, skin_of, out, driver).ok()) return false;
+  skin_posed_ = std::move(out);
+  skin_driven_ = !driver.empty();
+  return true;
+}
+
+bool Scene::combine_stack_on_cpu() {
+  for (StackRig& r : stack_rigs) {
+    if (!r.rig) return false;
+    r.skin.resize(skin_rest.size());
+    if (!deform_through_cage(r.rig->deformer(), r.cage, r.skin).ok()) return false;
   }
+  return combine_skins({});
 }
 
 void Scene::add_driver_alone(std::span<const glm::vec3> driver) {
@@ -629,9 +678,12 @@ void Scene::update_pose(const Playback& pb) {
 
   skin_from_cage = false;
   skin_driven_ = false;
+  gpu_frame_ = {};
+  stack_combined_ = false;
   // the parametric driver's displacement (its sculpt and keyposes, carried by the skeleton), added where it
-  // sits in the stack as Rig adds it
+  // sits in the stack as Rig adds it; it is made on the CPU, so a driven skin is made there
   const bool driven = !show_file_skinning && driving() && driver_displacement();
+  const bool on_gpu = skin_on_gpu && !driving();
   const auto& cage = doc().cage;
   if (cage) {
     // the driver: rest cage + the artist's offsets + keyposes, carried by the skeleton (core/rig/rig.h)
@@ -650,18 +702,23 @@ void Scene::update_pose(const Playback& pb) {
     if (deformer && bound_cage == cage) {
       skin_posed_.resize(skin_rest.size());
       auto t0 = std::chrono::steady_clock::now();
-      const bool on_gpu = skin_on_gpu && !stacked();  // a stack is combined on the CPU
       auto s = on_gpu ? deformer->update_maps(posed.positions, cage_vertex_frames(*binding, posed))
                       : deform_through_cage(*deformer, posed, skin_posed_);
-      if (s.ok() && !on_gpu && !show_file_skinning && stacked()) pose_stack(pb, driven ? std::span<const glm::vec3>(driver_delta_) : std::span<const glm::vec3>());
+      if (s.ok() && !show_file_skinning && (cage_stack() || driven))
+        pose_stack(pb, on_gpu, driven ? std::span<const glm::vec3>(driver_delta_) : std::span<const glm::vec3>());
+      if (s.ok() && on_gpu && !stack_combined_)  // the active deformer's skin alone, as the CPU path shows it
+        gpu_frame_.base = GpuFrame::Deformed{active_, &*deformer, binding_revision, nullptr};
+      gpu_frame_.built = s.ok() && on_gpu;
       deform_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
       skin_from_cage = s.ok();
     }
   }
   if (show_file_skinning) skin_from_cage = false;
-  skin_stale_ = skin_from_cage && skin_on_gpu && !stacked();
+  skin_stale_ = skin_from_cage && on_gpu;
   if (!skin_from_cage) {
     skin_posed_ = skin_character(ch, pose);
+    gpu_frame_ = {};
+    stack_combined_ = false;
     // no binding yet: the driver's sculpt on the file's own skinning
     if (driven) add_driver_alone(driver_delta_);
   }
@@ -689,8 +746,9 @@ const std::vector<glm::vec3>& Scene::skin_posed() {
     skin_stale_ = false;
     skin_posed_.resize(skin_rest.size());
     // the deformer was replaced since update_pose (a bind finished) and no longer fits: the file's skinning
-    if (!deformer || !deform_through_cage(*deformer, posed, skin_posed_).ok())
-      skin_posed_ = skin_character(*doc().character, pose_);
+    bool ok = deformer && deform_through_cage(*deformer, posed, skin_posed_).ok();
+    if (ok && stack_combined_) ok = combine_stack_on_cpu();  // the stack the GPU combined, made here too
+    if (!ok) skin_posed_ = skin_character(*doc().character, pose_);
   }
   return skin_posed_;
 }

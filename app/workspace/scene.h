@@ -70,13 +70,31 @@ struct StackRig {
   Document doc;                   // deformer_document of the whole document as it is now
   BindingInputs inputs;           // what its rig was (or is being) made from
   std::unique_ptr<Rig> rig;       // null while binding or after a failure
+  uint64_t revision = 0;          // changes (to a value never used before) whenever `rig` is made: the GPU follows
   std::unique_ptr<StackRigJob> job;
   // What the job did with the deformer's binding cache, written by the job before it ends: "" (none
   // recorded), "used: FILE" or "not used: why"
   std::shared_ptr<std::string> cache_note = std::make_shared<std::string>();
   std::string error;              // why it has no rig ("" = none)
-  std::vector<glm::vec3> skin;    // its posed skin of the current frame
+  std::vector<glm::vec3> skin;    // its posed skin of the current frame (with skin_on_gpu: made only when asked)
   PosedCage cage;                 // its posed cage of the current frame
+};
+
+// The deformers that make a frame's skin on the GPU (Scene::gpu_frame; app/skin_display.h deforms and
+// combines them there, render/gpu_deformer.h GpuStack).
+struct GpuFrame {
+  struct Deformed {
+    size_t index = 0;                    // its number in the stack (0 = the document's cage)
+    const Deformer* deformer = nullptr;  // with the maps of this frame's posed cage (Deformer::update_maps)
+    uint64_t revision = 0;               // changes whenever the deformer is made again or its table changes
+    std::shared_ptr<const std::vector<float>> mask;  // #P, or null: 1 everywhere
+  };
+  // The skin the others combine over: deformer 0's, or none (muted, or it has no cage): the rest skin.
+  // While the other deformers bind, the active deformer's alone (whichever it is), with no layers.
+  std::optional<Deformed> base;
+  std::vector<Deformed> layers;  // the other deformers that move the skin, in stack order
+  DeformerStack stack;           // how they combine (the whole document's)
+  bool built = false;            // update_pose built the maps: the GPU makes this frame's skin
 };
 
 struct Scene {
@@ -98,7 +116,8 @@ struct Scene {
   // The other deformers that move the skin (not muted), each with its rig or its bind.
   std::vector<StackRig> stack_rigs;
   // Whether the skin shown is a stack's (another deformer moves it, or the active one is muted) or has the
-  // parametric driver's sculpt: it is then made on the CPU each frame (the GPU path deforms one cage).
+  // parametric driver's sculpt. A stack of cages is deformed and combined on the GPU with skin_on_gpu
+  // (gpu_frame); the driver's sculpt is added on the CPU, so a driven skin is made there.
   bool stacked() const { return cage_stack() || driving(); }
   bool cage_stack() const;  // more than the active cage moves the skin
   // Whether every other deformer's rig is ready (else the active deformer's skin is shown alone).
@@ -162,9 +181,15 @@ struct Scene {
   double deform_ms = 0.0;
   bool skin_from_cage = false;  // false: the file's own linear blend skinning is shown
   // Set by the editor when the skin is deformed on the GPU (app/skin_display.h): update_pose then
-  // only builds the deformer's per-change maps (Deformer::update_maps) for the GPU kernels, and the
-  // CPU copy of the skin is made only when something asks for it (skin_posed()).
+  // only builds each deformer's per-change maps (Deformer::update_maps; with a stack, every deformer
+  // that moves the skin, its cage posed) for the GPU kernels (gpu_frame), and the CPU copy of the skin
+  // is made only when something asks for it (skin_posed()). Not while the parametric driver drives
+  // the skin (driving()): its sculpt is added on the CPU.
   bool skin_on_gpu = false;
+  // The deformers whose maps update_pose built for the GPU this frame (skin_on_gpu and the skin from
+  // the cage; otherwise no base and no layers). While the other deformers bind, the active one alone,
+  // as the CPU path shows it.
+  const GpuFrame& gpu_frame() const { return gpu_frame_; }
   // Changes (to a value never used before, by any scene) whenever `deformer` is replaced or its
   // table changes in place, so a GPU copy of the table knows to follow.
   uint64_t binding_revision = 0;
@@ -270,9 +295,19 @@ struct Scene {
   };
   std::optional<HandedOver> handed_over_;
   void update_stack_rigs();
-  // The other deformers' skins combined with the active one's in skin_posed_, and `driver` (the parametric
-  // driver's displacement, or empty) at its place (core/rig/deformer_stack.h combine_document_stack).
-  void pose_stack(const Playback& pb, std::span<const glm::vec3> driver);
+  // Poses every other deformer's cage; on the CPU (maps_only false) deforms its skin and combines the
+  // stack, with `driver` (the parametric driver's displacement, or empty) at its place, into skin_posed_
+  // (core/rig/deformer_stack.h combine_document_stack); on the GPU (maps_only) builds its maps and fills
+  // gpu_frame_ (no driver there: a driven skin is made on the CPU).
+  void pose_stack(const Playback& pb, bool maps_only, std::span<const glm::vec3> driver);
+  // The other deformers' skins (stack_rigs' `skin`) combined with the active one's (skin_posed_) and the
+  // driver's displacement into skin_posed_; false (skin_posed_ unchanged) when the stack cannot combine them.
+  bool combine_skins(std::span<const glm::vec3> driver);
+  // The CPU copy of a stack the GPU made: each other deformer's skin deformed from its cage posed this
+  // frame, then combined with the active one's (in skin_posed_). False when one fails.
+  bool combine_stack_on_cpu();
+  GpuFrame gpu_frame_;
+  bool stack_combined_ = false;  // this frame's skin is the stack's (not the active deformer's alone)
   // The parametric driver's displacement at this frame (its sculpt and keyposes, carried by the skeleton)
   // into driver_delta_; false when it adds nothing (no sculpt) or fails.
   bool driver_displacement();

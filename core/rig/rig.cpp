@@ -312,4 +312,16 @@ const Binding& Rig::binding() const { return state_->binding; }
 const Binding& Rig::deformer_binding() const { return state_->fitted ? *state_->fitted : state_->binding; }
 const CageAttachment* Rig::attachment() const { return state_->attachment ? &*state_->attachment : nullptr; }
 
+Status Rig::pose_clip_cage(const Document& doc, int32_t clip, double t, std::span<const glm::quat> overrides,
+                           PosedCage& cage) {
+  CAGEWRAP_CHECK(fits(doc),
+                 "Rig::pose_clip_cage: the document has another cage, binding parameters or attachment than the rig");
+  const Character& ch = *doc.character;
+  if (clip >= 0) t = clip_time(t, ch.clips[static_cast<size_t>(clip)].duration, false);
+  return pose_simulated_cage(state_->sims, doc, attachment(), clip, t, compose_pose(ch, clip, t, false, overrides),
+                             cage);
+}
+
+Deformer& Rig::deformer() { return *state_->deformer; }
+
 }  // namespace cagewrap

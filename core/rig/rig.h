@@ -108,6 +108,14 @@ class Rig {
   Status pose_clip(const Document& doc, int32_t clip, double t, std::span<const glm::quat> overrides, PosedCage& cage,
                    std::span<glm::vec3> skin_out);
 
+  // For a caller that deforms the skin itself (the editor's GPU path, app/skin_display.h): poses only this
+  // rig's own cage as pose_clip does (the simulation applied when doc.sim is on and a clip plays), with
+  // neither the skin nor the layers' rigs; deformer().update_maps then makes the maps of that cage.
+  Status pose_clip_cage(const Document& doc, int32_t clip, double t, std::span<const glm::quat> overrides,
+                        PosedCage& cage);
+  // The deformer of this rig's own cage (not its layers'): what pose and pose_clip deform the skin with.
+  Deformer& deformer();
+
   size_t num_skin_points() const;
   std::span<const glm::vec3> skin_rest() const;
   // The registration: the sets, what a project's cache holds (bind_document's result).
