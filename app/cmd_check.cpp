@@ -115,7 +115,7 @@ void add_check_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--max-stretch", args->options.thresholds.stretch, "threshold: largest skin-edge stretch")
       ->capture_default_str();
   cmd->add_option("--region-joints", args->region_joints,
-                  "judge only the skin these joints and their children move (a,b,c: their skin weights over 0.5)");
+                  "judge only the skin these joints and their children move (a,b,c: their skin weights over 0.5; -name leaves one out: spine,-neck)");
   cmd->add_flag("--json", args->json, "print the report as JSON");
   cmd->callback([args, &exit_code] {
     exit_code = 1;

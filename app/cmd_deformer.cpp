@@ -87,7 +87,7 @@ struct MaskArgs {
 };
 
 void add_mask_options(CLI::App& cmd, MaskArgs& m, bool with_none) {
-  auto* j = cmd.add_option("--mask-joints", m.joints, "mask: these joints and their children, feathered by the skin weights (a,b,c)");
+  auto* j = cmd.add_option("--mask-joints", m.joints, "mask: these joints and their children, feathered by the skin weights (a,b,c; -name leaves one out: spine,-neck)");
   auto* p = cmd.add_option("--mask-primitives", m.primitives, "mask: these primitives of the character, by index (0,2)");
   j->excludes(p);
   if (with_none) cmd.add_flag("--no-mask", m.none, "no mask: the layer may move every skin point")->excludes(j)->excludes(p);

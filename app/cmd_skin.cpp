@@ -1,18 +1,23 @@
-// cagewrap skin --character F [--clip NAME|INDEX] [--time t] [--loop] --out skin.obj|.bin
-// Writes the file's own linear blend skinning at a time: every primitive, in file order.
+// cagewrap skin --character F [--clip NAME|INDEX] [--time t] [--loop] [--region-joints a,b] --out skin.obj|.bin
+// Writes the file's own linear blend skinning at a time: every primitive, in file order; with
+// --region-joints, only the triangles whose points those joints move (a mesh to wrap a garment cage around).
+#include <algorithm>
+#include <cstdint>
 #include <cstdio>
+#include <sstream>
 
 #include "app/cli_common.h"
 #include "app/commands.h"
 #include "core/io/gltf_loader.h"
 #include "core/geometry/mesh_io.h"
+#include "core/character/skin_mask.h"
 #include "core/character/skinning.h"
 
 namespace cagewrap::app {
 
 void add_skin_command(CLI::App& app, int& exit_code) {
   struct Args {
-    std::string character, clip, out;
+    std::string character, clip, out, region;
     double time = 0.0;
     bool loop = false;
   };
@@ -23,6 +28,9 @@ void add_skin_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--time", args->time, "seconds into the clip (clamped to the clip)")->capture_default_str();
   cmd->add_flag("--loop", args->loop, "wrap the time into the clip instead of clamping");
   cmd->add_option("--out", args->out, "skinned positions: .obj (with triangles), or .bin (raw float32 N x 3)")->required();
+  cmd->add_option("--region-joints", args->region,
+                  "only the triangles whose points these joints and their children move (skin weights over 0.5; a,b,c; "
+                  "-name leaves one out: spine,-neck): a region of the skin as a mesh, e.g. to build a garment cage around");
   cmd->callback([args, &exit_code] {
     exit_code = 1;
     if (!positions_output_or_report(args->out)) return;
@@ -49,6 +57,41 @@ void add_skin_command(CLI::App& app, int& exit_code) {
     }
     std::vector<glm::vec3> out = skin_character(*c, sample_pose(*c, clip, args->time, args->loop));
     PolyMesh topology = combined_topology(*c);
+    if (!args->region.empty()) {
+      std::vector<std::string> names;
+      std::stringstream in(args->region);
+      for (std::string item; std::getline(in, item, ',');)
+        if (!item.empty()) names.push_back(item);
+      auto mask = joint_region_mask(*c, names);
+      if (!mask) {
+        std::fprintf(stderr, "error: %s: --region-joints: %s\n", args->character.c_str(), mask.error().message.c_str());
+        return;
+      }
+      // the region's triangles, their points renumbered in skin order
+      std::vector<uint32_t> index(out.size(), UINT32_MAX);
+      std::vector<glm::vec3> kept;
+      PolyMesh region;
+      for (size_t f = 0; f < topology.num_faces(); ++f) {
+        const auto face = topology.face(f);
+        if (!std::all_of(face.begin(), face.end(), [&](uint32_t v) { return (*mask)[v] > 0.5f; })) continue;
+        std::vector<uint32_t> ids;
+        for (uint32_t v : face) {
+          if (index[v] == UINT32_MAX) index[v] = static_cast<uint32_t>(kept.size()), kept.push_back(out[v]);
+          ids.push_back(index[v]);
+        }
+        region.add_face(ids);
+      }
+      if (region.num_faces() == 0) {
+        std::fprintf(stderr, "error: %s: --region-joints %s: no triangle of the skin lies in that region\n", args->character.c_str(),
+                     args->region.c_str());
+        return;
+      }
+      region.positions = kept;
+      std::printf("region %s: %zu of %zu triangles, %zu points\n", args->region.c_str(), region.num_faces(), topology.num_faces(),
+                  kept.size());
+      out = std::move(kept);
+      topology = std::move(region);
+    }
     if (auto s = save_positions(args->out, out, topology); !s) {
       report_error(s.error());
       return;

@@ -88,6 +88,16 @@ TEST(DeformerStack, JointRegionMaskFollowsTheSkinWeights) {
   ASSERT_FALSE(bad.ok());
   EXPECT_NE(bad.error().message.find("has no node 'hed'"), std::string::npos) << bad.error().message;
   EXPECT_FALSE(primitive_mask(ch, std::vector<size_t>{7}).ok());
+  // "-name" leaves a joint and its children out: the neck without the head is the neck's region minus the head's
+  auto neck_only = joint_region_mask(ch, std::vector<std::string>{"neck", "-head"});
+  ASSERT_TRUE(neck_only.ok()) << neck_only.error().message;
+  double gap = 0.0;
+  for (size_t p = 0; p < head->size(); ++p) gap = std::max(gap, std::abs(double((*neck_only)[p]) - double((*neck)[p] - (*head)[p])));
+  EXPECT_LT(gap, 1e-6);
+  auto only_out = joint_region_mask(ch, std::vector<std::string>{"-head"});
+  ASSERT_FALSE(only_out.ok());
+  EXPECT_NE(only_out.error().message.find("not only ones to leave out"), std::string::npos) << only_out.error().message;
+  EXPECT_FALSE(joint_region_mask(ch, std::vector<std::string>{"neck", "-hed"}).ok());
 }
 
 class DemoStack : public ::testing::Test {

@@ -9,8 +9,12 @@ namespace cagewrap {
 Result<std::vector<float>> joint_region_mask(const Character& character, std::span<const std::string> nodes) {
   const Skeleton& sk = character.skeleton;
   if (nodes.empty()) return make_error(ErrorCode::kInvalidArgument, "a joint region mask needs at least one joint");
-  std::vector<uint8_t> in(sk.size(), 0);
-  for (const std::string& name : nodes) {
+  // each node in (1) or out (2) of the region as the nearest named node above it (or itself) says; 0 = none
+  std::vector<uint8_t> state(sk.size(), 0);
+  bool any_in = false;
+  for (const std::string& entry : nodes) {
+    const bool out = entry.starts_with('-');
+    const std::string name = out ? entry.substr(1) : entry;
     const int32_t n = sk.find(name);
     if (n < 0) {
       std::string known;
@@ -18,11 +22,16 @@ Result<std::vector<float>> joint_region_mask(const Character& character, std::sp
       if (sk.size() > 12) known += ", ...";
       return make_error(ErrorCode::kInvalidArgument, character.source + ": has no node '" + name + "' (its nodes: " + known + ")");
     }
-    in[static_cast<size_t>(n)] = 1;
+    state[static_cast<size_t>(n)] = out ? 2 : 1;
+    any_in |= !out;
   }
-  // descendants: a node is in when its parent is (parents come before children in the skeleton's order)
+  if (!any_in)
+    return make_error(ErrorCode::kInvalidArgument, "a joint region mask needs a joint to include, not only ones to leave out (-name)");
+  // descendants: a node takes its parent's state unless named (parents come before children in the order)
   for (uint32_t i : sk.order())
-    if (const int32_t p = sk.node(i).parent; p >= 0 && in[static_cast<size_t>(p)]) in[i] = 1;
+    if (const int32_t p = sk.node(i).parent; p >= 0 && state[i] == 0) state[i] = state[static_cast<size_t>(p)];
+  std::vector<uint8_t> in(sk.size(), 0);
+  for (size_t i = 0; i < sk.size(); ++i) in[i] = state[i] == 1;
   const PointJoints pj = point_joint_nodes(character);
   std::vector<float> mask(pj.start.size() - 1, 0.0f);
   for (size_t p = 0; p < mask.size(); ++p) {

@@ -13,8 +13,10 @@ namespace cagewrap {
 
 // The region of the named skeleton nodes and their descendants, feathered by the character's own
 // skinning: each point's weight is the sum of its skin weights on those joints (a point of a
-// primitive with no skin: 1 when the node that instances it is in the region). Errors: a name that is
-// no node (naming it and the nearest names), no names.
+// primitive with no skin: 1 when the node that instances it is in the region). A name written "-name"
+// leaves that node and its descendants out ("spine,-neck,-shoulder.L,-shoulder.R": the torso alone);
+// each node follows the nearest named node above it. Errors: a name that is no node (naming it and the
+// first names), no names, only names left out.
 Result<std::vector<float>> joint_region_mask(const Character& character, std::span<const std::string> nodes);
 // 1 on the points of the given primitives (file order), 0 elsewhere. Errors: an index past the primitives.
 Result<std::vector<float>> primitive_mask(const Character& character, std::span<const size_t> primitives);
