@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "tests/gl_fixtures.h"
 #include "core/cage/cage.h"
 #include "core/io/cage_import.h"
 #include "core/deform/deformer.h"
@@ -42,23 +43,11 @@ constexpr double kPositionTolerance = 1e-5;  // of the bounding-box diagonal: th
 // triangle turns that into a larger angle, so allow a tenth of a degree.
 constexpr double kNormalToleranceDegrees = 0.1;
 
-class GpuDeformerTest : public ::testing::Test {
+class GpuDeformerTest : public test::GlSuite {
  protected:
-  static void SetUpTestSuite() {
-    auto gl = render::HeadlessGl::create();
-    if (!gl) {
-      skip_reason_ = gl.error().message;
-      return;
-    }
-    gl_ = std::move(gl).value();
-    skip_reason_ = render::GpuDeformer::unsupported_reason();
-  }
-  static void TearDownTestSuite() { gl_.reset(); }
   void SetUp() override {
-    if (!skip_reason_.empty()) GTEST_SKIP() << "no OpenGL 4.3 here, the GPU path is not tested: " << skip_reason_;
+    if (no_gl()) GTEST_SKIP() << "no OpenGL 4.3 here, the GPU path is not tested: " << no_gl_reason();
   }
-  static inline std::unique_ptr<render::HeadlessGl> gl_;
-  static inline std::string skip_reason_;
 };
 
 struct Agreement {

@@ -24,6 +24,7 @@
 #include <thread>
 #include <vector>
 
+#include "tests/gl_fixtures.h"
 #include "app/workspace/scene.h"
 #include "core/character/demo_character.h"
 #include "core/character/skin_mask.h"
@@ -48,20 +49,10 @@ constexpr double kPositionTolerance = 1e-5;  // of the bounding-box diagonal: th
 // small triangle turns into a larger angle (tests/gpu_deformer_test.cpp's bar)
 constexpr double kNormalToleranceDegrees = 0.1;
 
-class GpuStackTest : public ::testing::Test {
+class GpuStackTest : public test::GlSuite {
  protected:
-  static void SetUpTestSuite() {
-    auto gl = render::HeadlessGl::create();
-    if (!gl) {
-      skip_reason_ = gl.error().message;
-      return;
-    }
-    gl_ = std::move(gl).value();
-    skip_reason_ = render::GpuDeformer::unsupported_reason();
-  }
-  static void TearDownTestSuite() { gl_.reset(); }
   void SetUp() override {
-    if (!skip_reason_.empty()) GTEST_SKIP() << "no OpenGL 4.3 here, the GPU stack is not tested: " << skip_reason_;
+    if (no_gl()) GTEST_SKIP() << "no OpenGL 4.3 here, the GPU stack is not tested: " << no_gl_reason();
     dir_ = fs::temp_directory_path() / ("cagewrap-gpu-stack-" + std::to_string(::getpid()));
     fs::create_directories(dir_);
   }
@@ -223,8 +214,6 @@ class GpuStackTest : public ::testing::Test {
   std::unique_ptr<render::TriangleBuffer> target_;  // made with the GPU stack, in the test's GL context
   std::vector<Rig> rigs_;
   double worst_ = 0, worst_normal_ = 0;
-  static inline std::unique_ptr<render::HeadlessGl> gl_;
-  static inline std::string skip_reason_;
 };
 
 TEST_F(GpuStackTest, EveryModeMaskAndMuteAgreesWithTheRig) {
