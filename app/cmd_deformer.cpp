@@ -26,14 +26,6 @@ namespace cagewrap::app {
 
 namespace {
 
-std::vector<std::string> split_list(const std::string& text) {
-  std::vector<std::string> out;
-  std::stringstream in(text);
-  for (std::string item; std::getline(in, item, ',');)
-    if (!item.empty()) out.push_back(item);
-  return out;
-}
-
 void print_stack(const Document& doc) {
   const auto cage_line = [](const Cage& c) {
     return std::to_string(c.num_vertices()) + " vertices, " + std::to_string(c.polygons.num_faces()) + " faces";
@@ -101,27 +93,12 @@ bool apply_mask(const Document& doc, const MaskArgs& m, const std::string& name,
     source.clear();
     return true;
   }
-  Result<std::vector<float>> mask = std::vector<float>();
-  if (!m.joints.empty()) {
-    const auto names = split_list(m.joints);
-    mask = joint_region_mask(*doc.character, names);
-    source = "joints " + m.joints;
-  } else if (!m.primitives.empty()) {
-    std::vector<size_t> prims;
-    for (const std::string& s : split_list(m.primitives)) {
-      char* end = nullptr;
-      const unsigned long v = std::strtoul(s.c_str(), &end, 10);
-      if (s.empty() || *end != '\0') {
-        std::fprintf(stderr, "error: %s: --mask-primitives: '%s' is not a primitive index\n", project.c_str(), s.c_str());
-        return false;
-      }
-      prims.push_back(v);
-    }
-    mask = primitive_mask(*doc.character, prims);
-    source = "primitives " + m.primitives;
-  } else {
-    return true;  // unchanged
-  }
+  std::string spec;
+  if (!m.joints.empty()) spec = "joints " + m.joints;
+  else if (!m.primitives.empty()) spec = "primitives " + m.primitives;
+  else return true;  // unchanged
+  auto mask = skin_mask_from_source(*doc.character, spec);
+  source = spec;
   if (!mask) {
     std::fprintf(stderr, "error: %s: deformer '%s': %s\n", project.c_str(), name.c_str(), mask.error().message.c_str());
     return false;

@@ -1,4 +1,6 @@
 #include "app/editor_window.h"
+
+#include <cstdio>
 #include "app/ui_text.h"
 
 #if CAGEWRAP_GUI
@@ -146,6 +148,25 @@ void Editor::draw_deformers() {
     if (d >= 1) {
       ImGui::SameLine();
       if (ImGui::SmallButton("remove")) ws_.run("deformer_remove " + ds);
+      // its skin mask: what it is, and a field to make another (joints a,b,-c | primitives 0,2 | none)
+      const DeformerLayer& l = w.layers[d - 1];
+      const bool open = ImGui::SmallButton("mask...");
+      ImGui::SameLine();
+      hint("%s", l.mask ? (l.mask_source.empty() ? std::string("painted") : l.mask_source).c_str() : "no mask");
+      if (open) {
+        std::snprintf(mask_field_, sizeof mask_field_, "%s", l.mask_source.c_str());
+        ImGui::OpenPopup("mask");
+      }
+      if (ImGui::BeginPopup("mask")) {
+        ImGui::TextUnformatted("joints a,b,-c  |  primitives 0,2  |  none");
+        ImGui::InputText("##mask", mask_field_, sizeof mask_field_);
+        if (ImGui::Button("Apply")) {
+          const std::string source = mask_field_;
+          ws_.run("deformer_mask " + ds + " " + (source.empty() ? std::string("none") : source));
+          ImGui::CloseCurrentPopup();
+        }
+        ImGui::EndPopup();
+      }
     }
     ImGui::PopID();
     if (w.patch_driver && driver_position(w) == d) draw_driver_row();

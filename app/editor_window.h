@@ -110,6 +110,7 @@ class Editor {
   void update_other_cages();  // the other deformers' posed cages, for the view
   void draw_deformers();      // the outliner's Deformers (issue 21)
   void draw_driver_row();     // the parametric driver among them
+  char mask_field_[256] = "";  // the Deformers list's mask popup
   void draw_gizmo();
   void request_save();
   bool save_project_to(const std::string& path);

@@ -113,9 +113,9 @@ void PatchPanel::draw_stack_place(Workspace& ws) {
   ImGui::PushItemWidth(-ImGui::CalcTextSize("mask joints Apply").x - 4 * ImGui::GetStyle().ItemInnerSpacing.x);
   ImGui::InputText("##mask", mask_field_, sizeof mask_field_);
   ImGui::PopItemWidth();
-  if (ImGui::IsItemHovered()) ImGui::SetTooltip("joints whose region (with their children) it may move, a,b,c; empty: no mask");
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("joints whose region (with their children; -c leaves one out) it may move: a,b,-c; empty: no mask");
   ImGui::SameLine();
-  if (ImGui::SmallButton("Apply")) ws.set_driver_mask(mask_field_);
+  if (ImGui::SmallButton("Apply")) ws.set_driver_mask(mask_field_[0] ? "joints " + std::string(mask_field_) : std::string());
   ImGui::SameLine();
   ImGui::TextUnformatted("mask joints");
   hint("%s", place.mask ? ("mask: " + (place.mask_source.empty() ? std::string("painted") : place.mask_source)).c_str()

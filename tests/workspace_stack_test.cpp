@@ -119,6 +119,32 @@ TEST_F(WorkspaceStackTest, AnActiveLayerIsSculptedAndTheViewIsWhatTheRigShips) {
   EXPECT_GT(largest_gap(summed, sculpted), 0.01);
   EXPECT_LT(largest_gap(summed, rig_skin(ws.scene()->work())), 1e-5 * diag);
   ASSERT_TRUE(ws.run("deformer_stack in_order"));
+  // a mask made in the editor: one arm's region keeps the sculpt (made at a shoulder), the other arm's not
+  const size_t before_mask = undo_steps();
+  ws.run("deformer_mask 1 joints shoulder.L,nope");
+  EXPECT_TRUE(logged("has no node 'nope'")) << "an unknown joint is named";
+  EXPECT_EQ(undo_steps(), before_mask);
+  double kept[2];
+  for (int side = 0; side < 2; ++side) {
+    const std::string source = std::string("joints shoulder.") + "LR"[side];
+    ASSERT_TRUE(ws.run("deformer_mask 1 " + source));
+    EXPECT_EQ(undo_steps(), before_mask + 1 + side);
+    ASSERT_TRUE(ws.scene()->work().layers[0].mask);
+    EXPECT_EQ(ws.scene()->work().layers[0].mask_source, source);
+    finish_binds();
+    const std::vector<glm::vec3> masked = shown();
+    EXPECT_LT(largest_gap(masked, rig_skin(ws.scene()->work())), 1e-5 * diag);
+    kept[side] = largest_gap(masked, alone);
+  }
+  EXPECT_GT(std::max(kept[0], kept[1]), 0.005) << "the sculpted arm keeps the sculpt";
+  EXPECT_LT(std::min(kept[0], kept[1]), 1e-3) << "the other arm does not";
+  ASSERT_TRUE(ws.run("deformer_mask 1 none"));
+  EXPECT_FALSE(ws.scene()->work().layers[0].mask);
+  ws.run("undo");
+  ws.run("undo");
+  ws.run("undo");
+  EXPECT_FALSE(ws.scene()->work().layers[0].mask);
+  finish_binds();
 
   // a second layer, moved before the first: the active deformer follows its layer
   ws.run("deformer_add " + cage_path());

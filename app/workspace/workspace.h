@@ -228,7 +228,7 @@ class Workspace {
   bool reset_patch_driver();                           // the control points back to rest
   // The driver as a deformer of the stack (Document::driver_place, docs/deformer-stack.md), each one undo step:
   bool set_driver_after(int after);                    // after that many layers (-1: after them all)
-  bool set_driver_mask(const std::string& joints);     // these joints' region (a,b,c); "" = no mask
+  bool set_driver_mask(const std::string& source);     // "joints a,b,-c" or "primitives 0,2"; "" = no mask
   // Keys the driver's sculpt (posed minus rest control points) against the selected joint's rotation about
   // its local axis (0 X, 1 Y, 2 Z) at the current pose, in the driver's keypose set for it (made when
   // missing), and puts the control points back at rest: posed, the keyposes bring the sculpt back.
@@ -297,6 +297,9 @@ class Workspace {
   // actions): deformer 0 is the document's own cage, k the layer k - 1. Every change but the active
   // deformer is one undo step; false (said why, the document kept) when refused.
   bool set_active_deformer(size_t d);  // what the tools, sets, keyposes and Rebind act on
+  // Layer d's skin mask from its description (core/character/skin_mask.h skin_mask_from_source: "joints a,b,-c",
+  // "primitives 0,2"; "" = none): one undo step; false (said why) when it cannot be made.
+  bool set_deformer_mask(size_t d, const std::string& source);
   bool add_deformer(const std::string& cage_path, std::string name = "");  // a layer at the end
   bool remove_deformer(size_t d);                                          // a layer (d >= 1)
   bool set_deformer_muted(size_t d, bool muted);
@@ -356,6 +359,9 @@ class Workspace {
   void poll_fidelity();
   void reset_fidelity();  // another document: a running check is cancelled, what was measured dropped
   void poll_patch();
+  // A mask made from `source` into `mask` and `mask_source` ("" = none); false (failed, naming `what`) when it cannot be made.
+  bool make_mask(const Document& w, const std::string& source, std::shared_ptr<const std::vector<float>>& mask, std::string& mask_source,
+                 const std::string& what);
   void start_patch_bind(std::shared_ptr<const PatchDriver> driver, std::string label);
   void new_patch_driver(PatchSurface rest, const std::string& label);
   bool change_patch_driver(const std::function<void(PatchDriver&)>& change, const std::string& label);

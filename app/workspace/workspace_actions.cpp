@@ -344,13 +344,14 @@ void Workspace::add_actions() {
         else if (k.empty() || *end || v < 0) fail("patch_after K|last");
         else set_driver_after(static_cast<int>(v));
       });
-  add("patch_mask", "joints a,b,c | none", "The skin the driver may move: these joints' region (feathered by the skin weights), or all of it.",
+  add("patch_mask", "joints a,b,-c | primitives 0,2 | none",
+      "The skin the driver may move: these joints' region (feathered by the skin weights; -c leaves one out), these primitives, or all of it.",
       [this](std::istringstream& in) {
-        std::string kind, joints;
-        in >> kind >> joints;
+        std::string kind, list;
+        in >> kind >> list;
         if (kind == "none") set_driver_mask("");
-        else if (kind == "joints" && !joints.empty()) set_driver_mask(joints);
-        else fail("patch_mask joints a,b,c | none");
+        else if ((kind == "joints" || kind == "primitives") && !list.empty()) set_driver_mask(kind + " " + list);
+        else fail("patch_mask joints a,b,-c | primitives 0,2 | none");
       });
   add("patch_key", "X|Y|Z", "Keys the driver's sculpt against the selected joint's rotation about its local axis at this pose (the control points go back to rest).",
       [this](std::istringstream& in) {

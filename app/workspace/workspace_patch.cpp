@@ -6,9 +6,7 @@
 
 #include "app/workspace/workspace.h"
 #include <cmath>
-#include <sstream>
 
-#include "core/character/skin_mask.h"
 #include "core/deform/patch_fit.h"
 #include "core/io/patch_io.h"
 
@@ -243,30 +241,15 @@ bool Workspace::set_driver_after(int after) {
   return true;
 }
 
-bool Workspace::set_driver_mask(const std::string& joints) {
+bool Workspace::set_driver_mask(const std::string& source) {
   if (!scene_ || !scene_->doc().patch_driver) {
     fail(kNoDriver);
     return false;
   }
   const Document& w = scene_->work();
   DriverPlacement place = w.driver_place;
-  if (joints.empty()) {
-    place.mask = nullptr;
-    place.mask_source.clear();
-  } else {
-    std::vector<std::string> names;
-    std::stringstream in(joints);
-    for (std::string item; std::getline(in, item, ',');)
-      if (!item.empty()) names.push_back(item);
-    auto mask = joint_region_mask(*w.character, names);
-    if (!mask) {
-      fail("parametric driver: mask: " + mask.error().message);
-      return false;
-    }
-    place.mask = std::make_shared<const std::vector<float>>(std::move(mask).value());
-    place.mask_source = "joints " + joints;
-  }
-  const std::string label = joints.empty() ? std::string("Remove the driver's mask") : "Mask the driver to " + joints;
+  if (!make_mask(w, source, place.mask, place.mask_source, "parametric driver")) return false;
+  const std::string label = source.empty() ? std::string("Remove the driver's mask") : "Mask the driver: " + source;
   if (!scene_->apply_work(label, with_driver_place(w, std::move(place)))) return false;
   log(label);
   return true;

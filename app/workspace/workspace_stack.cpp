@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "app/workspace/workspace.h"
+#include "core/character/skin_mask.h"
 
 namespace cagewrap::app {
 
@@ -107,6 +108,33 @@ bool Workspace::set_deformer_switch(size_t d, bool on, bool DeformerStack::*base
   std::vector<DeformerLayer> layers = w.layers;
   layers[d - 1].*layer = on;
   return change_stack(what, with_layers(w, std::move(layers)));
+}
+
+bool Workspace::make_mask(const Document& w, const std::string& source, std::shared_ptr<const std::vector<float>>& mask,
+                          std::string& mask_source, const std::string& what) {
+  if (source.empty()) {
+    mask = nullptr;
+    mask_source.clear();
+    return true;
+  }
+  auto m = skin_mask_from_source(*w.character, source);
+  if (!m) {
+    fail(what + ": mask: " + m.error().message);
+    return false;
+  }
+  mask = std::make_shared<const std::vector<float>>(std::move(m).value());
+  mask_source = source;
+  return true;
+}
+
+bool Workspace::set_deformer_mask(size_t d, const std::string& source) {
+  if (!check_deformer(d, true)) return false;
+  const Document& w = scene_->work();
+  std::vector<DeformerLayer> layers = w.layers;
+  DeformerLayer& l = layers[d - 1];
+  if (!make_mask(w, source, l.mask, l.mask_source, "deformer '" + l.name + "'")) return false;
+  const std::string label = source.empty() ? "Remove the mask of " + l.name : "Mask " + l.name + ": " + source;
+  return change_stack(label, with_layers(w, std::move(layers)));
 }
 
 bool Workspace::set_deformer_muted(size_t d, bool muted) {
@@ -258,6 +286,17 @@ void Workspace::add_stack_actions() {
     name.erase(name.find_last_not_of(" \t\r") + 1);
     rename_deformer(d, name);
   });
+  add("deformer_mask", "D joints a,b,-c | D primitives 0,2 | D none",
+      "Layer D's skin mask: these joints' region (feathered by the skin weights; -c leaves one out), these primitives, or none: one undo step.",
+      [this](std::istringstream& in) {
+        size_t d = 0;
+        std::string kind, list;
+        if (!(in >> d >> kind)) return fail("deformer_mask D joints a,b,-c | D primitives 0,2 | D none");
+        in >> list;
+        if (kind == "none") set_deformer_mask(d, "");
+        else if ((kind == "joints" || kind == "primitives") && !list.empty()) set_deformer_mask(d, kind + " " + list);
+        else fail("deformer_mask D joints a,b,-c | D primitives 0,2 | D none");
+      });
   add("deformer_stack", "in_order|sum|blend [M]", "How the deformers' skins combine (M: the blend's exponent): one undo step.",
       [this](std::istringstream& in) {
         std::string mode;

@@ -1,6 +1,8 @@
 #include "core/character/skin_mask.h"
 
 #include <algorithm>
+#include <cstdlib>
+#include <sstream>
 
 #include "core/character/skinning.h"
 
@@ -56,6 +58,30 @@ Result<std::vector<float>> primitive_mask(const Character& character, std::span<
     start += n;
   }
   return mask;
+}
+
+Result<std::vector<float>> skin_mask_from_source(const Character& character, std::string_view source) {
+  const size_t space = source.find(' ');
+  const std::string_view kind = source.substr(0, space);
+  std::vector<std::string> items;
+  std::stringstream in(std::string(space == std::string_view::npos ? std::string_view() : source.substr(space + 1)));
+  for (std::string item; std::getline(in, item, ',');)
+    if (!item.empty()) items.push_back(item);
+  if (kind == "joints") return joint_region_mask(character, items);
+  if (kind == "primitives") {
+    std::vector<size_t> prims;
+    for (const std::string& item : items) {
+      char* end = nullptr;
+      const unsigned long v = std::strtoul(item.c_str(), &end, 10);
+      if (*end != '\0' || item.starts_with('-'))
+        return make_error(ErrorCode::kInvalidArgument, "'" + item + "' is not a primitive index (0, 1, ...)");
+      prims.push_back(v);
+    }
+    if (prims.empty()) return make_error(ErrorCode::kInvalidArgument, "a primitive mask needs at least one primitive index");
+    return primitive_mask(character, prims);
+  }
+  return make_error(ErrorCode::kInvalidArgument,
+                    "a mask is \"joints a,b,-c\" or \"primitives 0,2\", not \"" + std::string(source) + "\"");
 }
 
 }  // namespace cagewrap

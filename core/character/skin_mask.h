@@ -4,6 +4,7 @@
 
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "core/base/result.h"
@@ -20,5 +21,9 @@ namespace cagewrap {
 Result<std::vector<float>> joint_region_mask(const Character& character, std::span<const std::string> nodes);
 // 1 on the points of the given primitives (file order), 0 elsewhere. Errors: an index past the primitives.
 Result<std::vector<float>> primitive_mask(const Character& character, std::span<const size_t> primitives);
+// A mask from its description, as the command line and the editor take it and a project records it
+// (DeformerLayer::mask_source): "joints a,b,-c" (joint_region_mask) or "primitives 0,2" (primitive_mask).
+// Errors name what is wrong (an unknown kind, a name that is no node, an index that is no primitive).
+Result<std::vector<float>> skin_mask_from_source(const Character& character, std::string_view source);
 
 }  // namespace cagewrap
