@@ -10,7 +10,8 @@
 //   set --index 0 [--mute | --unmute] [--hide | --show]   (the project's own cage)
 //   set --stack in_order|sum|blend [--exponent m] [--solo D|none]
 //   set --driver [--mute | --unmute] [--after K|last] [--mask-joints a,b | --mask-primitives 0,2 | --no-mask]
-//       (the parametric driver: its switch, its place among the layers and its mask)
+//       [binding options] (the parametric driver: its switch, its place among the layers, its mask and its own
+//       binding parameters)
 // Every change checks what it can first (the cage, the names, the mask), writes P again (or Q), and
 // prints the stack. Errors name the project, the layer and what is wrong; nothing is written then.
 #include <cstdio>
@@ -59,8 +60,12 @@ void print_stack(const Document& doc) {
     const DriverPlacement& place = doc.driver_place;
     std::string f = p.drive_skin ? "" : ", muted";
     if (p.drive_skin && !driver_moves_skin(doc)) f += ", left out (deformer " + std::to_string(doc.stack.solo) + " is soloed)";
-    std::printf("  D  %-16s parametric driver, %zu control points, density %u, %zu keypose set%s, %s, %s%s\n", "(driver)",
-                p.rest.num_control_points(), p.density, place.keyposes.size(), place.keyposes.size() == 1 ? "" : "s",
+    const BindParams& b = driver_params(doc);
+    char binding[96];
+    std::snprintf(binding, sizeof binding, "%s binding local %g epsilon %g K %u", place.params ? "own" : "the cage's", b.local,
+                  b.epsilon, b.max_elements);
+    std::printf("  D  %-16s parametric driver, %zu control points, density %u, %s, %zu keypose set%s, %s, %s%s\n", "(driver)",
+                p.rest.num_control_points(), p.density, binding, place.keyposes.size(), place.keyposes.size() == 1 ? "" : "s",
                 mask_line(place.mask, place.mask_source).c_str(),
                 place.after < 0 ? "after every layer" : ("after layer " + std::to_string(driver_position(doc))).c_str(), f.c_str());
   };
@@ -278,8 +283,9 @@ void add_deformer_command(CLI::App& app, int& exit_code) {
                      args->project.c_str());
         return;
       }
-      if (!args->name.empty() || args->index >= 0 || !args->rename.empty() || args->to >= 0 || args->hide || args->show || params) {
-        std::fprintf(stderr, "error: %s: --driver takes --mute, --unmute, --after and the mask options only\n", args->project.c_str());
+      if (!args->name.empty() || args->index >= 0 || !args->rename.empty() || args->to >= 0 || args->hide || args->show) {
+        std::fprintf(stderr, "error: %s: --driver takes --mute, --unmute, --after, the mask options and binding parameters only\n",
+                     args->project.c_str());
         return;
       }
       if (args->mute || args->unmute) {
@@ -302,6 +308,11 @@ void add_deformer_command(CLI::App& app, int& exit_code) {
         }
       }
       if (!apply_mask(d, args->mask, "driver", place.mask, place.mask_source, args->project)) return;
+      if (params) {  // its own binding parameters, starting from those it binds with now
+        auto p = bind_options_over(args->bind, driver_params(d));
+        if (!p) return;
+        place.params = *p;
+      }
       d = with_driver_place(d, std::move(place));
     } else if (!args->after.empty()) {
       std::fprintf(stderr, "error: %s: --after places the parametric driver: give --driver too\n", args->project.c_str());

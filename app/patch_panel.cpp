@@ -120,6 +120,32 @@ void PatchPanel::draw_stack_place(Workspace& ws) {
   ImGui::TextUnformatted("mask joints");
   hint("%s", place.mask ? ("mask: " + (place.mask_source.empty() ? std::string("painted") : place.mask_source)).c_str()
                         : "no mask: it may move every skin point it reaches");
+  // its own binding parameters (or the cage's): applied as one undo step, then it binds again
+  const BindParams& b = driver_params(w);
+  if (!params_edited_) params_field_ = {float(b.local), float(b.epsilon), int(b.max_elements)};
+  ImGui::PushItemWidth(ImGui::GetFontSize() * 4.0f);
+  params_edited_ |= ImGui::InputFloat("local", &params_field_.local, 0, 0, "%.2f");
+  ImGui::SameLine();
+  params_edited_ |= ImGui::InputFloat("eps", &params_field_.epsilon, 0, 0, "%.3f");
+  ImGui::SameLine();
+  params_edited_ |= ImGui::InputInt("K", &params_field_.k, 0);
+  ImGui::PopItemWidth();
+  if (ImGui::SmallButton("Apply binding")) {
+    BindParams p = b;
+    p.local = params_field_.local;
+    p.epsilon = params_field_.epsilon;
+    p.max_elements = uint32_t(std::max(params_field_.k, 0));
+    ws.set_driver_params(p);
+    params_edited_ = false;
+  }
+  ImGui::SameLine();
+  ImGui::BeginDisabled(!place.params);
+  if (ImGui::SmallButton("Use the cage's")) {
+    ws.set_driver_params(std::nullopt);
+    params_edited_ = false;
+  }
+  ImGui::EndDisabled();
+  hint("%s", place.params ? "its own binding parameters" : "binds with the cage's parameters");
   ImGui::TextUnformatted("Key the sculpt at this pose, against");
   ImGui::TextUnformatted("the selected joint's rotation about");
   for (int a = 0; a < 3; ++a) {

@@ -30,6 +30,11 @@ class PatchPanel {
 #endif
   char path_field_[512] = "";
   char mask_field_[256] = "";
+  struct ParamsField {
+    float local = 0, epsilon = 0;
+    int k = 0;
+  } params_field_;
+  bool params_edited_ = false;  // the fields hold the artist's values, not the driver's
 };
 
 }  // namespace cagewrap::app

@@ -49,8 +49,10 @@ Status fill_storage(GLuint& buffer, const void* data, size_t bytes, const std::s
   while (glGetError() != GL_NO_ERROR) {
   }
   glBindBuffer(GL_SHADER_STORAGE_BUFFER, buffer);
-  glBufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(std::max<size_t>(bytes, 16)), bytes ? data : nullptr,
-               usage);
+  // a table under 16 bytes goes into a 16-byte buffer: the GL reads only `bytes` from `data`
+  const bool padded = bytes < 16;
+  glBufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(std::max<size_t>(bytes, 16)), padded ? nullptr : data, usage);
+  if (padded && bytes) glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, static_cast<GLsizeiptr>(bytes), data);
   if (glGetError() == GL_OUT_OF_MEMORY)
     return make_error(ErrorCode::kInvalidArgument, "the GPU has no room for " + what + " (" + megabytes(bytes) + ")");
   total += bytes;

@@ -143,6 +143,21 @@ TEST(DriverLayer, ItsMaskPlaceAndKeyposesMakeItADeformerOfTheStack) {
     EXPECT_LT(largest_distance(s_sum, b), 1e-5);
   }
 
+  // its own binding parameters: another bind (the rig made with the cage's does not fit), another skin
+  {
+    DriverPlacement own;
+    own.params = plain.params;
+    own.params->local = 8.0;
+    const Document wide = with_driver_place(driven, own);
+    EXPECT_FALSE(driven_rig->fits(wide));
+    auto wide_rig = Rig::create(wide);
+    ASSERT_TRUE(wide_rig.ok());
+    EXPECT_GT(largest_distance(posed_skin(wide, *wide_rig, {}), b), 1e-4);
+    DriverPlacement same;
+    same.params = plain.params;  // the cage's, given as its own: the same binding
+    EXPECT_TRUE(driven_rig->fits(with_driver_place(driven, same)));
+  }
+
   // keyposes: the sculpt keyed at 40 degrees of the spine about its X; none at rest, all of it at 40
   {
     const Skeleton& sk = plain.character->skeleton;

@@ -258,6 +258,11 @@ TEST_F(ProjectIoTest, ParametricDriverPlaceMaskAndKeyposesRoundTrip) {
   set.drivers.push_back(JointDriver{});
   set.keys.push_back(make_key({30.0}, std::vector<glm::vec3>{glm::vec3(0.0f), glm::vec3(0.0f, 0.125f, -0.5f)}));
   place.keyposes.push_back(set);
+  BindParams own;
+  own.local = 6.5;
+  own.epsilon = 0.0625;
+  own.max_elements = 5;
+  place.params = own;
   doc = with_driver_place(doc, place);
   const std::string project = path("placed.cagewrap");
   ASSERT_TRUE(save_project(project, doc).ok());
@@ -285,6 +290,8 @@ TEST_F(ProjectIoTest, ParametricDriverPlaceMaskAndKeyposesRoundTrip) {
   EXPECT_CONTAINS(e.message, "20");
   e = with([](Json& p) { p["after"] = -2; });
   EXPECT_CONTAINS(e.message, "patch_driver.after");
+  e = with([](Json& p) { p["binding"]["epsilon"] = 3.0; });
+  EXPECT_CONTAINS(e.message, "patch_driver: binding");
 }
 
 TEST_F(ProjectIoTest, DriverOffsetsRoundTripAndMustMatchTheCage) {

@@ -142,6 +142,20 @@ TEST_F(WorkspacePatchTest, FitMovesUndoDensityAndCancel) {
     ws.run("patch_after 0");
     EXPECT_EQ(doc().driver_place.after, 0);
     EXPECT_EQ(undo_steps(), before_key + 3);
+    // its own binding parameters: one step, bound again in the background, and the frame is the rig's
+    ws.run("patch_binding 6 0.1 8");
+    EXPECT_EQ(undo_steps(), before_key + 4);
+    ASSERT_TRUE(doc().driver_place.params);
+    EXPECT_EQ(doc().driver_place.params->local, 6.0);
+    EXPECT_FALSE(ws.scene()->driver_bound()) << "bound with the old parameters";
+    ws.poll_jobs();
+    poll_while([this] { return ws.binding_patch_driver(); });
+    EXPECT_TRUE(ws.scene()->driver_bound());
+    EXPECT_LT(frame_gap(), 1e-5);
+    ws.run("patch_binding 6 2 8");
+    EXPECT_TRUE(logged("parametric driver: binding:")) << "a bad epsilon is refused";
+    EXPECT_EQ(undo_steps(), before_key + 4);
+    ws.run("undo");
     ws.run("undo");
     ws.run("undo");
     ws.run("undo");

@@ -654,13 +654,16 @@ std::shared_ptr<const Binding> Scene::binding_for_jobs() const {
 bool Scene::driver_bound() const {
   const PatchDriver* want = doc().patch_driver.get();
   const DriverBinding& b = driver_binding;
-  return want && b.deformer && b.driver && b.character == doc().character &&
+  // bound with the driver's parameters (its own, or the document cage's: not the active layer's)
+  return want && b.deformer && b.driver && b.character == doc().character && b.binding &&
+         b.binding->params == patch_bind_params(driver_params(history_.current())) &&
          (b.driver.get() == want || (b.driver->density == want->density && b.driver->rest == want->rest));
 }
 
 bool Scene::driving() const {
   const auto& d = doc().patch_driver;
-  return driver_moves_skin(history_.current()) && d && driver_binding.layer && driver_bound() && driver_binding.layer->fits(*d);
+  return driver_moves_skin(history_.current()) && d && driver_binding.layer && driver_bound() &&
+         driver_binding.layer->fits(*d, driver_params(history_.current()));
 }
 
 void Scene::update_pose(const Playback& pb) {

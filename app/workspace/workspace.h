@@ -234,6 +234,7 @@ class Workspace {
   // missing), and puts the control points back at rest: posed, the keyposes bring the sculpt back.
   bool key_driver_sculpt(int axis);
   bool remove_driver_keyset(size_t i);
+  bool set_driver_params(std::optional<BindParams> params);  // its own binding parameters; null = the cage's
   void bind_patch_driver();                            // binds the document's driver again (after a failure)
   void cancel_patch_bind();
   // `from` with the selected control point moved by `total` (a drag rebuilds from its start).

@@ -360,6 +360,21 @@ void Workspace::add_actions() {
         if (a != "X" && a != "Y" && a != "Z") return fail("patch_key X|Y|Z");
         key_driver_sculpt(a[0] - 'X');
       });
+  add("patch_binding", "cage | LOCAL EPSILON K", "The driver's own binding parameters (the rest as the cage's), or the cage's again: one undo step; it binds again.",
+      [this](std::istringstream& in) {
+        std::string first;
+        in >> first;
+        if (first == "cage") return static_cast<void>(set_driver_params(std::nullopt));
+        double local = 0, epsilon = 0;
+        unsigned k = 0;
+        std::istringstream rest(first);
+        if (!(rest >> local) || !(in >> epsilon >> k)) return fail("patch_binding cage | LOCAL EPSILON K");
+        BindParams p = scene_ ? driver_params(scene_->work()) : BindParams{};
+        p.local = local;
+        p.epsilon = epsilon;
+        p.max_elements = k;
+        set_driver_params(p);
+      });
   add("patch_keyset_remove", "I", "Removes the driver's keypose set I.", [this](std::istringstream& in) {
     size_t i = 0;
     if (!(in >> i)) return fail("patch_keyset_remove I");

@@ -1,12 +1,11 @@
 // The workspace's parametric driver (app/workspace/workspace.h "the parametric driver";
 // docs/parametric-drivers.md): import, fit, density, control-point moves, drive on/off, and its bind
 // in the background (poll_jobs). The Parametric driver window and the patch_* actions run these.
+#include <cmath>
 #include <cstdio>
 #include <utility>
 
 #include "app/workspace/workspace.h"
-#include <cmath>
-
 #include "core/deform/patch_fit.h"
 #include "core/io/patch_io.h"
 
@@ -24,7 +23,7 @@ void Workspace::start_patch_bind(std::shared_ptr<const PatchDriver> driver, std:
   patch_.nowait = false;
   patch_.job = std::make_unique<BackgroundTask<Binding>>(
       "binding to the parametric driver",
-      [skin = scene_->skin_rest, driver, params = scene_->doc().params](const BindJob::Progress& progress,
+      [skin = scene_->skin_rest, driver, params = driver_params(scene_->work())](const BindJob::Progress& progress,
                                                                          const std::atomic<bool>& cancel) {
         return bind_skin_to_patches(skin, driver->rest, driver->density, params, job_progress(progress, cancel));
       });
@@ -288,6 +287,27 @@ bool Workspace::key_driver_sculpt(int axis) {
   char label[160];
   std::snprintf(label, sizeof label, "Key the driver's sculpt: %s at %.1f", set.name.c_str(), values.empty() ? 0.0 : values[0]);
   scene_->apply(label, with_driver_place(with_patch_driver(doc, std::make_shared<const PatchDriver>(std::move(d))), std::move(place)));
+  log(label);
+  return true;
+}
+
+bool Workspace::set_driver_params(std::optional<BindParams> params) {
+  if (!scene_ || !scene_->doc().patch_driver) {
+    fail(kNoDriver);
+    return false;
+  }
+  if (params)
+    if (auto v = validate(*params); !v) {
+      fail("parametric driver: binding: " + v.error().message);
+      return false;
+    }
+  const Document& w = scene_->work();
+  DriverPlacement place = w.driver_place;
+  place.params = params;
+  char label[128];
+  if (params) std::snprintf(label, sizeof label, "The driver's own binding: local %g, epsilon %g, K %u", params->local, params->epsilon, params->max_elements);
+  else std::snprintf(label, sizeof label, "The driver binds with the cage's parameters");
+  if (!scene_->apply_work(label, with_driver_place(w, std::move(place)))) return false;
   log(label);
   return true;
 }

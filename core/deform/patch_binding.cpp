@@ -45,13 +45,18 @@ std::vector<glm::vec3> sample_positions(const PatchSurface& surface, std::span<c
   return out;
 }
 
+BindParams patch_bind_params(const BindParams& params) {
+  BindParams p = params;
+  p.variant = Variant::kBasic;
+  p.separate = false;
+  return p;
+}
+
 Result<Binding> bind_skin_to_patches(std::span<const glm::vec3> skin, const PatchSurface& rest,
                                      uint32_t density, const BindParams& params_in,
                                      const BindProgress& progress) {
   const auto start = std::chrono::steady_clock::now();
-  BindParams params = params_in;
-  params.variant = Variant::kBasic;
-  params.separate = false;
+  const BindParams params = patch_bind_params(params_in);
   if (auto v = validate(params); !v) return v.error();
   // a dense sampling takes a while before the points are bound: Cancel is honoured between stages
   auto stopped = [&progress] { return progress.cancel && progress.cancel->load(std::memory_order_relaxed); };

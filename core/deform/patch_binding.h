@@ -30,6 +30,9 @@ namespace cagewrap {
 Result<Binding> bind_skin_to_patches(std::span<const glm::vec3> skin, const PatchSurface& rest,
                                      uint32_t density, const BindParams& params,
                                      const BindProgress& progress = {});
+// The parameters bind_skin_to_patches binds with (and records in Binding::params): `params` with the
+// basic variant and no separation.
+BindParams patch_bind_params(const BindParams& params);
 
 // Deforms a skin bound by bind_skin_to_patches. Keeps references to `binding` and `skin_rest` (both
 // must outlive it); copies what it needs of the rest surface.

@@ -129,6 +129,10 @@ size_t driver_position(const Document& doc) {
   return a < 0 ? doc.layers.size() : std::min(static_cast<size_t>(a), doc.layers.size());
 }
 
+const BindParams& driver_params(const Document& doc) {
+  return doc.driver_place.params ? *doc.driver_place.params : doc.params;
+}
+
 bool driver_moves_skin(const Document& doc) {
   const bool solo = doc.stack.solo >= 0 && static_cast<size_t>(doc.stack.solo) < deformer_count(doc);
   return doc.patch_driver && doc.patch_driver->drive_skin && !solo;

@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -106,9 +107,12 @@ struct DriverPlacement {
   // Control point offsets keyed against joint angles (core/cage/keyposes.h: a key's "vertices" are
   // control points, global index grid by grid), added to the sculpt at each pose.
   std::vector<KeyposeSet> keyposes;
+  // Its own binding parameters (local, epsilon, K, scale, distances; the variant is always basic); null =
+  // the document cage's, as projects before this field had it.
+  std::optional<BindParams> params;
   bool operator==(const DriverPlacement& o) const {
     return after == o.after && (mask == o.mask || (mask && o.mask && *mask == *o.mask)) && mask_source == o.mask_source &&
-           keyposes == o.keyposes;
+           keyposes == o.keyposes && params == o.params;
   }
 };
 bool parse_stack_mode(std::string_view name, StackMode& out);
@@ -193,6 +197,8 @@ Document with_patch_driver(const Document& doc, std::shared_ptr<const PatchDrive
 Document with_driver_place(const Document& doc, DriverPlacement place);
 // Where the driver sits among the layers: driver_place.after clamped to [0, layers.size()].
 size_t driver_position(const Document& doc);
+// The parameters the parametric driver binds with: its own, or the document cage's.
+const BindParams& driver_params(const Document& doc);
 // Whether the document's parametric driver moves the skin: it has one, drive_skin is on and no
 // deformer is soloed.
 bool driver_moves_skin(const Document& doc);

@@ -178,6 +178,15 @@ std::string simulation_text(const Document& doc) {
   return s;
 }
 
+// "binding": every binding parameter.
+Json binding_json(const BindParams& p) {
+  return {{"variant", variant_name(p.variant)}, {"local", p.local},
+          {"epsilon", p.epsilon},               {"max_elements", p.max_elements},
+          {"scale", p.scale},                   {"max_distance", p.max_distance},
+          {"close_distance", p.close_distance}, {"separate", p.separate},
+          {"separation_steps", p.separation_steps}};
+}
+
 // "mask": a deformer's skin mask, 16 weights a line; `what` names the deformer in errors.
 Result<std::string> mask_text(const std::string& path, const std::string& what, const std::vector<float>& mask) {
   std::string s = "  \"mask\": [";
@@ -224,6 +233,11 @@ Result<std::string> patch_driver_text(const std::string& path, const Document& d
   for (const KeyposeSet& k : place.keyposes)
     if (auto v = validate_keypose_set(k, doc.character ? doc.character->skeleton.size() : SIZE_MAX, posed.size()); !v)
       return make_error(v.error().code, path + ": not saved: the parametric driver's " + v.error().message);
+  if (place.params) {
+    if (auto v = validate(*place.params); !v)
+      return make_error(ErrorCode::kInvalidArgument, path + ": not saved: the parametric driver's binding: " + v.error().message);
+    s += ",\n    \"binding\": " + one_line(binding_json(*place.params));
+  }
   if (!place.keyposes.empty()) {
     const std::string k = keyposes_text(doc, place.keyposes);
     s += ",\n" + k.substr(0, k.size() - 2);
@@ -277,13 +291,7 @@ Result<std::string> deformer_fields_text(const std::string& path, const Document
   for (const KeyposeSet& k : doc.keyposes)
     if (auto v = validate_keypose_set(k, num_nodes, positions.size()); !v)
       return make_error(v.error().code, path + ": not saved: " + v.error().message);
-  const BindParams& p = doc.params;
-  Json binding = {{"variant", variant_name(p.variant)}, {"local", p.local},
-                  {"epsilon", p.epsilon},               {"max_elements", p.max_elements},
-                  {"scale", p.scale},                   {"max_distance", p.max_distance},
-                  {"close_distance", p.close_distance}, {"separate", p.separate},
-                  {"separation_steps", p.separation_steps}};
-  s += "  \"binding\": " + one_line(binding) + ",\n";
+  s += "  \"binding\": " + one_line(binding_json(doc.params)) + ",\n";
   s += "  \"set_edits\": [";
   for (size_t i = 0; i < doc.set_edits.size(); ++i) {
     s += std::string(i ? "," : "") + "\n    " + set_edit_json(doc.set_edits[i]);
@@ -631,7 +639,8 @@ std::shared_ptr<const PatchDriver> read_patch_driver(const Reader& r, const Json
     for (size_t k = 0; k < n; ++k) points[k] = read_dvec3(r, list[k], Reader::at("patch_driver.posed", k));
     d.posed.set_control_points(points);
   }
-  warn_unknown(j, "patch_driver", {"density", "drive_skin", "rest", "posed", "after", "mask", "mask_source", "keyposes"}, warnings, file);
+  warn_unknown(j, "patch_driver", {"density", "drive_skin", "rest", "posed", "after", "mask", "mask_source", "keyposes", "binding"},
+               warnings, file);
   return std::make_shared<const PatchDriver>(std::move(d));
 }
 
@@ -839,6 +848,7 @@ DriverPlacement read_driver_place(const Reader& r, const Json& j, const Characte
   if (j.contains("mask_source")) place.mask_source = r.string(j["mask_source"], "patch_driver.mask_source");
   if (j.contains("mask")) place.mask = read_mask(r, j["mask"], "patch_driver.mask", character);
   if (j.contains("keyposes")) place.keyposes = read_keyposes(r, j["keyposes"], character, num_control_points, warnings, file);
+  if (j.contains("binding")) place.params = read_params(Reader(r.file() + ": patch_driver"), j, warnings, file);
   return place;
 }
 

@@ -84,6 +84,9 @@ Result<DriverLayer> DriverLayer::create(const Character& character, std::span<co
 }
 
 bool DriverLayer::fits(const PatchDriver& driver) const { return driver.density == s_->density && driver.rest == s_->rest; }
+bool DriverLayer::fits(const PatchDriver& driver, const BindParams& params) const {
+  return fits(driver) && s_->binding.params == patch_bind_params(params);
+}
 
 size_t DriverLayer::num_control_points() const { return s_->rest_points.size(); }
 

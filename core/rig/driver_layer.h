@@ -38,8 +38,10 @@ class DriverLayer {
   static Result<DriverLayer> create(const Character& character, std::span<const glm::vec3> skin_rest,
                                     const PatchDriver& driver, Binding binding);
 
-  // Whether `driver` has the rest surface and density this layer was bound for (its sculpt may differ).
+  // Whether `driver` has the rest surface and density this layer was bound for (its sculpt may differ), and
+  // `params` are what it was bound with (core/deform/patch_binding.h patch_bind_params).
   bool fits(const PatchDriver& driver) const;
+  bool fits(const PatchDriver& driver, const BindParams& params) const;
   // Adds the driver's sculpt, carried by the skeleton at the pose whose node world transforms are
   // `globals` (#nodes), to `skin` (#P). Errors: a driver that does not fit, sizes that differ.
   Status add(const PatchDriver& driver, std::span<const glm::mat4> globals, std::span<glm::vec3> skin);

@@ -239,7 +239,7 @@ Result<Rig> Rig::make(const Document& doc, std::vector<std::optional<Binding>> b
     s.layer_skins.emplace_back(s.skin_rest.size());
   }
   if (doc.patch_driver && doc.patch_driver->drive_skin) {
-    auto d = DriverLayer::create(ch, s.skin_rest, *doc.patch_driver, doc.params, progress);
+    auto d = DriverLayer::create(ch, s.skin_rest, *doc.patch_driver, driver_params(doc), progress);
     if (!d) return make_error(d.error().code, "parametric driver: " + d.error().message);
     s.driver.emplace(std::move(d).value());
   }
@@ -275,7 +275,7 @@ bool Rig::fits(const Document& doc) const {
   // the same parametric driver surface and density, when it drives the skin (its sculpt may differ)
   const bool drives = doc.patch_driver && doc.patch_driver->drive_skin;
   if (drives != state_->driver.has_value()) return false;
-  return !drives || state_->driver->fits(*doc.patch_driver);
+  return !drives || state_->driver->fits(*doc.patch_driver, driver_params(doc));
 }
 
 Status Rig::pose(const Document& doc, const Pose& pose, PosedCage& cage, std::span<glm::vec3> skin_out) {

@@ -67,7 +67,14 @@ check "the rig JSON refuses a sculpted driver" test "$rc" -ne 0
 check "saying why" hasf "$T/err" "parametric driver moves the skin"
 # the driver as a deformer of the stack (deformer set --driver): listed at its place, masked, muted, placed
 run deformer list --project "$T/driven.cagewrap"
-check "deformer list shows the driver" has "$T/out" "^  D  (driver) *parametric driver, .* control points, density 2, 0 keypose sets, no mask, after every layer$"
+check "deformer list shows the driver" has "$T/out" "^  D  (driver) *parametric driver, .* control points, density 2, the cage's binding local 4 epsilon 0.1 K 8, 0 keypose sets, no mask, after every layer$"
+# its own binding parameters: listed, and the pose changes with them (a wider reach of the samples)
+run deformer set --project "$T/driven.cagewrap" --driver --local 8 --out "$T/own.cagewrap"
+check "set --driver --local" has "$T/out" "^  D  (driver) .*, own binding local 8 epsilon 0.1 K 8,"
+run pose --project "$T/own.cagewrap" --clip walk --time 0.4 --out "$T/own.bin"
+check "its own parameters change the pose" bash -c "! cmp -s '$T/driven.bin' '$T/own.bin'"
+run deformer set --project "$T/driven.cagewrap" --driver --epsilon 2
+check "a bad driver parameter fails" test "$rc" -ne 0
 run deformer set --project "$T/driven.cagewrap" --driver --mask-joints foot.L --out "$T/legmask.cagewrap"
 check "set --driver --mask-joints exits 0" test "$rc" -eq 0
 check "it lists the mask" has "$T/out" "^  D  (driver) .*mask joints foot.L ("
