@@ -516,20 +516,17 @@ bool Scene::combine_stack_on_cpu() {
 
 void Scene::add_driver_alone(std::span<const glm::vec3> driver) {
   if (driver.empty()) return;
-  const auto& m = history_.current().driver_place.mask;
-  if (m && m->size() != skin_posed_.size()) return;
-  for (size_t i = 0; i < skin_posed_.size(); ++i)
-    skin_posed_[i] = glm::vec3(glm::dvec3(skin_posed_[i]) + (m ? double((*m)[i]) : 1.0) * glm::dvec3(driver[i]));
-  skin_driven_ = true;
+  // the stack's combination with no layer skins: the driver alone, with its mask
+  const Document& w = history_.current();
+  const std::vector<std::span<const glm::vec3>> none(w.layers.size());
+  skin_driven_ = combine_layers(w, skin_rest, none, driver, skin_posed_).ok();
 }
 
 bool Scene::driver_displacement() {
   const Document& d = doc();
-  const std::vector<KeyposeSet>& keyed = d.driver_place.keyposes;
-  driver_offsets_.assign(keyed.empty() ? 0 : driver_binding.layer->num_control_points(), glm::vec3(0.0f));
-  if (!keyed.empty()) evaluate_keyposes(keyed, d.character->skeleton, pose_, driver_offsets_);
   driver_delta_.resize(skin_rest.size());
-  auto any = driver_binding.layer->displacement(*d.patch_driver, driver_offsets_, joint_globals, driver_delta_);
+  auto any = driver_binding.layer->displacement(*d.patch_driver, d.driver_place.keyposes, d.character->skeleton, pose_, joint_globals,
+                                                driver_delta_);
   return any.ok() && *any;
 }
 

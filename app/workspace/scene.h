@@ -313,7 +313,7 @@ struct Scene {
   bool driver_displacement();
   // skin_posed_ += the driver's mask * `driver` (the stack's other deformers not ready, or no binding yet).
   void add_driver_alone(std::span<const glm::vec3> driver);
-  std::vector<glm::vec3> driver_delta_, driver_offsets_;  // #P, #C
+  std::vector<glm::vec3> driver_delta_;  // #P
   bool stack_ready_ = true;
   std::shared_ptr<const Cage> pending_cage_;   // the cage the running job binds
   std::vector<SetEdit> pending_edits_, bound_edits_;  // the set edits of the running job / the binding

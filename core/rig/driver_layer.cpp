@@ -24,7 +24,7 @@ struct DriverLayer::State {
   std::vector<glm::vec3> rest_points;  // #C
   // scratch, reused pose to pose
   std::vector<glm::mat4> joints;
-  std::vector<glm::vec3> sculpted, carried_rest, carried_sculpted;
+  std::vector<glm::vec3> sculpted, carried_rest, carried_sculpted, offsets;
   std::vector<glm::dvec3> points;
   PatchSurface surface;
   std::vector<glm::vec3> with_sculpt, without;
@@ -90,16 +90,11 @@ bool DriverLayer::fits(const PatchDriver& driver, const BindParams& params) cons
 
 size_t DriverLayer::num_control_points() const { return s_->rest_points.size(); }
 
-Status DriverLayer::add(const PatchDriver& driver, std::span<const glm::mat4> globals, std::span<glm::vec3> skin) {
-  if (skin.size() != s_->skin_rest.size())
-    return make_error(ErrorCode::kTopologyMismatch, "the skin has " + std::to_string(skin.size()) + " points, the driver's binding " +
-                                                        std::to_string(s_->skin_rest.size()));
-  std::vector<glm::vec3> delta(skin.size());
-  auto any = displacement(driver, {}, globals, delta);
-  if (!any) return any.error();
-  if (*any)
-    for (size_t i = 0; i < skin.size(); ++i) skin[i] = glm::vec3(glm::dvec3(skin[i]) + glm::dvec3(delta[i]));
-  return Ok{};
+Result<bool> DriverLayer::displacement(const PatchDriver& driver, std::span<const KeyposeSet> keyposes, const Skeleton& skeleton,
+                                       const Pose& pose, std::span<const glm::mat4> globals, std::span<glm::vec3> delta) {
+  s_->offsets.assign(keyposes.empty() ? 0 : s_->rest_points.size(), glm::vec3(0.0f));
+  if (!keyposes.empty()) evaluate_keyposes(keyposes, skeleton, pose, s_->offsets);
+  return displacement(driver, s_->offsets, globals, delta);
 }
 
 Result<bool> DriverLayer::displacement(const PatchDriver& driver, std::span<const glm::vec3> offsets,

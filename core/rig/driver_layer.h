@@ -20,6 +20,7 @@
 #include <glm/vec3.hpp>
 
 #include "core/base/result.h"
+#include "core/cage/keyposes.h"
 #include "core/character/character.h"
 #include "core/deform/binding.h"
 #include "core/deform/patch_surface.h"
@@ -42,14 +43,15 @@ class DriverLayer {
   // `params` are what it was bound with (core/deform/patch_binding.h patch_bind_params).
   bool fits(const PatchDriver& driver) const;
   bool fits(const PatchDriver& driver, const BindParams& params) const;
-  // Adds the driver's sculpt, carried by the skeleton at the pose whose node world transforms are
-  // `globals` (#nodes), to `skin` (#P). Errors: a driver that does not fit, sizes that differ.
-  Status add(const PatchDriver& driver, std::span<const glm::mat4> globals, std::span<glm::vec3> skin);
   // The sculpt's displacement of the skin alone, written into `delta` (#P): the sculpt is the posed control
   // points minus the rest ones plus `offsets` (#C, the driver's keyposes at the pose in bind space, or
   // empty). Returns whether there is any (false: `delta` is all zero).
   Result<bool> displacement(const PatchDriver& driver, std::span<const glm::vec3> offsets, std::span<const glm::mat4> globals,
                             std::span<glm::vec3> delta);
+  // The same at `pose` (node world transforms `globals`), the offsets being `keyposes` evaluated there
+  // (Document::driver_place.keyposes; core/cage/keyposes.h): what Rig and the editor add to the stack.
+  Result<bool> displacement(const PatchDriver& driver, std::span<const KeyposeSet> keyposes, const Skeleton& skeleton,
+                            const Pose& pose, std::span<const glm::mat4> globals, std::span<glm::vec3> delta);
   size_t num_control_points() const;
 
   DriverLayer(DriverLayer&&) noexcept;

@@ -92,7 +92,7 @@ struct Rig::State {
   // the parametric driver when it drives the skin (core/rig/driver_layer.h): its sculpt, carried by the
   // skeleton, added after the stack
   std::optional<DriverLayer> driver;
-  std::vector<glm::vec3> driver_offsets, driver_delta;  // #C, #P, reused frame to frame
+  std::vector<glm::vec3> driver_delta;  // #P, reused frame to frame
   // Each layer's skin posed by `pose_layer(layer rig, layer document, out)`, the parametric driver's displacement
   // at `pose` (node world transforms `globals`), then all combined with `skin_out` (f_0) by the document's stack.
   template <class PoseLayer>
@@ -114,11 +114,8 @@ Status Rig::State::pose_stack(const Document& doc, const Pose& pose, std::span<c
   }
   std::span<const glm::vec3> delta;
   if (drives) {
-    const std::vector<KeyposeSet>& keyed = doc.driver_place.keyposes;
-    driver_offsets.assign(keyed.empty() ? 0 : driver->num_control_points(), glm::vec3(0.0f));
-    if (!keyed.empty()) evaluate_keyposes(keyed, doc.character->skeleton, pose, driver_offsets);
     driver_delta.resize(skin_rest.size());
-    auto any = driver->displacement(*doc.patch_driver, driver_offsets, globals, driver_delta);
+    auto any = driver->displacement(*doc.patch_driver, doc.driver_place.keyposes, doc.character->skeleton, pose, globals, driver_delta);
     if (!any) return make_error(any.error().code, "parametric driver: " + any.error().message);
     if (*any) delta = driver_delta;
   }
