@@ -7,6 +7,7 @@
 
 #include "core/document/binding_cache.h"
 #include "core/geometry/mesh_io.h"
+#include "core/io/patch_io.h"
 
 namespace cagewrap::app {
 
@@ -129,6 +130,41 @@ std::optional<Cage> load_cage_or_report(const std::string& path) {
     return std::nullopt;
   }
   return std::move(c).value();
+}
+
+std::shared_ptr<const PatchDriver> load_driver_or_report(const std::string& path, const std::string& posed_path, uint32_t density) {
+  if (density < 1 || density > 1024) {
+    std::fprintf(stderr, "error: --patch-density %u: use 1..1024\n", density);
+    return nullptr;
+  }
+  auto surface = load_patch_any(path);
+  if (!surface) {
+    report_error(surface.error());
+    return nullptr;
+  }
+  auto driver = std::make_shared<PatchDriver>();
+  driver->rest = *surface;
+  driver->posed = std::move(surface).value();
+  if (!posed_path.empty()) {
+    auto posed = load_patch_any(posed_path);
+    if (!posed) {
+      report_error(posed.error());
+      return nullptr;
+    }
+    bool same_grids = posed->grids.size() == driver->rest.grids.size();
+    for (size_t g = 0; same_grids && g < posed->grids.size(); ++g)
+      same_grids = posed->grids[g].rows == driver->rest.grids[g].rows && posed->grids[g].cols == driver->rest.grids[g].cols &&
+                   posed->grids[g].basis == driver->rest.grids[g].basis;
+    if (!same_grids) {
+      std::fprintf(stderr, "error: %s: its grids are not those of %s (the same grids, sizes and basis, moved)\n", posed_path.c_str(),
+                   path.c_str());
+      return nullptr;
+    }
+    driver->posed = std::move(posed).value();
+  }
+  driver->density = density;
+  driver->drive_skin = true;
+  return driver;
 }
 
 std::optional<PolyMesh> load_posed_cage_or_report(const std::string& path, const Cage& cage, const std::string& cage_path) {

@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 
 #include "core/deform/binding.h"
+#include "core/deform/patch_surface.h"
 #include "core/cage/cage.h"
 #include "core/geometry/mesh.h"
 #include "core/document/project_io.h"
@@ -42,6 +43,10 @@ std::optional<BindParams> bind_options_over(const BindOptions& opts, const BindP
 // Loads a mesh or cage, printing "error: <message>" on failure.
 std::optional<PolyMesh> load_mesh_or_report(const std::string& path);
 std::optional<Cage> load_cage_or_report(const std::string& path);
+// A parametric driver (.cwpatch .gltf .glb) at rest, sculpted as `posed_path` says (the same grids moved;
+// "" = no sculpt), with `density` samples per knot span (1..1024), driving the skin; null (printed) when
+// a file cannot be read or does not fit.
+std::shared_ptr<const PatchDriver> load_driver_or_report(const std::string& path, const std::string& posed_path, uint32_t density);
 // A posed copy of `cage` (loaded from `cage_path`): the same vertex and face counts, or a message naming both files.
 std::optional<PolyMesh> load_posed_cage_or_report(const std::string& path, const Cage& cage, const std::string& cage_path);
 // Loads a project, printing "error: <message>" on failure and "warning: <message>" for each warning.

@@ -1,7 +1,7 @@
 // cagewrap bench --project P [--clip C] [--changes N] [--json]: what a project's deformer stack costs
 // (issue 21): each deformer that moves the skin bound and posed alone (its rig: deformer_document), then
 // the whole stack's rig (Rig::create / Rig::pose of the project), and the combination alone
-// (combine_stack). The stack's pose should cost the sum of its deformers' and a little more (the
+// (combine_stack); each parametric driver that moves the skin bound and displaced alone (DriverLayer). The stack's pose should cost the sum of its deformers' and a little more (the
 // combination); the figure of record is the ratio, measured in the same run.
 #include <algorithm>
 #include <chrono>
@@ -14,6 +14,7 @@
 #include "core/base/stats.h"
 #include "core/document/project_io.h"
 #include "core/rig/deformer_stack.h"
+#include "core/rig/driver_layer.h"
 #include "core/rig/rig.h"
 
 namespace cagewrap::app {
@@ -50,6 +51,32 @@ Result<Timed> time_rig(const Document& doc, std::string name, int32_t clip, uint
   return t;
 }
 
+// Parametric driver i bound alone (DriverLayer::create, timed) and its displacement made at `frames` times
+// along the clip (the median; the skeleton's transforms included, as Rig makes them).
+Result<Timed> time_driver(const Document& doc, size_t i, std::span<const glm::vec3> rest, int32_t clip, uint32_t frames) {
+  Timed t;
+  t.name = "D" + (i ? std::to_string(i + 1) : std::string()) + " " + driver_name(doc, i);
+  const DriverRef r = driver_at(doc, i);
+  const auto t0 = std::chrono::steady_clock::now();
+  auto layer = DriverLayer::create(*doc.character, rest, *r.driver, driver_params(doc, *r.place));
+  if (!layer) return layer.error();
+  if (r.place->attachment)
+    if (auto a = layer->attach(*doc.character, &*r.place->attachment); !a) return a.error();
+  t.bind_s = seconds_since(t0);
+  std::vector<glm::vec3> delta(rest.size());
+  const double duration = doc.character->clips[static_cast<size_t>(clip)].duration;
+  std::vector<double> ms;
+  for (uint32_t f = 0; f <= frames; ++f) {
+    const auto p0 = std::chrono::steady_clock::now();
+    const Pose pose = compose_pose(*doc.character, clip, duration * f / frames, false, {});
+    const std::vector<glm::mat4> globals = doc.character->skeleton.global_transforms(pose);
+    if (auto s = layer->displacement(*r.driver, r.place->keyposes, doc.character->skeleton, pose, globals, delta); !s) return s.error();
+    if (f > 0) ms.push_back(1000.0 * seconds_since(p0));
+  }
+  t.pose_ms = median(ms);
+  return t;
+}
+
 }  // namespace
 
 int bench_stack(const std::string& project, const std::string& clip_name, uint32_t frames, bool json) {
@@ -80,6 +107,22 @@ int bench_stack(const std::string& project, const std::string& clip_name, uint32
     parts.push_back(*t);
     which.push_back(d);
   }
+  std::vector<glm::vec3> rest(doc.character->num_vertices());
+  {
+    size_t i = 0;
+    for (const auto& prim : doc.character->primitives)
+      for (const auto& p : prim.positions) rest[i++] = p;
+  }
+  for (size_t i = 0; i < driver_count(doc); ++i) {  // the parametric drivers that move the skin
+    if (!driver_moves_skin(doc, i)) continue;
+    auto t = time_driver(doc, i, rest, clip, frames);
+    if (!t) {
+      std::fprintf(stderr, "error: %s: parametric driver '%s': %s\n", project.c_str(), driver_name(doc, i).c_str(),
+                   t.error().message.c_str());
+      return 1;
+    }
+    parts.push_back(*t);
+  }
   std::vector<glm::vec3> stack_skin;
   auto stack = time_rig(doc, "stack", clip, frames, stack_skin);
   if (!stack) {
@@ -92,12 +135,6 @@ int bench_stack(const std::string& project, const std::string& clip_name, uint32
       if (which[k] == d) return &skins[k];
     return nullptr;
   };
-  std::vector<glm::vec3> rest(doc.character->num_vertices());
-  {
-    size_t i = 0;
-    for (const auto& prim : doc.character->primitives)
-      for (const auto& p : prim.positions) rest[i++] = p;
-  }
   std::vector<double> combine_ms;
   for (uint32_t f = 0; f < frames; ++f) {
     std::vector<glm::vec3> out;

@@ -3,20 +3,27 @@
 // layers over it (a fine face or hand cage, a garment cage), each with a name, an optional skin mask
 // and a mute switch, and how their skins combine.
 //   list                                   the stack, one line per deformer
-//   add --cage C [--name N] [--mask-joints a,b | --mask-primitives 0,2] [binding options]
+//   add --cage C [--name N] [--mask-joints a,b | --mask-primitives 0,2 | --mask-weights F] [binding options]
+//   add --patch F [--posed-patch G] [--patch-density n] [--name N] [--after K|last] [mask] [binding options]
+//                                          (a parametric driver: the first, or one more)
 //   remove (--name N | --index I)          I: 1 = the first layer (0 is the project's own cage)
+//   remove --driver [--name N]             a parametric driver (default: the first)
 //   set (--name N | --index I) [--rename N2] [--mute | --unmute] [--hide | --show]
 //       [--mask-joints a,b | --mask-primitives 0,2 | --no-mask] [--to K]   (move it to position K among the layers)
 //   set --index 0 [--mute | --unmute] [--hide | --show]   (the project's own cage)
 //   set --stack in_order|sum|blend [--exponent m] [--solo D|none]
-//   set --driver [--mute | --unmute] [--after K|last] [--mask-joints a,b | --mask-primitives 0,2 | --no-mask]
-//       [binding options] (the parametric driver: its switch, its place among the layers, its mask and its own
-//       binding parameters)
+//   set --driver [--name N] [--rename N2] [--mute | --unmute] [--after K|last] [--mask-joints a,b |
+//       --mask-primitives 0,2 | --no-mask] [binding options] (a parametric driver, the first unless --name says
+//       which: its name, switch, place among the layers, mask and own binding parameters)
 // Every change checks what it can first (the cage, the names, the mask), writes P again (or Q), and
 // prints the stack. Errors name the project, the layer and what is wrong; nothing is written then.
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <sstream>
+
+#include <nlohmann/json.hpp>
 
 #include "app/cli_common.h"
 #include "app/commands.h"
@@ -31,9 +38,11 @@ void print_stack(const Document& doc) {
   const auto cage_line = [](const Cage& c) {
     return std::to_string(c.num_vertices()) + " vertices, " + std::to_string(c.polygons.num_faces()) + " faces";
   };
-  std::printf("stack      %s%s (%zu deformer%s)\n", stack_mode_name(doc.stack.mode),
+  const size_t nd = driver_count(doc);
+  std::printf("stack      %s%s (%zu deformer%s%s)\n", stack_mode_name(doc.stack.mode),
               doc.stack.mode == StackMode::kBlend ? (" m=" + std::to_string(doc.stack.exponent)).c_str() : "",
-              1 + doc.layers.size(), doc.layers.empty() ? "" : "s");
+              1 + doc.layers.size(), doc.layers.empty() ? "" : "s",
+              nd == 0 ? "" : (", " + std::to_string(nd) + " parametric driver" + (nd == 1 ? "" : "s")).c_str());
   // what leaves a deformer out, or hides its cage in the editor
   const auto flags = [&doc](size_t d) {
     std::string f;
@@ -53,21 +62,29 @@ void print_stack(const Document& doc) {
     return "mask " + (source.empty() ? std::string("painted") : source) + " (" + std::to_string(moved) + " of " +
            std::to_string(m->size()) + " skin vertices)";
   };
-  // the parametric driver, where it sits (only in_order has an order)
+  // the parametric drivers, where each sits (only in_order has an order): D (or D2, D3...) and the name
   const auto driver_line = [&](size_t after) {
-    if (!doc.patch_driver || driver_position(doc) != after) return;
-    const PatchDriver& p = *doc.patch_driver;
-    const DriverPlacement& place = doc.driver_place;
-    std::string f = p.drive_skin ? "" : ", muted";
-    if (p.drive_skin && !driver_moves_skin(doc)) f += ", left out (deformer " + std::to_string(doc.stack.solo) + " is soloed)";
-    const BindParams& b = driver_params(doc);
-    char binding[96];
-    std::snprintf(binding, sizeof binding, "%s binding local %g epsilon %g K %u", place.params ? "own" : "the cage's", b.local,
-                  b.epsilon, b.max_elements);
-    std::printf("  D  %-16s parametric driver, %zu control points, density %u, %s, %zu keypose set%s, %s, %s%s\n", "(driver)",
-                p.rest.num_control_points(), p.density, binding, place.keyposes.size(), place.keyposes.size() == 1 ? "" : "s",
-                mask_line(place.mask, place.mask_source).c_str(),
-                place.after < 0 ? "after every layer" : ("after layer " + std::to_string(driver_position(doc))).c_str(), f.c_str());
+    for (size_t i = 0; i < driver_count(doc); ++i) {
+      const DriverRef r = driver_at(doc, i);
+      if (driver_position(doc, *r.place) != after) continue;
+      const PatchDriver& p = *r.driver;
+      const DriverPlacement& place = *r.place;
+      std::string f = p.drive_skin ? "" : ", muted";
+      if (p.drive_skin && !driver_moves_skin(doc, i)) f += ", left out (deformer " + std::to_string(doc.stack.solo) + " is soloed)";
+      const BindParams& b = driver_params(doc, place);
+      char binding[96];
+      std::snprintf(binding, sizeof binding, "%s binding local %g epsilon %g K %u", place.params ? "own" : "the cage's", b.local,
+                    b.epsilon, b.max_elements);
+      if (place.attachment)
+        f += std::string(", attached ") + attachment_mode_name(place.attachment->mode) +
+             (place.attachment->overrides.empty() ? "" : " (" + std::to_string(place.attachment->overrides.size()) + " assigned)");
+      const std::string label = i == 0 ? "D" : "D" + std::to_string(i + 1);
+      const std::string name = place.name.empty() ? "(" + driver_name(doc, i) + ")" : place.name;
+      std::printf("  %-3s%-16s parametric driver, %zu control points, density %u, %s, %zu keypose set%s, %s, %s%s\n", label.c_str(),
+                  name.c_str(), p.rest.num_control_points(), p.density, binding, place.keyposes.size(),
+                  place.keyposes.size() == 1 ? "" : "s", mask_line(place.mask, place.mask_source).c_str(),
+                  place.after < 0 ? "after every layer" : ("after layer " + std::to_string(driver_position(doc, place))).c_str(), f.c_str());
+    }
   };
   driver_line(0);
   for (size_t i = 0; i < doc.layers.size(); ++i) {
@@ -79,15 +96,62 @@ void print_stack(const Document& doc) {
 }
 
 struct MaskArgs {
-  std::string joints, primitives;
+  std::string joints, primitives, meshes, weights;
   bool none = false;
 };
+
+// A painted mask from a file: one weight in [0, 1] per skin vertex (skin order), as a JSON array or numbers
+// separated by white space (as the project file's "mask" holds them, or as a DCC tool writes a weight map).
+Result<std::vector<float>> read_mask_weights(const std::string& path, size_t expected) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return make_error(ErrorCode::kFileUnreadable, path + ": cannot be read");
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::vector<float> out;
+  const size_t first = text.find_first_not_of(" \t\r\n");
+  if (first != std::string::npos && text[first] == '[') {
+    auto j = nlohmann::json::parse(text, nullptr, false);
+    if (j.is_discarded() || !j.is_array()) return make_error(ErrorCode::kParse, path + ": not a JSON array of weights");
+    if (j.size() != expected)
+      return make_error(ErrorCode::kTopologyMismatch, path + ": " + std::to_string(j.size()) + " weights, but the skin has " +
+                                                          std::to_string(expected) + " vertices");
+    out.reserve(expected);
+    for (size_t i = 0; i < j.size(); ++i) {
+      if (!j[i].is_number()) return make_error(ErrorCode::kParse, path + ": weight " + std::to_string(i) + " is not a number");
+      out.push_back(j[i].get<float>());
+    }
+  } else {
+    std::istringstream s(text);
+    std::string word;
+    while (s >> word) {
+      if (out.size() == expected)
+        return make_error(ErrorCode::kTopologyMismatch, path + ": more weights than the skin's " + std::to_string(expected) + " vertices");
+      char* end = nullptr;
+      const float v = std::strtof(word.c_str(), &end);
+      if (*end) return make_error(ErrorCode::kParse, path + ": weight " + std::to_string(out.size()) + " ('" + word + "') is not a number");
+      out.push_back(v);
+    }
+    if (out.size() != expected)
+      return make_error(ErrorCode::kTopologyMismatch, path + ": " + std::to_string(out.size()) + " weights, but the skin has " +
+                                                          std::to_string(expected) + " vertices");
+  }
+  for (size_t i = 0; i < out.size(); ++i)
+    if (!(out[i] >= 0.0f && out[i] <= 1.0f))
+      return make_error(ErrorCode::kInvalidArgument, path + ": weight " + std::to_string(i) + " (skin vertex " + std::to_string(i) +
+                                                         ") is " + std::to_string(out[i]) + "; weights are 0 to 1");
+  return out;
+}
 
 void add_mask_options(CLI::App& cmd, MaskArgs& m, bool with_none) {
   auto* j = cmd.add_option("--mask-joints", m.joints, "mask: these joints and their children, feathered by the skin weights (a,b,c; -name leaves one out: spine,-neck)");
   auto* p = cmd.add_option("--mask-primitives", m.primitives, "mask: these primitives of the character, by index (0,2)");
+  auto* w = cmd.add_option("--mask-weights", m.weights,
+                           "mask: painted weights, one per skin vertex in [0, 1] (a JSON array, or numbers separated by white space)");
+  auto* me = cmd.add_option("--mask-meshes", m.meshes, "mask: every primitive of these glTF meshes, by name or index (body,head)");
   j->excludes(p);
-  if (with_none) cmd.add_flag("--no-mask", m.none, "no mask: the layer may move every skin point")->excludes(j)->excludes(p);
+  w->excludes(j)->excludes(p);
+  me->excludes(j)->excludes(p)->excludes(w);
+  if (with_none)
+    cmd.add_flag("--no-mask", m.none, "no mask: the layer may move every skin point")->excludes(j)->excludes(p)->excludes(w)->excludes(me);
 }
 
 // A deformer's mask (`mask`, `source`) as the options say; false (printed) when it cannot be made.
@@ -98,9 +162,20 @@ bool apply_mask(const Document& doc, const MaskArgs& m, const std::string& name,
     source.clear();
     return true;
   }
+  if (!m.weights.empty()) {
+    auto w = read_mask_weights(m.weights, doc.character->num_vertices());
+    if (!w) {
+      std::fprintf(stderr, "error: %s: deformer '%s': mask: %s\n", project.c_str(), name.c_str(), w.error().message.c_str());
+      return false;
+    }
+    out = std::make_shared<const std::vector<float>>(std::move(w).value());
+    source.clear();  // painted
+    return true;
+  }
   std::string spec;
   if (!m.joints.empty()) spec = "joints " + m.joints;
   else if (!m.primitives.empty()) spec = "primitives " + m.primitives;
+  else if (!m.meshes.empty()) spec = "meshes " + m.meshes;
   else return true;  // unchanged
   auto mask = skin_mask_from_source(*doc.character, spec);
   source = spec;
@@ -132,6 +207,104 @@ long find_layer(const Document& doc, const std::string& name, long index, const 
   return -1;
 }
 
+// The parametric driver named `name` ("" = the first), as driver_at numbers them; -1 (printed) when there is none.
+long find_driver(const Document& doc, const std::string& name, const std::string& project) {
+  if (driver_count(doc) == 0) {
+    std::fprintf(stderr, "error: %s: has no parametric driver (cagewrap deformer add --patch, cagewrap new --patch, or the editor's "
+                         "Rig > Parametric driver)\n", project.c_str());
+    return -1;
+  }
+  if (name.empty()) return 0;
+  for (size_t i = 0; i < driver_count(doc); ++i)
+    if (driver_name(doc, i) == name) return static_cast<long>(i);
+  std::string names;
+  for (size_t i = 0; i < driver_count(doc); ++i) names += (i ? ", " : "") + driver_name(doc, i);
+  std::fprintf(stderr, "error: %s: has no parametric driver named '%s' (its drivers: %s)\n", project.c_str(), name.c_str(), names.c_str());
+  return -1;
+}
+
+// Whether `name` is free for a new deformer: no layer and no driver has it (else printed).
+bool name_free(const Document& doc, const std::string& name, const std::string& project) {
+  bool taken = false;
+  for (const DeformerLayer& l : doc.layers) taken = taken || l.name == name;
+  for (size_t i = 0; i < driver_count(doc); ++i) taken = taken || driver_name(doc, i) == name;
+  if (taken) std::fprintf(stderr, "error: %s: already has a deformer named '%s' (give another with --name)\n", project.c_str(), name.c_str());
+  return !taken;
+}
+
+// `--attach MODE` and `--attach-point I:JOINT` (repeatable) into `place.attachment` (MODE closest: none,
+// each control point to its closest limb); false (printed) when a mode, point or joint is not there.
+bool parse_driver_attachment(const Document& d, const std::string& mode, const std::vector<std::string>& points,
+                             size_t num_control_points, DriverPlacement& place, const std::string& project) {
+  if (mode.empty() && points.empty()) return true;
+  if (mode == "closest") {
+    if (!points.empty()) {
+      std::fprintf(stderr, "error: %s: --attach closest takes no --attach-point (give rigid, smooth or skin_weights)\n", project.c_str());
+      return false;
+    }
+    place.attachment.reset();
+    return true;
+  }
+  AttachmentSettings a = place.attachment ? *place.attachment : AttachmentSettings{AttachmentMode::kRigid};
+  if (!mode.empty() && (!parse_attachment_mode(mode, a.mode) || a.mode == AttachmentMode::kFitted)) {
+    std::fprintf(stderr, "error: %s: --attach '%s': give rigid, smooth, skin_weights or closest\n", project.c_str(), mode.c_str());
+    return false;
+  }
+  const Skeleton& sk = d.character->skeleton;
+  for (const std::string& p : points) {
+    const size_t colon = p.find(':');
+    char* end = nullptr;
+    const unsigned long i = std::strtoul(p.substr(0, colon).c_str(), &end, 10);
+    if (colon == std::string::npos || *end || colon == 0) {
+      std::fprintf(stderr, "error: %s: --attach-point '%s': give CONTROL_POINT:JOINT (14:chest) or CONTROL_POINT:auto\n", project.c_str(),
+                   p.c_str());
+      return false;
+    }
+    if (i >= num_control_points) {
+      std::fprintf(stderr, "error: %s: --attach-point '%s': the driver has control points 0 to %zu\n", project.c_str(), p.c_str(),
+                   num_control_points - 1);
+      return false;
+    }
+    const std::string joint = p.substr(colon + 1);
+    std::optional<uint32_t> node;
+    if (joint != "auto") {
+      for (uint32_t n = 0; n < sk.size() && !node; ++n)
+        if (sk.node(n).name == joint) node = n;
+      if (!node) {
+        std::fprintf(stderr, "error: %s: --attach-point '%s': the skeleton has no node '%s'\n", project.c_str(), p.c_str(), joint.c_str());
+        return false;
+      }
+    }
+    const uint32_t v = static_cast<uint32_t>(i);
+    a = assign_vertices(a, std::span<const uint32_t>(&v, 1), node);
+  }
+  // checked as the rig will attach it (a node that is no joint of the skin is named there)
+  std::vector<glm::vec3> probe(num_control_points, glm::vec3(0.0f));
+  if (auto att = attach_cage(*d.character, probe, a); !att) {
+    std::fprintf(stderr, "error: %s: the driver's attachment: %s\n", project.c_str(), att.error().message.c_str());
+    return false;
+  }
+  place.attachment = std::move(a);
+  return true;
+}
+
+// `--after` parsed into `place` (last, or 0 to the number of layers); false (printed) when it is neither.
+bool parse_after(const Document& d, const std::string& after, DriverPlacement& place, const std::string& project) {
+  if (after.empty()) return true;
+  if (after == "last") {
+    place.after = -1;
+    return true;
+  }
+  char* end = nullptr;
+  const long v = std::strtol(after.c_str(), &end, 10);
+  if (*end || v < 0 || static_cast<size_t>(v) > d.layers.size()) {
+    std::fprintf(stderr, "error: %s: --after '%s': give 0 to %zu layers, or last\n", project.c_str(), after.c_str(), d.layers.size());
+    return false;
+  }
+  place.after = static_cast<int32_t>(v);
+  return true;
+}
+
 // Writes the project (to `out` when given) and prints the stack; the exit code.
 int save_and_print(const Document& doc, const std::string& project, const std::string& out) {
   const std::string to = out.empty() ? project : out;
@@ -145,11 +318,13 @@ int save_and_print(const Document& doc, const std::string& project, const std::s
 
 void add_deformer_command(CLI::App& app, int& exit_code) {
   struct Args {
-    std::string project, out, cage, name, rename, stack;
+    std::string project, out, cage, name, rename, stack, patch, posed_patch;
+    uint32_t patch_density = 2;
     long index = -1, to = -1;
     double exponent = -1.0;
     bool mute = false, unmute = false, hide = false, show = false, driver = false;
-    std::string solo, after;
+    std::string solo, after, attach;
+    std::vector<std::string> attach_points;
     MaskArgs mask;
     BindOptions bind;
   };
@@ -176,27 +351,60 @@ void add_deformer_command(CLI::App& app, int& exit_code) {
     exit_code = 0;
   });
 
-  auto* add = cmd->add_subcommand("add", "add a cage as a new layer at the end of the stack");
+  auto* add = cmd->add_subcommand("add", "add a cage as a new layer at the end of the stack, or a parametric driver");
   common(add);
-  add->add_option("--cage", args->cage, "the layer's cage at rest (.obj .ply .off .stl)")->required();
-  add->add_option("--name", args->name, "its name (default: the cage file's name)");
+  auto* add_cage = add->add_option("--cage", args->cage, "the layer's cage at rest (.obj .ply .off .stl)");
+  auto* add_patch = add->add_option("--patch", args->patch, "or a parametric driver (.cwpatch .gltf .glb): the first, or one more");
+  add_cage->excludes(add_patch);
+  add->add_option("--posed-patch", args->posed_patch, "with --patch: the driver sculpted (the same grids moved; default: no sculpt)")
+      ->needs(add_patch);
+  add->add_option("--patch-density", args->patch_density, "with --patch: its samples per knot span (1..1024)")
+      ->capture_default_str()->needs(add_patch);
+  add->add_option("--after", args->after, "with --patch: the number of layers before it (0 = right after the project's cage; last)")
+      ->needs(add_patch);
+  add->add_option("--attach", args->attach, "with --patch: how its control points follow the skeleton: rigid, smooth, skin_weights "
+                                            "or closest (default: each rigidly to its closest limb)")->needs(add_patch);
+  add->add_option("--attach-point", args->attach_points, "with --patch: a control point to a joint (14:chest; 14:auto undoes it)")
+      ->needs(add_patch);
+  add->add_option("--name", args->name, "its name (default: the file's name)");
   add_mask_options(*add, args->mask, false);
   add_bind_options(*add, args->bind);
   add->callback([args, load, &exit_code] {
     exit_code = 1;
     if (!finish_bind_options(args->bind)) return;
+    if (args->cage.empty() && args->patch.empty()) {
+      std::fprintf(stderr, "error: deformer add: give --cage (a layer) or --patch (a parametric driver)\n");
+      return;
+    }
     auto doc = load();
     if (!doc) return;
+    const std::string& file = args->cage.empty() ? args->patch : args->cage;
+    const std::string name = args->name.empty() ? std::filesystem::path(file).stem().string() : args->name;
+    if (!name_free(*doc, name, args->project)) return;
+    if (!args->patch.empty()) {  // a parametric driver
+      auto driver = load_driver_or_report(args->patch, args->posed_patch, args->patch_density);
+      if (!driver) return;
+      DriverPlacement place;
+      place.name = name;
+      if (!parse_after(*doc, args->after, place, args->project)) return;
+      if (!parse_driver_attachment(*doc, args->attach, args->attach_points, driver->rest.num_control_points(), place, args->project)) return;
+      if (!apply_mask(*doc, args->mask, name, place.mask, place.mask_source, args->project)) return;
+      if (any_bind_option(args->bind)) place.params = args->bind.params;
+      Document d = *doc;
+      if (!d.patch_driver) {
+        d = with_driver_place(with_patch_driver(d, std::move(driver)), std::move(place));
+      } else {
+        std::vector<DriverDeformer> more = d.more_drivers;
+        more.push_back({std::move(driver), std::move(place)});
+        d = with_more_drivers(d, std::move(more));
+      }
+      exit_code = save_and_print(d, args->project, args->out);
+      return;
+    }
     auto cage = load_cage_or_report(args->cage);
     if (!cage) return;
     DeformerLayer l;
-    l.name = args->name.empty() ? std::filesystem::path(args->cage).stem().string() : args->name;
-    for (const DeformerLayer& other : doc->layers)
-      if (other.name == l.name) {
-        std::fprintf(stderr, "error: %s: already has a deformer named '%s' (give another with --name)\n", args->project.c_str(),
-                     l.name.c_str());
-        return;
-      }
+    l.name = name;
     l.cage = std::make_shared<const Cage>(std::move(*cage));
     l.params = args->bind.params;
     l.attachment = doc->attachment;
@@ -207,14 +415,22 @@ void add_deformer_command(CLI::App& app, int& exit_code) {
     exit_code = save_and_print(with_layers(*doc, std::move(layers)), args->project, args->out);
   });
 
-  auto* remove = cmd->add_subcommand("remove", "remove a layer");
+  auto* remove = cmd->add_subcommand("remove", "remove a layer or a parametric driver");
   common(remove);
-  remove->add_option("--name", args->name, "the layer's name");
+  remove->add_option("--name", args->name, "the layer's (or with --driver, the driver's) name");
   remove->add_option("--index", args->index, "or its place: 1 = the first layer");
+  remove->add_flag("--driver", args->driver, "remove a parametric driver (--name says which; default: the first)");
   remove->callback([args, load, &exit_code] {
     exit_code = 1;
     auto doc = load();
     if (!doc) return;
+    if (args->driver) {
+      const long i = find_driver(*doc, args->name, args->project);
+      if (i < 0) return;
+      std::printf("removed    %s\n", driver_name(*doc, size_t(i)).c_str());
+      exit_code = save_and_print(without_first_driver(with_first_driver(*doc, size_t(i))), args->project, args->out);
+      return;
+    }
     const long i = find_layer(*doc, args->name, args->index, args->project);
     if (i < 0) return;
     std::vector<DeformerLayer> layers = doc->layers;
@@ -234,8 +450,11 @@ void add_deformer_command(CLI::App& app, int& exit_code) {
   set->add_flag("--show", args->show, "show its cage in the editor again")->excludes(hide);
   set->add_option("--solo", args->solo, "only this deformer moves the skin (0 = the project's cage, 1 = the first layer; none = off)");
   set->add_option("--to", args->to, "move it to this place among the layers (1 = first)");
-  set->add_flag("--driver", args->driver, "change the project's parametric driver (its mute, mask, keyposes kept, place)");
+  set->add_flag("--driver", args->driver, "change a parametric driver (--name says which; default: the first): its name, mute, mask, place, binding");
   set->add_option("--after", args->after, "with --driver: the number of layers before it (0 = right after the project's cage; last = after them all)");
+  set->add_option("--attach", args->attach, "with --driver: how its control points follow the skeleton: rigid, smooth, skin_weights or "
+                                            "closest (each rigidly to its closest limb)");
+  set->add_option("--attach-point", args->attach_points, "with --driver: a control point to a joint (14:chest; 14:auto undoes it)");
   add_mask_options(*set, args->mask, true);
   set->add_option("--stack", args->stack, "how the skins combine: in_order, sum or blend (docs/deformer-stack.md)");
   set->add_option("--exponent", args->exponent, "the blend's exponent m (>= 0)");
@@ -276,49 +495,41 @@ void add_deformer_command(CLI::App& app, int& exit_code) {
     const bool switches = args->mute || args->unmute || args->hide || args->show;
     const bool params = any_bind_option(args->bind);
     const bool layer_change = !args->rename.empty() || switches || args->to >= 0 || !args->mask.joints.empty() ||
-                              !args->mask.primitives.empty() || args->mask.none || params;
-    if (args->driver) {  // the parametric driver: its switch, place and mask
-      if (!d.patch_driver) {
-        std::fprintf(stderr, "error: %s: has no parametric driver (cagewrap new --patch, or the editor's Rig > Parametric driver)\n",
-                     args->project.c_str());
+                              !args->mask.primitives.empty() || !args->mask.weights.empty() || !args->mask.meshes.empty() || args->mask.none || params;
+    if (args->driver) {  // a parametric driver: its name, switch, place, mask and binding parameters
+      const long i = find_driver(d, args->name, args->project);
+      if (i < 0) return;
+      if (args->index >= 0 || args->to >= 0 || args->hide || args->show) {
+        std::fprintf(stderr, "error: %s: --driver takes --name, --rename, --mute, --unmute, --after, the mask options and binding "
+                             "parameters only\n", args->project.c_str());
         return;
       }
-      if (!args->name.empty() || args->index >= 0 || !args->rename.empty() || args->to >= 0 || args->hide || args->show) {
-        std::fprintf(stderr, "error: %s: --driver takes --mute, --unmute, --after, the mask options and binding parameters only\n",
-                     args->project.c_str());
-        return;
-      }
+      if (!args->rename.empty() && args->rename != driver_name(d, size_t(i)) && !name_free(d, args->rename, args->project)) return;
+      const DriverRef r = driver_at(d, size_t(i));
+      std::shared_ptr<const PatchDriver> surface = i == 0 ? d.patch_driver : d.more_drivers[size_t(i) - 1].driver;
       if (args->mute || args->unmute) {
-        PatchDriver p = *d.patch_driver;
+        PatchDriver p = *r.driver;
         p.drive_skin = args->unmute;
-        d = with_patch_driver(d, std::make_shared<const PatchDriver>(std::move(p)));
+        surface = std::make_shared<const PatchDriver>(std::move(p));
       }
-      DriverPlacement place = d.driver_place;
-      if (!args->after.empty()) {
-        char* end = nullptr;
-        const long v = std::strtol(args->after.c_str(), &end, 10);
-        if (args->after == "last") {
-          place.after = -1;
-        } else if (*end || args->after.empty() || v < 0 || static_cast<size_t>(v) > d.layers.size()) {
-          std::fprintf(stderr, "error: %s: --after '%s': give 0 to %zu layers, or last\n", args->project.c_str(), args->after.c_str(),
-                       d.layers.size());
-          return;
-        } else {
-          place.after = static_cast<int32_t>(v);
-        }
-      }
-      if (!apply_mask(d, args->mask, "driver", place.mask, place.mask_source, args->project)) return;
+      DriverPlacement place = *r.place;
+      if (!args->rename.empty()) place.name = args->rename;
+      if (!parse_after(d, args->after, place, args->project)) return;
+      if (!parse_driver_attachment(d, args->attach, args->attach_points, r.driver->rest.num_control_points(), place, args->project)) return;
+      if (!apply_mask(d, args->mask, driver_name(d, size_t(i)), place.mask, place.mask_source, args->project)) return;
       if (params) {  // its own binding parameters, starting from those it binds with now
-        auto p = bind_options_over(args->bind, driver_params(d));
+        auto p = bind_options_over(args->bind, driver_params(d, *r.place));
         if (!p) return;
         place.params = *p;
       }
-      d = with_driver_place(d, std::move(place));
-    } else if (!args->after.empty()) {
-      std::fprintf(stderr, "error: %s: --after places the parametric driver: give --driver too\n", args->project.c_str());
+      d = with_driver(d, size_t(i), std::move(surface), std::move(place));
+    } else if (!args->after.empty() || !args->attach.empty() || !args->attach_points.empty()) {
+      std::fprintf(stderr, "error: %s: --after, --attach and --attach-point are the parametric driver's: give --driver too\n",
+                   args->project.c_str());
       return;
     } else if (args->index == 0 && args->name.empty()) {  // the project's own cage: only its switches
-      if (!args->rename.empty() || args->to >= 0 || !args->mask.joints.empty() || !args->mask.primitives.empty() || args->mask.none) {
+      if (!args->rename.empty() || args->to >= 0 || !args->mask.joints.empty() || !args->mask.primitives.empty() ||
+          !args->mask.weights.empty() || !args->mask.meshes.empty() || args->mask.none) {
         std::fprintf(stderr, "error: %s: deformer 0 is the project's own cage: it can be muted, hidden, soloed or given binding "
                              "parameters, not renamed, moved or masked\n", args->project.c_str());
         return;

@@ -18,7 +18,8 @@ namespace cagewrap::app {
 
 void add_new_command(CLI::App& app, int& exit_code) {
   struct Args {
-    std::string character, cage, out, stack, patch, posed_patch;
+    std::string character, cage, out, stack;
+    std::vector<std::string> patches, posed_patches;
     uint32_t patch_density = 2;
     std::vector<std::string> cages;
     BindOptions bind;
@@ -33,11 +34,13 @@ void add_new_command(CLI::App& app, int& exit_code) {
                   "cage at rest (.obj .ply .off .stl); without it the project has no cage yet. Given again: more cages, "
                   "each a deformer layer over the first (docs/deformer-stack.md)");
   cmd->add_option("--stack", args->stack, "with several cages: how their skins combine (in_order, sum or blend)");
-  cmd->add_option("--patch", args->patch,
+  cmd->add_option("--patch", args->patches,
                   "a parametric driver (.cwpatch .gltf .glb) that drives the skin: its sculpt (posed minus rest control "
-                  "points) follows the skeleton after the cages (docs/parametric-drivers.md)");
-  cmd->add_option("--posed-patch", args->posed_patch,
-                  "the same driver sculpted (its control points moved at the bind pose); default: as --patch (no sculpt)");
+                  "points) follows the skeleton after the cages (docs/parametric-drivers.md). Given again: more drivers "
+                  "(each named after its file)");
+  cmd->add_option("--posed-patch", args->posed_patches,
+                  "the driver sculpted (its control points moved at the bind pose), one per --patch in the same order; "
+                  "default: as --patch (no sculpt)");
   cmd->add_option("--patch-density", args->patch_density, "the driver's samples per knot span (1..1024)")->capture_default_str();
   cmd->add_option("--out", args->out, "project file to write (.cagewrap)")->required();
   cmd->add_flag("--embed", args->embed, "put the character file into the project: it opens with no other file");
@@ -83,40 +86,20 @@ void add_new_command(CLI::App& app, int& exit_code) {
       }
       *doc = with_stack(with_layers(*doc, std::move(layers)), stack);
     }
-    if (!args->patch.empty()) {
-      if (args->patch_density < 1 || args->patch_density > 1024) {
-        std::fprintf(stderr, "error: --patch-density %u: use 1..1024\n", args->patch_density);
-        return;
-      }
-      auto surface = load_patch_any(args->patch);
-      if (!surface) {
-        report_error(surface.error());
-        return;
-      }
-      auto driver = std::make_shared<PatchDriver>();
-      driver->rest = *surface;
-      driver->posed = std::move(surface).value();
-      if (!args->posed_patch.empty()) {
-        auto posed = load_patch_any(args->posed_patch);
-        if (!posed) {
-          report_error(posed.error());
-          return;
-        }
-        bool same_grids = posed->grids.size() == driver->rest.grids.size();
-        for (size_t g = 0; same_grids && g < posed->grids.size(); ++g)
-          same_grids = posed->grids[g].rows == driver->rest.grids[g].rows && posed->grids[g].cols == driver->rest.grids[g].cols &&
-                       posed->grids[g].basis == driver->rest.grids[g].basis;
-        if (!same_grids) {
-          std::fprintf(stderr, "error: %s: its grids are not those of %s (the same grids, sizes and basis, moved)\n",
-                       args->posed_patch.c_str(), args->patch.c_str());
-          return;
-        }
-        driver->posed = std::move(posed).value();
-      }
-      driver->density = args->patch_density;
-      driver->drive_skin = true;
-      *doc = with_patch_driver(*doc, std::move(driver));
+    if (!args->posed_patches.empty() && args->posed_patches.size() != args->patches.size()) {
+      std::fprintf(stderr, "error: %zu --posed-patch for %zu --patch: give one per driver, in the same order, or none\n",
+                   args->posed_patches.size(), args->patches.size());
+      return;
     }
+    std::vector<DriverDeformer> more;
+    for (size_t i = 0; i < args->patches.size(); ++i) {
+      auto driver = load_driver_or_report(args->patches[i], args->posed_patches.empty() ? std::string() : args->posed_patches[i],
+                                          args->patch_density);
+      if (!driver) return;
+      if (i == 0) *doc = with_patch_driver(*doc, std::move(driver));
+      else more.push_back({std::move(driver), DriverPlacement{std::filesystem::path(args->patches[i]).stem().string()}});
+    }
+    if (!more.empty()) *doc = with_more_drivers(*doc, std::move(more));
     if (automatic && !add_automatic_cage(*doc, args->auto_cage.params, args->character, false)) return;
     if (args->embed) {
       auto e = embed_character(*doc);
@@ -152,9 +135,9 @@ void add_new_command(CLI::App& app, int& exit_code) {
     for (const DeformerLayer& l : doc->layers)
       std::printf("deformer   %s: %zu vertices, %zu faces (a layer, %s)\n", l.name.c_str(), l.cage->num_vertices(),
                   l.cage->polygons.num_faces(), stack_mode_name(doc->stack.mode));
-    if (doc->patch_driver)
-      std::printf("driver     %s: %zu control points, density %u (drives the skin)\n", args->patch.c_str(),
-                  doc->patch_driver->rest.num_control_points(), doc->patch_driver->density);
+    for (size_t i = 0; i < driver_count(*doc); ++i)
+      std::printf("driver     %s: %zu control points, density %u (drives the skin)\n", args->patches[i].c_str(),
+                  driver_at(*doc, i).driver->rest.num_control_points(), driver_at(*doc, i).driver->density);
     if (doc->embedded_character)
       std::printf("embedded   the character (%zu bytes)\n", doc->embedded_character->size());
     if (rig)

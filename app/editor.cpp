@@ -140,6 +140,7 @@ void Editor::draw_menu() {
     ImGui::Separator();
     if (ImGui::MenuItem("Import cage...", nullptr, false, ws_.scene() != nullptr)) browse(FilePurpose::kImportCage);
     if (ImGui::MenuItem("Add cage as a deformer layer...", nullptr, false, ws_.scene() != nullptr)) browse(FilePurpose::kAddDeformer);
+    if (ImGui::MenuItem("Add a parametric driver...", nullptr, false, ws_.scene() != nullptr)) browse(FilePurpose::kAddDriver);
     if (ImGui::MenuItem("Export...", nullptr, false, ws_.scene() != nullptr)) export_panel_.open(*ws_.scene());
     ImGui::Separator();
     if (ImGui::MenuItem("Screenshot...", "F12")) browse(FilePurpose::kScreenshot);
@@ -471,8 +472,10 @@ int Editor::run() {
       {
         ws_.measure_fidelity();
         const auto& set_colors = sets_panel_.colors(*ws_.scene(), ws_.view.selection);
-        // the sets panel's colours while it shows them, else the fidelity heat map when it is on
-        const auto& colors = set_colors.empty() ? ws_.fidelity().colors : set_colors;
+        // the sets panel's colours while it shows them, else the mask brush's weights while it paints, else the
+        // fidelity heat map when it is on
+        const auto& mask_colors = ws_.mask_colors();
+        const auto& colors = !set_colors.empty() ? set_colors : !mask_colors.empty() ? mask_colors : ws_.fidelity().colors;
         if (!colors.empty() || skin_colored_) renderer_->set_skin_colors(colors);
         skin_colored_ = !colors.empty();
         if (auto faces = sets_panel_.highlighted_faces(*ws_.scene(), ws_.view.selection); !faces.empty()) {

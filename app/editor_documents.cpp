@@ -154,6 +154,7 @@ void Editor::act_on(const EditorFiles::Choice& choice) {
     }
     case FilePurpose::kImportCage: ws_.run("import_cage " + choice.path); break;
     case FilePurpose::kAddDeformer: ws_.run("deformer_add " + choice.path); break;
+    case FilePurpose::kAddDriver: ws_.run("driver_add " + choice.path); break;
     case FilePurpose::kSaveProject:
       if (ws_.scene() && save_project_to(choice.path) && after_save_) after_save_();
       after_save_ = nullptr;

@@ -105,7 +105,10 @@ void Editor::draw_deformers() {
   Scene& scene = *ws_.scene();
   const Document& w = scene.work();
   const size_t n = deformer_count(w);
-  if (!ImGui::TreeNodeEx("Deformers", ImGuiTreeNodeFlags_DefaultOpen, "Deformers (%zu%s)", n, w.patch_driver ? " and a driver" : "")) return;
+  const size_t nd = driver_count(w);
+  if (!ImGui::TreeNodeEx("Deformers", ImGuiTreeNodeFlags_DefaultOpen, "Deformers (%zu%s)", n,
+                         nd == 0 ? "" : nd == 1 ? " and a driver" : (" and " + std::to_string(nd) + " drivers").c_str()))
+    return;
   for (size_t d = 0; d < n; ++d) {
     ImGui::PushID(static_cast<int>(d));
     const std::string ds = std::to_string(d);
@@ -153,12 +156,17 @@ void Editor::draw_deformers() {
       const bool open = ImGui::SmallButton("mask...");
       ImGui::SameLine();
       hint("%s", l.mask ? (l.mask_source.empty() ? std::string("painted") : l.mask_source).c_str() : "no mask");
+      ImGui::SameLine();
+      if (ImGui::SmallButton("paint")) {  // the mask brush on this layer (made active: the brush paints the active layer)
+        ws_.run("deformer_active " + ds);
+        ws_.run("mask_paint on");
+      }
       if (open) {
         std::snprintf(mask_field_, sizeof mask_field_, "%s", l.mask_source.c_str());
         ImGui::OpenPopup("mask");
       }
       if (ImGui::BeginPopup("mask")) {
-        ImGui::TextUnformatted("joints a,b,-c  |  primitives 0,2  |  none");
+        ImGui::TextUnformatted("joints a,b,-c  |  primitives 0,2  |  meshes body  |  none");
         ImGui::InputText("##mask", mask_field_, sizeof mask_field_);
         if (ImGui::Button("Apply")) {
           const std::string source = mask_field_;
@@ -169,7 +177,8 @@ void Editor::draw_deformers() {
       }
     }
     ImGui::PopID();
-    if (w.patch_driver && driver_position(w) == d) draw_driver_row();
+    for (size_t i = 0; i < nd; ++i)
+      if (driver_position(w, *driver_at(w, i).place) == d) draw_driver_row(i);
   }
   if (n > 1) {
     int mode = static_cast<int>(w.stack.mode);
@@ -188,41 +197,95 @@ void Editor::draw_deformers() {
     binding |= r.job != nullptr;
     failed |= !r.job && !r.rig;
   }
+  for (const DriverRig& r : scene.driver_rigs) {
+    binding |= r.job != nullptr;
+    failed |= !r.job && !r.layer;
+  }
   if (binding) {
     if (ImGui::SmallButton("Cancel binds")) ws_.run("deformer_cancel");
   } else if (failed) {
     if (ImGui::SmallButton("Bind again")) ws_.run("deformer_bind");
   }
+  draw_mask_brush();
   if (ImGui::SmallButton("Add a cage as a layer...")) browse(FilePurpose::kAddDeformer);
+  if (ImGui::SmallButton("Add a parametric driver...")) browse(FilePurpose::kAddDriver);
   ImGui::TreePop();
 }
 
-// The parametric driver's row among the deformers (Document::driver_place): its place, mute, keyposes and mask;
-// its control points are edited in the Parametric driver window.
-void Editor::draw_driver_row() {
+// The mask brush's settings while it paints (view.mask): its target, the weight it paints toward, its
+// strength and radius, fill and done. The skin shows the target's weights (0 blue, 1 orange).
+void Editor::draw_mask_brush() {
+  ViewState::MaskTool& m = ws_.view.mask;
+  if (!m.painting) return;
+  const auto t = ws_.mask_target(false);
+  if (!t) {
+    m.painting = false;
+    return;
+  }
+  ImGui::Separator();
+  ImGui::Text("Painting the mask of %s", t->name.c_str());
+  hint("drag on the skin; blue: not moved by it, orange: moved in full");
+  ImGui::SliderFloat("paint toward", &m.value, 0.0f, 1.0f, "%.2f");
+  ImGui::SliderFloat("strength", &m.strength, 0.01f, 1.0f, "%.2f");
+  if (m.radius <= 0.0) m.radius = 0.03 * ws_.scene()->skin_diagonal;
+  float r = static_cast<float>(m.radius);
+  const float size = static_cast<float>(ws_.scene()->skin_diagonal);
+  if (ImGui::SliderFloat("radius", &r, 1e-3f * size, 0.3f * size, "%.4f", ImGuiSliderFlags_Logarithmic)) m.radius = r;
+  if (ImGui::SmallButton("fill 1")) ws_.run("mask_fill 1");
+  ImGui::SameLine();
+  if (ImGui::SmallButton("fill 0")) ws_.run("mask_fill 0");
+  ImGui::SameLine();
+  if (ImGui::SmallButton("done")) ws_.run("mask_paint off");
+  ImGui::Separator();
+}
+
+// A parametric driver's row among the deformers (DriverPlacement): its place, mute and state. The first
+// (i = 0) is the one the Parametric driver window edits (control points, mask, keyposes); "edit" on another
+// makes it the first.
+void Editor::draw_driver_row(size_t i) {
   Scene& scene = *ws_.scene();
   const Document& w = scene.work();
-  const PatchDriver& p = *w.patch_driver;
-  const size_t pos = driver_position(w);
-  ImGui::PushID("driver");
-  if (ImGui::SmallButton("edit")) ws_.run("patch_panel");
-  if (ImGui::IsItemHovered()) ImGui::SetTooltip("edit its control points, mask and keyposes in the Parametric driver window");
+  const DriverRef r = driver_at(w, i);
+  const PatchDriver& p = *r.driver;
+  const DriverPlacement& place = *r.place;
+  const size_t pos = driver_position(w, place);
+  const std::string is = std::to_string(i);
+  ImGui::PushID(("driver" + is).c_str());
+  if (ImGui::SmallButton("edit")) ws_.run(i == 0 ? std::string("patch_panel") : "driver_edit " + is);
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip(i == 0 ? "edit its control points, mask and keyposes in the Parametric driver window"
+                             : "make it the driver the Parametric driver window edits (the skin does not change)");
   ImGui::SameLine();
-  const bool moves = driver_moves_skin(w);
-  if (moves) ImGui::TextUnformatted("parametric driver");
-  else ImGui::TextDisabled("parametric driver");
-  const std::string state = !p.drive_skin ? "muted" : !moves ? "not soloed" : ws_.binding_patch_driver() ? "binding" : scene.driving() ? "bound" : "not bound";
-  hint("%zu control points, %zu keypose set%s, %s, %s", p.rest.num_control_points(), w.driver_place.keyposes.size(),
-       w.driver_place.keyposes.size() == 1 ? "" : "s",
-       w.driver_place.mask ? ("mask " + w.driver_place.mask_source).c_str() : "no mask", state.c_str());
-  if (ImGui::SmallButton(p.drive_skin ? "mute" : "unmute")) ws_.run(p.drive_skin ? "patch_drive off" : "patch_drive on");
-  if (pos > 0) {
-    ImGui::SameLine();
-    if (ImGui::SmallButton("up")) ws_.run("patch_after " + std::to_string(pos - 1));
+  const bool moves = driver_moves_skin(w, i);
+  const std::string title = "driver '" + driver_name(w, i) + "'";
+  if (moves) ImGui::TextUnformatted(title.c_str());
+  else ImGui::TextDisabled("%s", title.c_str());
+  std::string state;
+  if (!p.drive_skin) state = "muted";
+  else if (!moves) state = "not soloed";
+  else if (i == 0) state = ws_.binding_patch_driver() ? "binding" : scene.driving() ? "bound" : "not bound";
+  else {
+    state = "not bound";
+    for (const DriverRig& d : scene.driver_rigs)
+      if (d.driver && d.driver->rest == p.rest && d.driver->density == p.density)
+        state = d.job ? "binding " + std::to_string(int(d.job->progress() * 100)) + "%" : d.layer ? "bound" : d.error;
   }
-  if (pos < w.layers.size()) {
-    ImGui::SameLine();
-    if (ImGui::SmallButton("down")) ws_.run(pos + 1 == w.layers.size() ? std::string("patch_after last") : "patch_after " + std::to_string(pos + 1));
+  hint("parametric, %zu control points, %zu keypose set%s, %s, %s", p.rest.num_control_points(), place.keyposes.size(),
+       place.keyposes.size() == 1 ? "" : "s", place.mask ? ("mask " + place.mask_source).c_str() : "no mask", state.c_str());
+  if (ImGui::SmallButton(p.drive_skin ? "mute" : "unmute")) ws_.run("driver_mute " + is + (p.drive_skin ? " on" : " off"));
+  ImGui::SameLine();
+  if (ImGui::SmallButton("remove")) ws_.run("driver_remove " + is);
+  ImGui::SameLine();
+  if (ImGui::SmallButton("paint mask")) ws_.run("mask_paint on driver " + is);
+  if (i == 0) {  // its place: the driver window's patch_after acts on the first
+    if (pos > 0) {
+      ImGui::SameLine();
+      if (ImGui::SmallButton("up")) ws_.run("patch_after " + std::to_string(pos - 1));
+    }
+    if (pos < w.layers.size()) {
+      ImGui::SameLine();
+      if (ImGui::SmallButton("down")) ws_.run(pos + 1 == w.layers.size() ? std::string("patch_after last") : "patch_after " + std::to_string(pos + 1));
+    }
   }
   ImGui::PopID();
 }

@@ -59,16 +59,16 @@ void Editor::add_window_actions() {
     in >> p;
     save_project_to(p);
   });
-  add("browse", "open|save|import_cage|add_deformer|screenshot [DIR]", "Opens the file browser for that purpose.",
+  add("browse", "open|save|import_cage|add_deformer|add_driver|screenshot [DIR]", "Opens the file browser for that purpose.",
       [this, rest_of_line, fail](std::istringstream& in) {
         std::string arg = rest_of_line(in), dir;
         const size_t space = arg.find(' ');
         if (space != std::string::npos) dir = arg.substr(arg.find_first_not_of(' ', space));
         arg.resize(std::min(space, arg.size()));
         const std::pair<const char*, FilePurpose> purposes[] = {{"open", FilePurpose::kOpen}, {"save", FilePurpose::kSaveProject},
-                                                                {"import_cage", FilePurpose::kImportCage}, {"add_deformer", FilePurpose::kAddDeformer}, {"screenshot", FilePurpose::kScreenshot}};
+                                                                {"import_cage", FilePurpose::kImportCage}, {"add_deformer", FilePurpose::kAddDeformer}, {"add_driver", FilePurpose::kAddDriver}, {"screenshot", FilePurpose::kScreenshot}};
         auto it = std::find_if(std::begin(purposes), std::end(purposes), [&](const auto& p) { return arg == p.first; });
-        if (it == std::end(purposes)) return fail("browse open|save|import_cage|add_deformer|screenshot [DIR]");
+        if (it == std::end(purposes)) return fail("browse open|save|import_cage|add_deformer|add_driver|screenshot [DIR]");
         browse(it->second, dir);
       }, false);
   add("browser_select", "NAME", "Selects NAME in the file browser.", [this, rest_of_line](std::istringstream& in) {

@@ -196,6 +196,16 @@ void Editor::handle_input() {
     }
     return;
   }
+  if (ws_.scene() && ws_.mask_stroking()) {  // a mask brush stroke in progress
+    if (!io.MouseDown[0]) ws_.end_mask_stroke();
+    else if (io.MouseDelta.x != 0 || io.MouseDelta.y != 0) mask_dab(io.MousePos);
+    return;
+  }
+  if (ws_.scene() && over_view && !io.KeyAlt && ImGui::IsMouseClicked(0) && ws_.view.mask.painting) {
+    ws_.begin_mask_stroke();
+    mask_dab(io.MousePos);
+    return;
+  }
   if (ws_.scene() && over_view && !io.KeyAlt && ImGui::IsMouseClicked(0) && sets_panel_.painting() && ws_.view.mode == SelectMode::kSkinVertices) {
     ws_.begin_set_stroke();
     paint_dab(io.MousePos);
@@ -294,6 +304,13 @@ void Editor::paint_dab(const ImVec2& mouse) {
     }
     ws_.set_stroke_dab(hit->triangle, at);
   }
+}
+
+// One mask brush dab where the mouse ray meets the skin.
+void Editor::mask_dab(const ImVec2& mouse) {
+  const glm::dvec2 px = to_view(mouse);
+  const Ray ray = ws_.view.camera.ray(px.x, px.y, view_w_, view_h_);
+  if (auto hit = pick_triangle(ray, skin_occluder())) ws_.mask_stroke_dab(hit->triangle, ray.at(hit->t));
 }
 
 // The joint the rotation gizmo acts on: the one selected joint in joint mode.

@@ -109,7 +109,9 @@ class Editor {
   void update_selection_display();
   void update_other_cages();  // the other deformers' posed cages, for the view
   void draw_deformers();      // the outliner's Deformers (issue 21)
-  void draw_driver_row();     // the parametric driver among them
+  void draw_driver_row(size_t i);  // parametric driver i among them
+  void draw_mask_brush();          // the mask brush's settings while it paints
+  void mask_dab(const ImVec2& mouse);
   char mask_field_[256] = "";  // the Deformers list's mask popup
   void draw_gizmo();
   void request_save();

@@ -33,6 +33,7 @@ const FilePurposeInfo& purpose_info(FilePurpose purpose) {
   static const FilePurposeInfo kSave{"Save project as", "Save", {".cagewrap"}, ".cagewrap", true};
   static const FilePurposeInfo kCage{"Import cage", "Import", {".obj", ".ply", ".off", ".stl", ".glb", ".gltf"}, "", false};
   static const FilePurposeInfo kLayer{"Add a cage as a deformer layer", "Add", {".obj", ".ply", ".off", ".stl", ".glb", ".gltf"}, "", false};
+  static const FilePurposeInfo kDriver{"Add a parametric driver", "Add", {".cwpatch", ".glb", ".gltf"}, "", false};
   static const FilePurposeInfo kShot{"Save screenshot", "Save", {".png"}, ".png", true};
   static const FilePurposeInfo kNew{"New project from a character", "Create", {".glb", ".gltf"}, "", false};
   static const FilePurposeInfo kGlb{"Export to glTF binary", "Choose", {".glb"}, ".glb", true};
@@ -49,6 +50,8 @@ const FilePurposeInfo& purpose_info(FilePurpose purpose) {
       return kCage;
     case FilePurpose::kAddDeformer:
       return kLayer;
+    case FilePurpose::kAddDriver:
+      return kDriver;
     case FilePurpose::kScreenshot:
       return kShot;
     case FilePurpose::kNewFromCharacter:

@@ -17,6 +17,7 @@ enum class FilePurpose {
   kSaveProject,
   kImportCage,
   kAddDeformer,  // a cage added as a layer of the deformer stack
+  kAddDriver,    // a parametric driver added to the deformer stack
   kScreenshot,
   kNewFromCharacter,
   kExportGlb,

@@ -50,6 +50,8 @@ void PatchPanel::draw(Workspace& ws) {
   const std::shared_ptr<const PatchDriver> driver = scene.doc().patch_driver;
   const Workspace::PatchState& state = ws.patch_state();
   ImGui::TextWrapped("A surface of bicubic patches driving the rest skin (paper 3.3): samples at the knot values are its control elements.");
+  if (const size_t n = driver_count(scene.work()); n > 1)  // the others: the outliner's "edit" makes one the first
+    ImGui::TextWrapped("Editing driver '%s' (the first of %zu; Deformers > edit picks another)", driver_name(scene.work(), 0).c_str(), n);
   ImGui::InputText("##path", path_field_, sizeof path_field_);
   ImGui::SameLine();
   if (ImGui::Button("Import")) ws.import_patch_driver(path_field_);

@@ -49,13 +49,13 @@ std::vector<uint64_t> SkinDisplay::revisions(const Scene& scene) {
 
 void SkinDisplay::before_pose(Scene& scene) const {
   // a stack of cages too (Scene::gpu_frame); the parametric driver's sculpt is added on the CPU
-  scene.skin_on_gpu = use_gpu_ && gpu_available() && !scene.driving() &&
+  scene.skin_on_gpu = use_gpu_ && gpu_available() && !scene.any_driving() &&
                       (failed_revisions_.empty() || failed_revisions_ != revisions(scene));
 }
 
 std::string SkinDisplay::update(Scene& scene, render::ViewportRenderer& renderer) {
   std::string message = put_skin(scene, renderer);
-  const bool driven_on_cpu = use_gpu_ && gpu_available() && scene.skin_from_cage && scene.driving();
+  const bool driven_on_cpu = use_gpu_ && gpu_available() && scene.skin_from_cage && scene.any_driving();
   if (!driven_on_cpu) {
     driver_noted_ = false;
   } else if (!driver_noted_ && message.empty()) {
@@ -168,7 +168,7 @@ void SkinDisplay::draw_stats(const Scene& scene) {
                   scene.stack_ready() ? "" : " (binding)");
     else
       ImGui::Text("skin deformed on the CPU");
-    if (scene.skin_driven()) ImGui::Text("+ the driver's sculpt");
+    if (scene.skin_driven()) ImGui::Text(driver_count(scene.work()) > 1 ? "+ the drivers' sculpts" : "+ the driver's sculpt");
   } else if (!scene.skin_from_cage) {
     ImGui::TextDisabled("skin: file's linear blend skinning");
   } else {

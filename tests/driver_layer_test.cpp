@@ -196,5 +196,61 @@ TEST(DriverLayer, ItsMaskPlaceAndKeyposesMakeItADeformerOfTheStack) {
   }
 }
 
+// Several drivers (Document::more_drivers): each binds on its own, their displacements add (each
+// with its own mask), their order among themselves does not matter, and a rig made for one driver does
+// not pose two.
+TEST(DriverLayer, SeveralDriversAddTheirDisplacements) {
+  const Document plain = test::demo_document();
+  const Document front = with_patch_driver(plain, test::chest_driver(0.06));
+  auto pushed_at = [](size_t k, glm::dvec3 by) {
+    auto d = test::chest_driver(0.0);
+    auto points = d->posed.control_points();
+    points[k] += by;
+    d->posed.set_control_points(points);
+    return std::shared_ptr<const PatchDriver>(d);
+  };
+  const auto second = pushed_at(20, glm::dvec3(0.0, -0.04, 0.03));
+  const Document other = with_patch_driver(plain, second);
+  DriverPlacement named;
+  named.name = "second";
+  const Document both = with_more_drivers(front, {DriverDeformer{second, named}});
+  ASSERT_EQ(driver_count(both), 2u);
+  EXPECT_EQ(driver_name(both, 1), "second");
+  const Skeleton& sk = plain.character->skeleton;
+  std::vector<glm::quat> pose(sk.size(), glm::quat(1, 0, 0, 0));
+  for (uint32_t n = 0; n < sk.size(); ++n) pose[n] = sk.node(n).rest.rotation;
+  pose[node_named(sk, "spine")] = sk.node(node_named(sk, "spine")).rest.rotation * glm::angleAxis(0.5f, glm::vec3(1, 0, 0));
+  std::vector<std::vector<glm::vec3>> skins;
+  for (const Document* d : {&plain, &front, &other, &both}) {
+    auto rig = Rig::create(*d);
+    ASSERT_TRUE(rig.ok()) << rig.error().message;
+    skins.push_back(posed_skin(*d, *rig, pose));
+    if (d == &front) EXPECT_FALSE(rig->fits(both)) << "a rig made for one driver does not pose two";
+  }
+  const auto &p = skins[0], &a = skins[1], &b = skins[2], &ab = skins[3];
+  double worst = 0.0;
+  for (size_t i = 0; i < p.size(); ++i) worst = std::max(worst, double(glm::length(ab[i] - (a[i] + b[i] - p[i]))));
+  EXPECT_LT(worst, 1e-5) << "the two drivers' displacements add";
+  EXPECT_GT(largest_distance(a, p), 0.01);
+  EXPECT_GT(largest_distance(b, p), 0.01);
+  // the other order: the same skin
+  const Document swapped = with_first_driver(both, 1);
+  EXPECT_EQ(driver_name(swapped, 0), "second");
+  auto rig = Rig::create(swapped);
+  ASSERT_TRUE(rig.ok());
+  EXPECT_LT(largest_distance(posed_skin(swapped, *rig, pose), ab), 1e-6);
+  // the second one masked off everywhere: the first's alone
+  Document masked = both;
+  masked.more_drivers[0].place.mask = std::make_shared<const std::vector<float>>(p.size(), 0.0f);
+  masked.revision = next_revision();
+  auto masked_rig = Rig::create(masked);
+  ASSERT_TRUE(masked_rig.ok());
+  EXPECT_LT(largest_distance(posed_skin(masked, *masked_rig, pose), a), 1e-6);
+  // removing the first makes the second the first
+  const Document rest = without_first_driver(both);
+  ASSERT_EQ(driver_count(rest), 1u);
+  EXPECT_EQ(rest.patch_driver, second);
+}
+
 }  // namespace
 }  // namespace cagewrap

@@ -163,6 +163,7 @@ const Document& Scene::view() const {
     // the document-wide fields stay the document's: the parametric driver, the project's storage
     v.patch_driver = w.patch_driver;
     v.driver_place = w.driver_place;
+    v.more_drivers = w.more_drivers;
     v.binding_cache = {};
     v.revision = next_revision();  // not the document's: what is keyed on it (GPU copies, caches) sees another cage
     view_ = std::move(v);
@@ -196,6 +197,7 @@ Document Scene::to_work(const Document& next, const Document& base) const {
   out.embedded_character = next.embedded_character;
   out.patch_driver = next.patch_driver;
   out.driver_place = next.driver_place;
+  out.more_drivers = next.more_drivers;
   out.cache_binding = next.cache_binding;
   out.preserved_fields = next.preserved_fields;
   out.revision = next_revision();
@@ -418,21 +420,38 @@ std::vector<std::string> Scene::poll_stack() {
     }
     r.job.reset();
   }
+  for (DriverRig& r : driver_rigs) {
+    if (!r.job || !r.job->done()) continue;
+    auto& res = r.job->result();
+    if (res.ok()) {
+      r.layer = std::make_unique<DriverLayer>(std::move(res).value());
+      out.push_back("parametric driver '" + r.name + "' bound (" + std::to_string(r.layer->num_control_points()) + " control points)");
+    } else {
+      r.error = res.error().code == ErrorCode::kCancelled ? "bind cancelled" : res.error().message;
+      out.push_back((res.error().code == ErrorCode::kCancelled ? "" : "error: ") + std::string("parametric driver '") + r.name +
+                    "': " + r.error);
+    }
+    r.job.reset();
+  }
   return out;
 }
 
 void Scene::cancel_stack_binds() {
   for (StackRig& r : stack_rigs)
     if (r.job) r.job->cancel();
+  for (DriverRig& r : driver_rigs)
+    if (r.job) r.job->cancel();
 }
 
 void Scene::retry_stack_binds() {
   std::erase_if(stack_rigs, [](const StackRig& r) { return !r.rig && !r.job; });
+  std::erase_if(driver_rigs, [](const DriverRig& r) { return !r.layer && !r.job; });
   update_stack_rigs();
+  update_driver_rigs();
 }
 
-void Scene::pose_stack(const Playback& pb, bool maps_only, std::span<const glm::vec3> driver) {
-  const Document& w = history_.current();
+void Scene::pose_stack(const Playback& pb, bool maps_only, std::span<const DriverTerm> driver) {
+  const Document& w = stack_document();
   stack_ready_ = std::all_of(stack_rigs.begin(), stack_rigs.end(), [](const StackRig& r) { return r.rig != nullptr; });
   for (StackRig& r : stack_rigs) {
     if (!stack_ready_) break;  // the active deformer's skin alone (and the driver) until every rig is ready
@@ -457,7 +476,7 @@ void Scene::pose_stack(const Playback& pb, bool maps_only, std::span<const glm::
     }
   }
   if (!stack_ready_) {
-    if (!maps_only) add_driver_alone(driver);
+    if (!maps_only) add_drivers_alone(driver);
     return;
   }
   if (!maps_only) {
@@ -491,7 +510,7 @@ void Scene::pose_stack(const Playback& pb, bool maps_only, std::span<const glm::
   stack_combined_ = true;
 }
 
-bool Scene::combine_skins(std::span<const glm::vec3> driver) {
+bool Scene::combine_skins(std::span<const DriverTerm> driver) {
   const auto skin_of = [&](size_t d) -> const std::vector<glm::vec3>* {
     if (d == active_) return &skin_posed_;
     for (const StackRig& r : stack_rigs)
@@ -499,7 +518,7 @@ bool Scene::combine_skins(std::span<const glm::vec3> driver) {
     return nullptr;
   };
   std::vector<glm::vec3> out;
-  if (!combine_document_stack(history_.current(), skin_rest, skin_of, out, driver).ok()) return false;
+  if (!combine_document_stack(stack_document(), skin_rest, skin_of, out, driver).ok()) return false;
   skin_posed_ = std::move(out);
   skin_driven_ = !driver.empty();
   return true;
@@ -514,20 +533,86 @@ bool Scene::combine_stack_on_cpu() {
   return combine_skins({});
 }
 
-void Scene::add_driver_alone(std::span<const glm::vec3> driver) {
-  if (driver.empty()) return;
-  // the stack's combination with no layer skins: the driver alone, with its mask
-  const Document& w = history_.current();
+void Scene::add_drivers_alone(std::span<const DriverTerm> drivers) {
+  if (drivers.empty()) return;
+  // the stack's combination with no layer skins: the drivers alone, with their masks
+  const Document& w = stack_document();
   const std::vector<std::span<const glm::vec3>> none(w.layers.size());
-  skin_driven_ = combine_layers(w, skin_rest, none, driver, skin_posed_).ok();
+  skin_driven_ = combine_layers(w, skin_rest, none, drivers, skin_posed_).ok();
 }
 
-bool Scene::driver_displacement() {
-  const Document& d = doc();
-  driver_delta_.resize(skin_rest.size());
-  auto any = driver_binding.layer->displacement(*d.patch_driver, d.driver_place.keyposes, d.character->skeleton, pose_, joint_globals,
-                                                driver_delta_);
-  return any.ok() && *any;
+std::vector<DriverTerm> Scene::driver_displacements() {
+  const Document& w = stack_document();
+  std::vector<DriverTerm> out;
+  // a driver attached another way than its layer was is attached again (no bind)
+  const auto attached = [&](DriverLayer& layer, const DriverPlacement& place) {
+    return layer.attach(*w.character, place.attachment ? &*place.attachment : nullptr).ok();
+  };
+  if (driving() && attached(*driver_binding.layer, w.driver_place)) {
+    driver_delta_.resize(skin_rest.size());
+    auto any = driver_binding.layer->displacement(*w.patch_driver, w.driver_place.keyposes, w.character->skeleton, pose_, joint_globals,
+                                                  driver_delta_);
+    if (any.ok() && *any) out.push_back({driver_delta_, &w.driver_place});
+  }
+  for (size_t i = 1; i < driver_count(w); ++i) {
+    if (!driver_moves_skin(w, i)) continue;
+    const DriverRef d = driver_at(w, i);
+    for (DriverRig& r : driver_rigs) {
+      if (!r.layer || !r.layer->fits(*d.driver, driver_params(w, *d.place))) continue;
+      if (!attached(*r.layer, *d.place)) break;
+      r.delta.resize(skin_rest.size());
+      auto any = r.layer->displacement(*d.driver, d.place->keyposes, w.character->skeleton, pose_, joint_globals, r.delta);
+      if (any.ok() && *any) out.push_back({r.delta, d.place});
+      break;
+    }
+  }
+  return out;
+}
+
+void Scene::update_driver_rigs() {
+  const Document& w = history_.current();
+  std::vector<DriverRig> next;
+  for (size_t i = 1; i < driver_count(w); ++i) {
+    const DriverRef d = driver_at(w, i);
+    const BindParams& params = driver_params(w, *d.place);
+    // the layer (or bind) made for the same surface, density and parameters, wherever it was in the list
+    auto same = std::find_if(driver_rigs.begin(), driver_rigs.end(), [&](const DriverRig& o) {
+      return o.driver && o.character == w.character && o.driver->density == d.driver->density && o.driver->rest == d.driver->rest && o.params == params &&
+             (o.layer || o.job || !o.error.empty());
+    });
+    // a muted driver keeps the layer it has (unmuting is then immediate) but is not bound
+    if (!driver_moves_skin(w, i) && same == driver_rigs.end()) continue;
+    DriverRig r;
+    if (same != driver_rigs.end()) {
+      r = std::move(*same);
+      same->driver = nullptr;
+    } else {
+      r.driver = w.more_drivers[i - 1].driver;
+      r.params = params;
+      r.character = w.character;
+      r.job = std::make_unique<DriverRigJob>(
+          "binding parametric driver '" + driver_name(w, i) + "'",
+          [character = w.character, skin = skin_rest, driver = r.driver, params](const DriverRigJob::Progress& progress,
+                                                                                 const std::atomic<bool>& cancel) {
+            return DriverLayer::create(*character, skin, *driver, params, job_progress(progress, cancel));
+          });
+    }
+    r.name = driver_name(w, i);
+    next.push_back(std::move(r));
+  }
+  driver_rigs = std::move(next);  // the rest are dropped (their binds cancelled)
+}
+
+bool Scene::any_driving() const {
+  if (driving()) return true;
+  const Document& w = history_.current();
+  for (size_t i = 1; i < driver_count(w); ++i) {
+    if (!driver_moves_skin(w, i)) continue;
+    const DriverRef d = driver_at(w, i);
+    for (const DriverRig& r : driver_rigs)
+      if (r.layer && r.layer->fits(*d.driver, driver_params(w, *d.place))) return true;
+  }
+  return false;
 }
 
 void Scene::document_changed() {
@@ -542,6 +627,7 @@ void Scene::document_changed() {
   }
   if (needs_rebind() && !job) start_bind();
   update_stack_rigs();
+  update_driver_rigs();
 }
 
 // Adds the move to `values` (#cage vertices), each vertex's share taken back into its joint's bind
@@ -682,8 +768,9 @@ void Scene::update_pose(const Playback& pb) {
   stack_combined_ = false;
   // the parametric driver's displacement (its sculpt and keyposes, carried by the skeleton), added where it
   // sits in the stack as Rig adds it; it is made on the CPU, so a driven skin is made there
-  const bool driven = !show_file_skinning && driving() && driver_displacement();
-  const bool on_gpu = skin_on_gpu && !driving();
+  const std::vector<DriverTerm> drivers = show_file_skinning ? std::vector<DriverTerm>() : driver_displacements();
+  const bool driven = !drivers.empty();
+  const bool on_gpu = skin_on_gpu && !any_driving();
   const auto& cage = doc().cage;
   if (cage) {
     // the driver: rest cage + the artist's offsets + keyposes, carried by the skeleton (core/rig/rig.h)
@@ -705,7 +792,7 @@ void Scene::update_pose(const Playback& pb) {
       auto s = on_gpu ? deformer->update_maps(posed.positions, cage_vertex_frames(*binding, posed))
                       : deform_through_cage(*deformer, posed, skin_posed_);
       if (s.ok() && !show_file_skinning && (cage_stack() || driven))
-        pose_stack(pb, on_gpu, driven ? std::span<const glm::vec3>(driver_delta_) : std::span<const glm::vec3>());
+        pose_stack(pb, on_gpu, drivers);
       if (s.ok() && on_gpu && !stack_combined_)  // the active deformer's skin alone, as the CPU path shows it
         gpu_frame_.base = GpuFrame::Deformed{active_, &*deformer, binding_revision, nullptr};
       gpu_frame_.built = s.ok() && on_gpu;
@@ -720,7 +807,7 @@ void Scene::update_pose(const Playback& pb) {
     gpu_frame_ = {};
     stack_combined_ = false;
     // no binding yet: the driver's sculpt on the file's own skinning
-    if (driven) add_driver_alone(driver_delta_);
+    if (driven) add_drivers_alone(drivers);
   }
 }
 

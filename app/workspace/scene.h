@@ -25,6 +25,7 @@
 #include "core/document/project_io.h"
 #include "app/workspace/history.h"
 #include "core/deform/registration.h"
+#include "core/rig/deformer_stack.h"
 #include "core/rig/driver_layer.h"
 #include "core/rig/rig.h"
 #include "core/character/skeleton.h"
@@ -80,6 +81,20 @@ struct StackRig {
   PosedCage cage;                 // its posed cage of the current frame
 };
 
+// A parametric driver beyond the first (Document::more_drivers; issue 21): bound in the background like
+// the stack's rigs, its displacement added where it sits in the stack (on the CPU, like the first's).
+using DriverRigJob = BackgroundTask<DriverLayer>;
+struct DriverRig {
+  std::shared_ptr<const PatchDriver> driver;  // what it was (or is being) bound for
+  BindParams params;                          // and with
+  std::shared_ptr<const Character> character; // and for
+  std::string name;                           // for messages
+  std::unique_ptr<DriverLayer> layer;         // null while binding or after a failure
+  std::unique_ptr<DriverRigJob> job;
+  std::string error;                          // why it has no layer ("" = none)
+  std::vector<glm::vec3> delta;               // its displacement of the current frame (#P)
+};
+
 // The deformers that make a frame's skin on the GPU (Scene::gpu_frame; app/skin_display.h deforms and
 // combines them there, render/gpu_deformer.h GpuStack).
 struct GpuFrame {
@@ -118,14 +133,21 @@ struct Scene {
   // Whether the skin shown is a stack's (another deformer moves it, or the active one is muted) or has the
   // parametric driver's sculpt. A stack of cages is deformed and combined on the GPU with skin_on_gpu
   // (gpu_frame); the driver's sculpt is added on the CPU, so a driven skin is made there.
-  bool stacked() const { return cage_stack() || driving(); }
+  bool stacked() const { return cage_stack() || any_driving(); }
   bool cage_stack() const;  // more than the active cage moves the skin
   // Whether every other deformer's rig is ready (else the active deformer's skin is shown alone).
   bool stack_ready() const { return stack_ready_; }
   // Each deformer's binding when it is ready and is that of the document as it is (index = deformer; null
   // = none: binding, failed or muted): what a save caches beside the project.
   std::vector<const Binding*> deformer_bindings() const;
-  // Polls the stack rigs' binds; a message per bind that ended.
+  // While a mask brush stroke is under way (app/workspace/workspace_mask.cpp): the whole document with the
+  // stroke's mask, which the frame's stack combines with (the stroke becomes one undo step when it ends);
+  // null otherwise. stack_document() is the one the frame combines with.
+  std::optional<Document> mask_preview;
+  const Document& stack_document() const { return mask_preview ? *mask_preview : history_.current(); }
+  // The parametric drivers beyond the first that move the skin, each with its layer or its bind.
+  std::vector<DriverRig> driver_rigs;
+  // Polls the stack rigs' and the drivers' binds; a message per bind that ended.
   std::vector<std::string> poll_stack();
   void cancel_stack_binds();
   // Binds again the other deformers whose bind failed or was cancelled.
@@ -208,6 +230,8 @@ struct Scene {
   bool driver_bound() const;
   // Whether the document's driver drives the skin and is bound: update_pose adds its sculpt.
   bool driving() const;
+  // The same for any of the document's drivers (the first, or one of driver_rigs): the skin is made on the CPU.
+  bool any_driving() const;
   // Whether this frame's skin has the driver's sculpt (set by update_pose).
   bool skin_driven() const { return skin_driven_; }
   // The deformed skin of the current frame (#V, the order of skin_rest), for picking, brushes and
@@ -295,24 +319,26 @@ struct Scene {
   };
   std::optional<HandedOver> handed_over_;
   void update_stack_rigs();
+  void update_driver_rigs();
   // Poses every other deformer's cage; on the CPU (maps_only false) deforms its skin and combines the
-  // stack, with `driver` (the parametric driver's displacement, or empty) at its place, into skin_posed_
+  // stack, with `drivers` (the parametric drivers' displacements) at their places, into skin_posed_
   // (core/rig/deformer_stack.h combine_document_stack); on the GPU (maps_only) builds its maps and fills
   // gpu_frame_ (no driver there: a driven skin is made on the CPU).
-  void pose_stack(const Playback& pb, bool maps_only, std::span<const glm::vec3> driver);
+  void pose_stack(const Playback& pb, bool maps_only, std::span<const DriverTerm> drivers);
   // The other deformers' skins (stack_rigs' `skin`) combined with the active one's (skin_posed_) and the
-  // driver's displacement into skin_posed_; false (skin_posed_ unchanged) when the stack cannot combine them.
-  bool combine_skins(std::span<const glm::vec3> driver);
+  // drivers' displacements into skin_posed_; false (skin_posed_ unchanged) when the stack cannot combine them.
+  bool combine_skins(std::span<const DriverTerm> drivers);
   // The CPU copy of a stack the GPU made: each other deformer's skin deformed from its cage posed this
   // frame, then combined with the active one's (in skin_posed_). False when one fails.
   bool combine_stack_on_cpu();
   GpuFrame gpu_frame_;
   bool stack_combined_ = false;  // this frame's skin is the stack's (not the active deformer's alone)
-  // The parametric driver's displacement at this frame (its sculpt and keyposes, carried by the skeleton)
-  // into driver_delta_; false when it adds nothing (no sculpt) or fails.
-  bool driver_displacement();
-  // skin_posed_ += the driver's mask * `driver` (the stack's other deformers not ready, or no binding yet).
-  void add_driver_alone(std::span<const glm::vec3> driver);
+  // The parametric drivers' displacements at this frame (their sculpts and keyposes, carried by the
+  // skeleton): the first's into driver_delta_, the others' into their rigs' `delta`; those that add
+  // something (a sculpt, and no failure) as terms.
+  std::vector<DriverTerm> driver_displacements();
+  // skin_posed_ += each driver's mask * its displacement (the stack's other deformers not ready, or no binding yet).
+  void add_drivers_alone(std::span<const DriverTerm> drivers);
   std::vector<glm::vec3> driver_delta_;  // #P
   bool stack_ready_ = true;
   std::shared_ptr<const Cage> pending_cage_;   // the cage the running job binds

@@ -61,6 +61,16 @@ struct ViewState {
     bool mirror = false;        // the mirror images of the points, with the mirror faces, too
     double brush_radius = 0.0;  // scene units; 0: 3 % of the skin's size at the first dab
   } sets;
+  // The mask brush (app/workspace/workspace_mask.cpp; the Deformers list's Paint, actions mask_*): paints the
+  // skin mask of the active deformer layer, or of parametric driver `driver` (>= 0). Each dab moves the
+  // weights within `radius` toward `value` by `strength` at the centre, less toward the rim.
+  struct MaskTool {
+    bool painting = false;
+    int driver = -1;          // >= 0: that parametric driver's mask; -1: the active layer's
+    float value = 1.0f;       // 1 paints the deformer in, 0 paints it out
+    float strength = 0.5f;    // in (0, 1]
+    double radius = 0.0;      // scene units; 0: 3 % of the skin's size at the first dab
+  } mask;
   // The parametric driver's window: while it is open (`editing`) clicks pick control points and the
   // move gizmo moves `point` (-1: none).
   struct PatchTool {

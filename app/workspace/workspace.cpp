@@ -42,6 +42,9 @@ Workspace::Workspace() {
 void Workspace::set_scene(std::unique_ptr<Scene> scene) {
   move_.reset();
   stroke_.reset();
+  mask_stroke_.reset();
+  view.mask.painting = false;
+  view.mask.driver = -1;
   set_mirror_.reset();
   reset_fidelity();
   scene_ = std::move(scene);
@@ -281,6 +284,7 @@ void Workspace::undo() {
   if (!scene_) return;
   cancel_move();
   end_set_stroke();
+  end_mask_stroke();
   if (std::string label = scene_->undo(); !label.empty()) log(label);
   clip_cage_selection();
 }
@@ -289,6 +293,7 @@ void Workspace::redo() {
   if (!scene_) return;
   cancel_move();
   end_set_stroke();
+  end_mask_stroke();
   if (std::string label = scene_->redo(); !label.empty()) log(label);
   clip_cage_selection();
 }

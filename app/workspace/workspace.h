@@ -167,6 +167,25 @@ class Workspace {
   // The cage faces whose corners all follow the given joints (by the attachment).
   IndexSet limb_faces(const IndexSet& joints) const;
 
+  // ---- the mask brush (workspace_mask.cpp; view.mask, the Deformers list, actions mask_*): paints the skin
+  // mask of a deformer layer or a parametric driver, the stroke one undo step; the frame shows the stroke as
+  // it goes (Scene::mask_preview), pose and the exports use the mask once the stroke ends.
+  struct MaskTarget {
+    size_t layer = 0;  // >= 1: deformer `layer` (the layer layer - 1)
+    int driver = -1;   // >= 0: that parametric driver
+    std::string name;
+  };
+  // What view.mask paints: its driver, else the active deformer when it is a layer; none (said why when
+  // `say`) otherwise.
+  std::optional<MaskTarget> mask_target(bool say);
+  void begin_mask_stroke();
+  bool mask_stroke_dab(uint32_t triangle, const glm::dvec3& hit);
+  void end_mask_stroke();
+  bool mask_stroking() const { return mask_stroke_.has_value(); }
+  bool fill_mask(float value);  // every weight of the target's mask to `value` (one undo step)
+  // The target's weights as colours (#P; 0 blue to 1 orange) while view.mask.painting; empty otherwise.
+  const std::vector<glm::vec4>& mask_colors();
+
   // ---- the cage simulation (workspace_sim.cpp; the Simulation window and the actions sim, sim_param,
   // sim_weights, sim_collider, sim_remove_collider run these): one undo step each, checked first; false
   // (said why, the document kept) when refused.
@@ -235,6 +254,11 @@ class Workspace {
   bool key_driver_sculpt(int axis);
   bool remove_driver_keyset(size_t i);
   bool set_driver_params(std::optional<BindParams> params);  // its own binding parameters; null = the cage's
+  // More parametric drivers (Document::more_drivers; numbered as driver_at numbers them), each one undo step:
+  bool add_driver(const std::string& path);            // a .cwpatch or glTF driver (the first, or one more)
+  bool make_driver_first(size_t i);                    // the one the driver window and the patch_* actions edit
+  bool set_driver_muted(size_t i, bool muted);
+  bool remove_driver(size_t i);
   void bind_patch_driver();                            // binds the document's driver again (after a failure)
   void cancel_patch_bind();
   // `from` with the selected control point moved by `total` (a drag rebuilds from its start).
@@ -329,6 +353,7 @@ class Workspace {
   // A cage file loaded, checked and made into a cage; none (said why) when it cannot be.
   std::optional<Cage> read_cage(const std::string& path);
   bool check_deformer(size_t d, bool layer_only);
+  bool check_driver(size_t i);  // a parametric driver of the document (else said)
   // Logs "error: <where the running action came from>: text".
   void fail(const std::string& text);
   std::string where_ = "action";
@@ -342,6 +367,17 @@ class Workspace {
   };
   std::optional<MoveDrag> move_;
   std::optional<SkinBrush> stroke_;  // a set-edit brush stroke under way
+  struct MaskStroke {
+    SkinBrush brush;
+    MaskTarget target;
+    std::vector<float> weights;  // #P, the stroke's mask so far
+    bool changed = false;
+  };
+  std::optional<MaskStroke> mask_stroke_;
+  std::vector<glm::vec4> mask_colors_;
+  // `w` with the target's mask replaced (mask_source "": painted).
+  static Document with_target_mask(const Document& w, const MaskTarget& t, std::shared_ptr<const std::vector<float>> mask);
+  const std::shared_ptr<const std::vector<float>>& target_mask(const Document& w, const MaskTarget& t) const;
   // X-mirror maps of the skin points and the cage faces, for the cage they were made for
   struct SetMirrorMaps {
     std::shared_ptr<const Cage> cage;

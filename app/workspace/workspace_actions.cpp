@@ -287,6 +287,45 @@ void Workspace::add_actions() {
         end_set_stroke();
       });
 
+  // ---- the mask brush (app/workspace/workspace_mask.cpp)
+  add("mask_paint", "on|off [driver I]", "The mask brush on (clicks on the skin paint the active layer's mask, or parametric driver I's) or off.",
+      [this](std::istringstream& in) {
+        std::string on, what;
+        long i = -1;
+        in >> on >> what;
+        if ((on != "on" && on != "off") || (!what.empty() && (what != "driver" || !(in >> i) || i < 0)))
+          return fail("mask_paint on|off [driver I]");
+        view.mask.driver = what == "driver" ? static_cast<int>(i) : -1;
+        view.mask.painting = on == "on" && mask_target(true).has_value();
+      });
+  add("mask_brush", "VALUE STRENGTH [RADIUS]", "The mask brush: the weight it paints toward (0..1), how far per dab (0..1], its radius (scene units).",
+      [this](std::istringstream& in) {
+        float value = -1.0f, strength = -1.0f;
+        double radius = 0.0;
+        if (!(in >> value >> strength) || value < 0.0f || value > 1.0f || strength <= 0.0f || strength > 1.0f)
+          return fail("mask_brush VALUE STRENGTH [RADIUS]: VALUE 0..1, STRENGTH in (0, 1]");
+        view.mask.value = value;
+        view.mask.strength = strength;
+        if (in >> radius && radius > 0.0) view.mask.radius = radius;
+      });
+  add("mask_paint_at_skin_vertex", "I", "One mask-brush stroke of one dab at skin vertex I (one undo step).",
+      [this](std::istringstream& in) {
+        uint32_t i = 0;
+        if (!(in >> i)) return fail("mask_paint_at_skin_vertex I");
+        if (i >= scene_->skin_posed().size()) return fail("no skin vertex " + std::to_string(i));
+        const auto& fv = scene_->skin_topology.face_vertices;
+        const auto at = std::find(fv.begin(), fv.end(), i);
+        if (at == fv.end()) return fail("skin vertex " + std::to_string(i) + " is on no triangle");
+        begin_mask_stroke();
+        mask_stroke_dab(static_cast<uint32_t>((at - fv.begin()) / 3), glm::dvec3(scene_->skin_posed()[i]));
+        end_mask_stroke();
+      });
+  add("mask_fill", "VALUE", "Every weight of the painted mask to VALUE (0..1): one undo step.", [this](std::istringstream& in) {
+    float v = -1.0f;
+    if (!(in >> v)) return fail("mask_fill VALUE");
+    fill_mask(v);
+  });
+
   // ---- the parametric driver (the Parametric driver window runs the same: app/workspace/workspace_patch.cpp)
   // those that start or stop a bind give the frame loop a frame, so that a script waits for the bind
   auto add_bind = [this](std::string name, std::string usage, std::string help, std::function<void(std::istringstream&)> run) {
@@ -334,6 +373,37 @@ void Workspace::add_actions() {
   add_bind("patch_bind", "", "Binds the document's driver to the skin again.", [this](std::istringstream&) { bind_patch_driver(); });
   add_bind("patch_cancel", "", "Cancels the driver's bind under way (the driver is unchanged).",
       [this](std::istringstream&) { cancel_patch_bind(); });
+  add("driver_add", "PATH", "Adds a parametric driver (.cwpatch or glTF): the first, or one more; each binds in the background.",
+      [this, path_arg](std::istringstream& in) {
+        const std::string path = path_arg(in);
+        if (path.empty()) return fail("driver_add PATH");
+        add_driver(path);
+      });
+  const auto driver_index = [this](std::istringstream& in, const char* usage) -> std::optional<size_t> {
+    long i = -1;
+    if (!(in >> i) || i < 0) {
+      fail(usage);
+      return std::nullopt;
+    }
+    return static_cast<size_t>(i);
+  };
+  add("driver_edit", "I", "Makes parametric driver I (0 = the first) the one the driver window and the patch_* actions edit (the skin does not change).",
+      [this, driver_index](std::istringstream& in) {
+        if (auto i = driver_index(in, "driver_edit I")) make_driver_first(*i);
+      });
+  add("driver_mute", "I on|off", "Mutes (on) or unmutes (off) parametric driver I: left out of the stack, kept in the project.",
+      [this, driver_index](std::istringstream& in) {
+        auto i = driver_index(in, "driver_mute I on|off");
+        std::string on;
+        in >> on;
+        if (!i) return;
+        if (on != "on" && on != "off") return fail("driver_mute I on|off");
+        set_driver_muted(*i, on == "on");
+      });
+  add("driver_remove", "I", "Removes parametric driver I (0 = the first; the next one then becomes the first).",
+      [this, driver_index](std::istringstream& in) {
+        if (auto i = driver_index(in, "driver_remove I")) remove_driver(*i);
+      });
   add("patch_after", "K|last", "Where the driver sits in the stack: after K layers (0: right after the document's cage), or after them all.",
       [this](std::istringstream& in) {
         std::string k;
@@ -344,14 +414,14 @@ void Workspace::add_actions() {
         else if (k.empty() || *end || v < 0) fail("patch_after K|last");
         else set_driver_after(static_cast<int>(v));
       });
-  add("patch_mask", "joints a,b,-c | primitives 0,2 | none",
-      "The skin the driver may move: these joints' region (feathered by the skin weights; -c leaves one out), these primitives, or all of it.",
+  add("patch_mask", "joints a,b,-c | primitives 0,2 | meshes body | none",
+      "The skin the driver may move: these joints' region (feathered by the skin weights; -c leaves one out), these primitives or glTF meshes, or all of it.",
       [this](std::istringstream& in) {
         std::string kind, list;
         in >> kind >> list;
         if (kind == "none") set_driver_mask("");
-        else if ((kind == "joints" || kind == "primitives") && !list.empty()) set_driver_mask(kind + " " + list);
-        else fail("patch_mask joints a,b,-c | primitives 0,2 | none");
+        else if ((kind == "joints" || kind == "primitives" || kind == "meshes") && !list.empty()) set_driver_mask(kind + " " + list);
+        else fail("patch_mask joints a,b,-c | primitives 0,2 | meshes body | none");
       });
   add("patch_key", "X|Y|Z", "Keys the driver's sculpt against the selected joint's rotation about its local axis at this pose (the control points go back to rest).",
       [this](std::istringstream& in) {

@@ -3,9 +3,11 @@
 // in the background (poll_jobs). The Parametric driver window and the patch_* actions run these.
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <utility>
 
 #include "app/workspace/workspace.h"
+
 #include "core/deform/patch_fit.h"
 #include "core/io/patch_io.h"
 
@@ -322,6 +324,75 @@ bool Workspace::remove_driver_keyset(size_t i) {
   const std::string label = "Remove the driver's keypose set " + place.keyposes[i].name;
   place.keyposes.erase(place.keyposes.begin() + static_cast<long>(i));
   if (!scene_->apply_work(label, with_driver_place(scene_->work(), std::move(place)))) return false;
+  log(label);
+  return true;
+}
+
+// ---- more parametric drivers (Document::more_drivers): the first is the one edited; the others bind in the
+// scene's driver rigs (Scene::update_driver_rigs)
+
+bool Workspace::check_driver(size_t i) {
+  if (!scene_) return false;
+  const Document& w = scene_->work();
+  if (i < driver_count(w)) return true;
+  fail(driver_count(w) ? "no parametric driver " + std::to_string(i) + " (the drivers are 0 to " + std::to_string(driver_count(w) - 1) + ")"
+                          : std::string(kNoDriver));
+  return false;
+}
+
+bool Workspace::add_driver(const std::string& path) {
+  if (!scene_) return false;
+  const Document& w = scene_->work();
+  if (!w.patch_driver) return import_patch_driver(path);  // the first: bound before it enters the document
+  auto p = load_patch_any(path);
+  if (!p) {
+    report_error(p.error().message);
+    return false;
+  }
+  auto d = std::make_shared<PatchDriver>();
+  d->density = w.patch_driver->density;
+  d->posed = *p;
+  d->rest = std::move(*p);
+  std::string name = std::filesystem::path(path).stem().string();
+  for (size_t i = 0, k = 2; i < driver_count(w); ++i)  // a name no other driver has
+    if (driver_name(w, i) == name) name = std::filesystem::path(path).stem().string() + " " + std::to_string(k++), i = size_t(-1);
+  std::vector<DriverDeformer> more = w.more_drivers;
+  more.push_back({std::move(d), DriverPlacement{name}});
+  const std::string label = "Add parametric driver '" + name + "' (" + std::to_string(more.back().driver->rest.num_control_points()) +
+                            " control points)";
+  if (!scene_->apply_work(label, with_more_drivers(w, std::move(more)))) return false;
+  log(label + "; it binds in the background");
+  return true;
+}
+
+bool Workspace::make_driver_first(size_t i) {
+  if (!check_driver(i)) return false;
+  if (i == 0) return true;
+  const std::string label = "Edit parametric driver '" + driver_name(scene_->work(), i) + "'";
+  view.patch.point = -1;
+  if (!scene_->apply_work(label, with_first_driver(scene_->work(), i))) return false;
+  log(label);
+  return true;
+}
+
+bool Workspace::set_driver_muted(size_t i, bool muted) {
+  if (!check_driver(i)) return false;
+  const Document& w = scene_->work();
+  PatchDriver p = *driver_at(w, i).driver;
+  p.drive_skin = !muted;
+  Document next = with_driver(w, i, std::make_shared<const PatchDriver>(std::move(p)), *driver_at(w, i).place);
+  const std::string label = (muted ? "Mute parametric driver '" : "Unmute parametric driver '") + driver_name(w, i) + "'";
+  if (!scene_->apply_work(label, std::move(next))) return false;
+  log(label);
+  return true;
+}
+
+bool Workspace::remove_driver(size_t i) {
+  if (!check_driver(i)) return false;
+  const Document& w = scene_->work();
+  const std::string label = "Remove parametric driver '" + driver_name(w, i) + "'";
+  view.patch.point = -1;
+  if (!scene_->apply_work(label, without_first_driver(with_first_driver(w, i)))) return false;
   log(label);
   return true;
 }

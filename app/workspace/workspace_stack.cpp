@@ -15,6 +15,8 @@ bool Workspace::binding_any() const {
   if (scene_->job) return true;
   for (const StackRig& r : scene_->stack_rigs)
     if (r.job) return true;
+  for (const DriverRig& r : scene_->driver_rigs)
+    if (r.job) return true;
   return false;
 }
 
@@ -35,6 +37,7 @@ bool Workspace::check_deformer(size_t d, bool layer_only) {
 bool Workspace::change_stack(const std::string& label, Document next) {
   cancel_move();
   end_set_stroke();
+  end_mask_stroke();
   if (!scene_->apply_work(label, std::move(next))) return false;
   log(label);
   return true;
@@ -45,6 +48,7 @@ bool Workspace::set_active_deformer(size_t d) {
   if (d == scene_->active_deformer()) return true;
   cancel_move();
   end_set_stroke();
+  end_mask_stroke();
   if (!scene_->set_active_deformer(d)) {
     fail("the active deformer cannot change during a drag");
     return false;
@@ -286,16 +290,16 @@ void Workspace::add_stack_actions() {
     name.erase(name.find_last_not_of(" \t\r") + 1);
     rename_deformer(d, name);
   });
-  add("deformer_mask", "D joints a,b,-c | D primitives 0,2 | D none",
-      "Layer D's skin mask: these joints' region (feathered by the skin weights; -c leaves one out), these primitives, or none: one undo step.",
+  add("deformer_mask", "D joints a,b,-c | D primitives 0,2 | D meshes body | D none",
+      "Layer D's skin mask: these joints' region (feathered by the skin weights; -c leaves one out), these primitives or glTF meshes, or none: one undo step.",
       [this](std::istringstream& in) {
         size_t d = 0;
         std::string kind, list;
-        if (!(in >> d >> kind)) return fail("deformer_mask D joints a,b,-c | D primitives 0,2 | D none");
+        if (!(in >> d >> kind)) return fail("deformer_mask D joints a,b,-c | D primitives 0,2 | D meshes body | D none");
         in >> list;
         if (kind == "none") set_deformer_mask(d, "");
-        else if ((kind == "joints" || kind == "primitives") && !list.empty()) set_deformer_mask(d, kind + " " + list);
-        else fail("deformer_mask D joints a,b,-c | D primitives 0,2 | D none");
+        else if ((kind == "joints" || kind == "primitives" || kind == "meshes") && !list.empty()) set_deformer_mask(d, kind + " " + list);
+        else fail("deformer_mask D joints a,b,-c | D primitives 0,2 | D meshes body | D none");
       });
   add("deformer_stack", "in_order|sum|blend [M]", "How the deformers' skins combine (M: the blend's exponent): one undo step.",
       [this](std::istringstream& in) {

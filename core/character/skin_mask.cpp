@@ -80,8 +80,26 @@ Result<std::vector<float>> skin_mask_from_source(const Character& character, std
     if (prims.empty()) return make_error(ErrorCode::kInvalidArgument, "a primitive mask needs at least one primitive index");
     return primitive_mask(character, prims);
   }
+  if (kind == "meshes") {  // every primitive of the glTF meshes named (or numbered)
+    std::vector<size_t> prims;
+    for (const std::string& item : items) {
+      size_t found = 0;
+      for (size_t k = 0; k < character.primitives.size(); ++k) {
+        const Primitive& p = character.primitives[k];
+        if (p.mesh_name == item || std::to_string(p.mesh) == item) prims.push_back(k), ++found;
+      }
+      if (found == 0) {
+        std::string names;
+        for (const Primitive& p : character.primitives)
+          if (names.find("'" + p.mesh_name + "'") == std::string::npos) names += (names.empty() ? "" : ", ") + std::to_string(p.mesh) + " '" + p.mesh_name + "'";
+        return make_error(ErrorCode::kInvalidArgument, character.source + ": has no mesh named or numbered '" + item + "' (its meshes: " + names + ")");
+      }
+    }
+    if (items.empty()) return make_error(ErrorCode::kInvalidArgument, "a mesh mask needs at least one mesh name or index");
+    return primitive_mask(character, prims);
+  }
   return make_error(ErrorCode::kInvalidArgument,
-                    "a mask is \"joints a,b,-c\" or \"primitives 0,2\", not \"" + std::string(source) + "\"");
+                    "a mask is \"joints a,b,-c\", \"primitives 0,2\" or \"meshes body,head\", not \"" + std::string(source) + "\"");
 }
 
 }  // namespace cagewrap

@@ -22,7 +22,8 @@ Result<std::vector<float>> joint_region_mask(const Character& character, std::sp
 // 1 on the points of the given primitives (file order), 0 elsewhere. Errors: an index past the primitives.
 Result<std::vector<float>> primitive_mask(const Character& character, std::span<const size_t> primitives);
 // A mask from its description, as the command line and the editor take it and a project records it
-// (DeformerLayer::mask_source): "joints a,b,-c" (joint_region_mask) or "primitives 0,2" (primitive_mask).
+// (DeformerLayer::mask_source): "joints a,b,-c" (joint_region_mask), "primitives 0,2" (primitive_mask) or
+// "meshes body,1" (every primitive of those glTF meshes, by name or index).
 // Errors name what is wrong (an unknown kind, a name that is no node, an index that is no primitive).
 Result<std::vector<float>> skin_mask_from_source(const Character& character, std::string_view source);
 

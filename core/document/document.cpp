@@ -124,18 +124,90 @@ Document with_driver_place(const Document& doc, DriverPlacement place) {
   return out;
 }
 
-size_t driver_position(const Document& doc) {
-  const int32_t a = doc.driver_place.after;
+size_t driver_position(const Document& doc, const DriverPlacement& place) {
+  const int32_t a = place.after;
   return a < 0 ? doc.layers.size() : std::min(static_cast<size_t>(a), doc.layers.size());
 }
+size_t driver_position(const Document& doc) { return driver_position(doc, doc.driver_place); }
 
-const BindParams& driver_params(const Document& doc) {
-  return doc.driver_place.params ? *doc.driver_place.params : doc.params;
+const BindParams& driver_params(const Document& doc, const DriverPlacement& place) {
+  return place.params ? *place.params : doc.params;
+}
+const BindParams& driver_params(const Document& doc) { return driver_params(doc, doc.driver_place); }
+
+bool driver_moves_skin(const Document& doc, size_t i) {
+  if (i >= driver_count(doc)) return false;
+  const bool solo = doc.stack.solo >= 0 && static_cast<size_t>(doc.stack.solo) < deformer_count(doc);
+  return driver_at(doc, i).driver->drive_skin && !solo;
+}
+bool driver_moves_skin(const Document& doc) { return driver_moves_skin(doc, 0); }
+
+DriverRef driver_at(const Document& doc, size_t i) {
+  CAGEWRAP_CHECK(i < driver_count(doc), "driver_at: no such parametric driver");
+  if (i == 0) return {doc.patch_driver.get(), &doc.driver_place};
+  const DriverDeformer& d = doc.more_drivers[i - 1];
+  return {d.driver.get(), &d.place};
 }
 
-bool driver_moves_skin(const Document& doc) {
-  const bool solo = doc.stack.solo >= 0 && static_cast<size_t>(doc.stack.solo) < deformer_count(doc);
-  return doc.patch_driver && doc.patch_driver->drive_skin && !solo;
+std::string driver_name(const Document& doc, size_t i) {
+  if (i < driver_count(doc) && !driver_at(doc, i).place->name.empty()) return driver_at(doc, i).place->name;
+  return i == 0 ? "driver" : "driver " + std::to_string(i + 1);
+}
+
+Document with_more_drivers(const Document& doc, std::vector<DriverDeformer> drivers) {
+  for (const DriverDeformer& d : drivers) CAGEWRAP_CHECK(d.driver != nullptr, "a parametric driver needs its surface");
+  CAGEWRAP_CHECK(drivers.empty() || doc.patch_driver, "more parametric drivers need a first one");
+  Document out = doc;
+  out.more_drivers = std::move(drivers);
+  out.revision = next_revision();
+  return out;
+}
+
+Document with_first_driver(const Document& doc, size_t i) {
+  CAGEWRAP_CHECK(i < driver_count(doc), "with_first_driver: no such parametric driver");
+  Document out = doc;
+  if (i > 0) {
+    // each keeps the name it is shown by ("driver", "driver 3"), whatever its place
+    if (out.driver_place.name.empty()) out.driver_place.name = driver_name(doc, 0);
+    if (out.more_drivers[i - 1].place.name.empty()) out.more_drivers[i - 1].place.name = driver_name(doc, i);
+    DriverDeformer& d = out.more_drivers[i - 1];
+    std::swap(out.patch_driver, d.driver);
+    std::swap(out.driver_place, d.place);
+    out.revision = next_revision();
+  }
+  return out;
+}
+
+Document with_driver(const Document& doc, size_t i, std::shared_ptr<const PatchDriver> driver, DriverPlacement place) {
+  CAGEWRAP_CHECK(i < driver_count(doc) && driver, "with_driver: no such parametric driver");
+  Document out = doc;
+  if (i == 0) {
+    out.patch_driver = std::move(driver);
+    out.driver_place = std::move(place);
+  } else {
+    out.more_drivers[i - 1] = {std::move(driver), std::move(place)};
+  }
+  out.revision = next_revision();
+  return out;
+}
+
+Document with_driver_place(const Document& doc, size_t i, DriverPlacement place) {
+  CAGEWRAP_CHECK(i < driver_count(doc), "with_driver_place: no such parametric driver");
+  return with_driver(doc, i, i == 0 ? doc.patch_driver : doc.more_drivers[i - 1].driver, std::move(place));
+}
+
+Document without_first_driver(const Document& doc) {
+  Document out = doc;
+  out.revision = next_revision();
+  if (out.more_drivers.empty()) {
+    out.patch_driver = nullptr;
+    out.driver_place = {};
+    return out;
+  }
+  out.patch_driver = out.more_drivers.front().driver;
+  out.driver_place = out.more_drivers.front().place;
+  out.more_drivers.erase(out.more_drivers.begin());
+  return out;
 }
 
 Document with_layers(const Document& doc, std::vector<DeformerLayer> layers) {
@@ -156,7 +228,13 @@ Document with_stack(const Document& doc, DeformerStack stack) {
 Document layer_document(const Document& doc, size_t i) {
   CAGEWRAP_CHECK(i < doc.layers.size(), "layer_document: no such layer");
   const DeformerLayer& l = doc.layers[i];
-  Document out = doc;
+  // field by field: a copy of the whole document would copy every layer, driver and edit only to drop
+  // them (Rig poses each layer through this at every frame)
+  Document out;
+  out.character = doc.character;
+  out.character_path = doc.character_path;
+  out.character_hash = doc.character_hash;
+  out.embedded_character = doc.embedded_character;
   out.cage = l.cage;
   out.params = l.params;
   out.set_edits = l.set_edits;
@@ -164,11 +242,10 @@ Document layer_document(const Document& doc, size_t i) {
   out.attachment = l.attachment;
   out.keyposes = l.keyposes;
   out.sim = l.sim;
-  out.patch_driver = nullptr;
-  out.driver_place = {};
-  out.layers.clear();
-  out.stack = {};
+  out.project_path = doc.project_path;
+  out.cache_binding = doc.cache_binding;
   out.binding_cache = l.binding_cache;
+  out.revision = doc.revision;
   return out;  // the same revision: the same document, seen through one layer
 }
 
@@ -200,6 +277,7 @@ Document deformer_document(const Document& doc, size_t d) {
   Document out = doc;
   out.patch_driver = nullptr;
   out.driver_place = {};
+  out.more_drivers.clear();
   out.layers.clear();
   out.stack = {};
   return out;  // the same revision, like layer_document
@@ -313,6 +391,7 @@ bool same_content(const Document& a, const Document& b) {
          same_set_edits(a.set_edits, b.set_edits) && a.attachment == b.attachment &&
          a.keyposes == b.keyposes && a.sim == b.sim &&
          same_patch_driver(a.patch_driver.get(), b.patch_driver.get()) && a.driver_place == b.driver_place &&
+         a.more_drivers == b.more_drivers &&
          a.preserved_fields == b.preserved_fields &&
          same_layers(a.layers, b.layers) && a.stack == b.stack;
 }
@@ -353,8 +432,8 @@ size_t estimated_own_bytes(const Document& doc) {
   n += vector_bytes(doc.cage_offsets) + vector_bytes(doc.attachment.overrides) + vector_bytes(doc.keyposes);
   n += vector_bytes(doc.sim.vertices) + vector_bytes(doc.sim.colliders);
   for (const Collider& c : doc.sim.colliders) n += c.name.size();
-  if (doc.patch_driver)
-    for (const PatchSurface* s : {&doc.patch_driver->rest, &doc.patch_driver->posed})
+  for (size_t i = 0; i < driver_count(doc); ++i)
+    for (const PatchSurface* s : {&driver_at(doc, i).driver->rest, &driver_at(doc, i).driver->posed})
       for (const PatchGrid& g : s->grids) n += sizeof(PatchGrid) + vector_bytes(g.points);
   auto keyposes = [](const std::vector<KeyposeSet>& sets) {
     size_t n = vector_bytes(sets);
@@ -365,6 +444,8 @@ size_t estimated_own_bytes(const Document& doc) {
     return n;
   };
   n += keyposes(doc.keyposes) - vector_bytes(doc.keyposes) + keyposes(doc.driver_place.keyposes) + doc.driver_place.mask_source.size();
+  n += vector_bytes(doc.more_drivers);
+  for (const DriverDeformer& d : doc.more_drivers) n += keyposes(d.place.keyposes) + d.place.mask_source.size() + d.place.name.size();
   n += vector_bytes(doc.layers);
   for (const DeformerLayer& l : doc.layers) {
     n += l.name.size() + l.mask_source.size() + vector_bytes(l.set_edits) + vector_bytes(l.cage_offsets) +

@@ -95,6 +95,8 @@ const char* stack_mode_name(StackMode mode);               // "in_order", "sum",
 // displacement of the skin (core/rig/driver_layer.h), scaled per point by the mask. Its on/off switch
 // is PatchDriver::drive_skin; a soloed deformer leaves it out like the others.
 struct DriverPlacement {
+  // Its name in the deformer list and messages; "" = "driver".
+  std::string name;
   // How many of the document's layers come before it: 0 = right after the document's cage, so that
   // every layer may take over its region; -1 (or more than there are) = after them all, as projects
   // before this field had it. Only kInOrder has an order: sum and blend add the driver's displacement
@@ -110,12 +112,29 @@ struct DriverPlacement {
   // Its own binding parameters (local, epsilon, K, scale, distances; the variant is always basic); null =
   // the document cage's, as projects before this field had it.
   std::optional<BindParams> params;
+  // How its control points follow the skeleton, like a cage's vertices (rigid, smooth or skin_weights;
+  // overrides name control points, global index grid by grid); null = each rigidly to its closest limb,
+  // as projects before this field had it.
+  std::optional<AttachmentSettings> attachment;
   bool operator==(const DriverPlacement& o) const {
-    return after == o.after && (mask == o.mask || (mask && o.mask && *mask == *o.mask)) && mask_source == o.mask_source &&
-           keyposes == o.keyposes && params == o.params;
+    return name == o.name && after == o.after && (mask == o.mask || (mask && o.mask && *mask == *o.mask)) && mask_source == o.mask_source &&
+           keyposes == o.keyposes && params == o.params && attachment == o.attachment;
   }
 };
 bool parse_stack_mode(std::string_view name, StackMode& out);
+
+// A parametric driver beyond the document's first (issue 21: a project holds any number): its surface
+// and everything the first one's DriverPlacement holds. The drivers' displacements do not depend on one
+// another or on the skin they are added to, so their order among themselves does not change the skin:
+// the editor edits the first (Document::patch_driver) and makes another one first to edit it
+// (with_first_driver).
+struct DriverDeformer {
+  std::shared_ptr<const PatchDriver> driver;  // never null in a document
+  DriverPlacement place;
+  bool operator==(const DriverDeformer& o) const {
+    return (driver == o.driver || (driver && o.driver && *driver == *o.driver)) && place == o.place;
+  }
+};
 
 struct Document {
   std::shared_ptr<const Character> character;  // never null in a document made by the functions here
@@ -146,6 +165,8 @@ struct Document {
   // Its place in the deformer stack, mask and keyposes (kept when the driver is replaced; ignored
   // without one).
   DriverPlacement driver_place;
+  // More parametric drivers, each a deformer of the stack like the first (empty without a first one).
+  std::vector<DriverDeformer> more_drivers;
   // More deformers of the skin (issue 21): each a cage of its own, combined with the document's cage
   // as `stack` says; empty = the document's cage alone.
   std::vector<DeformerLayer> layers;
@@ -197,11 +218,37 @@ Document with_patch_driver(const Document& doc, std::shared_ptr<const PatchDrive
 Document with_driver_place(const Document& doc, DriverPlacement place);
 // Where the driver sits among the layers: driver_place.after clamped to [0, layers.size()].
 size_t driver_position(const Document& doc);
+size_t driver_position(const Document& doc, const DriverPlacement& place);
 // The parameters the parametric driver binds with: its own, or the document cage's.
 const BindParams& driver_params(const Document& doc);
+const BindParams& driver_params(const Document& doc, const DriverPlacement& place);
 // Whether the document's parametric driver moves the skin: it has one, drive_skin is on and no
 // deformer is soloed.
 bool driver_moves_skin(const Document& doc);
+// The parametric drivers: 0 is the first (patch_driver, driver_place), k the more_drivers[k - 1].
+// None without a first one.
+inline size_t driver_count(const Document& doc) { return doc.patch_driver ? 1 + doc.more_drivers.size() : 0; }
+struct DriverRef {
+  const PatchDriver* driver = nullptr;
+  const DriverPlacement* place = nullptr;
+};
+// i < driver_count(doc): checked.
+DriverRef driver_at(const Document& doc, size_t i);
+// Its name: the placement's, or "driver" (the first) / "driver <i + 1>".
+std::string driver_name(const Document& doc, size_t i);
+// Whether driver i moves the skin: drive_skin on and no deformer soloed.
+bool driver_moves_skin(const Document& doc, size_t i);
+// The drivers beyond the first (each with a driver: checked; only with a first one: checked).
+Document with_more_drivers(const Document& doc, std::vector<DriverDeformer> drivers);
+// Driver i made the first (swapped with it), which the editor and `deformer set --driver` edit: the skin
+// does not change. i < driver_count(doc): checked.
+Document with_first_driver(const Document& doc, size_t i);
+// Driver i's placement replaced (its name, place, mask, keyposes, binding). i < driver_count(doc): checked.
+Document with_driver_place(const Document& doc, size_t i, DriverPlacement place);
+// Driver i replaced in place (a surface, and its placement). i < driver_count(doc), driver not null: checked.
+Document with_driver(const Document& doc, size_t i, std::shared_ptr<const PatchDriver> driver, DriverPlacement place);
+// The first driver removed: the next one (if any) becomes the first.
+Document without_first_driver(const Document& doc);
 // The character file moved (or was replaced): new path, hash and data.
 Document with_character(const Document& doc, std::shared_ptr<const Character> character, std::string path,
                         std::string hash);

@@ -28,7 +28,7 @@ namespace {
 const char* const kKnownFields[] = {"format",     "version",  "recovery",      "character",
                                     "cage",       "binding",  "set_edits",     "attachment",
                                     "keyposes",   "extensions", "binding_cache", "simulation",
-                                    "patch_driver", "deformers", "deformer_stack"};
+                                    "patch_driver", "more_drivers", "deformers", "deformer_stack"};
 
 // The members of "binding_cache.inputs", in the order they are written.
 const std::pair<const char*, std::string BindingInputs::*> kInputFields[] = {
@@ -91,8 +91,8 @@ Json node_ref(const Document& doc, uint32_t node) {
   return Json(node);
 }
 
-std::string attachment_text(const Document& doc) {
-  const AttachmentSettings& a = doc.attachment;
+// "attachment": `a` (the document's, a layer's or a parametric driver's, whose "vertex" is a control point).
+std::string attachment_text(const Document& doc, const AttachmentSettings& a) {
   std::string s = "  \"attachment\": {\"mode\": " + Json(attachment_mode_name(a.mode)).dump() +
                   ", \"smooth_width\": " + number(a.smooth_width) + ", \"overrides\": [";
   for (size_t i = 0; i < a.overrides.size(); ++i)
@@ -101,6 +101,7 @@ std::string attachment_text(const Document& doc) {
   s += a.overrides.empty() ? "]},\n" : "\n  ]},\n";
   return s;
 }
+std::string attachment_text(const Document& doc) { return attachment_text(doc, doc.attachment); }
 
 // "keyposes": `sets` (the document's own, a layer's or the parametric driver's).
 std::string keyposes_text(const Document& doc, std::span<const KeyposeSet> sets) {
@@ -200,49 +201,77 @@ Result<std::string> mask_text(const std::string& path, const std::string& what, 
   return s + "\n  ],\n";
 }
 
-// "patch_driver" (only when the document has one): the rest grids in the .cwpatch layout, the
-// density, whether it drives the skin and the posed control points, grid by grid; then its place in the
-// stack, mask and keyposes (Document::driver_place) when they are not the defaults.
-Result<std::string> patch_driver_text(const std::string& path, const Document& doc) {
-  if (!doc.patch_driver) return std::string();
-  const PatchDriver& d = *doc.patch_driver;
-  if (auto v = validate_patch_surface(d.rest, "the parametric driver"); !v)
+// A parametric driver's object ("{...}"): the rest grids in the .cwpatch layout, the density, whether it
+// drives the skin and the posed control points, grid by grid; then its name, place in the stack, mask,
+// binding and keyposes (DriverPlacement) when they are not the defaults. ("{...}"); `who` names it in messages ("the parametric driver", "parametric driver 'x'").
+Result<std::string> driver_object_text(const std::string& path, const Document& doc, const PatchDriver& d,
+                                       const DriverPlacement& place, const std::string& who) {
+  if (auto v = validate_patch_surface(d.rest, who); !v)
     return make_error(v.error().code, path + ": not saved: " + v.error().message);
   if (d.posed.num_control_points() != d.rest.num_control_points())
     return make_error(ErrorCode::kTopologyMismatch, path + ": not saved: the parametric driver has " +
                                                         std::to_string(d.posed.num_control_points()) +
                                                         " posed control points for " +
                                                         std::to_string(d.rest.num_control_points()) + " at rest");
-  if (auto v = validate_patch_surface(d.posed, "the posed parametric driver"); !v)
+  if (auto v = validate_patch_surface(d.posed, who + " (posed)"); !v)
     return make_error(v.error().code, path + ": not saved: " + v.error().message);
-  std::string s = "  \"patch_driver\": {\"density\": " + std::to_string(d.density) +
+  std::string s = "{\"density\": " + std::to_string(d.density) +
                   ", \"drive_skin\": " + (d.drive_skin ? "true" : "false") +
                   ",\n    \"rest\": " + patch_surface_json(d.rest).dump() + ",\n    \"posed\": [";
   const std::vector<glm::dvec3> posed = d.posed.control_points();
   for (size_t k = 0; k < posed.size(); ++k)
     s += std::string(k ? ", " : "") + Json::array({posed[k].x, posed[k].y, posed[k].z}).dump();
   s += "]";
-  const DriverPlacement& place = doc.driver_place;
+  if (!place.name.empty()) s += ",\n    \"name\": " + Json(place.name).dump();
   if (place.after >= 0) s += ",\n    \"after\": " + std::to_string(place.after);
   if (!place.mask_source.empty()) s += ",\n    \"mask_source\": " + Json(place.mask_source).dump();
   if (place.mask) {
-    auto m = mask_text(path, "the parametric driver", *place.mask);
+    auto m = mask_text(path, who, *place.mask);
     if (!m) return m.error();
     s += ",\n" + m->substr(0, m->size() - 2);  // without its ",\n"
   }
   for (const KeyposeSet& k : place.keyposes)
     if (auto v = validate_keypose_set(k, doc.character ? doc.character->skeleton.size() : SIZE_MAX, posed.size()); !v)
-      return make_error(v.error().code, path + ": not saved: the parametric driver's " + v.error().message);
+      return make_error(v.error().code, path + ": not saved: " + who + "'s " + v.error().message);
   if (place.params) {
     if (auto v = validate(*place.params); !v)
-      return make_error(ErrorCode::kInvalidArgument, path + ": not saved: the parametric driver's binding: " + v.error().message);
+      return make_error(ErrorCode::kInvalidArgument, path + ": not saved: " + who + "'s binding: " + v.error().message);
     s += ",\n    \"binding\": " + one_line(binding_json(*place.params));
+  }
+  if (place.attachment) {
+    if (place.attachment->mode == AttachmentMode::kFitted || !std::isfinite(place.attachment->smooth_width) ||
+        place.attachment->smooth_width <= 0)
+      return make_error(ErrorCode::kInvalidArgument, path + ": not saved: " + who + "'s attachment is rigid, smooth or skin_weights, "
+                                                         "with a positive smooth width");
+    for (const AttachmentOverride& o : place.attachment->overrides)
+      if (o.vertex >= posed.size())
+        return make_error(ErrorCode::kIndexOutOfRange, path + ": not saved: " + who + "'s attachment names control point " +
+                                                           std::to_string(o.vertex) + " of " + std::to_string(posed.size()));
+    const std::string a = attachment_text(doc, *place.attachment);
+    s += ",\n" + a.substr(0, a.size() - 2);
   }
   if (!place.keyposes.empty()) {
     const std::string k = keyposes_text(doc, place.keyposes);
     s += ",\n" + k.substr(0, k.size() - 2);
   }
-  return s + "},\n";
+  return s + "}";
+}
+
+// "patch_driver" (the first) and "more_drivers" (the others), only when the document has them.
+Result<std::string> patch_driver_text(const std::string& path, const Document& doc) {
+  if (!doc.patch_driver) return std::string();
+  auto first = driver_object_text(path, doc, *doc.patch_driver, doc.driver_place, "the parametric driver");
+  if (!first) return first.error();
+  std::string s = "  \"patch_driver\": " + *first + ",\n";
+  if (doc.more_drivers.empty()) return s;
+  s += "  \"more_drivers\": [";
+  for (size_t i = 0; i < doc.more_drivers.size(); ++i) {
+    auto o = driver_object_text(path, doc, *doc.more_drivers[i].driver, doc.more_drivers[i].place,
+                                "parametric driver '" + driver_name(doc, i + 1) + "'");
+    if (!o) return o.error();
+    s += std::string(i ? ",\n    " : "\n    ") + *o;
+  }
+  return s + "\n  ],\n";
 }
 
 // "binding_cache": the record (its file relative to the project's folder), or {} when caching is on
@@ -615,31 +644,32 @@ SimSettings read_simulation(const Reader& r, const Json& j, const Character& cha
 
 // "patch_driver": checked like a .cwpatch file (its rest grids), the density (1 to 1024) and the posed
 // control points (as many as the rest grids have, finite).
+// `where` names it in messages ("patch_driver", "more_drivers[0]").
 std::shared_ptr<const PatchDriver> read_patch_driver(const Reader& r, const Json& j, const std::string& file,
-                                                     std::vector<std::string>& warnings) {
-  if (!j.is_object()) r.fail(ErrorCode::kParse, "patch_driver should be an object, not " + Reader::show(j));
-  auto rest = patch_surface_from_json(r.field(j, "patch_driver", "rest"), file, "patch_driver.rest");
+                                                     std::vector<std::string>& warnings, const std::string& where = "patch_driver") {
+  if (!j.is_object()) r.fail(ErrorCode::kParse, where + " should be an object, not " + Reader::show(j));
+  auto rest = patch_surface_from_json(r.field(j, where, "rest"), file, where + ".rest");
   if (!rest) r.fail(rest.error().code, rest.error().message);
   PatchDriver d;
   d.rest = std::move(*rest);
   if (j.contains("density")) {
-    d.density = r.index(j["density"], "patch_driver.density");
+    d.density = r.index(j["density"], where + ".density");
     if (d.density < 1 || d.density > 1024)
-      r.fail(ErrorCode::kInvalidArgument, "patch_driver.density is " + std::to_string(d.density) + "; it must be 1 to 1024");
+      r.fail(ErrorCode::kInvalidArgument, where + ".density is " + std::to_string(d.density) + "; it must be 1 to 1024");
   }
-  if (j.contains("drive_skin")) d.drive_skin = r.boolean(j["drive_skin"], "patch_driver.drive_skin");
+  if (j.contains("drive_skin")) d.drive_skin = r.boolean(j["drive_skin"], where + ".drive_skin");
   d.posed = d.rest;
   if (j.contains("posed")) {
-    const Json& list = r.array(j["posed"], "patch_driver.posed");
+    const Json& list = r.array(j["posed"], where + ".posed");
     const size_t n = d.rest.num_control_points();
     if (list.size() != n)
-      r.fail(ErrorCode::kTopologyMismatch, "patch_driver.posed has " + std::to_string(list.size()) +
-                                               " control points, but patch_driver.rest has " + std::to_string(n));
+      r.fail(ErrorCode::kTopologyMismatch, where + ".posed has " + std::to_string(list.size()) +
+                                               " control points, but " + where + ".rest has " + std::to_string(n));
     std::vector<glm::dvec3> points(n);
-    for (size_t k = 0; k < n; ++k) points[k] = read_dvec3(r, list[k], Reader::at("patch_driver.posed", k));
+    for (size_t k = 0; k < n; ++k) points[k] = read_dvec3(r, list[k], Reader::at(where + ".posed", k));
     d.posed.set_control_points(points);
   }
-  warn_unknown(j, "patch_driver", {"density", "drive_skin", "rest", "posed", "after", "mask", "mask_source", "keyposes", "binding"},
+  warn_unknown(j, where, {"density", "drive_skin", "rest", "posed", "name", "after", "mask", "mask_source", "keyposes", "binding", "attachment"},
                warnings, file);
   return std::make_shared<const PatchDriver>(std::move(d));
 }
@@ -842,13 +872,21 @@ std::shared_ptr<const std::vector<float>> read_mask(const Reader& r, const Json&
 // The parametric driver's place in the stack, mask and keyposes ("patch_driver"'s "after", "mask",
 // "mask_source", "keyposes"), checked against the character and the driver's control points.
 DriverPlacement read_driver_place(const Reader& r, const Json& j, const Character& character, size_t num_control_points,
-                                  std::vector<std::string>& warnings, const std::string& file) {
+                                  std::vector<std::string>& warnings, const std::string& file,
+                                  const std::string& where = "patch_driver") {
   DriverPlacement place;
-  if (j.contains("after")) place.after = static_cast<int32_t>(r.index(j["after"], "patch_driver.after"));
-  if (j.contains("mask_source")) place.mask_source = r.string(j["mask_source"], "patch_driver.mask_source");
-  if (j.contains("mask")) place.mask = read_mask(r, j["mask"], "patch_driver.mask", character);
+  if (j.contains("name")) place.name = r.string(j["name"], where + ".name");
+  if (j.contains("after")) place.after = static_cast<int32_t>(r.index(j["after"], where + ".after"));
+  if (j.contains("mask_source")) place.mask_source = r.string(j["mask_source"], where + ".mask_source");
+  if (j.contains("mask")) place.mask = read_mask(r, j["mask"], where + ".mask", character);
   if (j.contains("keyposes")) place.keyposes = read_keyposes(r, j["keyposes"], character, num_control_points, warnings, file);
-  if (j.contains("binding")) place.params = read_params(Reader(r.file() + ": patch_driver"), j, warnings, file);
+  if (j.contains("binding")) place.params = read_params(Reader(r.file() + ": " + where), j, warnings, file);
+  if (j.contains("attachment")) {
+    const Reader in(r.file() + ": " + where);
+    place.attachment = read_attachment(in, j["attachment"], character, num_control_points, warnings, file);
+    if (place.attachment->mode == AttachmentMode::kFitted)
+      in.fail(ErrorCode::kInvalidArgument, "attachment.mode is fitted; a driver's control points are attached rigid, smooth or skin_weights");
+  }
   return place;
 }
 
@@ -1001,6 +1039,17 @@ Result<ProjectLoad> load(const std::string& path, const std::string& character_o
   if (root.contains("patch_driver")) {
     doc.patch_driver = read_patch_driver(r, root["patch_driver"], path, out.warnings);
     doc.driver_place = read_driver_place(r, root["patch_driver"], *loaded, doc.patch_driver->rest.num_control_points(), out.warnings, path);
+  }
+  if (root.contains("more_drivers")) {
+    const Json& list = r.array(root["more_drivers"], "more_drivers");
+    if (!list.empty() && !doc.patch_driver) r.fail(ErrorCode::kParse, "more_drivers needs a patch_driver (the first driver)");
+    for (size_t i = 0; i < list.size(); ++i) {
+      const std::string where = Reader::at("more_drivers", i);
+      DriverDeformer d;
+      d.driver = read_patch_driver(r, list[i], path, out.warnings, where);
+      d.place = read_driver_place(r, list[i], *loaded, d.driver->rest.num_control_points(), out.warnings, path, where);
+      doc.more_drivers.push_back(std::move(d));
+    }
   }
   doc.character = std::make_shared<const Character>(std::move(loaded).value());
   doc.character_path = character_path;

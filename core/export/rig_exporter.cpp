@@ -188,10 +188,14 @@ Result<ExportReport> run_export(const Document& doc, Rig* rig, const ExportReque
       return make_error(ErrorCode::kUnsupportedFormat,
                         request.out + ": the rig JSON describes one cage, and this project has " + std::to_string(layers) +
                             " more deformer(s): export a baked mode (glb or obj), which carries the whole stack");
-    if (driver_moves_skin(doc) && (!(doc.patch_driver->posed == doc.patch_driver->rest) || !doc.driver_place.keyposes.empty()))
-      return make_error(ErrorCode::kUnsupportedFormat,
-                        request.out + ": the rig JSON describes one cage, and this project's parametric driver moves the skin: "
-                                      "export a baked mode (glb or obj), which carries it");
+    for (size_t i = 0; i < driver_count(doc); ++i) {
+      const DriverRef d = driver_at(doc, i);
+      if (driver_moves_skin(doc, i) && (!(d.driver->posed == d.driver->rest) || !d.place->keyposes.empty()))
+        return make_error(ErrorCode::kUnsupportedFormat,
+                          request.out + ": the rig JSON describes one cage, and this project's parametric driver" +
+                              (driver_count(doc) > 1 ? " '" + driver_name(doc, i) + "'" : std::string()) +
+                              " moves the skin: export a baked mode (glb or obj), which carries it");
+    }
   }
   if ((request.format != ExportFormat::kJson || doc.attachment.mode == AttachmentMode::kFitted) && !rig)
     return make_error(ErrorCode::kInvalidArgument, "the document's rig is not bound yet");

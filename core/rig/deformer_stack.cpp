@@ -1,5 +1,6 @@
 #include "core/rig/deformer_stack.h"
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -62,22 +63,43 @@ Status combine_stack(const DeformerStack& stack, std::span<const glm::vec3> rest
 }
 
 Status combine_layers(const Document& doc, std::span<const glm::vec3> rest, std::span<const std::span<const glm::vec3>> layer_skins,
-                      std::span<const glm::vec3> driver, std::span<glm::vec3> skin) {
+                      std::span<const DriverTerm> drivers, std::span<glm::vec3> skin) {
   if (layer_skins.size() != doc.layers.size())
     return make_error(ErrorCode::kInvalidArgument, "the deformer stack: " + std::to_string(layer_skins.size()) + " skins for " +
                                                        std::to_string(doc.layers.size()) + " layers");
-  if (!driver.empty() && driver.size() != rest.size())
-    return make_error(ErrorCode::kInvalidArgument, "the deformer stack: the driver moves " + std::to_string(driver.size()) +
-                                                       " points but the skin has " + std::to_string(rest.size()));
-  const auto& dm = doc.driver_place.mask;
-  if (!driver.empty() && dm && dm->size() != rest.size())
-    return make_error(ErrorCode::kInvalidArgument, "the deformer stack: the driver's mask has " + std::to_string(dm->size()) +
-                                                       " weights but the skin has " + std::to_string(rest.size()) + " points");
-  // the layers in two runs: those before the driver's place and those after it (kInOrder; the other modes
-  // combine every layer at once and add the driver to the result)
-  const size_t split = doc.stack.mode == StackMode::kInOrder ? driver_position(doc) : doc.layers.size();
-  for (int run = 0; run < 2; ++run) {
-    const size_t from = run == 0 ? 0 : split, to = run == 0 ? split : doc.layers.size();
+  for (const DriverTerm& t : drivers) {
+    const std::string who = "the parametric driver '" + (t.place && !t.place->name.empty() ? t.place->name : std::string("driver")) + "'";
+    if (!t.place) return make_error(ErrorCode::kInvalidArgument, "the deformer stack: a parametric driver without its placement");
+    if (t.delta.size() != rest.size())
+      return make_error(ErrorCode::kInvalidArgument, "the deformer stack: " + who + " moves " + std::to_string(t.delta.size()) +
+                                                         " points but the skin has " + std::to_string(rest.size()));
+    const auto& dm = t.place->mask;
+    if (dm && dm->size() != rest.size())
+      return make_error(ErrorCode::kInvalidArgument, "the deformer stack: " + who + "'s mask has " + std::to_string(dm->size()) +
+                                                         " weights but the skin has " + std::to_string(rest.size()) + " points");
+  }
+  // the drivers whose place is `at` layers in, added to the skin
+  const auto add_drivers = [&](size_t at) {
+    for (const DriverTerm& t : drivers) {
+      const bool here = doc.stack.mode == StackMode::kInOrder ? driver_position(doc, *t.place) == at : at == doc.layers.size();
+      if (!here) continue;
+      const auto& dm = t.place->mask;
+      tbb::parallel_for(tbb::blocked_range<size_t>(0, skin.size(), 8192), [&](const tbb::blocked_range<size_t>& r) {
+        for (size_t i = r.begin(); i != r.end(); ++i)
+          skin[i] = glm::vec3(glm::dvec3(skin[i]) + (dm ? double((*dm)[i]) : 1.0) * glm::dvec3(t.delta[i]));
+      });
+    }
+  };
+  // kInOrder: the layers in runs between the drivers' places, each driver added where it sits; the other
+  // modes combine every layer at once and add the drivers to the result
+  std::vector<size_t> cuts;
+  if (doc.stack.mode == StackMode::kInOrder)
+    for (const DriverTerm& t : drivers) cuts.push_back(driver_position(doc, *t.place));
+  cuts.push_back(doc.layers.size());
+  std::sort(cuts.begin(), cuts.end());
+  cuts.erase(std::unique(cuts.begin(), cuts.end()), cuts.end());
+  size_t from = 0;
+  for (size_t to : cuts) {
     std::vector<std::span<const glm::vec3>> layers;
     std::vector<std::span<const float>> masks;
     for (size_t k = from; k < to; ++k) {
@@ -87,16 +109,15 @@ Status combine_layers(const Document& doc, std::span<const glm::vec3> rest, std:
       masks.emplace_back(m ? std::span<const float>(*m) : std::span<const float>());
     }
     if (auto s = combine_stack(doc.stack, rest, layers, masks, skin); !s) return s;
-    if (run == 0 && !driver.empty())
-      for (size_t i = 0; i < skin.size(); ++i)
-        skin[i] = glm::vec3(glm::dvec3(skin[i]) + (dm ? double((*dm)[i]) : 1.0) * glm::dvec3(driver[i]));
+    add_drivers(to);
+    from = to;
   }
   return Ok{};
 }
 
 Status combine_document_stack(const Document& doc, std::span<const glm::vec3> rest,
                               const std::function<const std::vector<glm::vec3>*(size_t)>& skin_of, std::vector<glm::vec3>& out,
-                              std::span<const glm::vec3> driver) {
+                              std::span<const DriverTerm> drivers) {
   const std::vector<glm::vec3>* base = deformer_muted(doc, 0) ? nullptr : skin_of(0);
   if (base) out = *base;
   else out.assign(rest.begin(), rest.end());
@@ -104,7 +125,7 @@ Status combine_document_stack(const Document& doc, std::span<const glm::vec3> re
   for (size_t d = 1; d < deformer_count(doc); ++d)
     if (!deformer_muted(doc, d))
       if (const std::vector<glm::vec3>* f = skin_of(d)) layers[d - 1] = *f;
-  return combine_layers(doc, rest, layers, driver, out);
+  return combine_layers(doc, rest, layers, drivers, out);
 }
 
 }  // namespace cagewrap

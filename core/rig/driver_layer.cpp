@@ -20,6 +20,7 @@ struct DriverLayer::State {
   PatchSurface rest;
   uint32_t density = 0;
   CageAttachment attachment;           // one "vertex" per control point
+  std::optional<AttachmentSettings> attached_with;  // null: each to its closest limb
   Skin skin;                           // the attachment's skin (its joints and inverse bind matrices)
   std::vector<glm::vec3> rest_points;  // #C
   // scratch, reused pose to pose
@@ -89,6 +90,28 @@ bool DriverLayer::fits(const PatchDriver& driver, const BindParams& params) cons
 }
 
 size_t DriverLayer::num_control_points() const { return s_->rest_points.size(); }
+
+Status DriverLayer::attach(const Character& character, const AttachmentSettings* settings) {
+  State& s = *s_;
+  if (attached_by(settings)) return Ok{};
+  if (settings && settings->mode == AttachmentMode::kFitted)
+    return make_error(ErrorCode::kInvalidArgument, "a parametric driver's control points are attached rigid, smooth or by skin weights, "
+                                                   "not fitted (that fits a cage's attachment to its binding)");
+  for (const AttachmentOverride& o : settings ? settings->overrides : std::vector<AttachmentOverride>())
+    if (o.vertex >= s.rest_points.size())
+      return make_error(ErrorCode::kIndexOutOfRange, "the attachment names control point " + std::to_string(o.vertex) + ", but the driver has " +
+                                                         std::to_string(s.rest_points.size()));
+  auto att = settings ? attach_cage(character, s.rest_points, *settings) : attach_to_closest_limb(character, s.rest_points);
+  if (!att) return make_error(att.error().code, "attaching the driver's control points: " + att.error().message);
+  s.attachment = std::move(att).value();
+  s.skin = character.skins[s.attachment.skin];
+  s.attached_with = settings ? std::optional<AttachmentSettings>(*settings) : std::nullopt;
+  return Ok{};
+}
+
+bool DriverLayer::attached_by(const AttachmentSettings* settings) const {
+  return settings ? s_->attached_with && *s_->attached_with == *settings : !s_->attached_with;
+}
 
 Result<bool> DriverLayer::displacement(const PatchDriver& driver, std::span<const KeyposeSet> keyposes, const Skeleton& skeleton,
                                        const Pose& pose, std::span<const glm::mat4> globals, std::span<glm::vec3> delta) {

@@ -53,6 +53,13 @@ class DriverLayer {
   Result<bool> displacement(const PatchDriver& driver, std::span<const KeyposeSet> keyposes, const Skeleton& skeleton,
                             const Pose& pose, std::span<const glm::mat4> globals, std::span<glm::vec3> delta);
   size_t num_control_points() const;
+  // Attaches the control points by `settings` (rigid, smooth or skin_weights; its overrides name control
+  // points) instead of each rigidly to its closest limb (null: back to that), without binding again.
+  // Errors: fitted (it fits a cage's attachment to its binding), an override past the control points or on
+  // a node that is not a joint of the skin (named).
+  Status attach(const Character& character, const AttachmentSettings* settings);
+  // Whether the control points are attached by `settings` (null: to their closest limbs).
+  bool attached_by(const AttachmentSettings* settings) const;
 
   DriverLayer(DriverLayer&&) noexcept;
   DriverLayer& operator=(DriverLayer&&) noexcept;

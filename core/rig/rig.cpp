@@ -89,10 +89,11 @@ struct Rig::State {
   std::vector<std::unique_ptr<Rig>> layers;
   std::vector<std::vector<glm::vec3>> layer_skins;  // #P each, reused frame to frame
   PosedCage layer_cage;
-  // the parametric driver when it drives the skin (core/rig/driver_layer.h): its sculpt, carried by the
-  // skeleton, added after the stack
-  std::optional<DriverLayer> driver;
-  std::vector<glm::vec3> driver_delta;  // #P, reused frame to frame
+  // the parametric drivers that drive the skin (core/rig/driver_layer.h): their sculpts, carried by the
+  // skeleton, added where each sits in the stack
+  std::vector<size_t> driver_index;        // which of the document's drivers (driver_at)
+  std::vector<DriverLayer> drivers;
+  std::vector<std::vector<glm::vec3>> driver_deltas;  // #P each, reused frame to frame
   // Each layer's skin posed by `pose_layer(layer rig, layer document, out)`, the parametric driver's displacement
   // at `pose` (node world transforms `globals`), then all combined with `skin_out` (f_0) by the document's stack.
   template <class PoseLayer>
@@ -103,8 +104,7 @@ struct Rig::State {
 template <class PoseLayer>
 Status Rig::State::pose_stack(const Document& doc, const Pose& pose, std::span<const glm::mat4> globals,
                               std::span<glm::vec3> skin_out, PoseLayer pose_layer) {
-  const bool drives = driver && driver_moves_skin(doc);
-  if (layers.empty() && !drives) return Ok{};
+  if (layers.empty() && drivers.empty()) return Ok{};
   std::vector<std::span<const glm::vec3>> skins(doc.layers.size());
   for (size_t k = 0; k < layers.size(); ++k) {
     const DeformerLayer& l = doc.layers[layer_index[k]];
@@ -112,14 +112,15 @@ Status Rig::State::pose_stack(const Document& doc, const Pose& pose, std::span<c
       return make_error(s.error().code, "deformer '" + l.name + "': " + s.error().message);
     skins[layer_index[k]] = layer_skins[k];
   }
-  std::span<const glm::vec3> delta;
-  if (drives) {
-    driver_delta.resize(skin_rest.size());
-    auto any = driver->displacement(*doc.patch_driver, doc.driver_place.keyposes, doc.character->skeleton, pose, globals, driver_delta);
-    if (!any) return make_error(any.error().code, "parametric driver: " + any.error().message);
-    if (*any) delta = driver_delta;
+  std::vector<DriverTerm> terms;
+  for (size_t k = 0; k < drivers.size(); ++k) {
+    const DriverRef d = driver_at(doc, driver_index[k]);
+    driver_deltas[k].resize(skin_rest.size());
+    auto any = drivers[k].displacement(*d.driver, d.place->keyposes, doc.character->skeleton, pose, globals, driver_deltas[k]);
+    if (!any) return make_error(any.error().code, "parametric driver '" + driver_name(doc, driver_index[k]) + "': " + any.error().message);
+    if (*any) terms.push_back({driver_deltas[k], d.place});
   }
-  return combine_layers(doc, skin_rest, skins, delta, skin_out);
+  return combine_layers(doc, skin_rest, skins, terms, skin_out);
 }
 
 Rig::Rig() = default;
@@ -235,10 +236,21 @@ Result<Rig> Rig::make(const Document& doc, std::vector<std::optional<Binding>> b
     s.layers.push_back(std::make_unique<Rig>(std::move(layer).value()));
     s.layer_skins.emplace_back(s.skin_rest.size());
   }
-  if (doc.patch_driver && doc.patch_driver->drive_skin) {
-    auto d = DriverLayer::create(ch, s.skin_rest, *doc.patch_driver, driver_params(doc), progress);
-    if (!d) return make_error(d.error().code, "parametric driver: " + d.error().message);
-    s.driver.emplace(std::move(d).value());
+  for (size_t i = 0; i < driver_count(doc); ++i) {
+    if (!driver_moves_skin(doc, i)) continue;
+    const DriverRef r = driver_at(doc, i);
+    if (r.place->mask && r.place->mask->size() != s.skin_rest.size())
+      return make_error(ErrorCode::kTopologyMismatch, "parametric driver '" + driver_name(doc, i) + "': its mask has " +
+                                                          std::to_string(r.place->mask->size()) + " weights but the skin has " +
+                                                          std::to_string(s.skin_rest.size()) + " points");
+    auto d = DriverLayer::create(ch, s.skin_rest, *r.driver, driver_params(doc, *r.place), progress);
+    if (!d) return make_error(d.error().code, "parametric driver '" + driver_name(doc, i) + "': " + d.error().message);
+    if (r.place->attachment)
+      if (auto a = d->attach(ch, &*r.place->attachment); !a)
+        return make_error(a.error().code, "parametric driver '" + driver_name(doc, i) + "': " + a.error().message);
+    s.driver_index.push_back(i);
+    s.drivers.push_back(std::move(d).value());
+    s.driver_deltas.emplace_back();
   }
   return rig;
 }
@@ -269,10 +281,17 @@ bool Rig::fits(const Document& doc) const {
     if (deformer_muted(doc, i + 1) != deformer_muted(mine, i + 1)) return false;
   for (size_t k = 0; k < state_->layers.size(); ++k)
     if (!state_->layers[k]->fits(layer_document(doc, state_->layer_index[k]))) return false;
-  // the same parametric driver surface and density, when it drives the skin (its sculpt may differ)
-  const bool drives = doc.patch_driver && doc.patch_driver->drive_skin;
-  if (drives != state_->driver.has_value()) return false;
-  return !drives || state_->driver->fits(*doc.patch_driver, driver_params(doc));
+  // the same parametric driver surfaces and densities, for those that drive the skin (their sculpts may differ)
+  size_t k = 0;
+  for (size_t i = 0; i < driver_count(doc); ++i) {
+    if (!driver_moves_skin(doc, i)) continue;
+    if (k >= state_->drivers.size() || state_->driver_index[k] != i) return false;
+    const DriverRef r = driver_at(doc, i);
+    if (!state_->drivers[k].fits(*r.driver, driver_params(doc, *r.place))) return false;
+    if (!state_->drivers[k].attached_by(r.place->attachment ? &*r.place->attachment : nullptr)) return false;
+    ++k;
+  }
+  return k == state_->drivers.size();
 }
 
 Status Rig::pose(const Document& doc, const Pose& pose, PosedCage& cage, std::span<glm::vec3> skin_out) {

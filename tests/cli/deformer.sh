@@ -125,4 +125,32 @@ check "a bad parameter fails" test "$rc" -ne 0
 run new --character "$DEMO" --cage "$CAGE" --cage "$CAGE" --stack sideways --out "$T/bad.cagewrap"
 check "an unknown stack mode fails" test "$rc" -ne 0
 check "naming it" hasf "$T/err" "--stack 'sideways'"
+
+# painted masks from a file (--mask-weights: a JSON array or numbers, one per skin vertex) and glTF meshes
+# (--mask-meshes): a sum with a copy of the project's cage doubles the motion where the weight is 1 and
+# leaves the plain pose where it is 0
+run new --character "$DEMO" --cage "$CAGE" --cage "$CAGE" --stack sum --out "$T/sum.cagewrap"
+python3 -c "print(' '.join(['0'] * 34800))" > "$T/zeros.txt"
+run deformer set --project "$T/sum.cagewrap" --index 1 --mask-weights "$T/zeros.txt" --out "$T/zeros.cagewrap"
+check "--mask-weights exits 0" test "$rc" -eq 0
+check "it lists a painted mask" has "$T/out" "^  1  demo_cage .*mask painted (0 of 34800 skin vertices)"
+run pose --project "$T/zeros.cagewrap" --clip walk --time 0.4 --out "$T/zeros.bin"
+check "weights 0: the plain pose" cmp_close "$T/plain.bin" "$T/zeros.bin" 1e-5
+python3 -c "import json; print(json.dumps([1.0] * 34800))" > "$T/ones.json"
+run deformer set --project "$T/sum.cagewrap" --index 1 --mask-weights "$T/ones.json" --out "$T/ones.cagewrap"
+check "a JSON array" has "$T/out" "mask painted (34800 of 34800 skin vertices)"
+run deformer set --project "$T/sum.cagewrap" --index 1 --mask-meshes body --out "$T/meshes.cagewrap"
+check "--mask-meshes by name" has "$T/out" "mask meshes body (34800 of 34800 skin vertices)"
+run pose --project "$T/ones.cagewrap" --clip walk --time 0.4 --out "$T/ones.bin"
+run pose --project "$T/meshes.cagewrap" --clip walk --time 0.4 --out "$T/meshes.bin"
+check "weights 1 and the whole mesh: the same pose" cmp_close "$T/ones.bin" "$T/meshes.bin" 1e-6
+check "and not the plain one (the sum doubles the motion)" bash -c "! cmp -s '$T/plain.bin' '$T/ones.bin'"
+python3 -c "print(' '.join(['0.5'] * 34799))" > "$T/short.txt"
+run deformer set --project "$T/sum.cagewrap" --index 1 --mask-weights "$T/short.txt"
+check "too few weights fail" hasf "$T/err" "short.txt: 34799 weights, but the skin has 34800 vertices"
+python3 -c "print(' '.join(['0.5'] * 100 + ['1.5'] + ['0.5'] * 34699))" > "$T/big.txt"
+run deformer set --project "$T/sum.cagewrap" --index 1 --mask-weights "$T/big.txt"
+check "a weight out of range fails, naming the vertex" hasf "$T/err" "big.txt: weight 100 (skin vertex 100) is 1.500000; weights are 0 to 1"
+run deformer set --project "$T/sum.cagewrap" --index 1 --mask-meshes hat
+check "an unknown mesh fails, naming the meshes" hasf "$T/err" "has no mesh named or numbered 'hat' (its meshes: 0 'body')"
 finish

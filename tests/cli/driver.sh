@@ -103,4 +103,57 @@ check "naming it" hasf "$T/err" "missing.cwpatch"
 run new --character "$DEMO" --cage "$CAGE" --patch "$T/rest.cwpatch" --patch-density 0 --out "$T/bad.cagewrap"
 check "density 0 fails" test "$rc" -ne 0
 check "naming the range" hasf "$T/err" "--patch-density 0: use 1..1024"
+# several drivers (issue 21: any number): a second one on the same sheet, another control point pushed; the
+# pose of both is the plain pose plus each one's sculpt; each is listed, named, muted and removed by name
+python3 - "$T/rest.cwpatch" "$T/posed2.cwpatch" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+g = d['grids'][0]
+r, c = divmod(20, g['cols'])
+g['points'][r][c][1] -= 0.04
+g['points'][r][c][2] += 0.03
+json.dump(d, open(sys.argv[2], 'w'))
+PY
+run new --character "$DEMO" --cage "$CAGE" --patch "$T/rest.cwpatch" --posed-patch "$T/posed2.cwpatch" --out "$T/second.cagewrap"
+run pose --project "$T/second.cagewrap" --clip walk --time 0.4 --out "$T/second.bin"
+run new --character "$DEMO" --cage "$CAGE" --patch "$T/rest.cwpatch" --posed-patch "$T/posed.cwpatch" \
+  --patch "$T/rest.cwpatch" --posed-patch "$T/posed2.cwpatch" --out "$T/two.cagewrap"
+check "new with two --patch exits 0" test "$rc" -eq 0
+run deformer list --project "$T/two.cagewrap"
+check "the stack counts the drivers" has "$T/out" "^stack      in_order (1 deformer, 2 parametric drivers)$"
+check "the second driver is listed, named after its file" has "$T/out" "^  D2 rest  *parametric driver, 30 control points,"
+run pose --project "$T/two.cagewrap" --clip walk --time 0.4 --out "$T/two.bin"
+sum_of() {  # sum_of PLAIN A B BOTH: BOTH = A + B - PLAIN within 1e-5 m, and A, B each move the skin
+  python3 - "$@" <<'PY'
+import struct, sys
+f = [open(n, 'rb').read() for n in sys.argv[1:5]]
+p, a, b, ab = [struct.unpack('%df' % (len(x) // 4), x) for x in f]
+worst = max(abs(ab[i] - (a[i] + b[i] - p[i])) for i in range(len(p)))
+ma = max(abs(a[i] - p[i]) for i in range(len(p))); mb = max(abs(b[i] - p[i]) for i in range(len(p)))
+print('two drivers vs the sum of each: %.3g m; each moves %.3g, %.3g' % (worst, ma, mb))
+sys.exit(0 if worst < 1e-5 and ma > 0.01 and mb > 0.01 else 1)
+PY
+}
+check "the two drivers' sculpts add" sum_of "$T/plain.bin" "$T/driven.bin" "$T/second.bin" "$T/two.bin"
+run deformer set --project "$T/two.cagewrap" --driver --name rest --rename chest2 --mute --out "$T/two_muted.cagewrap"
+check "set --driver --name --rename --mute" has "$T/out" "^  D2 chest2 .*, muted$"
+check "the first stays on" has "$T/out" "^  D  (driver) .*, after every layer$"
+run pose --project "$T/two_muted.cagewrap" --clip walk --time 0.4 --out "$T/two_muted.bin"
+check "the second muted: the first's pose" cmp_close "$T/driven.bin" "$T/two_muted.bin" 1e-5
+run deformer remove --project "$T/two.cagewrap" --driver --out "$T/two_removed.cagewrap"
+check "remove --driver removes the first" has "$T/out" "^removed    driver$"
+check "the other becomes the first" has "$T/out" "^  D  rest  *parametric driver"
+run pose --project "$T/two_removed.cagewrap" --clip walk --time 0.4 --out "$T/two_removed.bin"
+check "what is left is the second's pose" cmp_close "$T/second.bin" "$T/two_removed.bin" 1e-5
+run deformer add --project "$T/driven.cagewrap" --patch "$T/rest.cwpatch" --posed-patch "$T/posed2.cwpatch" --name arm \
+  --after last --mask-joints spine --out "$T/added.cagewrap"
+check "deformer add --patch adds a driver" has "$T/out" "^  D2 arm  *parametric driver, .*mask joints spine ("
+run deformer add --project "$T/added.cagewrap" --patch "$T/rest.cwpatch" --name arm
+check "a name taken fails" hasf "$T/err" "already has a deformer named 'arm'"
+run deformer set --project "$T/two.cagewrap" --driver --name nobody --mute
+check "an unknown driver fails" test "$rc" -ne 0
+check "naming the drivers there are" hasf "$T/err" "has no parametric driver named 'nobody' (its drivers: driver, rest)"
+run new --character "$DEMO" --cage "$CAGE" --patch "$T/rest.cwpatch" --patch "$T/rest.cwpatch" --posed-patch "$T/posed.cwpatch" \
+  --out "$T/bad.cagewrap"
+check "one --posed-patch for two --patch fails" hasf "$T/err" "1 --posed-patch for 2 --patch"
 finish

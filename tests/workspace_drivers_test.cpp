@@ -1,0 +1,127 @@
+// Several parametric drivers in the editor (issue 21: a project holds any number of deformers, drivers
+// among them), driven in-process on the demo character: driver_add makes the first (bound before it
+// enters the document) and then more (each one undo step, bound in the background by the scene's driver
+// rigs); driver_edit makes another the first, which the patch_* actions sculpt; the frame is what Rig
+// makes for `pose` and the exports (within 1e-5 of the diagonal) with both drivers moving the skin, and
+// changes by each one's sculpt alone; mute and remove act on the driver named, undo brings it back; the
+// project file keeps both.
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <glm/geometric.hpp>
+#include <gtest/gtest.h>
+
+#include "core/document/project_io.h"
+#include "core/io/patch_io.h"
+#include "core/rig/rig.h"
+#include "tests/driver_fixtures.h"
+#include "tests/workspace_fixtures.h"
+
+namespace cagewrap::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+using WorkspaceDriversTest = DemoWorkspaceTest;
+
+TEST_F(WorkspaceDriversTest, SeveralDriversAreAddedEditedMutedAndMatchTheRig) {
+  const fs::path dir = fs::temp_directory_path() / "cagewrap_workspace_drivers_test";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  // two drivers over the chest sheet: the same rest surface, a file each (no sculpt: posed = rest)
+  const auto chest = test::chest_driver(0.0);
+  ASSERT_TRUE(save_patch_any((dir / "front.cwpatch").string(), chest->rest).ok());
+  ASSERT_TRUE(save_patch_any((dir / "second.cwpatch").string(), chest->rest).ok());
+  finish_bind();
+  ws.run("clip walk");
+  ws.run("time 0.3");
+  const auto w = [this]() -> const Document& { return ws.scene()->work(); };
+
+  ws.run("driver_add " + (dir / "front.cwpatch").string());
+  poll_while([this] { return ws.binding_patch_driver(); });
+  ASSERT_EQ(driver_count(w()), 1u) << "the first driver enters once bound";
+  const size_t steps = undo_steps();
+  ws.run("driver_add " + (dir / "second.cwpatch").string());
+  ASSERT_EQ(driver_count(w()), 2u);
+  EXPECT_EQ(undo_steps(), steps + 1);
+  EXPECT_EQ(driver_name(w(), 1), "second");
+  ASSERT_EQ(ws.scene()->driver_rigs.size(), 1u) << "the second binds in the background";
+  poll_while([this] { return ws.binding_any(); });
+  ASSERT_TRUE(ws.scene()->driver_rigs[0].layer) << ws.scene()->driver_rigs[0].error;
+  EXPECT_TRUE(logged("parametric driver 'second' bound"));
+
+  // the frame's largest distance from what the rig makes (pose, the exports), relative to the diagonal
+  const auto frame = [this] {
+    ws.update_pose();
+    return ws.scene()->skin_posed();
+  };
+  const auto rig_gap = [&] {
+    const std::vector<glm::vec3> shown = frame();
+    auto rig = Rig::create(w());
+    EXPECT_TRUE(rig.ok()) << rig.error().message;
+    if (!rig) return 1.0;
+    std::vector<glm::vec3> expected(rig->num_skin_points());
+    PosedCage cage;
+    const auto& pb = ws.view.playback;
+    EXPECT_TRUE(rig->pose_clip(w(), pb.clip, pb.player.time(), pb.pose_override, cage, expected).ok());
+    double gap = 0.0;
+    for (size_t i = 0; i < expected.size(); ++i) gap = std::max(gap, double(glm::distance(expected[i], shown[i])));
+    return gap / ws.scene()->skin_diagonal;
+  };
+  const auto largest_change = [](const std::vector<glm::vec3>& a, const std::vector<glm::vec3>& b) {
+    double d = 0.0;
+    for (size_t i = 0; i < a.size(); ++i) d = std::max(d, double(glm::distance(a[i], b[i])));
+    return d;
+  };
+  const std::vector<glm::vec3> unsculpted = frame();
+
+  // sculpt the first (control point 14 out of the chest), then make the second the first and sculpt it
+  ws.run("patch_panel");
+  ws.run("patch_select 14");
+  ws.run("patch_move 0 0 0.05");
+  const std::vector<glm::vec3> one = frame();
+  EXPECT_TRUE(ws.scene()->skin_driven());
+  EXPECT_GT(largest_change(unsculpted, one), 0.01) << "the first driver's sculpt moves the chest";
+  ws.run("driver_edit 1");
+  EXPECT_EQ(driver_name(w(), 0), "second");
+  EXPECT_EQ(driver_name(w(), 1), "driver");
+  poll_while([this] { return ws.binding_patch_driver() || ws.binding_any(); });
+  EXPECT_LT(largest_change(one, frame()), 1e-6) << "which driver is first does not change the skin";
+  ws.run("patch_select 20");
+  ws.run("patch_move 0 -0.04 0.03");
+  const std::vector<glm::vec3> both = frame();
+  EXPECT_GT(largest_change(one, both), 0.01) << "the second driver's sculpt moves the skin too";
+  EXPECT_LT(rig_gap(), 1e-5) << "with both drivers the frame is the rig's";
+
+  // muting the one that is not first leaves its sculpt out; undo brings it back
+  ws.run("driver_mute 1 on");
+  EXPECT_FALSE(driver_at(w(), 1).driver->drive_skin);
+  EXPECT_TRUE(driver_at(w(), 0).driver->drive_skin);
+  const std::vector<glm::vec3> muted = frame();
+  EXPECT_GT(largest_change(both, muted), 0.01);
+  EXPECT_LT(rig_gap(), 1e-5);
+  ws.run("undo");
+  EXPECT_FALSE(ws.binding_any()) << "a muted driver keeps its binding: unmuting binds nothing";
+  EXPECT_LT(largest_change(both, frame()), 1e-6);
+
+  // the project keeps both, with their names and sculpts
+  ASSERT_TRUE(save_project((dir / "two.cagewrap").string(), w()).ok());
+  auto loaded = load_project((dir / "two.cagewrap").string());
+  ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+  ASSERT_EQ(driver_count(loaded->document), 2u);
+  EXPECT_EQ(driver_name(loaded->document, 0), "second");
+  EXPECT_TRUE(*driver_at(loaded->document, 1).driver == *driver_at(w(), 1).driver);
+
+  // removing the first makes the other the first; a driver that is not there is an error naming it
+  ws.run("driver_remove 0");
+  ASSERT_EQ(driver_count(w()), 1u);
+  EXPECT_EQ(driver_name(w(), 0), "driver");
+  ws.run("driver_remove 3");
+  EXPECT_TRUE(logged("error: action: no parametric driver 3 (the drivers are 0 to 0)"));
+  ws.run("undo");
+  EXPECT_EQ(driver_count(w()), 2u);
+}
+
+}  // namespace
+}  // namespace cagewrap::app
