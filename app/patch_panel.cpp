@@ -148,6 +148,27 @@ void PatchPanel::draw_stack_place(Workspace& ws) {
   }
   ImGui::EndDisabled();
   hint("%s", place.params ? "its own binding parameters" : "binds with the cage's parameters");
+  // how its control points follow the skeleton, and the selected one's joint
+  int mode = place.attachment ? int(place.attachment->mode) + 1 : 0;  // 0 closest, 1 rigid, 2 smooth, 3 skin weights
+  const char* modes[] = {"closest limb", "rigid", "smooth", "skin weights"};
+  if (ImGui::Combo("control points follow", &mode, modes, 4))
+    ws.set_driver_attachment(mode == 0 ? std::nullopt : std::optional<AttachmentMode>(AttachmentMode(mode - 1)));
+  const int point = ws.view.patch.point;
+  if (point >= 0) {
+    const auto assigned = place.attachment ? assigned_node(*place.attachment, uint32_t(point)) : std::nullopt;
+    const Skeleton& sk = w.character->skeleton;
+    hint("control point %d: %s", point, assigned ? ("attached to " + sk.node(*assigned).name).c_str() : "automatic");
+    const auto& joints = ws.view.selection.joints.indices();
+    const uint32_t p = uint32_t(point);
+    ImGui::BeginDisabled(joints.size() != 1);
+    if (ImGui::SmallButton("attach it to the selected joint") && joints.size() == 1)
+      ws.assign_driver_points(std::span<const uint32_t>(&p, 1), joints[0]);
+    ImGui::EndDisabled();
+    ImGui::SameLine();
+    ImGui::BeginDisabled(!assigned);
+    if (ImGui::SmallButton("automatic")) ws.assign_driver_points(std::span<const uint32_t>(&p, 1), std::nullopt);
+    ImGui::EndDisabled();
+  }
   ImGui::TextUnformatted("Key the sculpt at this pose, against");
   ImGui::TextUnformatted("the selected joint's rotation about");
   for (int a = 0; a < 3; ++a) {

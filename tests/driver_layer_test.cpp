@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include "core/cage/keyposes.h"
+#include "core/rig/driver_layer.h"
 #include "core/rig/rig.h"
 #include "tests/driver_fixtures.h"
 #include "tests/rig_fixtures.h"
@@ -250,6 +251,73 @@ TEST(DriverLayer, SeveralDriversAddTheirDisplacements) {
   const Document rest = without_first_driver(both);
   ASSERT_EQ(driver_count(rest), 1u);
   EXPECT_EQ(rest.patch_driver, second);
+}
+
+// The driver's attachment (DriverPlacement::attachment): its control points follow the joints it names, like
+// a cage's vertices. Every control point assigned to the hips: with the spine bent the sculpt's displacement
+// is the one at rest (the hips do not move), where attached to their closest limbs (the chest) it turns with
+// the spine; the rig with the attachment poses the same; fitted is refused, and so is a control point past
+// the driver's.
+TEST(DriverLayer, ItsControlPointsFollowTheJointsItsAttachmentNames) {
+  const Document plain = test::demo_document();
+  const Character& ch = *plain.character;
+  const Skeleton& sk = ch.skeleton;
+  const auto driver = test::chest_driver(0.06);
+  std::vector<glm::vec3> rest;
+  for (const Primitive& p : ch.primitives) rest.insert(rest.end(), p.positions.begin(), p.positions.end());
+  auto layer = DriverLayer::create(ch, rest, *driver, plain.params);
+  ASSERT_TRUE(layer.ok()) << layer.error().message;
+  std::vector<glm::quat> rot(sk.size());
+  for (uint32_t n = 0; n < sk.size(); ++n) rot[n] = sk.node(n).rest.rotation;
+  Pose at_rest = compose_pose(ch, -1, 0.0, false, {});
+  std::vector<glm::quat> bend = rot;
+  const uint32_t spine = node_named(sk, "spine");
+  bend[spine] = rot[spine] * glm::angleAxis(0.6f, glm::vec3(1, 0, 0));
+  Pose bent = compose_pose(ch, -1, 0.0, false, bend);
+  const auto delta = [&](const Pose& pose) {
+    std::vector<glm::vec3> d(rest.size());
+    EXPECT_TRUE(layer->displacement(*driver, {}, sk, pose, sk.global_transforms(pose), d).ok());
+    return d;
+  };
+  const std::vector<glm::vec3> closest_rest = delta(at_rest), closest_bent = delta(bent);
+  EXPECT_GT(largest_distance(closest_rest, closest_bent), 0.01) << "attached to the chest, the sculpt turns with the spine";
+
+  AttachmentSettings hips{AttachmentMode::kRigid};
+  std::vector<uint32_t> all(layer->num_control_points());
+  std::iota(all.begin(), all.end(), 0u);
+  hips = assign_vertices(hips, all, node_named(sk, "hips"));
+  ASSERT_TRUE(layer->attach(ch, &hips).ok());
+  EXPECT_TRUE(layer->attached_by(&hips));
+  EXPECT_FALSE(layer->attached_by(nullptr));
+  const std::vector<glm::vec3> hips_rest = delta(at_rest), hips_bent = delta(bent);
+  EXPECT_LT(largest_distance(hips_rest, closest_rest), 1e-6) << "at rest the attachment changes nothing";
+  EXPECT_LT(largest_distance(hips_rest, hips_bent), 1e-6) << "attached to the hips, the spine's bend does not carry it";
+
+  // the rig: the attachment is part of what it was made for
+  Document doc = with_patch_driver(plain, driver);
+  DriverPlacement place;
+  place.attachment = hips;
+  const Document attached = with_driver_place(doc, std::move(place));
+  auto rig = Rig::create(attached);
+  ASSERT_TRUE(rig.ok()) << rig.error().message;
+  EXPECT_FALSE(rig->fits(doc)) << "a rig attached to the hips does not pose the driver attached to its closest limbs";
+  auto plain_rig = Rig::create(plain);
+  ASSERT_TRUE(plain_rig.ok());
+  const std::vector<glm::vec3> f0 = posed_skin(plain, *plain_rig, bend), f = posed_skin(attached, *rig, bend);
+  double worst = 0.0;
+  for (size_t i = 0; i < f.size(); ++i) worst = std::max(worst, double(glm::length((f[i] - f0[i]) - hips_bent[i])));
+  EXPECT_LT(worst, 1e-5) << "the rig adds the hips-attached displacement to the cage's skin";
+
+  // refused: fitted, a control point past the driver's
+  AttachmentSettings fitted{AttachmentMode::kFitted};
+  EXPECT_FALSE(layer->attach(ch, &fitted).ok());
+  AttachmentSettings past{AttachmentMode::kRigid};
+  const uint32_t far = static_cast<uint32_t>(layer->num_control_points());
+  past = assign_vertices(past, std::span<const uint32_t>(&far, 1), node_named(sk, "hips"));
+  auto e = layer->attach(ch, &past);
+  ASSERT_FALSE(e.ok());
+  EXPECT_NE(e.error().message.find("control point " + std::to_string(far)), std::string::npos) << e.error().message;
+  EXPECT_TRUE(layer->attached_by(&hips)) << "a refused attachment leaves the last one";
 }
 
 }  // namespace

@@ -123,5 +123,60 @@ TEST_F(WorkspaceDriversTest, SeveralDriversAreAddedEditedMutedAndMatchTheRig) {
   EXPECT_EQ(driver_count(w()), 2u);
 }
 
+// The first driver's attachment in the editor (patch_attach, patch_attach_point; the driver window's
+// "control points follow" and "attach it to the selected joint"): one undo step each, refused when it cannot
+// attach (fitted, a control point past the driver's, a node that is not a joint), and the frame is the rig's.
+TEST_F(WorkspaceDriversTest, TheDriversAttachmentIsEditedAndTheFrameIsTheRigs) {
+  const fs::path dir = fs::temp_directory_path() / "cagewrap_workspace_drivers_attach";
+  fs::create_directories(dir);
+  ASSERT_TRUE(save_patch_any((dir / "chest.cwpatch").string(), test::chest_driver(0.0)->rest).ok());
+  finish_bind();
+  const auto w = [this]() -> const Document& { return ws.scene()->work(); };
+  ws.run("driver_add " + (dir / "chest.cwpatch").string());
+  poll_while([this] { return ws.binding_patch_driver(); });
+  ws.run("patch_panel");
+  ws.run("patch_select 14");
+  ws.run("patch_move 0 0 0.05");
+  ws.run("clip walk");
+  ws.run("time 0.3");
+  const size_t steps = undo_steps();
+  ws.run("patch_attach skin_weights");
+  ASSERT_TRUE(w().driver_place.attachment);
+  EXPECT_EQ(w().driver_place.attachment->mode, AttachmentMode::kSkinWeights);
+  ws.run("patch_attach_point 14 hips");
+  ASSERT_EQ(w().driver_place.attachment->overrides.size(), 1u);
+  EXPECT_EQ(w().driver_place.attachment->overrides[0].vertex, 14u);
+  EXPECT_EQ(undo_steps(), steps + 2);
+  ws.run("patch_attach fitted");
+  EXPECT_TRUE(logged("patch_attach closest|rigid|smooth|skin_weights"));
+  ws.run("patch_attach_point 30 hips");
+  EXPECT_TRUE(logged("parametric driver: attachment: no control point 30 (the driver has 30)"));
+  ws.run("patch_attach_point 3 nowhere");
+  EXPECT_TRUE(logged("the skeleton has no node 'nowhere'"));
+  EXPECT_EQ(undo_steps(), steps + 2) << "refused edits leave no step";
+
+  ws.update_pose();
+  ASSERT_TRUE(ws.scene()->skin_driven());
+  const std::vector<glm::vec3> shown = ws.scene()->skin_posed();
+  auto rig = Rig::create(w());
+  ASSERT_TRUE(rig.ok()) << rig.error().message;
+  std::vector<glm::vec3> expected(rig->num_skin_points());
+  PosedCage cage;
+  const auto& pb = ws.view.playback;
+  ASSERT_TRUE(rig->pose_clip(w(), pb.clip, pb.player.time(), pb.pose_override, cage, expected).ok());
+  double gap = 0.0;
+  for (size_t i = 0; i < expected.size(); ++i) gap = std::max(gap, double(glm::distance(expected[i], shown[i])));
+  EXPECT_LT(gap / ws.scene()->skin_diagonal, 1e-5);
+  // and it matters: back to the closest limbs, the frame changes
+  ws.run("patch_attach closest");
+  EXPECT_FALSE(w().driver_place.attachment);
+  ws.update_pose();
+  double moved = 0.0;
+  for (size_t i = 0; i < shown.size(); ++i) moved = std::max(moved, double(glm::distance(shown[i], ws.scene()->skin_posed()[i])));
+  EXPECT_GT(moved, 1e-3);
+  ws.run("undo");
+  EXPECT_TRUE(w().driver_place.attachment);
+}
+
 }  // namespace
 }  // namespace cagewrap::app

@@ -254,6 +254,11 @@ class Workspace {
   bool key_driver_sculpt(int axis);
   bool remove_driver_keyset(size_t i);
   bool set_driver_params(std::optional<BindParams> params);  // its own binding parameters; null = the cage's
+  // How the first driver's control points follow the skeleton (DriverPlacement::attachment): a mode (rigid,
+  // smooth, skin_weights; null: each rigidly to its closest limb), and control points assigned to a joint
+  // (node; nullopt: back to automatic). One undo step each, checked as the rig attaches it.
+  bool set_driver_attachment(std::optional<AttachmentMode> mode);
+  bool assign_driver_points(std::span<const uint32_t> points, std::optional<uint32_t> node);
   // More parametric drivers (Document::more_drivers; numbered as driver_at numbers them), each one undo step:
   bool add_driver(const std::string& path);            // a .cwpatch or glTF driver (the first, or one more)
   bool make_driver_first(size_t i);                    // the one the driver window and the patch_* actions edit

@@ -445,6 +445,29 @@ void Workspace::add_actions() {
         p.max_elements = k;
         set_driver_params(p);
       });
+  add("patch_attach", "closest|rigid|smooth|skin_weights", "How the driver's control points follow the skeleton: each to its closest limb, or like a cage's vertices: one undo step.",
+      [this](std::istringstream& in) {
+        std::string m;
+        in >> m;
+        AttachmentMode mode{};
+        if (m == "closest") set_driver_attachment(std::nullopt);
+        else if (parse_attachment_mode(m, mode) && mode != AttachmentMode::kFitted) set_driver_attachment(mode);
+        else fail("patch_attach closest|rigid|smooth|skin_weights");
+      });
+  add("patch_attach_point", "I JOINT|auto", "Attaches the driver's control point I to JOINT (auto: back to automatic): one undo step.",
+      [this](std::istringstream& in) {
+        uint32_t i = 0;
+        std::string joint;
+        if (!(in >> i >> joint)) return fail("patch_attach_point I JOINT|auto");
+        std::optional<uint32_t> node;
+        if (joint != "auto") {
+          const Skeleton& sk = scene_->doc().character->skeleton;
+          for (uint32_t n = 0; n < sk.size() && !node; ++n)
+            if (sk.node(n).name == joint) node = n;
+          if (!node) return fail("patch_attach_point: the skeleton has no node '" + joint + "'");
+        }
+        assign_driver_points(std::span<const uint32_t>(&i, 1), node);
+      });
   add("patch_keyset_remove", "I", "Removes the driver's keypose set I.", [this](std::istringstream& in) {
     size_t i = 0;
     if (!(in >> i)) return fail("patch_keyset_remove I");

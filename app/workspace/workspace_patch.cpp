@@ -397,4 +397,64 @@ bool Workspace::remove_driver(size_t i) {
   return true;
 }
 
+// ---- the first driver's attachment (DriverPlacement::attachment)
+
+namespace {
+// Whether `a` attaches `n` control points of `character` (as DriverLayer::attach will): "" or why not.
+std::string attachment_problem(const Character& character, const AttachmentSettings& a, size_t n) {
+  if (a.mode == AttachmentMode::kFitted) return "a driver's control points are attached rigid, smooth or by skin weights, not fitted";
+  for (const AttachmentOverride& o : a.overrides)
+    if (o.vertex >= n) return "no control point " + std::to_string(o.vertex) + " (the driver has " + std::to_string(n) + ")";
+  std::vector<glm::vec3> probe(n, glm::vec3(0.0f));
+  auto att = attach_cage(character, probe, a);
+  return att ? std::string() : att.error().message;
+}
+}  // namespace
+
+bool Workspace::set_driver_attachment(std::optional<AttachmentMode> mode) {
+  if (!scene_ || !scene_->doc().patch_driver) {
+    fail(kNoDriver);
+    return false;
+  }
+  const Document& w = scene_->work();
+  DriverPlacement place = w.driver_place;
+  if (!mode) {
+    place.attachment.reset();
+  } else {
+    AttachmentSettings a = place.attachment ? *place.attachment : AttachmentSettings{};
+    a.mode = *mode;
+    if (auto why = attachment_problem(*w.character, a, w.patch_driver->rest.num_control_points()); !why.empty()) {
+      fail("parametric driver: attachment: " + why);
+      return false;
+    }
+    place.attachment = std::move(a);
+  }
+  const std::string label = mode ? std::string("Attach the driver's control points: ") + attachment_mode_name(*mode)
+                                 : std::string("Attach the driver's control points to their closest limbs");
+  if (!scene_->apply_work(label, with_driver_place(w, std::move(place)))) return false;
+  log(label);
+  return true;
+}
+
+bool Workspace::assign_driver_points(std::span<const uint32_t> points, std::optional<uint32_t> node) {
+  if (!scene_ || !scene_->doc().patch_driver) {
+    fail(kNoDriver);
+    return false;
+  }
+  const Document& w = scene_->work();
+  DriverPlacement place = w.driver_place;
+  AttachmentSettings a = place.attachment ? *place.attachment : AttachmentSettings{AttachmentMode::kRigid};
+  a = assign_vertices(a, points, node);
+  if (auto why = attachment_problem(*w.character, a, w.patch_driver->rest.num_control_points()); !why.empty()) {
+    fail("parametric driver: attachment: " + why);
+    return false;
+  }
+  place.attachment = std::move(a);
+  const std::string label = std::to_string(points.size()) + " driver control point" + (points.size() == 1 ? "" : "s") +
+                            (node ? " attached to " + w.character->skeleton.node(*node).name : std::string(" attached automatically"));
+  if (!scene_->apply_work(label, with_driver_place(w, std::move(place)))) return false;
+  log(label);
+  return true;
+}
+
 }  // namespace cagewrap::app

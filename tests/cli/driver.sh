@@ -153,6 +153,22 @@ check "a name taken fails" hasf "$T/err" "already has a deformer named 'arm'"
 run deformer set --project "$T/two.cagewrap" --driver --name nobody --mute
 check "an unknown driver fails" test "$rc" -ne 0
 check "naming the drivers there are" hasf "$T/err" "has no parametric driver named 'nobody' (its drivers: driver, rest)"
+# the driver's attachment: its control points follow the joints named, like a cage's vertices
+run deformer set --project "$T/driven.cagewrap" --driver --attach skin_weights --attach-point 14:hips --out "$T/attached.cagewrap"
+check "--attach --attach-point" has "$T/out" "^  D  (driver) .*, attached skin_weights (1 assigned)$"
+run pose --project "$T/attached.cagewrap" --clip walk --time 0.4 --out "$T/attached.bin"
+check "the attachment changes the pose" bash -c "! cmp -s '$T/driven.bin' '$T/attached.bin'"
+run deformer set --project "$T/attached.cagewrap" --driver --attach closest --out "$T/closest.cagewrap"
+run pose --project "$T/closest.cagewrap" --clip walk --time 0.4 --out "$T/closest.bin"
+check "--attach closest: as before" cmp_close "$T/driven.bin" "$T/closest.bin" 1e-6
+run deformer set --project "$T/driven.cagewrap" --driver --attach fitted
+check "fitted is refused" hasf "$T/err" "--attach 'fitted': give rigid, smooth, skin_weights or closest"
+run deformer set --project "$T/driven.cagewrap" --driver --attach-point 30:hips
+check "a control point past the driver's is refused" hasf "$T/err" "--attach-point '30:hips': the driver has control points 0 to 29"
+run deformer set --project "$T/driven.cagewrap" --driver --attach-point 3:nowhere
+check "an unknown joint is refused" hasf "$T/err" "the skeleton has no node 'nowhere'"
+run deformer set --project "$T/driven.cagewrap" --attach rigid
+check "--attach without --driver is refused" hasf "$T/err" "are the parametric driver's: give --driver too"
 run new --character "$DEMO" --cage "$CAGE" --patch "$T/rest.cwpatch" --patch "$T/rest.cwpatch" --posed-patch "$T/posed.cwpatch" \
   --out "$T/bad.cagewrap"
 check "one --posed-patch for two --patch fails" hasf "$T/err" "1 --posed-patch for 2 --patch"
