@@ -223,14 +223,17 @@ void Editor::draw_mask_brush() {
     return;
   }
   ImGui::Separator();
-  ImGui::Text("Painting the mask of %s", t->name.c_str());
+  ImGui::TextWrapped("Painting the mask of %s", t->name.c_str());
   hint("drag on the skin; blue: not moved by it, orange: moved in full");
-  ImGui::SliderFloat("paint toward", &m.value, 0.0f, 1.0f, "%.2f");
+  ImGui::PushItemWidth(ImGui::GetContentRegionAvail().x * 0.55f);
+  ImGui::SliderFloat("toward", &m.value, 0.0f, 1.0f, "%.2f");
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("the weight the brush paints toward: 1 in, 0 out");
   ImGui::SliderFloat("strength", &m.strength, 0.01f, 1.0f, "%.2f");
   if (m.radius <= 0.0) m.radius = 0.03 * ws_.scene()->skin_diagonal;
   float r = static_cast<float>(m.radius);
   const float size = static_cast<float>(ws_.scene()->skin_diagonal);
   if (ImGui::SliderFloat("radius", &r, 1e-3f * size, 0.3f * size, "%.4f", ImGuiSliderFlags_Logarithmic)) m.radius = r;
+  ImGui::PopItemWidth();
   if (ImGui::SmallButton("fill 1")) ws_.run("mask_fill 1");
   ImGui::SameLine();
   if (ImGui::SmallButton("fill 0")) ws_.run("mask_fill 0");
