@@ -8,9 +8,11 @@
 #include <thread>
 #include <vector>
 
+#include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
 #include "app/workspace/workspace.h"
+#include "core/rig/rig.h"
 
 namespace cagewrap::app {
 
@@ -48,6 +50,23 @@ class DemoWorkspaceTest : public ::testing::Test {
     }
     ASSERT_FALSE(s.job) << "the bind did not finish";
     ASSERT_TRUE(s.binding) << "no binding after the bind";
+  }
+  // The current frame's largest distance from the skin a Rig made from the whole document poses at the same
+  // clip, time and overrides (what pose and the exports make), relative to the skin's diagonal; 1 when the
+  // rig cannot be made (a failure is reported).
+  double rig_gap() {
+    const Document& w = ws.scene()->work();
+    const std::vector<glm::vec3> shown = ws.scene()->skin_posed();
+    auto rig = Rig::create(w);
+    EXPECT_TRUE(rig.ok()) << rig.error().message;
+    if (!rig) return 1.0;
+    std::vector<glm::vec3> expected(rig->num_skin_points());
+    PosedCage cage;
+    const auto& pb = ws.view.playback;
+    EXPECT_TRUE(rig->pose_clip(w, pb.clip, pb.player.time(), pb.pose_override, cage, expected).ok());
+    double gap = 0.0;
+    for (size_t i = 0; i < expected.size() && i < shown.size(); ++i) gap = std::max(gap, double(glm::distance(expected[i], shown[i])));
+    return gap / ws.scene()->skin_diagonal;
   }
   // The node of the skeleton named `name` (-1 when there is none).
   int node(const std::string& name) const {

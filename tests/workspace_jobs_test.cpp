@@ -103,16 +103,7 @@ TEST_F(WorkspacePatchTest, FitMovesUndoDensityAndCancel) {
   const auto frame_gap = [this] {
     ws.update_pose();
     EXPECT_TRUE(ws.scene()->skin_driven());
-    auto rig = Rig::create(doc());
-    EXPECT_TRUE(rig.ok()) << rig.error().message;
-    if (!rig) return 1.0;
-    std::vector<glm::vec3> expected(rig->num_skin_points());
-    PosedCage cage;
-    const auto& pb = ws.view.playback;
-    EXPECT_TRUE(rig->pose_clip(doc(), pb.clip, pb.player.time(), pb.pose_override, cage, expected).ok());
-    double gap = 0.0;
-    for (size_t i = 0; i < expected.size(); ++i) gap = std::max(gap, double(glm::distance(expected[i], ws.scene()->skin_posed()[i])));
-    return gap / ws.scene()->skin_diagonal;
+    return rig_gap();
   };
   EXPECT_LT(frame_gap(), 1e-5);
   // the driver as a deformer of the stack: its sculpt keyed against the spine's X at this pose, a mask, a

@@ -66,15 +66,10 @@ TEST_F(WorkspaceMaskTest, PaintedMaskIsOneUndoStepAndWhatTheRigUses) {
   ws.run("clip walk");
   ws.run("time 0.3");
   ws.update_pose();
-  auto rig = Rig::create(w());
-  ASSERT_TRUE(rig.ok()) << rig.error().message;
-  std::vector<glm::vec3> expected(rig->num_skin_points());
-  PosedCage cage;
+  EXPECT_LT(rig_gap(), 1e-5);
+  const std::vector<glm::vec3> expected = ws.scene()->skin_posed();
   const auto& pb = ws.view.playback;
-  ASSERT_TRUE(rig->pose_clip(w(), pb.clip, pb.player.time(), pb.pose_override, cage, expected).ok());
-  double gap = 0.0;
-  for (size_t i = 0; i < expected.size(); ++i) gap = std::max(gap, double(glm::distance(expected[i], ws.scene()->skin_posed()[i])));
-  EXPECT_LT(gap / ws.scene()->skin_diagonal, 1e-5);
+  PosedCage cage;
   // and the painted mask matters: without it the sum moves the chest further
   Document unmasked = w();
   unmasked.layers[0].mask = nullptr;

@@ -272,18 +272,30 @@ void Workspace::add_actions() {
       });
   add("select_limb_faces", "", "Selects the cage faces following the selected joints.",
       [this](std::istringstream&) { view.selection.cage_faces = limb_faces(view.selection.joints); });
+  // a skin vertex's first triangle, for the brushes' one-dab strokes (said why when there is none)
+  const auto triangle_of = [this](uint32_t i) -> std::optional<uint32_t> {
+    if (i >= scene_->skin_posed().size()) {
+      fail("no skin vertex " + std::to_string(i));
+      return std::nullopt;
+    }
+    const auto& fv = scene_->skin_topology.face_vertices;
+    const auto at = std::find(fv.begin(), fv.end(), i);
+    if (at == fv.end()) {
+      fail("skin vertex " + std::to_string(i) + " is on no triangle");
+      return std::nullopt;
+    }
+    return static_cast<uint32_t>((at - fv.begin()) / 3);
+  };
   add("paint_at_skin_vertex", "I [RADIUS]", "One brush stroke of one dab at skin vertex I (RADIUS in scene units).",
-      [this](std::istringstream& in) {
+      [this, triangle_of](std::istringstream& in) {
         uint32_t i = 0;
         double r = 0.0;
         if (!(in >> i)) return fail("paint_at_skin_vertex I [RADIUS]");
         if (in >> r && r > 0) view.sets.brush_radius = r;
-        if (i >= scene_->skin_posed().size()) return fail("no skin vertex " + std::to_string(i));
-        const auto& fv = scene_->skin_topology.face_vertices;
-        const auto at = std::find(fv.begin(), fv.end(), i);
-        if (at == fv.end()) return fail("skin vertex " + std::to_string(i) + " is on no triangle");
+        const auto t = triangle_of(i);
+        if (!t) return;
         begin_set_stroke();
-        set_stroke_dab(static_cast<uint32_t>((at - fv.begin()) / 3), glm::dvec3(scene_->skin_posed()[i]));
+        set_stroke_dab(*t, glm::dvec3(scene_->skin_posed()[i]));
         end_set_stroke();
       });
 
@@ -309,15 +321,13 @@ void Workspace::add_actions() {
         if (in >> radius && radius > 0.0) view.mask.radius = radius;
       });
   add("mask_paint_at_skin_vertex", "I", "One mask-brush stroke of one dab at skin vertex I (one undo step).",
-      [this](std::istringstream& in) {
+      [this, triangle_of](std::istringstream& in) {
         uint32_t i = 0;
         if (!(in >> i)) return fail("mask_paint_at_skin_vertex I");
-        if (i >= scene_->skin_posed().size()) return fail("no skin vertex " + std::to_string(i));
-        const auto& fv = scene_->skin_topology.face_vertices;
-        const auto at = std::find(fv.begin(), fv.end(), i);
-        if (at == fv.end()) return fail("skin vertex " + std::to_string(i) + " is on no triangle");
+        const auto t = triangle_of(i);
+        if (!t) return;
         begin_mask_stroke();
-        mask_stroke_dab(static_cast<uint32_t>((at - fv.begin()) / 3), glm::dvec3(scene_->skin_posed()[i]));
+        mask_stroke_dab(*t, glm::dvec3(scene_->skin_posed()[i]));
         end_mask_stroke();
       });
   add("mask_fill", "VALUE", "Every weight of the painted mask to VALUE (0..1): one undo step.", [this](std::istringstream& in) {
