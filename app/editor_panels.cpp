@@ -134,33 +134,32 @@ void Editor::draw_deformers() {
          state.empty() ? "" : ", ", state.c_str());
     const bool hidden = deformer_hidden(w, d);
     if (ImGui::SmallButton(hidden ? "show" : "hide")) ws_.run("deformer_hide " + ds + (hidden ? " off" : " on"));
-    ImGui::SameLine();
     const bool own_mute = d == 0 ? w.stack.base_muted : w.layers[d - 1].muted;
+    same_line_for(own_mute ? "unmute" : "mute");
     if (ImGui::SmallButton(own_mute ? "unmute" : "mute")) ws_.run("deformer_mute " + ds + (own_mute ? " off" : " on"));
-    ImGui::SameLine();
     const bool solo = w.stack.solo == static_cast<int32_t>(d);
+    same_line_for(solo ? "unsolo" : "solo");
     if (ImGui::SmallButton(solo ? "unsolo" : "solo")) ws_.run(solo ? std::string("deformer_solo off") : "deformer_solo " + ds);
     if (d >= 2) {
-      ImGui::SameLine();
+      same_line_for("up");
       if (ImGui::SmallButton("up")) ws_.run("deformer_move " + ds + " " + std::to_string(d - 1));
     }
     if (d >= 1 && d < n - 1) {
-      ImGui::SameLine();
+      same_line_for("down");
       if (ImGui::SmallButton("down")) ws_.run("deformer_move " + ds + " " + std::to_string(d + 1));
     }
     if (d >= 1) {
-      ImGui::SameLine();
+      same_line_for("remove");
       if (ImGui::SmallButton("remove")) ws_.run("deformer_remove " + ds);
       // its skin mask: what it is, and a field to make another (joints a,b,-c | primitives 0,2 | none)
       const DeformerLayer& l = w.layers[d - 1];
       const bool open = ImGui::SmallButton("mask...");
-      ImGui::SameLine();
-      hint("%s", l.mask ? (l.mask_source.empty() ? std::string("painted") : l.mask_source).c_str() : "no mask");
-      ImGui::SameLine();
+      same_line_for("paint");
       if (ImGui::SmallButton("paint")) {  // the mask brush on this layer (made active: the brush paints the active layer)
         ws_.run("deformer_active " + ds);
         ws_.run("mask_paint on");
       }
+      hint("mask: %s", l.mask ? (l.mask_source.empty() ? std::string("painted") : l.mask_source).c_str() : "none");
       if (open) {
         std::snprintf(mask_field_, sizeof mask_field_, "%s", l.mask_source.c_str());
         ImGui::OpenPopup("mask");
@@ -235,9 +234,9 @@ void Editor::draw_mask_brush() {
   if (ImGui::SliderFloat("radius", &r, 1e-3f * size, 0.3f * size, "%.4f", ImGuiSliderFlags_Logarithmic)) m.radius = r;
   ImGui::PopItemWidth();
   if (ImGui::SmallButton("fill 1")) ws_.run("mask_fill 1");
-  ImGui::SameLine();
+  same_line_for("fill 0");
   if (ImGui::SmallButton("fill 0")) ws_.run("mask_fill 0");
-  ImGui::SameLine();
+  same_line_for("done");
   if (ImGui::SmallButton("done")) ws_.run("mask_paint off");
   ImGui::Separator();
 }
@@ -273,22 +272,24 @@ void Editor::draw_driver_row(size_t i) {
       if (d.driver && d.driver->rest == p.rest && d.driver->density == p.density)
         state = d.job ? "binding " + std::to_string(int(d.job->progress() * 100)) + "%" : d.layer ? "bound" : d.error;
   }
-  hint("parametric, %zu control points, %zu keypose set%s, %s, %s", p.rest.num_control_points(), place.keyposes.size(),
-       place.keyposes.size() == 1 ? "" : "s", place.mask ? ("mask " + place.mask_source).c_str() : "no mask", state.c_str());
+  const std::string mask = place.mask ? "mask " + (place.mask_source.empty() ? std::string("painted") : place.mask_source) : "no mask";
+  const std::string attached = place.attachment ? std::string(", attached ") + attachment_mode_name(place.attachment->mode) : "";
+  hint("parametric, %zu control points, %zu keypose set%s, %s%s, %s", p.rest.num_control_points(), place.keyposes.size(),
+       place.keyposes.size() == 1 ? "" : "s", mask.c_str(), attached.c_str(), state.c_str());
   if (ImGui::SmallButton(p.drive_skin ? "mute" : "unmute")) ws_.run("driver_mute " + is + (p.drive_skin ? " on" : " off"));
-  ImGui::SameLine();
+  same_line_for("remove");
   if (ImGui::SmallButton("remove")) ws_.run("driver_remove " + is);
-  ImGui::SameLine();
+  same_line_for("paint mask");
   if (ImGui::SmallButton("paint mask")) ws_.run("mask_paint on driver " + is);
-  if (i == 0) {  // its place: the driver window's patch_after acts on the first
-    if (pos > 0) {
-      ImGui::SameLine();
-      if (ImGui::SmallButton("up")) ws_.run("patch_after " + std::to_string(pos - 1));
-    }
-    if (pos < w.layers.size()) {
-      ImGui::SameLine();
-      if (ImGui::SmallButton("down")) ws_.run(pos + 1 == w.layers.size() ? std::string("patch_after last") : "patch_after " + std::to_string(pos + 1));
-    }
+  // its place among the layers
+  if (pos > 0) {
+    same_line_for("up");
+    if (ImGui::SmallButton("up")) ws_.run("driver_after " + is + " " + std::to_string(pos - 1));
+  }
+  if (pos < w.layers.size()) {
+    same_line_for("down");
+    if (ImGui::SmallButton("down"))
+      ws_.run("driver_after " + is + " " + (pos + 1 == w.layers.size() ? std::string("last") : std::to_string(pos + 1)));
   }
   ImGui::PopID();
 }

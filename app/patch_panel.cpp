@@ -49,7 +49,8 @@ void PatchPanel::draw(Workspace& ws) {
   Scene& scene = *ws.scene();
   const std::shared_ptr<const PatchDriver> driver = scene.doc().patch_driver;
   const Workspace::PatchState& state = ws.patch_state();
-  ImGui::TextWrapped("A surface of bicubic patches driving the rest skin (paper 3.3): samples at the knot values are its control elements.");
+  ImGui::TextUnformatted("Bicubic patches driving the skin (paper 3.3)");
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("samples at the knot values are its control elements");
   if (const size_t n = driver_count(scene.work()); n > 1)  // the others: the outliner's "edit" makes one the first
     ImGui::TextWrapped("Editing driver '%s' (the first of %zu; Deformers > edit picks another)", driver_name(scene.work(), 0).c_str(), n);
   ImGui::InputText("##path", path_field_, sizeof path_field_);
@@ -148,26 +149,26 @@ void PatchPanel::draw_stack_place(Workspace& ws) {
   }
   ImGui::EndDisabled();
   hint("%s", place.params ? "its own binding parameters" : "binds with the cage's parameters");
-  // how its control points follow the skeleton, and the selected one's joint
-  int mode = place.attachment ? int(place.attachment->mode) + 1 : 0;  // 0 closest, 1 rigid, 2 smooth, 3 skin weights
-  const char* modes[] = {"closest limb", "rigid", "smooth", "skin weights"};
-  if (ImGui::Combo("control points follow", &mode, modes, 4))
-    ws.set_driver_attachment(mode == 0 ? std::nullopt : std::optional<AttachmentMode>(AttachmentMode(mode - 1)));
-  const int point = ws.view.patch.point;
-  if (point >= 0) {
-    const auto assigned = place.attachment ? assigned_node(*place.attachment, uint32_t(point)) : std::nullopt;
-    const Skeleton& sk = w.character->skeleton;
-    hint("control point %d: %s", point, assigned ? ("attached to " + sk.node(*assigned).name).c_str() : "automatic");
-    const auto& joints = ws.view.selection.joints.indices();
-    const uint32_t p = uint32_t(point);
-    ImGui::BeginDisabled(joints.size() != 1);
-    if (ImGui::SmallButton("attach it to the selected joint") && joints.size() == 1)
-      ws.assign_driver_points(std::span<const uint32_t>(&p, 1), joints[0]);
+  // how its control points follow the skeleton, and the selected one's joint (folded: the window stays short)
+  if (ImGui::TreeNode("attach", "Attachment: %s", place.attachment ? attachment_mode_name(place.attachment->mode) : "closest limb")) {
+    int mode = place.attachment ? int(place.attachment->mode) + 1 : 0;  // 0 closest, 1 rigid, 2 smooth, 3 skin weights
+    const char* modes[] = {"closest limb", "rigid", "smooth", "skin weights"};
+    if (ImGui::Combo("follow", &mode, modes, 4))
+      ws.set_driver_attachment(mode == 0 ? std::nullopt : std::optional<AttachmentMode>(AttachmentMode(mode - 1)));
+    const int point = ws.view.patch.point;
+    const uint32_t p = uint32_t(std::max(point, 0));
+    const auto assigned = point >= 0 && place.attachment ? assigned_node(*place.attachment, p) : std::nullopt;
+    if (point < 0) hint("no control point selected");
+    else hint("control point %d: %s", point, assigned ? ("attached to " + w.character->skeleton.node(*assigned).name).c_str() : "automatic");
+    const auto joints = ws.view.selection.joints.indices();
+    ImGui::BeginDisabled(point < 0 || joints.size() != 1);
+    if (ImGui::SmallButton("attach it to the selected joint")) ws.assign_driver_points(std::span<const uint32_t>(&p, 1), joints[0]);
     ImGui::EndDisabled();
     ImGui::SameLine();
     ImGui::BeginDisabled(!assigned);
     if (ImGui::SmallButton("automatic")) ws.assign_driver_points(std::span<const uint32_t>(&p, 1), std::nullopt);
     ImGui::EndDisabled();
+    ImGui::TreePop();
   }
   ImGui::TextUnformatted("Key the sculpt at this pose, against");
   ImGui::TextUnformatted("the selected joint's rotation about");

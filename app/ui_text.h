@@ -21,6 +21,15 @@ inline void hint(const char* fmt, ...) {
   va_end(args);
 }
 
+// SameLine when a small button labelled `label` still fits on this line of the window, else a new line
+// (a row of buttons wraps instead of running past the panel's edge).
+inline void same_line_for(const char* label) {
+  const ImGuiStyle& st = ImGui::GetStyle();
+  const float w = ImGui::CalcTextSize(label).x + 2.0f * st.FramePadding.x;
+  const float right = ImGui::GetWindowPos().x + ImGui::GetWindowContentRegionMax().x;
+  if (ImGui::GetItemRectMax().x + st.ItemSpacing.x + w <= right) ImGui::SameLine();
+}
+
 // The width that leaves room for `label` beside a field (for SetNextItemWidth / PushItemWidth).
 inline float width_beside(const char* label) {
   return -(ImGui::CalcTextSize(label).x + 2 * ImGui::GetStyle().ItemInnerSpacing.x);

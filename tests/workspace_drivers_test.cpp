@@ -92,6 +92,15 @@ TEST_F(WorkspaceDriversTest, SeveralDriversAreAddedEditedMutedAndMatchTheRig) {
   EXPECT_FALSE(ws.binding_any()) << "a muted driver keeps its binding: unmuting binds nothing";
   EXPECT_LT(largest_change(both, frame()), 1e-6);
 
+  // each driver's place among the layers (none here: 0, or after them all)
+  ws.run("driver_after 1 0");
+  EXPECT_EQ(driver_at(w(), 1).place->after, 0);
+  EXPECT_EQ(driver_at(w(), 0).place->after, -1) << "the other stays";
+  ws.run("driver_after 1 2");
+  EXPECT_TRUE(logged("parametric driver: it goes after 0 to 0 layers"));
+  ws.run("driver_after 1 last");
+  EXPECT_EQ(driver_at(w(), 1).place->after, -1);
+
   // the project keeps both, with their names and sculpts
   ASSERT_TRUE(save_project((dir / "two.cagewrap").string(), w()).ok());
   auto loaded = load_project((dir / "two.cagewrap").string());

@@ -246,7 +246,7 @@ class Workspace {
   bool set_patch_drive(bool drive);
   bool reset_patch_driver();                           // the control points back to rest
   // The driver as a deformer of the stack (Document::driver_place, docs/deformer-stack.md), each one undo step:
-  bool set_driver_after(int after);                    // after that many layers (-1: after them all)
+  bool set_driver_after(int after, size_t i = 0);      // after that many layers (-1: after them all); driver i
   bool set_driver_mask(const std::string& source);     // "joints a,b,-c" or "primitives 0,2"; "" = no mask
   // Keys the driver's sculpt (posed minus rest control points) against the selected joint's rotation about
   // its local axis (0 X, 1 Y, 2 Z) at the current pose, in the driver's keypose set for it (made when

@@ -410,6 +410,18 @@ void Workspace::add_actions() {
         if (on != "on" && on != "off") return fail("driver_mute I on|off");
         set_driver_muted(*i, on == "on");
       });
+  add("driver_after", "I K|last", "Where parametric driver I sits in the stack: after K layers (0: right after the document's cage), or after them all.",
+      [this, driver_index](std::istringstream& in) {
+        auto i = driver_index(in, "driver_after I K|last");
+        std::string k;
+        in >> k;
+        if (!i) return;
+        char* end = nullptr;
+        const long v = std::strtol(k.c_str(), &end, 10);
+        if (k == "last") set_driver_after(-1, *i);
+        else if (k.empty() || *end || v < 0) fail("driver_after I K|last");
+        else set_driver_after(static_cast<int>(v), *i);
+      });
   add("driver_remove", "I", "Removes parametric driver I (0 = the first; the next one then becomes the first).",
       [this, driver_index](std::istringstream& in) {
         if (auto i = driver_index(in, "driver_remove I")) remove_driver(*i);

@@ -223,21 +223,23 @@ bool Workspace::reset_patch_driver() {
 
 // ---- the driver as a deformer of the stack (Document::driver_place): its place, mask and keyposes
 
-bool Workspace::set_driver_after(int after) {
+bool Workspace::set_driver_after(int after, size_t i) {
   if (!scene_ || !scene_->doc().patch_driver) {
     fail(kNoDriver);
     return false;
   }
+  if (!check_driver(i)) return false;
   const Document& w = scene_->work();
   if (after > static_cast<int>(w.layers.size())) {
     fail("parametric driver: it goes after 0 to " + std::to_string(w.layers.size()) + " layers (-1: after them all)");
     return false;
   }
-  DriverPlacement place = w.driver_place;
+  DriverPlacement place = *driver_at(w, i).place;
   place.after = after < 0 ? -1 : after;
-  const std::string label = after < 0 ? std::string("Put the driver after every layer")
-                                      : "Put the driver after " + std::to_string(after) + " layer" + (after == 1 ? "" : "s");
-  if (!scene_->apply_work(label, with_driver_place(w, std::move(place)))) return false;
+  const std::string who = i == 0 && driver_count(w) == 1 ? std::string("the driver") : "driver '" + driver_name(w, i) + "'";
+  const std::string label = after < 0 ? "Put " + who + " after every layer"
+                                      : "Put " + who + " after " + std::to_string(after) + " layer" + (after == 1 ? "" : "s");
+  if (!scene_->apply_work(label, with_driver_place(w, i, std::move(place)))) return false;
   log(label);
   return true;
 }
