@@ -75,6 +75,7 @@ void print_stack(const Document& doc) {
       char binding[96];
       std::snprintf(binding, sizeof binding, "%s binding local %g epsilon %g K %u", place.params ? "own" : "the cage's", b.local,
                     b.epsilon, b.max_elements);
+      if (place.hidden) f += ", hidden";
       if (place.attachment)
         f += std::string(", attached ") + attachment_mode_name(place.attachment->mode) +
              (place.attachment->overrides.empty() ? "" : " (" + std::to_string(place.attachment->overrides.size()) + " assigned)");
@@ -499,9 +500,9 @@ void add_deformer_command(CLI::App& app, int& exit_code) {
     if (args->driver) {  // a parametric driver: its name, switch, place, mask and binding parameters
       const long i = find_driver(d, args->name, args->project);
       if (i < 0) return;
-      if (args->index >= 0 || args->to >= 0 || args->hide || args->show) {
-        std::fprintf(stderr, "error: %s: --driver takes --name, --rename, --mute, --unmute, --after, the mask options and binding "
-                             "parameters only\n", args->project.c_str());
+      if (args->index >= 0 || args->to >= 0) {
+        std::fprintf(stderr, "error: %s: --driver takes --name, --rename, --mute, --unmute, --hide, --show, --after, --attach, "
+                             "--attach-point, the mask options and binding parameters only\n", args->project.c_str());
         return;
       }
       if (!args->rename.empty() && args->rename != driver_name(d, size_t(i)) && !name_free(d, args->rename, args->project)) return;
@@ -514,6 +515,8 @@ void add_deformer_command(CLI::App& app, int& exit_code) {
       }
       DriverPlacement place = *r.place;
       if (!args->rename.empty()) place.name = args->rename;
+      if (args->hide) place.hidden = true;
+      if (args->show) place.hidden = false;
       if (!parse_after(d, args->after, place, args->project)) return;
       if (!parse_driver_attachment(d, args->attach, args->attach_points, r.driver->rest.num_control_points(), place, args->project)) return;
       if (!apply_mask(d, args->mask, driver_name(d, size_t(i)), place.mask, place.mask_source, args->project)) return;

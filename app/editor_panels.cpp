@@ -276,6 +276,8 @@ void Editor::draw_driver_row(size_t i) {
   const std::string attached = place.attachment ? std::string(", attached ") + attachment_mode_name(place.attachment->mode) : "";
   hint("parametric, %zu control points, %zu keypose set%s, %s%s, %s", p.rest.num_control_points(), place.keyposes.size(),
        place.keyposes.size() == 1 ? "" : "s", mask.c_str(), attached.c_str(), state.c_str());
+  if (ImGui::SmallButton(place.hidden ? "show" : "hide")) ws_.run("driver_hide " + is + (place.hidden ? " off" : " on"));
+  same_line_for(p.drive_skin ? "mute" : "unmute");
   if (ImGui::SmallButton(p.drive_skin ? "mute" : "unmute")) ws_.run("driver_mute " + is + (p.drive_skin ? " on" : " off"));
   same_line_for("remove");
   if (ImGui::SmallButton("remove")) ws_.run("driver_remove " + is);

@@ -20,7 +20,7 @@ std::vector<glm::vec3> float_points(const PatchSurface& surface) {
 
 bool PatchPanel::pick(Workspace& ws, const Camera& camera, Viewport viewport, glm::dvec2 pixel) {
   const auto& driver = ws.scene()->doc().patch_driver;
-  if (!ws.view.patch.editing || !driver) return false;
+  if (!ws.view.patch.editing || !driver || ws.scene()->work().driver_place.hidden) return false;
   const auto hit = pick_vertex(camera, viewport, pixel, float_points(driver->posed), 8.0);
   if (hit) ws.view.patch.point = int(*hit);
   return hit.has_value();
@@ -28,14 +28,24 @@ bool PatchPanel::pick(Workspace& ws, const Camera& camera, Viewport viewport, gl
 
 #if CAGEWRAP_GUI  // the renderer and the window
 void PatchPanel::update_display(Workspace& ws, render::ViewportRenderer& renderer) {
-  const auto& driver = ws.scene()->doc().patch_driver;
-  if (!driver) {
-    renderer.update_control_net({}, {}, -1);
-    return;
-  }
+  const Document& w = ws.scene()->work();
   int& selected = ws.view.patch.point;
-  if (selected >= int(driver->posed.num_control_points())) selected = -1;
-  renderer.update_control_net(float_points(driver->posed), control_net_edges(driver->posed), selected);
+  if (!w.patch_driver || selected >= int(w.patch_driver->posed.num_control_points())) selected = -1;
+  // every driver's control net that is not hidden, the first's first (the selection indexes its points)
+  std::vector<glm::vec3> points;
+  std::vector<std::array<uint32_t, 2>> edges;
+  for (size_t i = 0; i < driver_count(w); ++i) {
+    const DriverRef d = driver_at(w, i);
+    if (d.place->hidden) {
+      if (i == 0) selected = -1;
+      continue;
+    }
+    const uint32_t base = static_cast<uint32_t>(points.size());
+    const std::vector<glm::vec3> p = float_points(d.driver->posed);
+    points.insert(points.end(), p.begin(), p.end());
+    for (const auto& e : control_net_edges(d.driver->posed)) edges.push_back({e[0] + base, e[1] + base});
+  }
+  renderer.update_control_net(points, edges, selected);
 }
 
 void PatchPanel::draw(Workspace& ws) {

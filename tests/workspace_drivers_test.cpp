@@ -101,6 +101,11 @@ TEST_F(WorkspaceDriversTest, SeveralDriversAreAddedEditedMutedAndMatchTheRig) {
   ws.run("driver_after 1 last");
   EXPECT_EQ(driver_at(w(), 1).place->after, -1);
 
+  // hidden: its control net is not drawn; the project keeps that
+  ws.run("driver_hide 1 on");
+  EXPECT_TRUE(driver_at(w(), 1).place->hidden);
+  EXPECT_FALSE(driver_at(w(), 0).place->hidden);
+
   // the project keeps both, with their names and sculpts
   ASSERT_TRUE(save_project((dir / "two.cagewrap").string(), w()).ok());
   auto loaded = load_project((dir / "two.cagewrap").string());
@@ -108,6 +113,7 @@ TEST_F(WorkspaceDriversTest, SeveralDriversAreAddedEditedMutedAndMatchTheRig) {
   ASSERT_EQ(driver_count(loaded->document), 2u);
   EXPECT_EQ(driver_name(loaded->document, 0), "second");
   EXPECT_TRUE(*driver_at(loaded->document, 1).driver == *driver_at(w(), 1).driver);
+  EXPECT_TRUE(driver_at(loaded->document, 1).place->hidden);
 
   // removing the first makes the other the first; a driver that is not there is an error naming it
   ws.run("driver_remove 0");

@@ -263,6 +263,7 @@ class Workspace {
   bool add_driver(const std::string& path);            // a .cwpatch or glTF driver (the first, or one more)
   bool make_driver_first(size_t i);                    // the one the driver window and the patch_* actions edit
   bool set_driver_muted(size_t i, bool muted);
+  bool set_driver_hidden(size_t i, bool hidden);  // its control net not drawn (saved with the project)
   bool remove_driver(size_t i);
   void bind_patch_driver();                            // binds the document's driver again (after a failure)
   void cancel_patch_bind();

@@ -422,6 +422,15 @@ void Workspace::add_actions() {
         else if (k.empty() || *end || v < 0) fail("driver_after I K|last");
         else set_driver_after(static_cast<int>(v), *i);
       });
+  add("driver_hide", "I on|off", "Hides (on) or shows (off) parametric driver I's control net (saved with the project).",
+      [this, driver_index](std::istringstream& in) {
+        auto i = driver_index(in, "driver_hide I on|off");
+        std::string on;
+        in >> on;
+        if (!i) return;
+        if (on != "on" && on != "off") return fail("driver_hide I on|off");
+        set_driver_hidden(*i, on == "on");
+      });
   add("driver_remove", "I", "Removes parametric driver I (0 = the first; the next one then becomes the first).",
       [this, driver_index](std::istringstream& in) {
         if (auto i = driver_index(in, "driver_remove I")) remove_driver(*i);

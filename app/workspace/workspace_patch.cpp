@@ -389,6 +389,17 @@ bool Workspace::set_driver_muted(size_t i, bool muted) {
   return true;
 }
 
+bool Workspace::set_driver_hidden(size_t i, bool hidden) {
+  if (!check_driver(i)) return false;
+  const Document& w = scene_->work();
+  DriverPlacement place = *driver_at(w, i).place;
+  place.hidden = hidden;
+  const std::string label = (hidden ? "Hide parametric driver '" : "Show parametric driver '") + driver_name(w, i) + "'";
+  if (!scene_->apply_work(label, with_driver_place(w, i, std::move(place)))) return false;
+  log(label);
+  return true;
+}
+
 bool Workspace::remove_driver(size_t i) {
   if (!check_driver(i)) return false;
   const Document& w = scene_->work();

@@ -116,8 +116,9 @@ struct DriverPlacement {
   // overrides name control points, global index grid by grid); null = each rigidly to its closest limb,
   // as projects before this field had it.
   std::optional<AttachmentSettings> attachment;
+  bool hidden = false;  // its control net not drawn in the editor (a view setting, saved with the project)
   bool operator==(const DriverPlacement& o) const {
-    return name == o.name && after == o.after && (mask == o.mask || (mask && o.mask && *mask == *o.mask)) && mask_source == o.mask_source &&
+    return name == o.name && hidden == o.hidden && after == o.after && (mask == o.mask || (mask && o.mask && *mask == *o.mask)) && mask_source == o.mask_source &&
            keyposes == o.keyposes && params == o.params && attachment == o.attachment;
   }
 };

@@ -223,6 +223,7 @@ Result<std::string> driver_object_text(const std::string& path, const Document& 
     s += std::string(k ? ", " : "") + Json::array({posed[k].x, posed[k].y, posed[k].z}).dump();
   s += "]";
   if (!place.name.empty()) s += ",\n    \"name\": " + Json(place.name).dump();
+  if (place.hidden) s += ",\n    \"hidden\": true";
   if (place.after >= 0) s += ",\n    \"after\": " + std::to_string(place.after);
   if (!place.mask_source.empty()) s += ",\n    \"mask_source\": " + Json(place.mask_source).dump();
   if (place.mask) {
@@ -669,7 +670,7 @@ std::shared_ptr<const PatchDriver> read_patch_driver(const Reader& r, const Json
     for (size_t k = 0; k < n; ++k) points[k] = read_dvec3(r, list[k], Reader::at(where + ".posed", k));
     d.posed.set_control_points(points);
   }
-  warn_unknown(j, where, {"density", "drive_skin", "rest", "posed", "name", "after", "mask", "mask_source", "keyposes", "binding", "attachment"},
+  warn_unknown(j, where, {"density", "drive_skin", "rest", "posed", "name", "hidden", "after", "mask", "mask_source", "keyposes", "binding", "attachment"},
                warnings, file);
   return std::make_shared<const PatchDriver>(std::move(d));
 }
@@ -876,6 +877,7 @@ DriverPlacement read_driver_place(const Reader& r, const Json& j, const Characte
                                   const std::string& where = "patch_driver") {
   DriverPlacement place;
   if (j.contains("name")) place.name = r.string(j["name"], where + ".name");
+  if (j.contains("hidden")) place.hidden = r.boolean(j["hidden"], where + ".hidden");
   if (j.contains("after")) place.after = static_cast<int32_t>(r.index(j["after"], where + ".after"));
   if (j.contains("mask_source")) place.mask_source = r.string(j["mask_source"], where + ".mask_source");
   if (j.contains("mask")) place.mask = read_mask(r, j["mask"], where + ".mask", character);

@@ -138,6 +138,8 @@ check "the two drivers' sculpts add" sum_of "$T/plain.bin" "$T/driven.bin" "$T/s
 run deformer set --project "$T/two.cagewrap" --driver --name rest --rename chest2 --mute --out "$T/two_muted.cagewrap"
 check "set --driver --name --rename --mute" has "$T/out" "^  D2 chest2 .*, muted$"
 check "the first stays on" has "$T/out" "^  D  (driver) .*, after every layer$"
+run deformer set --project "$T/two_muted.cagewrap" --driver --name chest2 --hide
+check "set --driver --hide" has "$T/out" "^  D2 chest2 .*, muted, hidden$"
 run pose --project "$T/two_muted.cagewrap" --clip walk --time 0.4 --out "$T/two_muted.bin"
 check "the second muted: the first's pose" cmp_close "$T/driven.bin" "$T/two_muted.bin" 1e-5
 run deformer remove --project "$T/two.cagewrap" --driver --out "$T/two_removed.cagewrap"
