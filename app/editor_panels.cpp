@@ -269,7 +269,7 @@ void Editor::draw_driver_row(size_t i) {
   else {
     state = "not bound";
     for (const DriverRig& d : scene.driver_rigs)
-      if (d.driver && d.driver->rest == p.rest && d.driver->density == p.density)
+      if (d.index == i)
         state = d.job ? "binding " + std::to_string(int(d.job->progress() * 100)) + "%" : d.layer ? "bound" : d.error;
   }
   const std::string mask = place.mask ? "mask " + (place.mask_source.empty() ? std::string("painted") : place.mask_source) : "no mask";

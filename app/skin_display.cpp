@@ -48,20 +48,12 @@ std::vector<uint64_t> SkinDisplay::revisions(const Scene& scene) {
 }
 
 void SkinDisplay::before_pose(Scene& scene) const {
-  // a stack of cages too (Scene::gpu_frame); the parametric driver's sculpt is added on the CPU
-  scene.skin_on_gpu = use_gpu_ && gpu_available() && !scene.any_driving() &&
-                      (failed_revisions_.empty() || failed_revisions_ != revisions(scene));
+  // a stack of cages too (Scene::gpu_frame), and the parametric drivers' displacements (made on the CPU)
+  scene.skin_on_gpu = use_gpu_ && gpu_available() && (failed_revisions_.empty() || failed_revisions_ != revisions(scene));
 }
 
 std::string SkinDisplay::update(Scene& scene, render::ViewportRenderer& renderer) {
   std::string message = put_skin(scene, renderer);
-  const bool driven_on_cpu = use_gpu_ && gpu_available() && scene.skin_from_cage && scene.any_driving();
-  if (!driven_on_cpu) {
-    driver_noted_ = false;
-  } else if (!driver_noted_ && message.empty()) {
-    message = "skin deformed on the CPU while the parametric driver drives it (its sculpt is added on the CPU)";
-    driver_noted_ = true;
-  }
   if (from_cage_) {
     if (shown_path_ >= 0 && shown_path_ != int(on_gpu_) && message.empty())
       message = std::string("skin now deformed on the ") + (on_gpu_ ? "GPU" : "CPU");
@@ -90,7 +82,7 @@ std::string SkinDisplay::put_skin(Scene& scene, render::ViewportRenderer& render
     }
     if (gpu_) {
       const auto to_gpu = [](const GpuFrame::Deformed& d) {
-        return render::GpuStack::Deformed{d.index, d.deformer, d.revision, d.mask};
+        return render::GpuStack::Deformed{d.index, d.deformer, d.revision, d.mask, d.displacement};
       };
       std::optional<render::GpuStack::Deformed> base;
       if (frame.base) base = to_gpu(*frame.base);

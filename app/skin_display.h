@@ -6,8 +6,9 @@
 // CPU copy of the skin is made only when picking or a brush asks for one (Scene::skin_posed).
 // A stack of deformers (docs/deformer-stack.md) runs there too: every deformer that moves the skin
 // deforms on the GPU from its own maps (the scene poses each one's cage), one pass combines them as
-// the project's stack says, then the normals (render/gpu_deformer.h GpuStack). While the parametric
-// driver drives the skin its sculpt is added on the CPU, and so the skin is made there (logged once).
+// the project's stack says, then the normals (render/gpu_deformer.h GpuStack). The parametric drivers'
+// displacements are made on the CPU (about 2 ms each on the demo) and go up each frame, added by the same
+// combine pass where each sits.
 // Otherwise the CPU deforms, combines, computes normals and uploads them (the renderer's update_skin).
 // The stats overlay shows the frame split into deform, normals, draw and UI: CPU time, and GPU time
 // from timer queries (read a few frames late, so the GPU never waits for the CPU).
@@ -96,7 +97,6 @@ class SkinDisplay {
   std::vector<uint64_t> failed_revisions_;
   std::string unavailable_;  // why there is no GPU path (empty: there is)
   bool use_gpu_ = true, synchronous_ = false, on_gpu_ = false, from_cage_ = false;
-  bool driver_noted_ = false;  // the log said that the driven skin is made on the CPU
   int shown_path_ = -1;  // the path of the last frame deformed through the cage: 1 GPU, 0 CPU, -1 none yet
   std::array<double, kFrameParts> cpu_ms_{}, gpu_ms_{};  // this frame's, then shown
   std::array<double, kFrameParts> shown_cpu_{}, shown_gpu_{};

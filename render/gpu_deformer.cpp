@@ -343,9 +343,12 @@ Result<GpuDeformer*> GpuStack::deformer_for(const Deformed& d) {
 
 Status GpuStack::upload_masks(std::span<const Deformed> layers) {
   bool same = masks_held_.size() == layers.size();
-  for (size_t k = 0; same && k < layers.size(); ++k) same = masks_held_[k] == layers[k].mask;
+  for (size_t k = 0; same && k < layers.size(); ++k)
+    same = masks_held_[k] == layers[k].mask && displacements_held_[k] == !layers[k].displacement.empty();
   if (same) return Ok{};
-  std::vector<uint32_t> starts(layers.size(), kNoMask);
+  // each layer's mask start, then whether it is a displacement (the combine kernel's MaskStarts)
+  std::vector<uint32_t> starts(2 * layers.size(), kNoMask);
+  for (size_t k = 0; k < layers.size(); ++k) starts[layers.size() + k] = layers[k].displacement.empty() ? 0u : 1u;
   size_t total = 0;
   for (size_t k = 0; k < layers.size(); ++k)
     if (layers[k].mask) total += layers[k].mask->size();
@@ -365,7 +368,11 @@ Status GpuStack::upload_masks(std::span<const Deformed> layers) {
     return s;
   mask_bytes_ = bytes;
   masks_held_.clear();
-  for (const Deformed& l : layers) masks_held_.push_back(l.mask);
+  displacements_held_.clear();
+  for (const Deformed& l : layers) {
+    masks_held_.push_back(l.mask);
+    displacements_held_.push_back(!l.displacement.empty());
+  }
   return Ok{};
 }
 
@@ -374,11 +381,15 @@ Status GpuStack::deform(const DeformerStack& stack, const Deformed* base, std::s
   if (stack.mode == StackMode::kBlend && !(stack.exponent >= 0 && std::isfinite(stack.exponent)))
     return make_error(ErrorCode::kInvalidArgument, "the deformer stack's blend exponent must be a finite number >= 0, not " +
                                                        std::to_string(stack.exponent));
-  for (const Deformed& l : layers)
+  for (const Deformed& l : layers) {
     if (l.mask && l.mask->size() != num_points_)
       return make_error(ErrorCode::kInvalidArgument, deformer_label(l.index) + "'s mask has " +
                                                          std::to_string(l.mask->size()) + " weights but the skin has " +
                                                          std::to_string(num_points_) + " points");
+    if (!l.displacement.empty() && l.displacement.size() != num_points_)
+      return make_error(ErrorCode::kInvalidArgument, "a parametric driver's displacement has " + std::to_string(l.displacement.size()) +
+                                                         " points but the skin has " + std::to_string(num_points_));
+  }
   // the deformers this frame leaves out go first: theirs may be gone (a rig dropped), so they are never used again
   std::erase_if(deformers_, [&](const Held& h) {
     if (base && base->deformer == h.deformer) return false;
@@ -405,6 +416,12 @@ Status GpuStack::deform(const DeformerStack& stack, const Deformed* base, std::s
     layers_allocated_ = layers.size();
   }
   for (size_t k = 0; k < layers.size(); ++k) {
+    if (!layers[k].displacement.empty()) {  // a driver's displacement, made on the CPU
+      glBindBuffer(GL_SHADER_STORAGE_BUFFER, layer_skins_);
+      glBufferSubData(GL_SHADER_STORAGE_BUFFER, static_cast<GLintptr>(k * stride_),
+                      static_cast<GLsizeiptr>(layers[k].displacement.size_bytes()), layers[k].displacement.data());
+      continue;
+    }
     auto g = deformer_for(layers[k]);
     if (!g) return g.error();
     (*g)->deform_into(layer_skins_, k * stride_);

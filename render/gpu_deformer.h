@@ -134,6 +134,9 @@ class GpuStack {
     // Changes whenever the deformer or its table does (a rebind, a live set edit): the GPU's copy follows.
     uint64_t revision = 0;
     std::shared_ptr<const std::vector<float>> mask;  // #P weights in [0, 1], or null: 1 everywhere (layers)
+    // Non-empty (#P): a parametric driver's displacement of this frame (no deformer), uploaded and added
+    // where it sits (core/rig/deformer_stack.h combine_layers); its mask as a layer's.
+    std::span<const glm::vec3> displacement;
   };
 
   // `skin_rest` (#P) is every deformer's rest skin; `triangles` index it and must be what the target
@@ -179,6 +182,7 @@ class GpuStack {
   size_t layers_allocated_ = 0;          // slices the layer table holds
   // the masks the GPU holds, kept alive so that a pointer names the same weights while it is held
   std::vector<std::shared_ptr<const std::vector<float>>> masks_held_;
+  std::vector<bool> displacements_held_;  // which layers of the held masks were displacements
   size_t rest_bytes_ = 0, mask_bytes_ = 0;
   size_t max_groups_x_ = 65535;
 };

@@ -3,13 +3,16 @@
 // core/rig/deformer_stack.cpp combine_stack's arithmetic per skin point, in float32 where the CPU
 // computes in double. The skin buffer holds f_0 (the document's cage's skin, or the rest skin when it
 // is muted) and receives the combined skin; each layer's posed skin is a slice of one table, written
-// there by its own deform pass. One invocation per skin point.
+// there by its own deform pass. A layer may instead be a parametric driver's displacement (uploaded from
+// the CPU, core/rig/driver_layer.h): it is added, scaled by its mask, where it sits (in order and sum), or
+// to the blended skin (blend), as combine_layers does. One invocation per skin point.
 layout(local_size_x = 256) in;
 
 layout(std430, binding = 0) readonly buffer RestSkin { float rest_skin[]; };    // #P x 3
 layout(std430, binding = 1) readonly buffer Layers { float layer_skins[]; };   // #L slices of u_stride floats, #P x 3 each
 layout(std430, binding = 2) readonly buffer Masks { float masks[]; };          // the masks of the layers that have one, #P each
-layout(std430, binding = 3) readonly buffer MaskStarts { uint mask_start[]; }; // #L: where layer k's mask starts, or kNoMask
+// #L: where layer k's mask starts, or kNoMask; then #L: 1 when layer k is a displacement, else 0
+layout(std430, binding = 3) readonly buffer MaskStarts { uint mask_start[]; };
 layout(std430, binding = 7) buffer Skin { float skin[]; };                     // #P x 3: f_0 in, the combined skin out
 
 const uint kNoMask = 0xffffffffu;  // a layer without a mask moves every point fully
@@ -31,6 +34,8 @@ vec3 layer_at(uint k, uint i) {
 
 float mask_at(uint k, uint i) { return mask_start[k] == kNoMask ? 1.0 : masks[mask_start[k] + i]; }
 
+bool displacement(uint k) { return mask_start[u_layers + k] != 0u; }
+
 void main() {
   uint i = invocation();
   if (i >= u_count) return;
@@ -40,7 +45,8 @@ void main() {
     // Wires (Singh & Fiume), as combine_displacements kWeighted: the displacements d_0 = f_0 - p and
     // d_k = m_k (f_k - p) weighted by |d|^m relative to the largest (no overflow or underflow for any m)
     float largest = length(s - p);
-    for (uint k = 0u; k < u_layers; ++k) largest = max(largest, length(mask_at(k, i) * (layer_at(k, i) - p)));
+    for (uint k = 0u; k < u_layers; ++k)
+      if (!displacement(k)) largest = max(largest, length(mask_at(k, i) * (layer_at(k, i) - p)));
     vec3 sum = vec3(0.0);
     if (largest > 0.0) {
       vec3 d = s - p;
@@ -48,6 +54,7 @@ void main() {
       float wsum = w;
       sum = w * d;
       for (uint k = 0u; k < u_layers; ++k) {
+        if (displacement(k)) continue;
         d = mask_at(k, i) * (layer_at(k, i) - p);
         w = u_exponent == 0.0 ? 1.0 : pow(length(d) / largest, u_exponent);
         sum += w * d;
@@ -56,11 +63,15 @@ void main() {
       sum /= wsum;  // >= 1: the largest weighs 1
     }
     s = p + sum;
+    for (uint k = 0u; k < u_layers; ++k)  // the drivers' displacements, added to the blended skin
+      if (displacement(k)) s += mask_at(k, i) * layer_at(k, i);
   } else {
     // in order: each layer takes over where its mask is 1; sum: the masked displacements added to f_0
+    // a driver's displacement is added where it sits
     for (uint k = 0u; k < u_layers; ++k) {
       vec3 f = layer_at(k, i);
-      s += u_mode == kInOrder ? mask_at(k, i) * (f - s) : mask_at(k, i) * (f - p);
+      if (displacement(k)) s += mask_at(k, i) * f;
+      else s += u_mode == kInOrder ? mask_at(k, i) * (f - s) : mask_at(k, i) * (f - p);
     }
   }
   skin[3u * i] = s.x;

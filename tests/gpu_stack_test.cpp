@@ -24,6 +24,7 @@
 #include <thread>
 #include <vector>
 
+#include "tests/driver_fixtures.h"
 #include "tests/gl_fixtures.h"
 #include "app/workspace/scene.h"
 #include "core/character/demo_character.h"
@@ -105,7 +106,8 @@ class GpuStackTest : public test::GlSuite {
   static void settle(Scene& s) {
     const auto busy = [&] {
       return s.job != nullptr ||
-             std::any_of(s.stack_rigs.begin(), s.stack_rigs.end(), [](const StackRig& r) { return r.job != nullptr; });
+             std::any_of(s.stack_rigs.begin(), s.stack_rigs.end(), [](const StackRig& r) { return r.job != nullptr; }) ||
+             std::any_of(s.driver_rigs.begin(), s.driver_rigs.end(), [](const DriverRig& r) { return r.job != nullptr; });
     };
     for (int i = 0; i < 60000 && busy(); ++i) {
       s.poll_bind();
@@ -114,6 +116,7 @@ class GpuStackTest : public test::GlSuite {
     }
     ASSERT_FALSE(busy()) << "the binds did not finish";
     for (const StackRig& r : s.stack_rigs) ASSERT_TRUE(r.rig) << "deformer " << r.deformer << ": " << r.error;
+    for (const DriverRig& r : s.driver_rigs) ASSERT_TRUE(r.layer) << "driver '" << r.name << "': " << r.error;
   }
 
   static Playback at(const Scene& s, const std::string& clip, double t) {
@@ -143,7 +146,7 @@ class GpuStackTest : public test::GlSuite {
       target_->upload_indices(s.skin_triangles());
     }
     const auto to_gpu = [&](const GpuFrame::Deformed& d) {
-      return render::GpuStack::Deformed{d.index, d.deformer, d.revision, drop_masks ? nullptr : d.mask};
+      return render::GpuStack::Deformed{d.index, d.deformer, d.revision, drop_masks ? nullptr : d.mask, d.displacement};
     };
     std::optional<render::GpuStack::Deformed> base;
     if (f.base) base = to_gpu(*f.base);
@@ -278,6 +281,57 @@ TEST_F(GpuStackTest, EveryModeMaskAndMuteAgreesWithTheRig) {
     EXPECT_EQ(s->gpu_frame().layers[0].index, 2u);
   }
   std::printf("  worst GPU - rig difference: positions %.2e of the diagonal, normals %.2e degrees\n", worst_,
+              worst_normal_);
+}
+
+// Parametric drivers on the GPU (Document::more_drivers; the scene binds each in the background): their
+// displacements, made on the CPU each frame, go up as slices of the layer table and the combine pass adds
+// them where each sits (after every layer, or between the layers in order), scaled by their masks; the frame
+// is the rig's within 1e-5 of the diagonal in every mode, and without the drivers it is not.
+TEST_F(GpuStackTest, DriversDisplacementsAreAddedOnTheGpuWhereTheySit) {
+  std::unique_ptr<Scene> s = make_scene();
+  ASSERT_TRUE(s);
+  const double diag = s->skin_diagonal;
+  const Playback frames[] = {at(*s, "walk", 0.3), at(*s, "arm_raise", 1.2)};
+  const Document plain = s->work();
+  // the first driver muted (the workspace binds the first; the scene binds the others): two more, sculpted
+  auto muted = test::chest_driver(0.06);
+  muted->drive_skin = false;
+  Document d = with_patch_driver(plain, muted);
+  DriverPlacement last, between;
+  last.name = "chest";
+  between.name = "masked";
+  between.after = 1;  // between the face and the grown cage
+  const std::string spine[] = {"spine"};
+  auto mask = joint_region_mask(*plain.character, spine);
+  ASSERT_TRUE(mask.ok());
+  between.mask = std::make_shared<const std::vector<float>>(*mask);
+  auto pushed = test::chest_driver(0.0);
+  auto points = pushed->posed.control_points();
+  points[20] += glm::dvec3(0.0, -0.04, 0.05);
+  pushed->posed.set_control_points(points);
+  d = with_more_drivers(d, {DriverDeformer{test::chest_driver(0.06), last}, DriverDeformer{pushed, between}});
+  ASSERT_TRUE(s->apply_work("Add drivers", d));
+  settle(*s);
+  ASSERT_EQ(s->driver_rigs.size(), 2u);
+  for (StackMode mode : {StackMode::kInOrder, StackMode::kSum, StackMode::kBlend}) {
+    DeformerStack stack = s->work().stack;
+    stack.mode = mode;
+    ASSERT_TRUE(s->apply_work("Stack mode", with_stack(s->work(), stack)));
+    settle(*s);
+    for (const Playback& pb : frames) {
+      const std::string what = std::string("drivers, ") + stack_mode_name(mode) + " at " + std::to_string(pb.player.time()) + " s";
+      check(*s, pb, what);
+      EXPECT_EQ(s->gpu_frame().layers.size(), 4u) << what << ": two layers and two drivers";
+      EXPECT_TRUE(s->skin_driven()) << what;
+      Document without = s->work();
+      without.patch_driver = nullptr;
+      without.more_drivers.clear();
+      without.revision = next_revision();
+      EXPECT_GT(gap(gpu_skin(*s, pb), rig_skin(without, pb), diag), 1e-3) << what << ": the drivers move the skin";
+    }
+  }
+  std::printf("  worst GPU - rig difference with drivers: positions %.2e of the diagonal, normals %.2e degrees\n", worst_,
               worst_normal_);
 }
 

@@ -484,10 +484,20 @@ void Scene::pose_stack(const Playback& pb, bool maps_only, std::span<const Drive
     stack_combined_ = stack_ready_;
     return;
   }
-  // what combine_document_stack combines, for the GPU: the deformers not muted, each layer with its mask
-  // (the parametric driver is added on the CPU: update_pose does not come here while it drives the skin)
+  // what combine_document_stack combines, for the GPU: the deformers not muted, each layer with its mask,
+  // and the drivers' displacements (made on the CPU) where they sit
   gpu_frame_.stack = w.stack;
+  const auto drivers_at = [&](size_t at) {
+    for (const DriverTerm& t : driver)
+      if (driver_position(w, *t.place) == at) {
+        GpuFrame::Deformed f;
+        f.mask = t.place->mask;
+        f.displacement = t.delta;
+        gpu_frame_.layers.push_back(std::move(f));
+      }
+  };
   for (size_t d = 0; d < deformer_count(w); ++d) {
+    if (d >= 1) drivers_at(d - 1);
     if (deformer_muted(w, d)) continue;
     GpuFrame::Deformed f;
     f.index = d;
@@ -507,6 +517,7 @@ void Scene::pose_stack(const Playback& pb, bool maps_only, std::span<const Drive
       gpu_frame_.layers.push_back(std::move(f));
     }
   }
+  drivers_at(w.layers.size());
   stack_combined_ = true;
 }
 
@@ -524,13 +535,13 @@ bool Scene::combine_skins(std::span<const DriverTerm> driver) {
   return true;
 }
 
-bool Scene::combine_stack_on_cpu() {
+bool Scene::combine_stack_on_cpu(std::span<const DriverTerm> drivers) {
   for (StackRig& r : stack_rigs) {
     if (!r.rig) return false;
     r.skin.resize(skin_rest.size());
     if (!deform_through_cage(r.rig->deformer(), r.cage, r.skin).ok()) return false;
   }
-  return combine_skins({});
+  return combine_skins(drivers);
 }
 
 void Scene::add_drivers_alone(std::span<const DriverTerm> drivers) {
@@ -557,8 +568,8 @@ std::vector<DriverTerm> Scene::driver_displacements() {
   for (size_t i = 1; i < driver_count(w); ++i) {
     if (!driver_moves_skin(w, i)) continue;
     const DriverRef d = driver_at(w, i);
-    for (DriverRig& r : driver_rigs) {
-      if (!r.layer || !r.layer->fits(*d.driver, driver_params(w, *d.place))) continue;
+    for (DriverRig& r : driver_rigs) {  // its own (two drivers may share a surface, each with its sculpt)
+      if (r.index != i || !r.layer || !r.layer->fits(*d.driver, driver_params(w, *d.place))) continue;
       if (!attached(*r.layer, *d.place)) break;
       r.delta.resize(skin_rest.size());
       auto any = r.layer->displacement(*d.driver, d.place->keyposes, w.character->skeleton, pose_, joint_globals, r.delta);
@@ -598,6 +609,7 @@ void Scene::update_driver_rigs() {
           });
     }
     r.name = driver_name(w, i);
+    r.index = i;
     next.push_back(std::move(r));
   }
   driver_rigs = std::move(next);  // the rest are dropped (their binds cancelled)
@@ -610,7 +622,7 @@ bool Scene::any_driving() const {
     if (!driver_moves_skin(w, i)) continue;
     const DriverRef d = driver_at(w, i);
     for (const DriverRig& r : driver_rigs)
-      if (r.layer && r.layer->fits(*d.driver, driver_params(w, *d.place))) return true;
+      if (r.index == i && r.layer && r.layer->fits(*d.driver, driver_params(w, *d.place))) return true;
   }
   return false;
 }
@@ -768,9 +780,10 @@ void Scene::update_pose(const Playback& pb) {
   stack_combined_ = false;
   // the parametric driver's displacement (its sculpt and keyposes, carried by the skeleton), added where it
   // sits in the stack as Rig adds it; it is made on the CPU, so a driven skin is made there
+  // (made on the CPU; on the GPU path they go up as displacements: GpuFrame)
   const std::vector<DriverTerm> drivers = show_file_skinning ? std::vector<DriverTerm>() : driver_displacements();
   const bool driven = !drivers.empty();
-  const bool on_gpu = skin_on_gpu && !any_driving();
+  const bool on_gpu = skin_on_gpu;
   const auto& cage = doc().cage;
   if (cage) {
     // the driver: rest cage + the artist's offsets + keyposes, carried by the skeleton (core/rig/rig.h)
@@ -793,8 +806,13 @@ void Scene::update_pose(const Playback& pb) {
                       : deform_through_cage(*deformer, posed, skin_posed_);
       if (s.ok() && !show_file_skinning && (cage_stack() || driven))
         pose_stack(pb, on_gpu, drivers);
-      if (s.ok() && on_gpu && !stack_combined_)  // the active deformer's skin alone, as the CPU path shows it
-        gpu_frame_.base = GpuFrame::Deformed{active_, &*deformer, binding_revision, nullptr};
+      if (s.ok() && on_gpu && !stack_combined_) {  // the active deformer's skin alone (and the drivers), as the CPU path shows it
+        gpu_frame_.base = GpuFrame::Deformed{active_, &*deformer, binding_revision, nullptr, {}};
+        gpu_frame_.layers.clear();
+        gpu_frame_.stack = stack_document().stack;
+        for (const DriverTerm& t : drivers) gpu_frame_.layers.push_back(GpuFrame::Deformed{0, nullptr, 0, t.place->mask, t.delta});
+      }
+      if (on_gpu) skin_driven_ = s.ok() && driven;
       gpu_frame_.built = s.ok() && on_gpu;
       deform_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
       skin_from_cage = s.ok();
@@ -834,7 +852,11 @@ const std::vector<glm::vec3>& Scene::skin_posed() {
     skin_posed_.resize(skin_rest.size());
     // the deformer was replaced since update_pose (a bind finished) and no longer fits: the file's skinning
     bool ok = deformer && deform_through_cage(*deformer, posed, skin_posed_).ok();
-    if (ok && stack_combined_) ok = combine_stack_on_cpu();  // the stack the GPU combined, made here too
+    // the drivers' displacements at this frame's pose, against the document as it is now (the GPU's went
+    // up with the frame)
+    const std::vector<DriverTerm> drivers = ok && skin_driven_ ? driver_displacements() : std::vector<DriverTerm>();
+    if (ok && stack_combined_) ok = combine_stack_on_cpu(drivers);  // the stack the GPU combined, made here too
+    else if (ok) add_drivers_alone(drivers);
     if (!ok) skin_posed_ = skin_character(*doc().character, pose_);
   }
   return skin_posed_;

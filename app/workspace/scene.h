@@ -85,6 +85,7 @@ struct StackRig {
 // the stack's rigs, its displacement added where it sits in the stack (on the CPU, like the first's).
 using DriverRigJob = BackgroundTask<DriverLayer>;
 struct DriverRig {
+  size_t index = 0;                           // which of the document's drivers (driver_at; >= 1)
   std::shared_ptr<const PatchDriver> driver;  // what it was (or is being) bound for
   BindParams params;                          // and with
   std::shared_ptr<const Character> character; // and for
@@ -103,11 +104,13 @@ struct GpuFrame {
     const Deformer* deformer = nullptr;  // with the maps of this frame's posed cage (Deformer::update_maps)
     uint64_t revision = 0;               // changes whenever the deformer is made again or its table changes
     std::shared_ptr<const std::vector<float>> mask;  // #P, or null: 1 everywhere
+    // Non-empty (#P): a parametric driver's displacement of this frame, made on the CPU (no deformer).
+    std::span<const glm::vec3> displacement;
   };
   // The skin the others combine over: deformer 0's, or none (muted, or it has no cage): the rest skin.
   // While the other deformers bind, the active deformer's alone (whichever it is), with no layers.
   std::optional<Deformed> base;
-  std::vector<Deformed> layers;  // the other deformers that move the skin, in stack order
+  std::vector<Deformed> layers;  // the other deformers that move the skin, and the drivers' displacements, in stack order
   DeformerStack stack;           // how they combine (the whole document's)
   bool built = false;            // update_pose built the maps: the GPU makes this frame's skin
 };
@@ -329,8 +332,8 @@ struct Scene {
   // drivers' displacements into skin_posed_; false (skin_posed_ unchanged) when the stack cannot combine them.
   bool combine_skins(std::span<const DriverTerm> drivers);
   // The CPU copy of a stack the GPU made: each other deformer's skin deformed from its cage posed this
-  // frame, then combined with the active one's (in skin_posed_). False when one fails.
-  bool combine_stack_on_cpu();
+  // frame, then combined with the active one's (in skin_posed_) and `drivers`. False when one fails.
+  bool combine_stack_on_cpu(std::span<const DriverTerm> drivers);
   GpuFrame gpu_frame_;
   bool stack_combined_ = false;  // this frame's skin is the stack's (not the active deformer's alone)
   // The parametric drivers' displacements at this frame (their sculpts and keyposes, carried by the
