@@ -58,7 +58,7 @@ Result<Timed> time_driver(const Document& doc, size_t i, std::span<const glm::ve
   t.name = "D" + (i ? std::to_string(i + 1) : std::string()) + " " + driver_name(doc, i);
   const DriverRef r = driver_at(doc, i);
   const auto t0 = std::chrono::steady_clock::now();
-  auto layer = DriverLayer::create(*doc.character, rest, *r.driver, driver_params(doc, *r.place));
+  auto layer = DriverLayer::create(*doc.character, rest, *r.driver, driver_params(doc, *r.place), {}, r.place->set_edits);
   if (!layer) return layer.error();
   if (r.place->attachment)
     if (auto a = layer->attach(*doc.character, &*r.place->attachment); !a) return a.error();

@@ -28,7 +28,10 @@
 #include "app/cli_common.h"
 #include "app/commands.h"
 #include "core/character/skin_mask.h"
+#include "core/deform/patch_binding.h"
+#include "core/deform/set_editing.h"
 #include "core/document/project_io.h"
+#include "core/io/set_edits_io.h"
 
 namespace cagewrap::app {
 
@@ -48,7 +51,9 @@ void print_stack(const Document& doc) {
     std::string f;
     const bool own = d == 0 ? doc.stack.base_muted : doc.layers[d - 1].muted;
     if (own) f += ", muted";
-    else if (deformer_muted(doc, d)) f += ", left out (deformer " + std::to_string(doc.stack.solo) + " is soloed)";
+    else if (deformer_muted(doc, d))
+      f += soloed_driver(doc) ? ", left out (driver '" + doc.stack.solo_driver + "' is soloed)"
+                              : ", left out (deformer " + std::to_string(doc.stack.solo) + " is soloed)";
     if (doc.stack.solo == static_cast<int32_t>(d)) f += ", soloed";
     if (deformer_hidden(doc, d)) f += ", hidden";
     return f;
@@ -70,12 +75,16 @@ void print_stack(const Document& doc) {
       const PatchDriver& p = *r.driver;
       const DriverPlacement& place = *r.place;
       std::string f = p.drive_skin ? "" : ", muted";
-      if (p.drive_skin && !driver_moves_skin(doc, i)) f += ", left out (deformer " + std::to_string(doc.stack.solo) + " is soloed)";
+      if (p.drive_skin && !driver_moves_skin(doc, i))
+        f += soloed_driver(doc) ? ", left out (driver '" + doc.stack.solo_driver + "' is soloed)"
+                                : ", left out (deformer " + std::to_string(doc.stack.solo) + " is soloed)";
+      if (soloed_driver(doc) == i) f += ", soloed";
       const BindParams& b = driver_params(doc, place);
       char binding[96];
       std::snprintf(binding, sizeof binding, "%s binding local %g epsilon %g K %u", place.params ? "own" : "the cage's", b.local,
                     b.epsilon, b.max_elements);
       if (place.hidden) f += ", hidden";
+      if (!place.set_edits.empty()) f += ", " + std::to_string(place.set_edits.size()) + " set edit" + (place.set_edits.size() == 1 ? "" : "s");
       if (place.attachment)
         f += std::string(", attached ") + attachment_mode_name(place.attachment->mode) +
              (place.attachment->overrides.empty() ? "" : " (" + std::to_string(place.attachment->overrides.size()) + " assigned)");
@@ -324,7 +333,7 @@ void add_deformer_command(CLI::App& app, int& exit_code) {
     long index = -1, to = -1;
     double exponent = -1.0;
     bool mute = false, unmute = false, hide = false, show = false, driver = false;
-    std::string solo, after, attach;
+    std::string solo, after, attach, driver_edits;
     std::vector<std::string> attach_points;
     MaskArgs mask;
     BindOptions bind;
@@ -429,7 +438,9 @@ void add_deformer_command(CLI::App& app, int& exit_code) {
       const long i = find_driver(*doc, args->name, args->project);
       if (i < 0) return;
       std::printf("removed    %s\n", driver_name(*doc, size_t(i)).c_str());
-      exit_code = save_and_print(without_first_driver(with_first_driver(*doc, size_t(i))), args->project, args->out);
+      Document next = without_first_driver(with_first_driver(*doc, size_t(i)));
+      if (soloed_driver(*doc) == size_t(i)) next = with_driver_solo(next, std::nullopt);
+      exit_code = save_and_print(next, args->project, args->out);
       return;
     }
     const long i = find_layer(*doc, args->name, args->index, args->project);
@@ -449,13 +460,17 @@ void add_deformer_command(CLI::App& app, int& exit_code) {
   set->add_flag("--unmute", args->unmute, "put it back into the stack")->excludes(mute);
   auto* hide = set->add_flag("--hide", args->hide, "hide its cage in the editor (saved with the project)");
   set->add_flag("--show", args->show, "show its cage in the editor again")->excludes(hide);
-  set->add_option("--solo", args->solo, "only this deformer moves the skin (0 = the project's cage, 1 = the first layer; none = off)");
+  set->add_option("--solo", args->solo, "only this deformer moves the skin (0 = the project's cage, 1 = the first layer; D, D2: a "
+                                        "parametric driver, as the list labels it; none = off)");
   set->add_option("--to", args->to, "move it to this place among the layers (1 = first)");
   set->add_flag("--driver", args->driver, "change a parametric driver (--name says which; default: the first): its name, mute, mask, place, binding");
   set->add_option("--after", args->after, "with --driver: the number of layers before it (0 = right after the project's cage; last = after them all)");
   set->add_option("--attach", args->attach, "with --driver: how its control points follow the skeleton: rigid, smooth, skin_weights or "
                                             "closest (each rigidly to its closest limb)");
   set->add_option("--attach-point", args->attach_points, "with --driver: a control point to a joint (14:chest; 14:auto undoes it)");
+  set->add_option("--set-edits", args->driver_edits,
+                  "with --driver: its contributing-set edits from a set edits file (docs/edits-format.md; per-point edits "
+                  "whose element ids are the driver's samples), or none");
   add_mask_options(*set, args->mask, true);
   set->add_option("--stack", args->stack, "how the skins combine: in_order, sum or blend (docs/deformer-stack.md)");
   set->add_option("--exponent", args->exponent, "the blend's exponent m (>= 0)");
@@ -477,8 +492,18 @@ void add_deformer_command(CLI::App& app, int& exit_code) {
       std::fprintf(stderr, "error: --exponent %g: the blend's exponent must be >= 0\n", args->exponent);
       return;
     }
-    if (!args->solo.empty()) {
+    if (!args->solo.empty() && args->solo[0] == 'D') {  // a parametric driver, by its label in the list (D, D2, ...)
+      char* end = nullptr;
+      const long k = args->solo.size() == 1 ? 1 : std::strtol(args->solo.c_str() + 1, &end, 10);
+      if ((args->solo.size() > 1 && *end) || k < 1 || static_cast<size_t>(k) > driver_count(d)) {
+        std::fprintf(stderr, "error: %s: --solo '%s': the project's drivers are %s\n", args->project.c_str(), args->solo.c_str(),
+                     driver_count(d) == 0 ? "none" : driver_count(d) == 1 ? "D" : ("D to D" + std::to_string(driver_count(d))).c_str());
+        return;
+      }
+      d = with_driver_solo(d, static_cast<size_t>(k - 1));
+    } else if (!args->solo.empty()) {
       DeformerStack stack = d.stack;
+      stack.solo_driver.clear();
       if (args->solo == "none") {
         stack.solo = -1;
       } else {
@@ -514,11 +539,47 @@ void add_deformer_command(CLI::App& app, int& exit_code) {
         surface = std::make_shared<const PatchDriver>(std::move(p));
       }
       DriverPlacement place = *r.place;
+      const bool was_soloed = soloed_driver(d) == size_t(i);
       if (!args->rename.empty()) place.name = args->rename;
       if (args->hide) place.hidden = true;
       if (args->show) place.hidden = false;
       if (!parse_after(d, args->after, place, args->project)) return;
       if (!parse_driver_attachment(d, args->attach, args->attach_points, r.driver->rest.num_control_points(), place, args->project)) return;
+      if (args->driver_edits == "none") {
+        place.set_edits.clear();
+      } else if (!args->driver_edits.empty()) {
+        auto file = load_set_edits(args->driver_edits);
+        if (!file) {
+          report_error(file.error());
+          return;
+        }
+        if (!file->rules.empty()) {
+          std::fprintf(stderr, "error: %s: rules by cage faces do not apply to a parametric driver: give per-point edits of its samples\n",
+                       args->driver_edits.c_str());
+          return;
+        }
+        const size_t samples = patch_sample_count(r.driver->rest, r.driver->density), points = d.character->num_vertices();
+        if ((file->num_points >= 0 && size_t(file->num_points) != points) || (file->num_elements >= 0 && size_t(file->num_elements) != samples)) {
+          std::fprintf(stderr, "error: %s: made for %lld points and %lld elements; the skin has %zu points and the driver %zu samples\n",
+                       args->driver_edits.c_str(), static_cast<long long>(file->num_points), static_cast<long long>(file->num_elements),
+                       points, samples);
+          return;
+        }
+        for (const SetEdit& e : file->edits) {
+          bool in_range = e.point < points;
+          uint32_t bad = 0;
+          for (const auto* list : {&e.exclude, &e.include})
+            for (uint32_t k : *list)
+              if (k >= samples) in_range = false, bad = k;
+          if (!in_range) {
+            std::fprintf(stderr, "error: %s: the edit of skin point %u names %s (the skin has %zu points, the driver %zu samples)\n",
+                         args->driver_edits.c_str(), e.point,
+                         e.point >= points ? "a point past the skin" : ("sample " + std::to_string(bad)).c_str(), points, samples);
+            return;
+          }
+        }
+        place.set_edits = canonical_set_edits(file->edits);
+      }
       if (!apply_mask(d, args->mask, driver_name(d, size_t(i)), place.mask, place.mask_source, args->project)) return;
       if (params) {  // its own binding parameters, starting from those it binds with now
         auto p = bind_options_over(args->bind, driver_params(d, *r.place));
@@ -526,6 +587,7 @@ void add_deformer_command(CLI::App& app, int& exit_code) {
         place.params = *p;
       }
       d = with_driver(d, size_t(i), std::move(surface), std::move(place));
+      if (was_soloed) d = with_driver_solo(d, size_t(i));  // the solo follows a renamed driver
     } else if (!args->after.empty() || !args->attach.empty() || !args->attach_points.empty()) {
       std::fprintf(stderr, "error: %s: --after, --attach and --attach-point are the parametric driver's: give --driver too\n",
                    args->project.c_str());

@@ -124,7 +124,7 @@ void Editor::draw_deformers() {
     if (d == scene.active_deformer()) {
       state = scene.job ? "binding" : scene.binding ? "bound" : "not bound";
     } else if (muted) {
-      state = w.stack.solo >= 0 && static_cast<size_t>(w.stack.solo) != d ? "not soloed" : "muted";
+      state = (w.stack.solo >= 0 && static_cast<size_t>(w.stack.solo) != d) || soloed_driver(w) ? "not soloed" : "muted";
     } else {
       for (const StackRig& r : scene.stack_rigs)
         if (r.deformer == d) state = r.job ? "binding " + std::to_string(int(100 * r.job->progress())) + "%" : r.rig ? "bound" : r.error;
@@ -272,13 +272,18 @@ void Editor::draw_driver_row(size_t i) {
       if (d.index == i)
         state = d.job ? "binding " + std::to_string(int(d.job->progress() * 100)) + "%" : d.layer ? "bound" : d.error;
   }
+  if (moves && soloed_driver(w) == i) state += ", soloed";
   const std::string mask = place.mask ? "mask " + (place.mask_source.empty() ? std::string("painted") : place.mask_source) : "no mask";
-  const std::string attached = place.attachment ? std::string(", attached ") + attachment_mode_name(place.attachment->mode) : "";
+  std::string attached = place.attachment ? std::string(", attached ") + attachment_mode_name(place.attachment->mode) : "";
+  if (!place.set_edits.empty()) attached += ", " + std::to_string(place.set_edits.size()) + " set edits";
   hint("parametric, %zu control points, %zu keypose set%s, %s%s, %s", p.rest.num_control_points(), place.keyposes.size(),
        place.keyposes.size() == 1 ? "" : "s", mask.c_str(), attached.c_str(), state.c_str());
   if (ImGui::SmallButton(place.hidden ? "show" : "hide")) ws_.run("driver_hide " + is + (place.hidden ? " off" : " on"));
   same_line_for(p.drive_skin ? "mute" : "unmute");
   if (ImGui::SmallButton(p.drive_skin ? "mute" : "unmute")) ws_.run("driver_mute " + is + (p.drive_skin ? " on" : " off"));
+  const bool soloed = soloed_driver(w) == i;
+  same_line_for(soloed ? "unsolo" : "solo");
+  if (ImGui::SmallButton(soloed ? "unsolo" : "solo")) ws_.run(soloed ? std::string("driver_solo off") : "driver_solo " + is);
   same_line_for("remove");
   if (ImGui::SmallButton("remove")) ws_.run("driver_remove " + is);
   same_line_for("paint mask");

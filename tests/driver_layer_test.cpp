@@ -247,6 +247,21 @@ TEST(DriverLayer, SeveralDriversAddTheirDisplacements) {
   auto masked_rig = Rig::create(masked);
   ASSERT_TRUE(masked_rig.ok());
   EXPECT_LT(largest_distance(posed_skin(masked, *masked_rig, pose), a), 1e-6);
+  // the second soloed: the cages leave the rest skin, and its displacement alone is added to it
+  const Document soloed = with_driver_solo(both, 1);
+  ASSERT_EQ(soloed_driver(soloed), std::optional<size_t>(1));
+  EXPECT_EQ(soloed.stack.solo_driver, "second");
+  EXPECT_TRUE(deformer_muted(soloed, 0));
+  EXPECT_FALSE(driver_moves_skin(soloed, 0));
+  auto solo_rig = Rig::create(soloed);
+  ASSERT_TRUE(solo_rig.ok()) << solo_rig.error().message;
+  const std::vector<glm::vec3> alone = posed_skin(soloed, *solo_rig, pose);
+  std::vector<glm::vec3> skin_rest;
+  for (const Primitive& prim : plain.character->primitives) skin_rest.insert(skin_rest.end(), prim.positions.begin(), prim.positions.end());
+  double solo_gap = 0.0;
+  for (size_t i = 0; i < p.size(); ++i) solo_gap = std::max(solo_gap, double(glm::length(alone[i] - (skin_rest[i] + b[i] - p[i]))));
+  EXPECT_LT(solo_gap, 1e-5) << "the rest skin plus the soloed driver's displacement";
+  EXPECT_FALSE(soloed_driver(with_driver_solo(soloed, std::nullopt)));
   // removing the first makes the second the first
   const Document rest = without_first_driver(both);
   ASSERT_EQ(driver_count(rest), 1u);
@@ -318,6 +333,42 @@ TEST(DriverLayer, ItsControlPointsFollowTheJointsItsAttachmentNames) {
   ASSERT_FALSE(e.ok());
   EXPECT_NE(e.error().message.find("control point " + std::to_string(far)), std::string::npos) << e.error().message;
   EXPECT_TRUE(layer->attached_by(&hips)) << "a refused attachment leaves the last one";
+}
+
+// The driver's contributing-set edits (DriverPlacement::set_edits, sample ids): the rig binds with them
+// (the edited points follow the samples named), a rig made without them does not fit, and the other points
+// keep their displacement exactly.
+TEST(DriverLayer, ItsSetEditsAreBoundWithAndPartOfTheRig) {
+  const Document plain = test::demo_document();
+  const Document driven = with_patch_driver(plain, test::chest_driver(0.06));
+  auto rig = Rig::create(driven);
+  ASSERT_TRUE(rig.ok());
+  const std::vector<glm::vec3> a = posed_skin(driven, *rig, {});
+  // the chest point the sculpt moves most, made to follow the sheet's first sample alone
+  const std::vector<glm::vec3> base = [&] {
+    auto r = Rig::create(plain);
+    EXPECT_TRUE(r.ok());
+    return posed_skin(plain, *r, {});
+  }();
+  uint32_t most = 0;
+  for (uint32_t i = 0; i < a.size(); ++i)
+    if (glm::distance(a[i], base[i]) > glm::distance(a[most], base[most])) most = i;
+  SetEdit e;
+  e.point = most;
+  e.include = {0};
+  e.only = true;
+  DriverPlacement place;
+  place.set_edits = {e};
+  const Document edited = with_driver_place(driven, place);
+  EXPECT_FALSE(rig->fits(edited)) << "a rig bound without the edits does not pose them";
+  auto edited_rig = Rig::create(edited);
+  ASSERT_TRUE(edited_rig.ok()) << edited_rig.error().message;
+  const std::vector<glm::vec3> b = posed_skin(edited, *edited_rig, {});
+  EXPECT_GT(glm::distance(a[most], b[most]), 0.005) << "the edited point no longer takes the sculpt";
+  double others = 0.0;
+  for (size_t i = 0; i < a.size(); ++i)
+    if (i != most) others = std::max(others, double(glm::distance(a[i], b[i])));
+  EXPECT_LT(others, 1e-6) << "the other points keep their displacement";
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
@@ -197,6 +198,61 @@ TEST(PatchBinding, DegenerateSamplesAreReportedAndSkipped) {
   std::vector<glm::vec3> out(b.skin.size());
   ASSERT_TRUE(d->deform(pole, out).ok());
   EXPECT_LT(max_distance(out, b.skin), 1e-6 * diagonal(b.skin));
+}
+
+// Set edits on a driver (their element ids are samples), as on a cage: an excluded sample leaves the
+// point's set (the next nearest takes its place), an included one joins it with its own weight, `only`
+// keeps the included alone; the other points keep their sets; a sample or point out of range is named.
+TEST(PatchBinding, SetEditsExcludeIncludeAndOnlyActOnSamples) {
+  Bound plain(2);
+  const Binding& t = plain.binding;
+  const auto set_of = [](const Binding& b, uint32_t i) {
+    return std::vector<uint32_t>(b.ids.begin() + b.offsets[i], b.ids.begin() + b.offsets[i + 1]);
+  };
+  const uint32_t point = 1234;
+  const std::vector<uint32_t> before = set_of(t, point);
+  ASSERT_GE(before.size(), 2u);
+  // the point's strongest sample excluded; a far one (not in the set) included
+  uint32_t strongest = before[0];
+  float best = -1.0f;
+  for (uint32_t e = t.offsets[point]; e < t.offsets[point + 1]; ++e)
+    if (t.weights[e] > best) best = t.weights[e], strongest = t.ids[e];
+  uint32_t far = 0;
+  while (std::find(before.begin(), before.end(), far) != before.end()) ++far;
+  SetEdit edit;
+  edit.point = point;
+  edit.exclude = {strongest};
+  edit.include = {far};
+  const std::vector<SetEdit> edits{edit};
+  auto b = bind_skin_to_patches(plain.skin, plain.rest, 2, {}, {}, edits);
+  ASSERT_TRUE(b.ok()) << b.error().message;
+  const std::vector<uint32_t> after = set_of(*b, point);
+  EXPECT_EQ(std::count(after.begin(), after.end(), strongest), 0) << "excluded";
+  EXPECT_EQ(std::count(after.begin(), after.end(), far), 1) << "included";
+  EXPECT_GE(after.size(), 2u) << "the next nearest took the excluded one's place";
+  double sum = 0;
+  for (uint32_t e = b->offsets[point]; e < b->offsets[point + 1]; ++e) sum += b->weights[e];
+  EXPECT_NEAR(sum, 1.0, 1e-6);
+  for (uint32_t i : {0u, 1233u, 1235u, 2999u}) EXPECT_EQ(set_of(*b, i), set_of(t, i)) << "point " << i << " keeps its set";
+  // only: the included alone
+  edit.only = true;
+  edit.exclude.clear();
+  edit.include = {far, strongest};
+  auto only = bind_skin_to_patches(plain.skin, plain.rest, 2, {}, {}, std::vector<SetEdit>{edit});
+  ASSERT_TRUE(only.ok()) << only.error().message;
+  std::vector<uint32_t> kept = set_of(*only, point);
+  std::sort(kept.begin(), kept.end());
+  EXPECT_EQ(kept, (std::vector<uint32_t>{std::min(far, strongest), std::max(far, strongest)}));
+  // out of range: named
+  edit.include = {t.num_samples};
+  auto bad = bind_skin_to_patches(plain.skin, plain.rest, 2, {}, {}, std::vector<SetEdit>{edit});
+  ASSERT_FALSE(bad.ok());
+  EXPECT_NE(bad.error().message.find("names sample " + std::to_string(t.num_samples)), std::string::npos) << bad.error().message;
+  edit.point = 3000;
+  edit.include = {0};
+  bad = bind_skin_to_patches(plain.skin, plain.rest, 2, {}, {}, std::vector<SetEdit>{edit});
+  ASSERT_FALSE(bad.ok());
+  EXPECT_NE(bad.error().message.find("skin point 3000"), std::string::npos) << bad.error().message;
 }
 
 TEST(PatchBinding, BadInputsAreRefused) {

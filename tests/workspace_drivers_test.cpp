@@ -101,6 +101,16 @@ TEST_F(WorkspaceDriversTest, SeveralDriversAreAddedEditedMutedAndMatchTheRig) {
   ws.run("driver_after 1 last");
   EXPECT_EQ(driver_at(w(), 1).place->after, -1);
 
+  // soloed: only that driver moves the skin (the cages leave the rest skin); one undo step, and off again
+  ws.run("driver_solo 1");
+  ASSERT_EQ(soloed_driver(w()), std::optional<size_t>(1));
+  const std::vector<glm::vec3> solo = frame();
+  EXPECT_LT(rig_gap(), 1e-5) << "the soloed driver alone, as the rig makes it";
+  EXPECT_GT(largest_change(both, solo), 0.01);
+  ws.run("driver_solo off");
+  EXPECT_FALSE(soloed_driver(w()));
+  EXPECT_LT(largest_change(both, frame()), 1e-6);
+
   // hidden: its control net is not drawn; the project keeps that
   ws.run("driver_hide 1 on");
   EXPECT_TRUE(driver_at(w(), 1).place->hidden);

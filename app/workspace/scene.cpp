@@ -569,7 +569,7 @@ std::vector<DriverTerm> Scene::driver_displacements() {
     if (!driver_moves_skin(w, i)) continue;
     const DriverRef d = driver_at(w, i);
     for (DriverRig& r : driver_rigs) {  // its own (two drivers may share a surface, each with its sculpt)
-      if (r.index != i || !r.layer || !r.layer->fits(*d.driver, driver_params(w, *d.place))) continue;
+      if (r.index != i || !r.layer || !r.layer->fits(*d.driver, driver_params(w, *d.place), d.place->set_edits)) continue;
       if (!attached(*r.layer, *d.place)) break;
       r.delta.resize(skin_rest.size());
       auto any = r.layer->displacement(*d.driver, d.place->keyposes, w.character->skeleton, pose_, joint_globals, r.delta);
@@ -589,7 +589,7 @@ void Scene::update_driver_rigs() {
     // the layer (or bind) made for the same surface, density and parameters, wherever it was in the list
     auto same = std::find_if(driver_rigs.begin(), driver_rigs.end(), [&](const DriverRig& o) {
       return o.driver && o.character == w.character && o.driver->density == d.driver->density && o.driver->rest == d.driver->rest && o.params == params &&
-             (o.layer || o.job || !o.error.empty());
+             o.edits == d.place->set_edits && (o.layer || o.job || !o.error.empty());
     });
     // a muted driver keeps the layer it has (unmuting is then immediate) but is not bound
     if (!driver_moves_skin(w, i) && same == driver_rigs.end()) continue;
@@ -600,12 +600,13 @@ void Scene::update_driver_rigs() {
     } else {
       r.driver = w.more_drivers[i - 1].driver;
       r.params = params;
+      r.edits = d.place->set_edits;
       r.character = w.character;
       r.job = std::make_unique<DriverRigJob>(
           "binding parametric driver '" + driver_name(w, i) + "'",
-          [character = w.character, skin = skin_rest, driver = r.driver, params](const DriverRigJob::Progress& progress,
-                                                                                 const std::atomic<bool>& cancel) {
-            return DriverLayer::create(*character, skin, *driver, params, job_progress(progress, cancel));
+          [character = w.character, skin = skin_rest, driver = r.driver, params, edits = r.edits](const DriverRigJob::Progress& progress,
+                                                                                                  const std::atomic<bool>& cancel) {
+            return DriverLayer::create(*character, skin, *driver, params, job_progress(progress, cancel), edits);
           });
     }
     r.name = driver_name(w, i);
@@ -622,7 +623,7 @@ bool Scene::any_driving() const {
     if (!driver_moves_skin(w, i)) continue;
     const DriverRef d = driver_at(w, i);
     for (const DriverRig& r : driver_rigs)
-      if (r.index == i && r.layer && r.layer->fits(*d.driver, driver_params(w, *d.place))) return true;
+      if (r.index == i && r.layer && r.layer->fits(*d.driver, driver_params(w, *d.place), d.place->set_edits)) return true;
   }
   return false;
 }
@@ -752,13 +753,14 @@ bool Scene::driver_bound() const {
   // bound with the driver's parameters (its own, or the document cage's: not the active layer's)
   return want && b.deformer && b.driver && b.character == doc().character && b.binding &&
          b.binding->params == patch_bind_params(driver_params(history_.current())) &&
+         b.edits == history_.current().driver_place.set_edits &&
          (b.driver.get() == want || (b.driver->density == want->density && b.driver->rest == want->rest));
 }
 
 bool Scene::driving() const {
   const auto& d = doc().patch_driver;
   return driver_moves_skin(history_.current()) && d && driver_binding.layer && driver_bound() &&
-         driver_binding.layer->fits(*d, driver_params(history_.current()));
+         driver_binding.layer->fits(*d, driver_params(history_.current()), history_.current().driver_place.set_edits);
 }
 
 void Scene::update_pose(const Playback& pb) {

@@ -88,6 +88,7 @@ struct DriverRig {
   size_t index = 0;                           // which of the document's drivers (driver_at; >= 1)
   std::shared_ptr<const PatchDriver> driver;  // what it was (or is being) bound for
   BindParams params;                          // and with
+  std::vector<SetEdit> edits;                 // and its set edits
   std::shared_ptr<const Character> character; // and for
   std::string name;                           // for messages
   std::unique_ptr<DriverLayer> layer;         // null while binding or after a failure
@@ -228,6 +229,7 @@ struct Scene {
     std::unique_ptr<DriverLayer> layer;  // null when the driver cannot follow the skeleton (no skin)
     std::shared_ptr<const PatchDriver> driver;
     std::shared_ptr<const Character> character;
+    std::vector<SetEdit> edits;  // the driver's set edits it was bound with
   } driver_binding;
   // Whether driver_binding serves the document's driver (same rest grids and density) and skin.
   bool driver_bound() const;

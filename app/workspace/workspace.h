@@ -234,6 +234,7 @@ class Workspace {
     std::shared_ptr<const PatchDriver> job_driver;     // what it binds
     std::shared_ptr<const Character> job_character;    // whose rest skin
     std::string job_label;                             // the undo step it makes ("": the document's driver)
+    std::vector<SetEdit> job_edits;                    // the driver's set edits it binds with
     bool nowait = false;                               // a script goes on while it binds
     std::shared_ptr<const PatchDriver> failed;         // the document's driver whose bind failed (not retried)
   };
@@ -264,6 +265,7 @@ class Workspace {
   bool make_driver_first(size_t i);                    // the one the driver window and the patch_* actions edit
   bool set_driver_muted(size_t i, bool muted);
   bool set_driver_hidden(size_t i, bool hidden);  // its control net not drawn (saved with the project)
+  bool set_driver_solo(std::optional<size_t> i);   // only driver i moves the skin (nullopt: no solo)
   bool remove_driver(size_t i);
   void bind_patch_driver();                            // binds the document's driver again (after a failure)
   void cancel_patch_bind();

@@ -431,6 +431,14 @@ void Workspace::add_actions() {
         if (on != "on" && on != "off") return fail("driver_hide I on|off");
         set_driver_hidden(*i, on == "on");
       });
+  add("driver_solo", "I|off", "Only parametric driver I moves the skin (the cages leave the rest skin), or no driver soloed: one undo step.",
+      [this, driver_index](std::istringstream& in) {
+        std::string v;
+        in >> v;
+        if (v == "off") return static_cast<void>(set_driver_solo(std::nullopt));
+        std::istringstream again(v);
+        if (auto i = driver_index(again, "driver_solo I|off")) set_driver_solo(*i);
+      });
   add("driver_remove", "I", "Removes parametric driver I (0 = the first; the next one then becomes the first).",
       [this, driver_index](std::istringstream& in) {
         if (auto i = driver_index(in, "driver_remove I")) remove_driver(*i);

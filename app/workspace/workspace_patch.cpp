@@ -22,12 +22,16 @@ void Workspace::start_patch_bind(std::shared_ptr<const PatchDriver> driver, std:
   patch_.job_driver = driver;
   patch_.job_character = scene_->doc().character;
   patch_.job_label = std::move(label);
+  // set edits name samples: they hold for the same surface and density only (a new one drops them: poll_patch)
+  const auto& current = scene_->work().patch_driver;
+  const bool same_samples = current && current->rest == driver->rest && current->density == driver->density;
+  patch_.job_edits = same_samples ? scene_->work().driver_place.set_edits : std::vector<SetEdit>{};
   patch_.nowait = false;
   patch_.job = std::make_unique<BackgroundTask<Binding>>(
       "binding to the parametric driver",
-      [skin = scene_->skin_rest, driver, params = driver_params(scene_->work())](const BindJob::Progress& progress,
-                                                                         const std::atomic<bool>& cancel) {
-        return bind_skin_to_patches(skin, driver->rest, driver->density, params, job_progress(progress, cancel));
+      [skin = scene_->skin_rest, driver, params = driver_params(scene_->work()), edits = patch_.job_edits](
+          const BindJob::Progress& progress, const std::atomic<bool>& cancel) {
+        return bind_skin_to_patches(skin, driver->rest, driver->density, params, job_progress(progress, cancel), edits);
       });
 }
 
@@ -57,7 +61,8 @@ void Workspace::poll_patch() {
     bound.character = scene_->doc().character;
     // the driver's sculpt follows the skeleton (core/rig/driver_layer.h): its own copy of the binding
     bound.layer.reset();
-    auto layer = DriverLayer::create(*bound.character, scene_->skin_rest, *driver, *bound.binding);
+    bound.edits = patch_.job_edits;
+    auto layer = DriverLayer::create(*bound.character, scene_->skin_rest, *driver, *bound.binding, bound.edits);
     if (layer) bound.layer = std::make_unique<DriverLayer>(std::move(layer).value());
     else report_error("parametric driver: it cannot follow the skeleton: " + layer.error().message);
     char line[200];
@@ -67,7 +72,15 @@ void Workspace::poll_patch() {
                   bound.binding->invalid_elements.size(), bound.binding->seconds * 1e3);
     log(line);
     if (!label.empty()) {
-      scene_->apply(label, with_patch_driver(scene_->doc(), driver));
+      Document next = with_patch_driver(scene_->doc(), driver);
+      if (next.driver_place.set_edits.size() != patch_.job_edits.size()) {  // other samples: the edits named the old ones
+        DriverPlacement place = next.driver_place;
+        log("warning: parametric driver: its " + std::to_string(place.set_edits.size()) +
+            " set edits named the samples of its old surface or density and were dropped", true);
+        place.set_edits.clear();
+        next = with_driver_place(next, std::move(place));
+      }
+      scene_->apply(label, std::move(next));
       log("parametric driver: " + label);
     }
     return;
@@ -400,12 +413,24 @@ bool Workspace::set_driver_hidden(size_t i, bool hidden) {
   return true;
 }
 
+bool Workspace::set_driver_solo(std::optional<size_t> i) {
+  if (i && !check_driver(*i)) return false;
+  if (!scene_) return false;
+  const Document& w = scene_->work();
+  const std::string label = i ? "Solo parametric driver '" + driver_name(w, *i) + "'" : std::string("Unsolo parametric drivers");
+  if (!scene_->apply_work(label, with_driver_solo(w, i))) return false;
+  log(label);
+  return true;
+}
+
 bool Workspace::remove_driver(size_t i) {
   if (!check_driver(i)) return false;
   const Document& w = scene_->work();
   const std::string label = "Remove parametric driver '" + driver_name(w, i) + "'";
   view.patch.point = -1;
-  if (!scene_->apply_work(label, without_first_driver(with_first_driver(w, i)))) return false;
+  Document next = without_first_driver(with_first_driver(w, i));
+  if (soloed_driver(w) == i) next = with_driver_solo(next, std::nullopt);  // its solo goes with it
+  if (!scene_->apply_work(label, std::move(next))) return false;
   log(label);
   return true;
 }

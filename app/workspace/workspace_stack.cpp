@@ -155,6 +155,7 @@ bool Workspace::set_deformer_solo(long d) {
   const Document& w = scene_->work();
   DeformerStack st = w.stack;
   st.solo = d < 0 ? -1 : static_cast<int32_t>(d);
+  st.solo_driver.clear();
   return change_stack(d < 0 ? std::string("Unsolo deformers") : "Solo deformer " + deformer_name(w, static_cast<size_t>(d)),
                       with_stack(w, st));
 }

@@ -10,6 +10,7 @@
 #include <glm/matrix.hpp>
 
 #include "core/cage/cage.h"
+#include "core/deform/set_editing.h"
 #include "core/geometry/point_grid.h"
 
 namespace cagewrap {
@@ -52,9 +53,14 @@ BindParams patch_bind_params(const BindParams& params) {
   return p;
 }
 
+size_t patch_sample_count(const PatchSurface& rest, uint32_t density) {
+  auto s = sample_patch_surface(rest, density);
+  return s ? s->size() : 0;
+}
+
 Result<Binding> bind_skin_to_patches(std::span<const glm::vec3> skin, const PatchSurface& rest,
                                      uint32_t density, const BindParams& params_in,
-                                     const BindProgress& progress) {
+                                     const BindProgress& progress, std::span<const SetEdit> edits_in) {
   const auto start = std::chrono::steady_clock::now();
   const BindParams params = patch_bind_params(params_in);
   if (auto v = validate(params); !v) return v.error();
@@ -97,6 +103,21 @@ Result<Binding> bind_skin_to_patches(std::span<const glm::vec3> skin, const Patc
                                                        " samples have a degenerate frame (S_u x S_v = 0)");
   const PointGrid grid(valid_position);
   if (stopped()) return cancel_error;
+  // the set edits, one per point (canonical), checked against the skin and the samples
+  const std::vector<SetEdit> edits = canonical_set_edits(edits_in);
+  for (const SetEdit& e : edits) {
+    if (e.point >= skin.size())
+      return make_error(ErrorCode::kIndexOutOfRange, "a set edit names skin point " + std::to_string(e.point) + ", but the skin has " +
+                                                         std::to_string(skin.size()));
+    for (const auto* list : {&e.exclude, &e.include})
+      for (uint32_t k : *list)
+        if (k >= samples.size())
+          return make_error(ErrorCode::kIndexOutOfRange, "the set edit of skin point " + std::to_string(e.point) + " names sample " +
+                                                             std::to_string(k) + ", but the driver has " + std::to_string(samples.size()) +
+                                                             " at density " + std::to_string(density));
+  }
+  std::vector<uint8_t> valid(samples.size(), 0);
+  for (uint32_t k : valid_ids) valid[k] = 1;
 
   // per point: the K + 1 nearest valid samples decide the set exactly (the threshold radius is
   // relative to the nearest; the (K+1)-th only sets the cut)
@@ -124,13 +145,23 @@ Result<Binding> bind_skin_to_patches(std::span<const glm::vec3> skin, const Patc
       Block& o = out[blk];
       for (size_t i = blk * block; i < std::min(n, (blk + 1) * block); ++i) {
         const glm::dvec3 p(skin[i]);
+        // its set edit: excluded and included samples leave the automatic rule (included ones join after it)
+        const auto at = std::lower_bound(edits.begin(), edits.end(), uint32_t(i),
+                                         [](const SetEdit& e, uint32_t point) { return e.point < point; });
+        const SetEdit* edit = at != edits.end() && at->point == i ? &*at : nullptr;
+        const auto outside = [&](uint32_t k) {
+          return edit && (edit->excludes(k) || std::binary_search(edit->include.begin(), edit->include.end(), k));
+        };
         // the K + 1 nearest samples, or up to kMaxTiedMembers + 1 where the (K+1)-th is in the tie band
+        // (those an edit leaves out not counted)
+        const size_t skipped = edit ? edit->exclude.size() + edit->include.size() : 0;
         auto gather = [&](size_t count) {
-          grid.nearest(p, count, near);
           cands.clear();
+          if (edit && edit->only) return;
+          grid.nearest(p, count + skipped, near);
           for (const auto& [d2, local] : near) {
             const uint32_t k = valid_ids[local];
-            cands.push_back({glm::length(p - position[k]) / h, k});  // exact, in double
+            if (!outside(k)) cands.push_back({glm::length(p - position[k]) / h, k});  // exact, in double
           }
           std::sort(cands.begin(), cands.end());
         };
@@ -138,6 +169,33 @@ Result<Binding> bind_skin_to_patches(std::span<const glm::vec3> skin, const Patc
         if (cands.size() > K) {
           const double band = std::sqrt(tie_band2(params, 1.0, cands.front().first * cands.front().first));
           if (cands[K].first <= band) gather(std::max<size_t>(K + 1, kMaxTiedMembers + 1));
+        }
+        std::vector<std::pair<double, uint32_t>> included;  // the edit's valid inclusions, with their distances
+        if (edit)
+          for (uint32_t k : edit->include)
+            if (valid[k]) included.push_back({glm::length(p - position[k]) / h, k});
+        if (cands.empty() && included.empty()) {  // the edit left nothing: the nearest valid sample
+          grid.nearest(p, 1, near);
+          const uint32_t k = valid_ids[near.front().second];
+          cands.push_back({glm::length(p - position[k]) / h, k});
+        }
+        if (cands.empty()) {  // `only`: the included samples alone, each with its own weight
+          inside[i] = 0;
+          double sum = 0.0;
+          w.resize(included.size());
+          std::vector<double> own;
+          for (const auto& [d, k] : included) own.push_back(d);
+          std::sort(own.begin(), own.end());
+          const Taper taper(params, h, own);  // (raw weights only: eq. 1 of each distance)
+          for (size_t j = 0; j < included.size(); ++j) sum += (w[j] = taper.raw(included[j].first));
+          uint32_t m = 0;
+          for (size_t j = 0; j < included.size(); ++j) {
+            o.ids.push_back(included[j].second);
+            o.weights.push_back(static_cast<float>(sum > 0 ? w[j] / sum : 1.0 / included.size()));
+            ++m;
+          }
+          o.count.push_back(m);
+          continue;
         }
         // (beyond the max distance the nearest samples still drive: the tie band keeps them)
         const double nearest = cands.front().first;
@@ -152,6 +210,11 @@ Result<Binding> bind_skin_to_patches(std::span<const glm::vec3> skin, const Patc
         if (!(sum > 0)) {  // every candidate at the cut: plain weights over the first K
           sum = 0.0;
           for (size_t j = 0; j < cands.size(); ++j) sum += (w[j] = j < K ? taper.raw(dist[j]) : 0.0);
+        }
+        for (const auto& [d, k] : included) {  // inclusions: their own weight, on the taper's scale
+          cands.push_back({d, k});
+          w.push_back(taper.raw(d));
+          sum += w.back();
         }
         uint32_t m = 0;
         for (size_t j = 0; j < cands.size(); ++j) {

@@ -23,13 +23,19 @@
 namespace cagewrap {
 
 // Binds `skin` to the samples of `rest` at `density` (core/deform/patch_surface.h). params.variant and
-// the separation settings are ignored (the basic variant; no skeleton labels); set edits do not apply.
+// the separation settings are ignored (the basic variant; no skeleton labels). `edits` (contributing-set
+// edits whose element ids are sample ids; any order) act as on a cage: excluded samples leave a point's
+// candidates, included ones join its set with their own weight, `only` keeps the included alone; a point
+// left with none follows its nearest valid sample. Errors also name an edit's point or sample out of range.
 // A point that no sample reaches (max_distance) follows its nearest valid sample alone. Errors: bad
 // parameters or density, a surface validate_patch_surface refuses, an empty or non-finite skin,
 // no valid sample, a zero control-net scale, cancellation. Reports progress like bind_skin.
 Result<Binding> bind_skin_to_patches(std::span<const glm::vec3> skin, const PatchSurface& rest,
                                      uint32_t density, const BindParams& params,
-                                     const BindProgress& progress = {});
+                                     const BindProgress& progress = {}, std::span<const SetEdit> edits = {});
+// How many samples `rest` has at `density` (the element ids set edits on a driver name); 0 when it cannot
+// be sampled.
+size_t patch_sample_count(const PatchSurface& rest, uint32_t density);
 // The parameters bind_skin_to_patches binds with (and records in Binding::params): `params` with the
 // basic variant and no separation.
 BindParams patch_bind_params(const BindParams& params);

@@ -138,7 +138,31 @@ const BindParams& driver_params(const Document& doc) { return driver_params(doc,
 bool driver_moves_skin(const Document& doc, size_t i) {
   if (i >= driver_count(doc)) return false;
   const bool solo = doc.stack.solo >= 0 && static_cast<size_t>(doc.stack.solo) < deformer_count(doc);
-  return driver_at(doc, i).driver->drive_skin && !solo;
+  if (solo) return false;
+  if (const auto s = soloed_driver(doc)) return *s == i && driver_at(doc, i).driver->drive_skin;
+  return driver_at(doc, i).driver->drive_skin;
+}
+
+std::optional<size_t> soloed_driver(const Document& doc) {
+  if (doc.stack.solo_driver.empty()) return std::nullopt;
+  for (size_t i = 0; i < driver_count(doc); ++i)
+    if (driver_name(doc, i) == doc.stack.solo_driver) return i;
+  return std::nullopt;
+}
+
+Document with_driver_solo(const Document& doc, std::optional<size_t> i) {
+  Document out = doc;
+  out.stack.solo_driver.clear();
+  if (i) {
+    CAGEWRAP_CHECK(*i < driver_count(doc), "with_driver_solo: no such parametric driver");
+    DriverPlacement place = *driver_at(doc, *i).place;
+    place.name = driver_name(doc, *i);  // baked: the solo follows the driver wherever it moves in the list
+    out = with_driver_place(out, *i, std::move(place));
+    out.stack.solo = -1;
+    out.stack.solo_driver = driver_name(out, *i);
+  }
+  out.revision = next_revision();
+  return out;
 }
 bool driver_moves_skin(const Document& doc) { return driver_moves_skin(doc, 0); }
 
@@ -250,6 +274,7 @@ Document layer_document(const Document& doc, size_t i) {
 }
 
 bool deformer_muted(const Document& doc, size_t d) {
+  if (soloed_driver(doc)) return true;  // a driver alone moves the skin
   if (doc.stack.solo >= 0 && static_cast<size_t>(doc.stack.solo) < deformer_count(doc)) return d != static_cast<size_t>(doc.stack.solo);
   if (d == 0) return doc.stack.base_muted;
   return d - 1 < doc.layers.size() ? doc.layers[d - 1].muted : true;

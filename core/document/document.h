@@ -85,6 +85,9 @@ struct DeformerStack {
   bool base_muted = false;   // the document's cage left out: its skin is the rest skin (f_0 = p)
   bool base_hidden = false;  // its cage not drawn in the editor
   int32_t solo = -1;         // only this deformer moves the skin (the others as if muted); -1 = none
+  // The name of the only parametric driver that moves the skin (every cage as if muted: the rest skin
+  // and its displacement); "" = none. At most one of `solo` and it is set.
+  std::string solo_driver;
   bool operator==(const DeformerStack&) const = default;
 };
 const char* stack_mode_name(StackMode mode);               // "in_order", "sum", "blend"
@@ -117,8 +120,10 @@ struct DriverPlacement {
   // as projects before this field had it.
   std::optional<AttachmentSettings> attachment;
   bool hidden = false;  // its control net not drawn in the editor (a view setting, saved with the project)
+  // Contributing-set edits whose element ids are its samples (core/deform/patch_binding.h); canonical.
+  std::vector<SetEdit> set_edits;
   bool operator==(const DriverPlacement& o) const {
-    return name == o.name && hidden == o.hidden && after == o.after && (mask == o.mask || (mask && o.mask && *mask == *o.mask)) && mask_source == o.mask_source &&
+    return name == o.name && hidden == o.hidden && set_edits == o.set_edits && after == o.after && (mask == o.mask || (mask && o.mask && *mask == *o.mask)) && mask_source == o.mask_source &&
            keyposes == o.keyposes && params == o.params && attachment == o.attachment;
   }
 };
@@ -264,7 +269,12 @@ Document with_stack(const Document& doc, DeformerStack stack);
 Document layer_document(const Document& doc, size_t i);
 // The deformers: 0 is the document's own cage, k the layer k - 1.
 inline size_t deformer_count(const Document& doc) { return 1 + doc.layers.size(); }
-// Whether deformer `d` is left out of the stack: muted, or another one is soloed.
+// The parametric driver stack.solo_driver names (driver_at's number), when there is one.
+std::optional<size_t> soloed_driver(const Document& doc);
+// The document with driver i soloed (its name baked into its placement, the cages' solo cleared), or no
+// driver soloed (nullopt). i < driver_count(doc): checked.
+Document with_driver_solo(const Document& doc, std::optional<size_t> i);
+// Whether deformer `d` is left out of the stack: muted, or another one (or a driver) is soloed.
 bool deformer_muted(const Document& doc, size_t d);
 // How many deformers move the skin (those deformer_muted leaves in).
 size_t moving_deformers(const Document& doc);

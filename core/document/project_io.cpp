@@ -18,6 +18,8 @@
 #include "core/base/json_reader.h"
 #include "core/io/patch_io.h"
 #include "core/io/set_edits_io.h"
+#include "core/deform/set_editing.h"
+#include "core/deform/patch_binding.h"
 
 namespace cagewrap {
 
@@ -251,6 +253,22 @@ Result<std::string> driver_object_text(const std::string& path, const Document& 
     const std::string a = attachment_text(doc, *place.attachment);
     s += ",\n" + a.substr(0, a.size() - 2);
   }
+  if (!place.set_edits.empty()) {
+    const size_t samples = patch_sample_count(d.rest, d.density);
+    const size_t points = doc.character ? doc.character->num_vertices() : SIZE_MAX;
+    s += ",\n    \"set_edits\": [";
+    for (size_t i = 0; i < place.set_edits.size(); ++i) {
+      const SetEdit& e = place.set_edits[i];
+      bool in_range = e.point < points;
+      for (const auto* list : {&e.exclude, &e.include})
+        for (uint32_t k : *list) in_range = in_range && k < samples;
+      if (!in_range)
+        return make_error(ErrorCode::kIndexOutOfRange, path + ": not saved: " + who + "'s set edit of skin point " + std::to_string(e.point) +
+                                                           " names a point or sample out of range (" + std::to_string(samples) + " samples)");
+      s += std::string(i ? "," : "") + "\n      " + set_edit_json(e);
+    }
+    s += "\n    ]";
+  }
   if (!place.keyposes.empty()) {
     const std::string k = keyposes_text(doc, place.keyposes);
     s += ",\n" + k.substr(0, k.size() - 2);
@@ -369,6 +387,12 @@ Result<std::string> layers_text(const std::string& path, const Document& doc, co
   if (doc.stack.base_muted) stack["base_muted"] = true;
   if (doc.stack.base_hidden) stack["base_hidden"] = true;
   if (doc.stack.solo >= 0) stack["solo"] = doc.stack.solo;
+  if (!doc.stack.solo_driver.empty()) {
+    if (!soloed_driver(doc))
+      return make_error(ErrorCode::kInvalidArgument, path + ": not saved: the soloed parametric driver '" + doc.stack.solo_driver +
+                                                         "' does not exist");
+    stack["solo_driver"] = doc.stack.solo_driver;
+  }
   s += "  \"deformer_stack\": " + one_line(stack) + ",\n";
   return s;
 }
@@ -670,7 +694,7 @@ std::shared_ptr<const PatchDriver> read_patch_driver(const Reader& r, const Json
     for (size_t k = 0; k < n; ++k) points[k] = read_dvec3(r, list[k], Reader::at(where + ".posed", k));
     d.posed.set_control_points(points);
   }
-  warn_unknown(j, where, {"density", "drive_skin", "rest", "posed", "name", "hidden", "after", "mask", "mask_source", "keyposes", "binding", "attachment"},
+  warn_unknown(j, where, {"density", "drive_skin", "rest", "posed", "name", "hidden", "set_edits", "after", "mask", "mask_source", "keyposes", "binding", "attachment"},
                warnings, file);
   return std::make_shared<const PatchDriver>(std::move(d));
 }
@@ -873,7 +897,7 @@ std::shared_ptr<const std::vector<float>> read_mask(const Reader& r, const Json&
 // The parametric driver's place in the stack, mask and keyposes ("patch_driver"'s "after", "mask",
 // "mask_source", "keyposes"), checked against the character and the driver's control points.
 DriverPlacement read_driver_place(const Reader& r, const Json& j, const Character& character, size_t num_control_points,
-                                  std::vector<std::string>& warnings, const std::string& file,
+                                  size_t num_samples, std::vector<std::string>& warnings, const std::string& file,
                                   const std::string& where = "patch_driver") {
   DriverPlacement place;
   if (j.contains("name")) place.name = r.string(j["name"], where + ".name");
@@ -883,6 +907,18 @@ DriverPlacement read_driver_place(const Reader& r, const Json& j, const Characte
   if (j.contains("mask")) place.mask = read_mask(r, j["mask"], where + ".mask", character);
   if (j.contains("keyposes")) place.keyposes = read_keyposes(r, j["keyposes"], character, num_control_points, warnings, file);
   if (j.contains("binding")) place.params = read_params(Reader(r.file() + ": " + where), j, warnings, file);
+  if (j.contains("set_edits")) {  // sample ids, checked against the driver's samples
+    const Reader in(r.file() + ": " + where);
+    const Json& list = in.array(j["set_edits"], "set_edits");
+    for (size_t i = 0; i < list.size(); ++i) {
+      place.set_edits.push_back(read_set_edit(in, list[i], Reader::at("set_edits", i), num_samples));
+      if (place.set_edits.back().point >= character.num_vertices())
+        in.fail(ErrorCode::kIndexOutOfRange, Reader::at("set_edits", i) + ".point is skin vertex " +
+                                                 std::to_string(place.set_edits.back().point) + ", but the character has " +
+                                                 std::to_string(character.num_vertices()));
+    }
+    place.set_edits = canonical_set_edits(place.set_edits);
+  }
   if (j.contains("attachment")) {
     const Reader in(r.file() + ": " + where);
     place.attachment = read_attachment(in, j["attachment"], character, num_control_points, warnings, file);
@@ -1036,11 +1072,13 @@ Result<ProjectLoad> load(const std::string& path, const std::string& character_o
                                       std::to_string(doc.layers.size()));
       doc.stack.solo = static_cast<int32_t>(solo);
     }
-    warn_unknown(st, "deformer_stack", {"mode", "exponent", "base_muted", "base_hidden", "solo"}, out.warnings, path);
+    if (st.contains("solo_driver")) doc.stack.solo_driver = r.string(st["solo_driver"], "deformer_stack.solo_driver");
+    warn_unknown(st, "deformer_stack", {"mode", "exponent", "base_muted", "base_hidden", "solo", "solo_driver"}, out.warnings, path);
   }
   if (root.contains("patch_driver")) {
     doc.patch_driver = read_patch_driver(r, root["patch_driver"], path, out.warnings);
-    doc.driver_place = read_driver_place(r, root["patch_driver"], *loaded, doc.patch_driver->rest.num_control_points(), out.warnings, path);
+    doc.driver_place = read_driver_place(r, root["patch_driver"], *loaded, doc.patch_driver->rest.num_control_points(),
+                                         patch_sample_count(doc.patch_driver->rest, doc.patch_driver->density), out.warnings, path);
   }
   if (root.contains("more_drivers")) {
     const Json& list = r.array(root["more_drivers"], "more_drivers");
@@ -1049,10 +1087,13 @@ Result<ProjectLoad> load(const std::string& path, const std::string& character_o
       const std::string where = Reader::at("more_drivers", i);
       DriverDeformer d;
       d.driver = read_patch_driver(r, list[i], path, out.warnings, where);
-      d.place = read_driver_place(r, list[i], *loaded, d.driver->rest.num_control_points(), out.warnings, path, where);
+      d.place = read_driver_place(r, list[i], *loaded, d.driver->rest.num_control_points(),
+                                  patch_sample_count(d.driver->rest, d.driver->density), out.warnings, path, where);
       doc.more_drivers.push_back(std::move(d));
     }
   }
+  if (!doc.stack.solo_driver.empty() && !soloed_driver(doc))
+    r.fail(ErrorCode::kParse, "deformer_stack.solo_driver is '" + doc.stack.solo_driver + "', but no parametric driver has that name");
   doc.character = std::make_shared<const Character>(std::move(loaded).value());
   doc.character_path = character_path;
   doc.character_hash = std::move(hash);

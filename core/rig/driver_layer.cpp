@@ -10,6 +10,7 @@
 #include "core/cage/cage_attachment.h"
 #include "core/character/skinning.h"
 #include "core/deform/patch_binding.h"
+#include "core/deform/set_editing.h"
 
 namespace cagewrap {
 
@@ -21,6 +22,7 @@ struct DriverLayer::State {
   uint32_t density = 0;
   CageAttachment attachment;           // one "vertex" per control point
   std::optional<AttachmentSettings> attached_with;  // null: each to its closest limb
+  std::vector<SetEdit> edits;                        // the set edits it was bound with (canonical)
   Skin skin;                           // the attachment's skin (its joints and inverse bind matrices)
   std::vector<glm::vec3> rest_points;  // #C
   // scratch, reused pose to pose
@@ -38,21 +40,23 @@ DriverLayer& DriverLayer::operator=(DriverLayer&&) noexcept = default;
 DriverLayer::~DriverLayer() = default;
 
 Result<DriverLayer> DriverLayer::create(const Character& character, std::span<const glm::vec3> skin_rest,
-                                        const PatchDriver& driver, const BindParams& params, const BindProgress& progress) {
+                                        const PatchDriver& driver, const BindParams& params, const BindProgress& progress,
+                                        std::span<const SetEdit> edits) {
   if (character.skins.empty())
     return make_error(ErrorCode::kInvalidArgument, "the character has no skin for the parametric driver to follow");
-  auto b = bind_skin_to_patches(skin_rest, driver.rest, driver.density, params, progress);
+  auto b = bind_skin_to_patches(skin_rest, driver.rest, driver.density, params, progress, edits);
   if (!b) return b.error();
-  return create(character, skin_rest, driver, std::move(b).value());
+  return create(character, skin_rest, driver, std::move(b).value(), edits);
 }
 
 Result<DriverLayer> DriverLayer::create(const Character& character, std::span<const glm::vec3> skin_rest,
-                                        const PatchDriver& driver, Binding binding) {
+                                        const PatchDriver& driver, Binding binding, std::span<const SetEdit> edits) {
   if (character.skins.empty())
     return make_error(ErrorCode::kInvalidArgument, "the character has no skin for the parametric driver to follow");
   DriverLayer layer;
   State& s = *layer.s_;
   s.binding = std::move(binding);
+  s.edits = canonical_set_edits(edits);
   s.skin_rest.assign(skin_rest.begin(), skin_rest.end());
   auto d = PatchDeformer::create(s.binding, s.skin_rest, driver.rest, driver.density);
   if (!d) return d.error();
@@ -87,6 +91,9 @@ Result<DriverLayer> DriverLayer::create(const Character& character, std::span<co
 bool DriverLayer::fits(const PatchDriver& driver) const { return driver.density == s_->density && driver.rest == s_->rest; }
 bool DriverLayer::fits(const PatchDriver& driver, const BindParams& params) const {
   return fits(driver) && s_->binding.params == patch_bind_params(params);
+}
+bool DriverLayer::fits(const PatchDriver& driver, const BindParams& params, std::span<const SetEdit> edits) const {
+  return fits(driver, params) && std::equal(s_->edits.begin(), s_->edits.end(), edits.begin(), edits.end());
 }
 
 size_t DriverLayer::num_control_points() const { return s_->rest_points.size(); }

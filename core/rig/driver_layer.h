@@ -34,15 +34,18 @@ class DriverLayer {
   // (bind_skin_to_patches with `params`) and attaches its control points to the skeleton. Fails when the
   // character has no skin, or the bind fails (the message says which).
   static Result<DriverLayer> create(const Character& character, std::span<const glm::vec3> skin_rest,
-                                    const PatchDriver& driver, const BindParams& params, const BindProgress& progress = {});
-  // The same from a binding made earlier for this driver and skin (the editor's).
+                                    const PatchDriver& driver, const BindParams& params, const BindProgress& progress = {},
+                                    std::span<const SetEdit> edits = {});
+  // The same from a binding made earlier for this driver and skin (the editor's), with `edits`.
   static Result<DriverLayer> create(const Character& character, std::span<const glm::vec3> skin_rest,
-                                    const PatchDriver& driver, Binding binding);
+                                    const PatchDriver& driver, Binding binding, std::span<const SetEdit> edits = {});
 
   // Whether `driver` has the rest surface and density this layer was bound for (its sculpt may differ), and
   // `params` are what it was bound with (core/deform/patch_binding.h patch_bind_params).
   bool fits(const PatchDriver& driver) const;
   bool fits(const PatchDriver& driver, const BindParams& params) const;
+  // ... and its set edits are `edits` (canonical, as DriverPlacement keeps them).
+  bool fits(const PatchDriver& driver, const BindParams& params, std::span<const SetEdit> edits) const;
   // The sculpt's displacement of the skin alone, written into `delta` (#P): the sculpt is the posed control
   // points minus the rest ones plus `offsets` (#C, the driver's keyposes at the pose in bind space, or
   // empty). Returns whether there is any (false: `delta` is all zero).

@@ -243,7 +243,7 @@ Result<Rig> Rig::make(const Document& doc, std::vector<std::optional<Binding>> b
       return make_error(ErrorCode::kTopologyMismatch, "parametric driver '" + driver_name(doc, i) + "': its mask has " +
                                                           std::to_string(r.place->mask->size()) + " weights but the skin has " +
                                                           std::to_string(s.skin_rest.size()) + " points");
-    auto d = DriverLayer::create(ch, s.skin_rest, *r.driver, driver_params(doc, *r.place), progress);
+    auto d = DriverLayer::create(ch, s.skin_rest, *r.driver, driver_params(doc, *r.place), progress, r.place->set_edits);
     if (!d) return make_error(d.error().code, "parametric driver '" + driver_name(doc, i) + "': " + d.error().message);
     if (r.place->attachment)
       if (auto a = d->attach(ch, &*r.place->attachment); !a)
@@ -287,7 +287,7 @@ bool Rig::fits(const Document& doc) const {
     if (!driver_moves_skin(doc, i)) continue;
     if (k >= state_->drivers.size() || state_->driver_index[k] != i) return false;
     const DriverRef r = driver_at(doc, i);
-    if (!state_->drivers[k].fits(*r.driver, driver_params(doc, *r.place))) return false;
+    if (!state_->drivers[k].fits(*r.driver, driver_params(doc, *r.place), r.place->set_edits)) return false;
     if (!state_->drivers[k].attached_by(r.place->attachment ? &*r.place->attachment : nullptr)) return false;
     ++k;
   }

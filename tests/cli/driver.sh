@@ -142,6 +142,14 @@ run deformer set --project "$T/two_muted.cagewrap" --driver --name chest2 --hide
 check "set --driver --hide" has "$T/out" "^  D2 chest2 .*, muted, hidden$"
 run pose --project "$T/two_muted.cagewrap" --clip walk --time 0.4 --out "$T/two_muted.bin"
 check "the second muted: the first's pose" cmp_close "$T/driven.bin" "$T/two_muted.bin" 1e-5
+run deformer set --project "$T/two.cagewrap" --solo D2 --out "$T/two_solo.cagewrap"
+check "--solo D2 solos the second driver" has "$T/out" "^  D2 rest .*, soloed$"
+check "the cage is left out" has "$T/out" "^  0  (project cage) .*, left out (driver 'rest' is soloed)"
+check "and the first driver" has "$T/out" "^  D  (driver) .*, left out (driver 'rest' is soloed)"
+run deformer set --project "$T/two_solo.cagewrap" --solo none
+check "--solo none" has "$T/out" "^  D2 rest .*, after every layer$"
+run deformer set --project "$T/two.cagewrap" --solo D3
+check "a driver that is not there" hasf "$T/err" "--solo 'D3': the project's drivers are D to D2"
 run deformer remove --project "$T/two.cagewrap" --driver --out "$T/two_removed.cagewrap"
 check "remove --driver removes the first" has "$T/out" "^removed    driver$"
 check "the other becomes the first" has "$T/out" "^  D  rest  *parametric driver"
@@ -171,6 +179,27 @@ run deformer set --project "$T/driven.cagewrap" --driver --attach-point 3:nowher
 check "an unknown joint is refused" hasf "$T/err" "the skeleton has no node 'nowhere'"
 run deformer set --project "$T/driven.cagewrap" --attach rigid
 check "--attach without --driver is refused" hasf "$T/err" "are the parametric driver's: give --driver too"
+# the driver's contributing-set edits (element ids are its samples: 35 at density 2): a chest vertex follows
+# the sheet's first sample alone
+cat > "$T/edits.json" <<'JSON'
+{"format": "cagewrap-set-edits", "version": 1, "elements": 35,
+ "edits": [{"point": 32831, "include": [0], "only": true}]}
+JSON
+run deformer set --project "$T/driven.cagewrap" --driver --set-edits "$T/edits.json" --out "$T/edited.cagewrap"
+check "--set-edits" has "$T/out" "^  D  (driver) .*, 1 set edit$"
+run pose --project "$T/edited.cagewrap" --clip walk --time 0.4 --out "$T/edited.bin"
+check "the set edit changes the pose" bash -c "! cmp -s '$T/driven.bin' '$T/edited.bin'"
+run deformer set --project "$T/edited.cagewrap" --driver --set-edits none --out "$T/unedited.cagewrap"
+run pose --project "$T/unedited.cagewrap" --clip walk --time 0.4 --out "$T/unedited.bin"
+check "--set-edits none: as before" cmp_close "$T/driven.bin" "$T/unedited.bin" 1e-6
+sed 's/"include": \[0\]/"include": [35]/; s/"elements": 35, //' "$T/edits.json" > "$T/edits_bad.json"
+run deformer set --project "$T/driven.cagewrap" --driver --set-edits "$T/edits_bad.json"
+check "a sample past the driver's is refused" hasf "$T/err" "the edit of skin point 32831 names sample 35 (the skin has 34800 points, the driver 35 samples)"
+cat > "$T/edits_rules.json" <<'JSON'
+{"format": "cagewrap-set-edits", "version": 1, "rules": [{"mode": "remove", "points": [1], "faces": [0]}]}
+JSON
+run deformer set --project "$T/driven.cagewrap" --driver --set-edits "$T/edits_rules.json"
+check "rules by faces are refused" hasf "$T/err" "rules by cage faces do not apply to a parametric driver"
 run new --character "$DEMO" --cage "$CAGE" --patch "$T/rest.cwpatch" --patch "$T/rest.cwpatch" --posed-patch "$T/posed.cwpatch" \
   --out "$T/bad.cagewrap"
 check "one --posed-patch for two --patch fails" hasf "$T/err" "1 --posed-patch for 2 --patch"
