@@ -553,32 +553,13 @@ void add_deformer_command(CLI::App& app, int& exit_code) {
           report_error(file.error());
           return;
         }
-        if (!file->rules.empty()) {
-          std::fprintf(stderr, "error: %s: rules by cage faces do not apply to a parametric driver: give per-point edits of its samples\n",
-                       args->driver_edits.c_str());
+        auto edits = resolve_sample_edits(*file, args->driver_edits, d.character->num_vertices(),
+                                          patch_sample_count(r.driver->rest, r.driver->density));
+        if (!edits) {
+          report_error(edits.error());
           return;
         }
-        const size_t samples = patch_sample_count(r.driver->rest, r.driver->density), points = d.character->num_vertices();
-        if ((file->num_points >= 0 && size_t(file->num_points) != points) || (file->num_elements >= 0 && size_t(file->num_elements) != samples)) {
-          std::fprintf(stderr, "error: %s: made for %lld points and %lld elements; the skin has %zu points and the driver %zu samples\n",
-                       args->driver_edits.c_str(), static_cast<long long>(file->num_points), static_cast<long long>(file->num_elements),
-                       points, samples);
-          return;
-        }
-        for (const SetEdit& e : file->edits) {
-          bool in_range = e.point < points;
-          uint32_t bad = 0;
-          for (const auto* list : {&e.exclude, &e.include})
-            for (uint32_t k : *list)
-              if (k >= samples) in_range = false, bad = k;
-          if (!in_range) {
-            std::fprintf(stderr, "error: %s: the edit of skin point %u names %s (the skin has %zu points, the driver %zu samples)\n",
-                         args->driver_edits.c_str(), e.point,
-                         e.point >= points ? "a point past the skin" : ("sample " + std::to_string(bad)).c_str(), points, samples);
-            return;
-          }
-        }
-        place.set_edits = canonical_set_edits(file->edits);
+        place.set_edits = std::move(edits).value();
       }
       if (!apply_mask(d, args->mask, driver_name(d, size_t(i)), place.mask, place.mask_source, args->project)) return;
       if (params) {  // its own binding parameters, starting from those it binds with now

@@ -160,7 +160,8 @@ void PatchPanel::draw_stack_place(Workspace& ws) {
   ImGui::EndDisabled();
   hint("%s", place.params ? "its own binding parameters" : "binds with the cage's parameters");
   // how its control points follow the skeleton, and the selected one's joint (folded: the window stays short)
-  if (ImGui::TreeNode("attach", "Attachment: %s", place.attachment ? attachment_mode_name(place.attachment->mode) : "closest limb")) {
+  if (ImGui::TreeNode("attach", "Attachment: %s; %zu set edits", place.attachment ? attachment_mode_name(place.attachment->mode) : "closest limb",
+                      place.set_edits.size())) {
     int mode = place.attachment ? int(place.attachment->mode) + 1 : 0;  // 0 closest, 1 rigid, 2 smooth, 3 skin weights
     const char* modes[] = {"closest limb", "rigid", "smooth", "skin weights"};
     if (ImGui::Combo("follow", &mode, modes, 4))
@@ -177,6 +178,15 @@ void PatchPanel::draw_stack_place(Workspace& ws) {
     ImGui::SameLine();
     ImGui::BeginDisabled(!assigned);
     if (ImGui::SmallButton("automatic")) ws.assign_driver_points(std::span<const uint32_t>(&p, 1), std::nullopt);
+    ImGui::EndDisabled();
+    // its contributing-set edits (samples): from a set edits file in the path field above, or none
+    ImGui::Text("Set edits: %zu", place.set_edits.size());
+    ImGui::SameLine();
+    if (ImGui::SmallButton("from the file above")) ws.set_driver_set_edits(path_field_);
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("a set edits file (docs/edits-format.md) whose element ids are the driver's samples");
+    ImGui::SameLine();
+    ImGui::BeginDisabled(place.set_edits.empty());
+    if (ImGui::SmallButton("clear")) ws.set_driver_set_edits("");
     ImGui::EndDisabled();
     ImGui::TreePop();
   }

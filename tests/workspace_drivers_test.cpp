@@ -6,6 +6,7 @@
 // changes by each one's sculpt alone; mute and remove act on the driver named, undo brings it back; the
 // project file keeps both.
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -171,6 +172,31 @@ TEST_F(WorkspaceDriversTest, TheDriversAttachmentIsEditedAndTheFrameIsTheRigs) {
   ASSERT_TRUE(ws.scene()->skin_driven());
   const std::vector<glm::vec3> shown = ws.scene()->skin_posed();
   EXPECT_LT(rig_gap(), 1e-5);
+  // its set edits from a file (sample ids): one undo step, bound again, the frame still the rig's
+  {
+    std::ofstream((dir / "edits.json").string())
+        << R"({"format": "cagewrap-set-edits", "version": 1, "edits": [{"point": 32831, "include": [0], "only": true}]})";
+    std::ofstream((dir / "edits_bad.json").string())
+        << R"({"format": "cagewrap-set-edits", "version": 1, "edits": [{"point": 32831, "include": [99]}]})";
+  }
+  ws.run("patch_set_edits " + (dir / "edits.json").string());
+  ASSERT_EQ(w().driver_place.set_edits.size(), 1u);
+  EXPECT_EQ(w().driver_place.set_edits[0].point, 32831u);
+  ws.poll_jobs();  // the frame loop's poll: the driver is bound again with its edits
+  EXPECT_TRUE(ws.binding_patch_driver());
+  poll_while([this] { return ws.binding_patch_driver(); });
+  EXPECT_TRUE(ws.scene()->driving()) << "bound again with the edits";
+  ws.update_pose();
+  EXPECT_LT(rig_gap(), 1e-5);
+  ws.run("patch_set_edits " + (dir / "edits_bad.json").string());
+  ASSERT_FALSE(errors.empty());
+  EXPECT_NE(errors.back().find("names sample 99"), std::string::npos) << errors.back();
+  EXPECT_EQ(w().driver_place.set_edits.size(), 1u) << "a bad file changes nothing";
+  ws.run("patch_set_edits none");
+  EXPECT_TRUE(w().driver_place.set_edits.empty());
+  ws.poll_jobs();
+  poll_while([this] { return ws.binding_patch_driver(); });
+
   // and it matters: back to the closest limbs, the frame changes
   ws.run("patch_attach closest");
   EXPECT_FALSE(w().driver_place.attachment);

@@ -266,6 +266,9 @@ class Workspace {
   bool set_driver_muted(size_t i, bool muted);
   bool set_driver_hidden(size_t i, bool hidden);  // its control net not drawn (saved with the project)
   bool set_driver_solo(std::optional<size_t> i);   // only driver i moves the skin (nullopt: no solo)
+  // The first driver's contributing-set edits from a set edits file (per-point edits of its samples;
+  // docs/edits-format.md), or none (""): one undo step; it binds again.
+  bool set_driver_set_edits(const std::string& path);
   bool remove_driver(size_t i);
   void bind_patch_driver();                            // binds the document's driver again (after a failure)
   void cancel_patch_bind();

@@ -507,6 +507,12 @@ void Workspace::add_actions() {
         }
         assign_driver_points(std::span<const uint32_t>(&i, 1), node);
       });
+  add_bind("patch_set_edits", "PATH|none", "The driver's contributing-set edits from a set edits file (per-point edits of its samples), or none: one undo step; it binds again.",
+      [this, path_arg](std::istringstream& in) {
+        const std::string path = path_arg(in);
+        if (path.empty()) return fail("patch_set_edits PATH|none");
+        set_driver_set_edits(path == "none" ? std::string() : path);
+      });
   add("patch_keyset_remove", "I", "Removes the driver's keypose set I.", [this](std::istringstream& in) {
     size_t i = 0;
     if (!(in >> i)) return fail("patch_keyset_remove I");

@@ -10,6 +10,7 @@
 
 #include "core/deform/patch_fit.h"
 #include "core/io/patch_io.h"
+#include "core/io/set_edits_io.h"
 
 namespace cagewrap::app {
 
@@ -419,6 +420,36 @@ bool Workspace::set_driver_solo(std::optional<size_t> i) {
   const Document& w = scene_->work();
   const std::string label = i ? "Solo parametric driver '" + driver_name(w, *i) + "'" : std::string("Unsolo parametric drivers");
   if (!scene_->apply_work(label, with_driver_solo(w, i))) return false;
+  log(label);
+  return true;
+}
+
+bool Workspace::set_driver_set_edits(const std::string& path) {
+  if (!scene_ || !scene_->doc().patch_driver) {
+    fail(kNoDriver);
+    return false;
+  }
+  const Document& w = scene_->work();
+  DriverPlacement place = w.driver_place;
+  if (path.empty()) {
+    place.set_edits.clear();
+  } else {
+    auto file = load_set_edits(path);
+    if (!file) {
+      report_error(file.error().message);
+      return false;
+    }
+    auto edits = resolve_sample_edits(*file, path, scene_->skin_rest.size(),
+                                      patch_sample_count(w.patch_driver->rest, w.patch_driver->density));
+    if (!edits) {
+      report_error(edits.error().message);
+      return false;
+    }
+    place.set_edits = std::move(edits).value();
+  }
+  const std::string label = path.empty() ? std::string("Clear the driver's set edits")
+                                         : "The driver's set edits from " + path + " (" + std::to_string(place.set_edits.size()) + ")";
+  if (!scene_->apply_work(label, with_driver_place(w, std::move(place)))) return false;
   log(label);
   return true;
 }

@@ -94,6 +94,30 @@ Result<SetEditsFile> load_set_edits(const std::string& path) {
   }
 }
 
+Result<std::vector<SetEdit>> resolve_sample_edits(const SetEditsFile& file, const std::string& path, size_t num_points,
+                                                  size_t num_samples) {
+  if (!file.rules.empty())
+    return make_error(ErrorCode::kInvalidArgument, path + ": rules by cage faces do not apply to a parametric driver: give per-point "
+                                                          "edits of its samples");
+  if ((file.num_points >= 0 && size_t(file.num_points) != num_points) || (file.num_elements >= 0 && size_t(file.num_elements) != num_samples))
+    return make_error(ErrorCode::kTopologyMismatch, path + ": made for " + std::to_string(file.num_points) + " points and " +
+                                                        std::to_string(file.num_elements) + " elements; the skin has " +
+                                                        std::to_string(num_points) + " points and the driver " +
+                                                        std::to_string(num_samples) + " samples");
+  for (const SetEdit& e : file.edits) {
+    if (e.point >= num_points)
+      return make_error(ErrorCode::kIndexOutOfRange, path + ": the edit of skin point " + std::to_string(e.point) +
+                                                         " names a point past the skin (" + std::to_string(num_points) + " points)");
+    for (const auto* list : {&e.exclude, &e.include})
+      for (uint32_t k : *list)
+        if (k >= num_samples)
+          return make_error(ErrorCode::kIndexOutOfRange, path + ": the edit of skin point " + std::to_string(e.point) + " names sample " +
+                                                             std::to_string(k) + " (the skin has " + std::to_string(num_points) +
+                                                             " points, the driver " + std::to_string(num_samples) + " samples)");
+  }
+  return canonical_set_edits(file.edits);
+}
+
 Result<ResolvedSetEdits> resolve_set_edits(const SetEditsFile& file, const std::string& path,
                                            std::span<const glm::vec3> skin_rest, const Cage& cage) {
   const size_t np = skin_rest.size(), ne = cage.num_elements(), nf = cage.polygons.num_faces();

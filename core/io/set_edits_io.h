@@ -53,6 +53,13 @@ struct ResolvedSetEdits {
 Result<ResolvedSetEdits> resolve_set_edits(const SetEditsFile& file, const std::string& path,
                                            std::span<const glm::vec3> skin_rest, const Cage& cage);
 
+// The edits of `file` (loaded from `path`) for a parametric driver, whose element ids are its samples:
+// per-point edits only (rules by cage faces do not apply), each point below `num_points` and each sample
+// below `num_samples`, and the recorded counts (when given) those. Canonical. Errors name the file, the
+// point and the sample.
+Result<std::vector<SetEdit>> resolve_sample_edits(const SetEditsFile& file, const std::string& path, size_t num_points,
+                                                  size_t num_samples);
+
 // Writes `edits` (made canonical) as per-point rules with the skin's point count and the cage's
 // element count, atomically (core/base/atomic_write.h).
 Status save_set_edits(const std::string& path, std::span<const SetEdit> edits, size_t num_points,
