@@ -401,15 +401,19 @@ void Workspace::add_actions() {
       [this, driver_index](std::istringstream& in) {
         if (auto i = driver_index(in, "driver_edit I")) make_driver_first(*i);
       });
+  // "I on|off" for driver I, then `set(i, on)`
+  const auto driver_switch = [this, driver_index](std::string usage, bool (Workspace::*set)(size_t, bool)) {
+    return [this, driver_index, usage, set](std::istringstream& in) {
+      auto i = driver_index(in, usage.c_str());
+      std::string on;
+      in >> on;
+      if (!i) return;
+      if (on != "on" && on != "off") return fail(usage);
+      (this->*set)(*i, on == "on");
+    };
+  };
   add("driver_mute", "I on|off", "Mutes (on) or unmutes (off) parametric driver I: left out of the stack, kept in the project.",
-      [this, driver_index](std::istringstream& in) {
-        auto i = driver_index(in, "driver_mute I on|off");
-        std::string on;
-        in >> on;
-        if (!i) return;
-        if (on != "on" && on != "off") return fail("driver_mute I on|off");
-        set_driver_muted(*i, on == "on");
-      });
+      driver_switch("driver_mute I on|off", &Workspace::set_driver_muted));
   add("driver_after", "I K|last", "Where parametric driver I sits in the stack: after K layers (0: right after the document's cage), or after them all.",
       [this, driver_index](std::istringstream& in) {
         auto i = driver_index(in, "driver_after I K|last");
@@ -423,14 +427,7 @@ void Workspace::add_actions() {
         else set_driver_after(static_cast<int>(v), *i);
       });
   add("driver_hide", "I on|off", "Hides (on) or shows (off) parametric driver I's control net (saved with the project).",
-      [this, driver_index](std::istringstream& in) {
-        auto i = driver_index(in, "driver_hide I on|off");
-        std::string on;
-        in >> on;
-        if (!i) return;
-        if (on != "on" && on != "off") return fail("driver_hide I on|off");
-        set_driver_hidden(*i, on == "on");
-      });
+      driver_switch("driver_hide I on|off", &Workspace::set_driver_hidden));
   add("driver_solo", "I|off", "Only parametric driver I moves the skin (the cages leave the rest skin), or no driver soloed: one undo step.",
       [this, driver_index](std::istringstream& in) {
         std::string v;
