@@ -263,8 +263,9 @@ bool parse_driver_attachment(const Document& d, const std::string& mode, const s
   const Skeleton& sk = d.character->skeleton;
   for (const std::string& p : points) {
     const size_t colon = p.find(':');
+    const std::string number = p.substr(0, colon);  // kept: strtoul's `end` points into it
     char* end = nullptr;
-    const unsigned long i = std::strtoul(p.substr(0, colon).c_str(), &end, 10);
+    const unsigned long i = std::strtoul(number.c_str(), &end, 10);
     if (colon == std::string::npos || *end || colon == 0) {
       std::fprintf(stderr, "error: %s: --attach-point '%s': give CONTROL_POINT:JOINT (14:chest) or CONTROL_POINT:auto\n", project.c_str(),
                    p.c_str());
