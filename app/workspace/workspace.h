@@ -365,6 +365,8 @@ class Workspace {
   std::optional<Cage> read_cage(const std::string& path);
   bool check_deformer(size_t d, bool layer_only);
   bool check_driver(size_t i);  // a parametric driver of the document (else said)
+  // Driver i's placement replaced as one undo step labelled `label` (logged); false when nothing changed.
+  bool apply_driver_place(size_t i, const std::string& label, DriverPlacement place);
   // Logs "error: <where the running action came from>: text".
   void fail(const std::string& text);
   std::string where_ = "action";

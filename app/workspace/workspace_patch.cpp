@@ -237,6 +237,12 @@ bool Workspace::reset_patch_driver() {
 
 // ---- the driver as a deformer of the stack (Document::driver_place): its place, mask and keyposes
 
+bool Workspace::apply_driver_place(size_t i, const std::string& label, DriverPlacement place) {
+  if (!scene_->apply_work(label, with_driver_place(scene_->work(), i, std::move(place)))) return false;
+  log(label);
+  return true;
+}
+
 bool Workspace::set_driver_after(int after, size_t i) {
   if (!scene_ || !scene_->doc().patch_driver) {
     fail(kNoDriver);
@@ -253,9 +259,7 @@ bool Workspace::set_driver_after(int after, size_t i) {
   const std::string who = i == 0 && driver_count(w) == 1 ? std::string("the driver") : "driver '" + driver_name(w, i) + "'";
   const std::string label = after < 0 ? "Put " + who + " after every layer"
                                       : "Put " + who + " after " + std::to_string(after) + " layer" + (after == 1 ? "" : "s");
-  if (!scene_->apply_work(label, with_driver_place(w, i, std::move(place)))) return false;
-  log(label);
-  return true;
+  return apply_driver_place(i, label, std::move(place));
 }
 
 bool Workspace::set_driver_mask(const std::string& source) {
@@ -267,9 +271,7 @@ bool Workspace::set_driver_mask(const std::string& source) {
   DriverPlacement place = w.driver_place;
   if (!make_mask(w, source, place.mask, place.mask_source, "parametric driver")) return false;
   const std::string label = source.empty() ? std::string("Remove the driver's mask") : "Mask the driver: " + source;
-  if (!scene_->apply_work(label, with_driver_place(w, std::move(place)))) return false;
-  log(label);
-  return true;
+  return apply_driver_place(0, label, std::move(place));
 }
 
 bool Workspace::key_driver_sculpt(int axis) {
@@ -325,9 +327,7 @@ bool Workspace::set_driver_params(std::optional<BindParams> params) {
   char label[128];
   if (params) std::snprintf(label, sizeof label, "The driver's own binding: local %g, epsilon %g, K %u", params->local, params->epsilon, params->max_elements);
   else std::snprintf(label, sizeof label, "The driver binds with the cage's parameters");
-  if (!scene_->apply_work(label, with_driver_place(w, std::move(place)))) return false;
-  log(label);
-  return true;
+  return apply_driver_place(0, label, std::move(place));
 }
 
 bool Workspace::remove_driver_keyset(size_t i) {
@@ -409,9 +409,7 @@ bool Workspace::set_driver_hidden(size_t i, bool hidden) {
   DriverPlacement place = *driver_at(w, i).place;
   place.hidden = hidden;
   const std::string label = (hidden ? "Hide parametric driver '" : "Show parametric driver '") + driver_name(w, i) + "'";
-  if (!scene_->apply_work(label, with_driver_place(w, i, std::move(place)))) return false;
-  log(label);
-  return true;
+  return apply_driver_place(i, label, std::move(place));
 }
 
 bool Workspace::set_driver_solo(std::optional<size_t> i) {
@@ -449,9 +447,7 @@ bool Workspace::set_driver_set_edits(const std::string& path) {
   }
   const std::string label = path.empty() ? std::string("Clear the driver's set edits")
                                          : "The driver's set edits from " + path + " (" + std::to_string(place.set_edits.size()) + ")";
-  if (!scene_->apply_work(label, with_driver_place(w, std::move(place)))) return false;
-  log(label);
-  return true;
+  return apply_driver_place(0, label, std::move(place));
 }
 
 bool Workspace::remove_driver(size_t i) {
@@ -500,9 +496,7 @@ bool Workspace::set_driver_attachment(std::optional<AttachmentMode> mode) {
   }
   const std::string label = mode ? std::string("Attach the driver's control points: ") + attachment_mode_name(*mode)
                                  : std::string("Attach the driver's control points to their closest limbs");
-  if (!scene_->apply_work(label, with_driver_place(w, std::move(place)))) return false;
-  log(label);
-  return true;
+  return apply_driver_place(0, label, std::move(place));
 }
 
 bool Workspace::assign_driver_points(std::span<const uint32_t> points, std::optional<uint32_t> node) {
@@ -521,9 +515,7 @@ bool Workspace::assign_driver_points(std::span<const uint32_t> points, std::opti
   place.attachment = std::move(a);
   const std::string label = std::to_string(points.size()) + " driver control point" + (points.size() == 1 ? "" : "s") +
                             (node ? " attached to " + w.character->skeleton.node(*node).name : std::string(" attached automatically"));
-  if (!scene_->apply_work(label, with_driver_place(w, std::move(place)))) return false;
-  log(label);
-  return true;
+  return apply_driver_place(0, label, std::move(place));
 }
 
 }  // namespace cagewrap::app
