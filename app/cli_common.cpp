@@ -244,15 +244,17 @@ std::optional<Rig> rig_of_project(const Document& doc, const std::string& projec
   for (const std::string& why : cached.not_used)
     std::fprintf(stderr, "warning: binding cache not used: %s; binding again (`cagewrap project %s --cache-binding` refreshes it)\n",
                  why.c_str(), project.c_str());
-  if (cached.used > 0) {
-    const size_t moving = moving_deformers(doc);
-    auto rig = Rig::create(doc, std::move(cached.bindings), terminal_progress("bind"));
+  if (cached.used + cached.drivers_used > 0) {
+    const size_t moving = moving_deformers(doc), drivers = moving_drivers(doc);
+    const bool all = cached.used == moving && cached.drivers_used == drivers;
+    auto rig = Rig::create(doc, std::move(cached.bindings), terminal_progress("bind"), std::move(cached.drivers));
     if (rig) {
-      if (deformer_count(doc) == 1)
+      if (deformer_count(doc) == 1 && drivers == 0)
         std::fprintf(stderr, "note: %s: using the cached binding %s (no bind)\n", project.c_str(), doc.binding_cache.file.c_str());
       else
-        std::fprintf(stderr, "note: %s: using the cached bindings of %zu of %zu deformers (%s)\n", project.c_str(), cached.used,
-                     moving, cached.used == moving ? "no bind" : "the others bound");
+        std::fprintf(stderr, "note: %s: using the cached bindings of %zu of %zu deformers%s (%s)\n", project.c_str(), cached.used, moving,
+                     drivers ? (" and " + std::to_string(cached.drivers_used) + " of " + std::to_string(drivers) + " parametric drivers").c_str() : "",
+                     all ? "no bind" : "the others bound");
       return std::move(rig).value();
     }
     std::fprintf(stderr, "warning: %s: the cached binding was not used (%s); binding again\n", project.c_str(),
@@ -270,6 +272,7 @@ SaveOptions save_options_caching(const Rig& rig, const Document& doc) {
   SaveOptions options;
   options.binding = &rig.binding();
   for (size_t i = 0; i < doc.layers.size(); ++i) options.layer_bindings.push_back(rig.layer_binding(i));
+  for (size_t i = 0; i < driver_count(doc); ++i) options.driver_bindings.push_back(rig.driver_binding(i));
   return options;
 }
 

@@ -97,7 +97,11 @@ void add_new_command(CLI::App& app, int& exit_code) {
                                           args->patch_density);
       if (!driver) return;
       if (i == 0) *doc = with_patch_driver(*doc, std::move(driver));
-      else more.push_back({std::move(driver), DriverPlacement{std::filesystem::path(args->patches[i]).stem().string()}});
+      else {
+        DriverPlacement place;
+        place.name = std::filesystem::path(args->patches[i]).stem().string();
+        more.push_back({std::move(driver), std::move(place)});
+      }
     }
     if (!more.empty()) *doc = with_more_drivers(*doc, std::move(more));
     if (automatic && !add_automatic_cage(*doc, args->auto_cage.params, args->character, false)) return;
@@ -147,6 +151,10 @@ void add_new_command(CLI::App& app, int& exit_code) {
           std::printf("cached     %s in %s (%u points, %zu entries)\n", d == 0 ? "the binding" : ("deformer " + std::to_string(d) + "'s binding").c_str(),
                       binding_cache_path(args->out, d).c_str(), b->num_points, b->num_entries());
       }
+    for (size_t i = 0; rig && i < driver_count(*doc); ++i)
+      if (const Binding* b = rig->driver_binding(i))
+        std::printf("cached     driver '%s''s binding in %s (%u points, %zu entries)\n", driver_name(*doc, i).c_str(),
+                    driver_binding_cache_path(args->out, i).c_str(), b->num_points, b->num_entries());
     std::printf("wrote      %s\n", args->out.c_str());
     exit_code = 0;
   });

@@ -46,6 +46,18 @@ void print_storage(const Document& doc) {
     else
       std::printf("%s cache not usable: %s\n", what.c_str(), cached.error().message.c_str());
   }
+  for (size_t i = 0; i < driver_count(doc); ++i) {
+    const std::string what = "driver D" + std::string(i ? std::to_string(i + 1) : "") + " '" + driver_name(doc, i) + "':";
+    const BindingCacheRecord& r = driver_at(doc, i).place->binding_cache;
+    if (!driver_moves_skin(doc, i))
+      std::printf("%s does not move the skin: not bound, not cached\n", what.c_str());
+    else if (r.file.empty())
+      std::printf("%s cached on save; nothing cached yet\n", what.c_str());
+    else if (auto cached = load_driver_binding_cache(doc, i))
+      std::printf("%s cached in %s (up to date)\n", what.c_str(), r.file.c_str());
+    else
+      std::printf("%s cache not usable: %s\n", what.c_str(), cached.error().message.c_str());
+  }
 }
 
 }  // namespace
@@ -116,7 +128,8 @@ void add_project_command(CLI::App& app, int& exit_code) {
       // the project (no option) never writes
       if (args->cache) {
         // each deformer that moves the skin needs its cache
-        if (load_stack_binding_caches(doc).used < moving_deformers(doc)) changed = true;
+        const StackBindingCache cached = load_stack_binding_caches(doc);
+        if (cached.used < moving_deformers(doc) || cached.drivers_used < moving_drivers(doc)) changed = true;
       }
       if (changed) {
         rig = rig_of_project(doc, P);
@@ -140,11 +153,22 @@ void add_project_command(CLI::App& app, int& exit_code) {
         r.file_hash = h ? *h : std::string();
         r.inputs = binding_inputs(deformer_document(doc, d));
       }
+      for (size_t i = 0; rig && i < driver_count(doc); ++i) {
+        if (!options.driver_bindings[i]) continue;
+        DriverPlacement place = *driver_at(doc, i).place;
+        BindingCacheRecord& r = place.binding_cache;
+        r.file = std::filesystem::absolute(driver_binding_cache_path(out, i)).lexically_normal().string();
+        auto h = hash_file(r.file);
+        r.file_hash = h ? *h : std::string();
+        r.inputs = driver_binding_inputs(doc, i);
+        doc = with_driver_place(doc, i, std::move(place));
+      }
       std::printf("wrote      %s\n", out.c_str());
     }
     if (args->no_cache)
-      for (size_t d = 0; d < deformer_count(doc); ++d) {
-        const std::string old_cache = binding_cache_path(out, d);
+      for (size_t d = 0; d < deformer_count(doc) + driver_count(doc); ++d) {
+        const std::string old_cache = d < deformer_count(doc) ? binding_cache_path(out, d)
+                                                              : driver_binding_cache_path(out, d - deformer_count(doc));
         std::error_code ec;
         if (std::filesystem::remove(old_cache, ec)) std::printf("removed    %s\n", old_cache.c_str());
       }

@@ -61,7 +61,10 @@ bool Editor::save_project_to(const std::string& path) {
     const std::vector<const Binding*> bindings = ws_.scene()->deformer_bindings();
     options.binding = bindings[0];
     options.layer_bindings.assign(bindings.begin() + 1, bindings.end());
-    cached = static_cast<size_t>(std::count_if(bindings.begin(), bindings.end(), [](const Binding* b) { return b != nullptr; }));
+    options.driver_bindings = ws_.scene()->driver_bindings();
+    cached = static_cast<size_t>(std::count_if(bindings.begin(), bindings.end(), [](const Binding* b) { return b != nullptr; }) +
+                                 std::count_if(options.driver_bindings.begin(), options.driver_bindings.end(),
+                                               [](const Binding* b) { return b != nullptr; }));
   }
   auto st = save_project(path, ws_.scene()->work(), options);
   if (!st.ok()) {

@@ -26,6 +26,7 @@
 #include "core/document/project_io.h"
 #include "core/rig/rig.h"
 #include "tests/document_fixtures.h"
+#include "tests/driver_fixtures.h"
 #include "tests/expect_error.h"
 #include "tests/rig_fixtures.h"
 
@@ -411,6 +412,98 @@ TEST(BindingCacheStack, EachLayerIsCachedAndAStaleLayerAloneBindsAgain) {
   ASSERT_TRUE(reopened.ok());
   EXPECT_FALSE(reopened->document.binding_cache.file.empty()) << "deformer 0's record is still valid: kept";
   EXPECT_TRUE(reopened->document.layers[0].binding_cache.file.empty()) << "the stale layer's record is dropped";
+  fs::remove_all(dir);
+}
+
+// The parametric drivers' bindings are cached too (issue 21): the demo with two chest drivers (the second with
+// its own epsilon and a set edit, both sculpted) saved with the rig's bindings writes P.D1.cwb and P.D2.cwb
+// (sample bindings: .cwb version 3, keeping the sample count and the degenerate samples); opened again, both
+// are used and the rig made from them poses bit for bit like the one that bound; the second driver's new
+// parameters make its cache alone stale (named); a record whose binding is for another driver is refused by
+// driver_binding_fits.
+TEST(BindingCacheStack, EachDriverIsCachedAndAStaleDriverAloneBindsAgain) {
+  const fs::path dir = fs::temp_directory_path() / ("cagewrap-binding-cache-drivers-" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  ASSERT_TRUE(write_glb((dir / "demo.glb").string(), make_demo_character()).ok());
+  auto loaded = document_from_files((dir / "demo.glb").string(), std::string(CAGEWRAP_SOURCE_DIR) + "/assets/demo_cage.obj");
+  ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+  Document doc = with_cache_binding(*loaded, true);
+  doc = with_patch_driver(doc, test::chest_driver(0.06));
+  DriverDeformer second{test::chest_driver(-0.04), {}};
+  second.place.name = "second";
+  BindParams own = doc.params;
+  own.epsilon *= 0.5;
+  second.place.params = own;
+  second.place.set_edits = {SetEdit{32831, {}, {0}, true}};
+  doc = with_more_drivers(doc, {second});
+  auto rig = Rig::create(doc);
+  ASSERT_TRUE(rig.ok()) << rig.error().message;
+  ASSERT_NE(rig->driver_binding(0), nullptr);
+  ASSERT_NE(rig->driver_binding(1), nullptr);
+  EXPECT_GT(rig->driver_binding(0)->num_samples, 0u);
+  const std::string P = (dir / "demo.cagewrap").string();
+  SaveOptions options;
+  options.binding = &rig->binding();
+  options.driver_bindings = {rig->driver_binding(0), rig->driver_binding(1)};
+  ASSERT_TRUE(save_project(P, doc, options).ok());
+  ASSERT_TRUE(fs::exists(P + ".D1.cwb"));
+  ASSERT_TRUE(fs::exists(P + ".D2.cwb"));
+  const Json j = Json::parse(read_text(P));
+  EXPECT_EQ(j["patch_driver"]["binding_cache"]["file"], "demo.cagewrap.D1.cwb");
+  EXPECT_EQ(j["more_drivers"][0]["binding_cache"]["file"], "demo.cagewrap.D2.cwb");
+  // the file keeps what a sample binding is
+  auto file = load_binding(P + ".D2.cwb");
+  ASSERT_TRUE(file.ok()) << file.error().message;
+  const Binding& bound = *rig->driver_binding(1);
+  EXPECT_EQ(file->num_samples, bound.num_samples);
+  EXPECT_EQ(file->invalid_elements, bound.invalid_elements);
+  EXPECT_EQ(file->ids, bound.ids);
+  EXPECT_EQ(file->weights, bound.weights);
+  EXPECT_TRUE(file->params == bound.params);
+
+  auto opened = load_project(P);
+  ASSERT_TRUE(opened.ok()) << opened.error().message;
+  Document again = opened->document;
+  StackBindingCache cached = load_stack_binding_caches(again);
+  EXPECT_EQ(cached.used, 1u);
+  EXPECT_EQ(cached.drivers_used, 2u);
+  EXPECT_TRUE(cached.not_used.empty()) << cached.not_used.front();
+  auto from_cache = Rig::create(again, std::move(cached.bindings), {}, std::move(cached.drivers));
+  ASSERT_TRUE(from_cache.ok()) << from_cache.error().message;
+  std::vector<glm::vec3> a(rig->num_skin_points()), b(from_cache->num_skin_points());
+  PosedCage ca, cb;
+  ASSERT_TRUE(rig->pose_clip(doc, 0, 0.4, {}, ca, a).ok());
+  ASSERT_TRUE(from_cache->pose_clip(again, 0, 0.4, {}, cb, b).ok());
+  EXPECT_TRUE(same_bits(a, b)) << "the drivers from the caches pose like the ones that bound";
+  std::vector<glm::vec3> plain(a.size());
+  {
+    const Document no_drivers = without_first_driver(without_first_driver(doc));
+    auto cage_only = Rig::create(no_drivers);
+    ASSERT_TRUE(cage_only.ok());
+    ASSERT_TRUE(cage_only->pose_clip(no_drivers, 0, 0.4, {}, ca, plain).ok());
+    double moved = 0;
+    for (size_t i = 0; i < a.size(); ++i) moved = std::max(moved, double(glm::length(a[i] - plain[i])));
+    EXPECT_GT(moved, 0.01) << "the drivers move the skin (the comparison above is not of two plain skins)";
+  }
+
+  // the second driver's parameters changed: its cache alone is stale, and says so
+  DriverPlacement place = *driver_at(again, 1).place;
+  place.params->epsilon *= 2.0;
+  Document changed = with_driver_place(again, 1, place);
+  StackBindingCache stale = load_stack_binding_caches(changed);
+  EXPECT_EQ(stale.drivers_used, 1u);
+  ASSERT_EQ(stale.not_used.size(), 1u);
+  EXPECT_NE(stale.not_used[0].find("demo.cagewrap.D2.cwb is out of date: the binding parameters changed"), std::string::npos)
+      << stale.not_used[0];
+  // a binding of another driver (the cage's) does not fit a driver
+  EXPECT_FALSE(driver_binding_fits(rig->binding(), again, 0).ok());
+  EXPECT_FALSE(driver_binding_fits(*rig->driver_binding(1), again, 0).ok()) << "other parameters";
+  ASSERT_TRUE(save_project(P, changed).ok());
+  auto reopened = load_project(P);
+  ASSERT_TRUE(reopened.ok());
+  EXPECT_FALSE(driver_at(reopened->document, 0).place->binding_cache.file.empty()) << "the first driver's record is valid: kept";
+  EXPECT_TRUE(driver_at(reopened->document, 1).place->binding_cache.file.empty()) << "the stale driver's record is dropped";
   fs::remove_all(dir);
 }
 

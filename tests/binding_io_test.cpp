@@ -353,7 +353,7 @@ TEST_F(BindingIoTest, VersionOneStillLoadsAndVersionTwoKeepsTheSets) {
 TEST_F(BindingIoTest, OtherVersionIsNamed) {
   Scene s;
   auto bytes = saved(bind_or_die(s.skin, s.cage, BindParams{}));
-  for (uint32_t version : {0u, 3u, 0x01000000u}) {
+  for (uint32_t version : {0u, 4u, 0x01000000u}) {
     auto bad = bytes;
     poke(bad, Layout::kVersion, version);
     const std::string p = write("version.cwb", bad);

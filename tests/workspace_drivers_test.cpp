@@ -13,6 +13,7 @@
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
+#include "app/workspace/scene.h"
 #include "core/document/project_io.h"
 #include "core/io/patch_io.h"
 #include "core/rig/rig.h"
@@ -125,6 +126,35 @@ TEST_F(WorkspaceDriversTest, SeveralDriversAreAddedEditedMutedAndMatchTheRig) {
   EXPECT_EQ(driver_name(loaded->document, 0), "second");
   EXPECT_TRUE(*driver_at(loaded->document, 1).driver == *driver_at(w(), 1).driver);
   EXPECT_TRUE(driver_at(loaded->document, 1).place->hidden);
+
+  // saved with caching on and the editor's bindings (the first driver's, the other's rig's): each goes to its
+  // cache file (P.D1.cwb, P.D2.cwb); the project opened again uses both caches (no bind) and the frame is the rig's
+  const std::vector<const Binding*> bindings = ws.scene()->driver_bindings();
+  ASSERT_EQ(bindings.size(), 2u);
+  EXPECT_NE(bindings[0], nullptr);
+  EXPECT_NE(bindings[1], nullptr);
+  SaveOptions cache;
+  cache.binding = ws.scene()->deformer_bindings()[0];
+  cache.driver_bindings = bindings;
+  const std::string cached_path = (dir / "cached.cagewrap").string();
+  ASSERT_TRUE(save_project(cached_path, with_cache_binding(w(), true), cache).ok());
+  EXPECT_TRUE(fs::exists(cached_path + ".D1.cwb"));
+  EXPECT_TRUE(fs::exists(cached_path + ".D2.cwb"));
+  {
+    ProjectOpen opened;
+    auto reopened = load_project_scene(cached_path, opened);
+    ASSERT_TRUE(reopened.ok()) << reopened.error().message;
+    ws.set_scene(std::move(reopened).value());
+    ws.run("clip walk");
+    ws.run("time 0.3");
+    ws.poll_jobs();
+    poll_while([this] { return ws.binding_patch_driver() || ws.binding_any(); });
+    EXPECT_TRUE(logged("parametric driver: used the cached binding " + cached_path + ".D1.cwb (no bind)"));
+    EXPECT_TRUE(logged("parametric driver 'driver': using the cached binding " + cached_path + ".D2.cwb (no bind)"));
+    EXPECT_TRUE(ws.scene()->driver_bound());
+    EXPECT_LT(largest_change(both, frame()), 1e-6);
+    EXPECT_LT(rig_gap(), 1e-5) << "the drivers from their caches make the rig's frame";
+  }
 
   // removing the first makes the other the first; a driver that is not there is an error naming it
   ws.run("driver_remove 0");

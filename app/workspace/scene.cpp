@@ -380,6 +380,23 @@ void Scene::update_stack_rigs() {
   stack_rigs = std::move(next);  // the rest are dropped (their binds cancelled)
 }
 
+std::vector<const Binding*> Scene::driver_bindings() const {
+  const Document& w = history_.current();
+  std::vector<const Binding*> out(driver_count(w), nullptr);
+  for (size_t i = 0; i < out.size(); ++i) {
+    const Binding* b = nullptr;
+    if (i == 0) {
+      if (driver_bound()) b = driver_binding.binding.get();
+    } else {
+      const DriverRef d = driver_at(w, i);
+      for (const DriverRig& r : driver_rigs)
+        if (r.index == i && r.layer && r.layer->fits(*d.driver, driver_params(w, *d.place), d.place->set_edits)) b = &r.layer->binding();
+    }
+    if (b && driver_binding_fits(*b, w, i)) out[i] = b;
+  }
+  return out;
+}
+
 std::vector<const Binding*> Scene::deformer_bindings() const {
   const Document& w = work();
   std::vector<const Binding*> out(deformer_count(w), nullptr);
@@ -425,7 +442,12 @@ std::vector<std::string> Scene::poll_stack() {
     auto& res = r.job->result();
     if (res.ok()) {
       r.layer = std::make_unique<DriverLayer>(std::move(res).value());
-      out.push_back("parametric driver '" + r.name + "' bound (" + std::to_string(r.layer->num_control_points()) + " control points)");
+      const std::string note = r.cache_note ? *r.cache_note : std::string();
+      if (note.starts_with("used: "))
+        out.push_back("parametric driver '" + r.name + "': using the cached binding " + note.substr(6) + " (no bind)");
+      else
+        out.push_back((note.empty() ? "" : "warning: parametric driver '" + r.name + "': binding cache " + note + "; ") +
+                      "parametric driver '" + r.name + "' bound (" + std::to_string(r.layer->num_control_points()) + " control points)");
     } else {
       r.error = res.error().code == ErrorCode::kCancelled ? "bind cancelled" : res.error().message;
       out.push_back((res.error().code == ErrorCode::kCancelled ? "" : "error: ") + std::string("parametric driver '") + r.name +
@@ -602,10 +624,24 @@ void Scene::update_driver_rigs() {
       r.params = params;
       r.edits = d.place->set_edits;
       r.character = w.character;
+      // its cache beside the project when that is still its binding, else a bind
+      std::optional<Document> cached;
+      if (!d.place->binding_cache.file.empty()) cached = w;
+      r.cache_note = std::make_shared<std::string>();
       r.job = std::make_unique<DriverRigJob>(
           "binding parametric driver '" + driver_name(w, i) + "'",
-          [character = w.character, skin = skin_rest, driver = r.driver, params, edits = r.edits](const DriverRigJob::Progress& progress,
-                                                                                                  const std::atomic<bool>& cancel) {
+          [character = w.character, skin = skin_rest, driver = r.driver, params, edits = r.edits, cached = std::move(cached), i,
+           note = r.cache_note](const DriverRigJob::Progress& progress, const std::atomic<bool>& cancel) -> Result<DriverLayer> {
+            if (cached) {
+              auto b = load_driver_binding_cache(*cached, i);
+              if (b) {
+                auto layer = DriverLayer::create(*character, skin, *driver, std::move(b).value(), edits);
+                *note = layer ? "used: " + driver_at(*cached, i).place->binding_cache.file : "not used: " + layer.error().message;
+                if (layer) return layer;
+              } else {
+                *note = "not used: " + b.error().message;
+              }
+            }
             return DriverLayer::create(*character, skin, *driver, params, job_progress(progress, cancel), edits);
           });
     }

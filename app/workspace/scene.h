@@ -92,6 +92,7 @@ struct DriverRig {
   std::shared_ptr<const Character> character; // and for
   std::string name;                           // for messages
   std::unique_ptr<DriverLayer> layer;         // null while binding or after a failure
+  std::shared_ptr<std::string> cache_note;  // the job's word on the project's cache ("used: F", "not used: why")
   std::unique_ptr<DriverRigJob> job;
   std::string error;                          // why it has no layer ("" = none)
   std::vector<glm::vec3> delta;               // its displacement of the current frame (#P)
@@ -144,6 +145,9 @@ struct Scene {
   // Each deformer's binding when it is ready and is that of the document as it is (index = deformer; null
   // = none: binding, failed or muted): what a save caches beside the project.
   std::vector<const Binding*> deformer_bindings() const;
+  // The same for each parametric driver (index = driver_at's number): the first's driver_binding, the others'
+  // rigs, each when it is the binding of that driver as the document has it.
+  std::vector<const Binding*> driver_bindings() const;
   // While a mask brush stroke is under way (app/workspace/workspace_mask.cpp): the whole document with the
   // stroke's mask, which the frame's stack combines with (the stroke becomes one undo step when it ends);
   // null otherwise. stack_document() is the one the frame combines with.

@@ -235,6 +235,7 @@ class Workspace {
     std::shared_ptr<const Character> job_character;    // whose rest skin
     std::string job_label;                             // the undo step it makes ("": the document's driver)
     std::vector<SetEdit> job_edits;                    // the driver's set edits it binds with
+    std::shared_ptr<std::string> cache_note;           // the job's word on the project's cache ("" = none tried)
     bool nowait = false;                               // a script goes on while it binds
     std::shared_ptr<const PatchDriver> failed;         // the document's driver whose bind failed (not retried)
   };

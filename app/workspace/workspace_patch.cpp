@@ -9,6 +9,7 @@
 #include "app/workspace/workspace.h"
 
 #include "core/deform/patch_fit.h"
+#include "core/document/binding_cache.h"
 #include "core/io/patch_io.h"
 #include "core/io/set_edits_io.h"
 
@@ -28,10 +29,20 @@ void Workspace::start_patch_bind(std::shared_ptr<const PatchDriver> driver, std:
   const bool same_samples = current && current->rest == driver->rest && current->density == driver->density;
   patch_.job_edits = same_samples ? scene_->work().driver_place.set_edits : std::vector<SetEdit>{};
   patch_.nowait = false;
+  // the document's own driver (not a new surface): its cache beside the project when that is still its binding
+  std::optional<Document> cached;
+  if (current == driver && !scene_->work().driver_place.binding_cache.file.empty()) cached = scene_->work();
+  patch_.cache_note = std::make_shared<std::string>();
   patch_.job = std::make_unique<BackgroundTask<Binding>>(
       "binding to the parametric driver",
-      [skin = scene_->skin_rest, driver, params = driver_params(scene_->work()), edits = patch_.job_edits](
-          const BindJob::Progress& progress, const std::atomic<bool>& cancel) {
+      [skin = scene_->skin_rest, driver, params = driver_params(scene_->work()), edits = patch_.job_edits, cached = std::move(cached),
+       note = patch_.cache_note](const BindJob::Progress& progress, const std::atomic<bool>& cancel) -> Result<Binding> {
+        if (cached) {
+          auto b = load_driver_binding_cache(*cached, 0);
+          *note = b ? "used the cached binding " + cached->driver_place.binding_cache.file + " (no bind)"
+                    : "the cached binding was not used: " + b.error().message;
+          if (b) return b;
+        }
         return bind_skin_to_patches(skin, driver->rest, driver->density, params, job_progress(progress, cancel), edits);
       });
 }
@@ -72,6 +83,7 @@ void Workspace::poll_patch() {
                   bound.binding->num_points, bound.binding->num_samples, driver->density,
                   bound.binding->invalid_elements.size(), bound.binding->seconds * 1e3);
     log(line);
+    if (patch_.cache_note && !patch_.cache_note->empty()) log("parametric driver: " + *patch_.cache_note);
     if (!label.empty()) {
       Document next = with_patch_driver(scene_->doc(), driver);
       if (next.driver_place.set_edits.size() != patch_.job_edits.size()) {  // other samples: the edits named the old ones

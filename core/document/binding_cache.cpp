@@ -1,12 +1,14 @@
 #include "core/document/binding_cache.h"
 
 #include <cstring>
+#include <functional>
 #include <filesystem>
 #include <type_traits>
 
 #include "core/io/binding_io.h"
 #include "core/base/check.h"
 #include "core/base/file_hash.h"
+#include "core/deform/patch_binding.h"
 #include "core/deform/registration.h"
 
 namespace cagewrap {
@@ -40,6 +42,63 @@ bool same_floats(const std::vector<glm::vec3>& a, std::span<const glm::vec3> b) 
   return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(glm::vec3)) == 0);
 }
 
+// The weight rule is part of the program: a binding cached before the tie band (issue 18) is stale.
+std::string program_input() {
+  return std::string("cagewrap ") + CAGEWRAP_VERSION + " (weights: tie band " + std::to_string(kTieBand) + ")";
+}
+
+std::string params_input(const BindParams& p) {
+  return Hasher()
+      .pod(p.local)
+      .pod(p.epsilon)
+      .pod(p.max_elements)
+      .pod(p.scale)
+      .pod(p.max_distance)
+      .pod(p.close_distance)
+      .pod(static_cast<uint8_t>(p.variant))
+      .pod(static_cast<uint8_t>(p.separate))
+      .pod(p.separation_steps)
+      .text();
+}
+
+std::string set_edits_input(std::span<const SetEdit> set_edits) {
+  Hasher edits;
+  edits.pod<uint64_t>(set_edits.size());
+  for (const SetEdit& e : set_edits) edits.pod(e.point).pod(static_cast<uint8_t>(e.only)).list(e.exclude).list(e.include);
+  return edits.text();
+}
+
+// The cached binding `r` names, when it is still valid: the inputs `now`, the file's hash, and `fits`.
+Result<Binding> load_recorded(const BindingCacheRecord& r, const BindingInputs& now,
+                              const std::function<Status(const Binding&)>& fits) {
+  const std::string changed = changed_inputs(r.inputs, now);
+  if (!changed.empty())
+    return make_error(ErrorCode::kInvalidArgument,
+                      r.file + " is out of date: " + changed + " changed since it was written");
+  auto hash = hash_file(r.file);
+  if (!hash) return make_error(hash.error().code, r.file + ": the cached binding is gone (" + hash.error().message + ")");
+  if (*hash != r.file_hash)
+    return make_error(ErrorCode::kInvalidArgument, r.file + " was changed or replaced since the project was saved (hash " +
+                                                       *hash + ", the project says " + r.file_hash + ")");
+  auto binding = load_binding(r.file);
+  if (!binding) return binding.error();
+  if (auto f = fits(*binding); !f)
+    return make_error(f.error().code, r.file + " does not fit the project: " + f.error().message);
+  return binding;
+}
+
+// The cache file of `binding` at `path` with the inputs `inputs` (`fits` checked first).
+Result<BindingCacheFile> make_cache_file(std::string path, const Binding& binding, BindingInputs inputs, const Status& fits) {
+  BindingCacheFile out;
+  out.path = std::move(path);
+  if (!fits) return make_error(fits.error().code, out.path + ": the binding was not cached: " + fits.error().message);
+  out.bytes = binding_bytes(binding);
+  out.record.file = fs::absolute(out.path).lexically_normal().string();
+  out.record.file_hash = format_hash(fnv1a64(out.bytes));
+  out.record.inputs = std::move(inputs);
+  return out;
+}
+
 }  // namespace
 
 std::string binding_cache_path(const std::string& project_path, size_t deformer) {
@@ -49,27 +108,13 @@ std::string binding_cache_path(const std::string& project_path, size_t deformer)
 BindingInputs binding_inputs(const Document& doc) {
   CAGEWRAP_CHECK(doc.cage, "a binding's inputs need a cage");
   BindingInputs in;
-  // the weight rule is part of the program: a binding cached before the tie band (issue 18) is stale
-  in.program = std::string("cagewrap ") + CAGEWRAP_VERSION + " (weights: tie band " + std::to_string(kTieBand) + ")";
+  in.program = program_input();
   in.character = doc.character_hash;
   const PolyMesh& cage = doc.cage->polygons;
   in.cage = Hasher().list(cage.face_start).list(cage.face_vertices).list(cage.positions).text();
+  in.params = params_input(doc.params);
+  in.set_edits = set_edits_input(doc.set_edits);
   const BindParams& p = doc.params;
-  in.params = Hasher()
-                  .pod(p.local)
-                  .pod(p.epsilon)
-                  .pod(p.max_elements)
-                  .pod(p.scale)
-                  .pod(p.max_distance)
-                  .pod(p.close_distance)
-                  .pod(static_cast<uint8_t>(p.variant))
-                  .pod(static_cast<uint8_t>(p.separate))
-                  .pod(p.separation_steps)
-                  .text();
-  Hasher edits;
-  edits.pod<uint64_t>(doc.set_edits.size());
-  for (const SetEdit& e : doc.set_edits) edits.pod(e.point).pod(static_cast<uint8_t>(e.only)).list(e.exclude).list(e.include);
-  in.set_edits = edits.text();
   // the attachment reaches the bind only through automatic separation's part labels
   Hasher attachment;
   if (p.separate) {
@@ -119,15 +164,8 @@ Status binding_fits(const Binding& binding, const Document& doc) {
 
 Result<BindingCacheFile> make_binding_cache(const std::string& project_path, const Document& doc,
                                             const Binding& binding, size_t deformer) {
-  BindingCacheFile out;
-  out.path = binding_cache_path(project_path, deformer);
-  if (auto fits = binding_fits(binding, doc); !fits)
-    return make_error(fits.error().code, out.path + ": the binding was not cached: " + fits.error().message);
-  out.bytes = binding_bytes(binding);
-  out.record.file = fs::absolute(out.path).lexically_normal().string();
-  out.record.file_hash = format_hash(fnv1a64(out.bytes));
-  out.record.inputs = binding_inputs(doc);
-  return out;
+  const Status fits = binding_fits(binding, doc);
+  return make_cache_file(binding_cache_path(project_path, deformer), binding, fits ? binding_inputs(doc) : BindingInputs{}, fits);
 }
 
 Result<Binding> load_binding_cache(const Document& doc) {
@@ -136,20 +174,58 @@ Result<Binding> load_binding_cache(const Document& doc) {
     return make_error(ErrorCode::kFileNotFound, (doc.project_path.empty() ? std::string("the document") : doc.project_path) +
                                                     ": no binding is cached");
   if (!doc.cage) return make_error(ErrorCode::kInvalidArgument, r.file + ": the project has no cage to use it with");
-  const std::string changed = changed_inputs(r.inputs, binding_inputs(doc));
-  if (!changed.empty())
-    return make_error(ErrorCode::kInvalidArgument,
-                      r.file + " is out of date: " + changed + " changed since it was written");
-  auto hash = hash_file(r.file);
-  if (!hash) return make_error(hash.error().code, r.file + ": the cached binding is gone (" + hash.error().message + ")");
-  if (*hash != r.file_hash)
-    return make_error(ErrorCode::kInvalidArgument, r.file + " was changed or replaced since the project was saved (hash " +
-                                                       *hash + ", the project says " + r.file_hash + ")");
-  auto binding = load_binding(r.file);
-  if (!binding) return binding.error();
-  if (auto fits = binding_fits(*binding, doc); !fits)
-    return make_error(fits.error().code, r.file + " does not fit the project: " + fits.error().message);
-  return binding;
+  return load_recorded(r, binding_inputs(doc), [&doc](const Binding& b) { return binding_fits(b, doc); });
+}
+
+std::string driver_binding_cache_path(const std::string& project_path, size_t driver) {
+  return project_path + ".D" + std::to_string(driver + 1) + ".cwb";
+}
+
+BindingInputs driver_binding_inputs(const Document& doc, size_t driver) {
+  const DriverRef r = driver_at(doc, driver);
+  BindingInputs in;
+  in.program = program_input();
+  in.character = doc.character_hash;
+  Hasher surface;
+  surface.pod(r.driver->density).pod<uint64_t>(r.driver->rest.grids.size());
+  for (const PatchGrid& g : r.driver->rest.grids) surface.pod(static_cast<uint8_t>(g.basis)).pod(g.rows).pod(g.cols).list(g.points);
+  in.cage = surface.text();
+  in.params = params_input(patch_bind_params(driver_params(doc, *r.place)));
+  in.set_edits = set_edits_input(r.place->set_edits);
+  in.attachment = Hasher().text();  // a driver's attachment does not reach its bind
+  return in;
+}
+
+Status driver_binding_fits(const Binding& binding, const Document& doc, size_t driver) {
+  if (!doc.character) return make_error(ErrorCode::kInvalidArgument, "the document has no character");
+  const DriverRef r = driver_at(doc, driver);
+  if (!(binding.params == patch_bind_params(driver_params(doc, *r.place))))
+    return make_error(ErrorCode::kInvalidArgument, "it was made with other binding parameters");
+  const size_t samples = patch_sample_count(r.driver->rest, r.driver->density);
+  if (binding.num_samples == 0 || binding.num_samples != samples || !binding.rest_cage.empty())
+    return make_error(ErrorCode::kTopologyMismatch, "it binds to " + std::to_string(binding.num_samples) +
+                                                        " driver samples, the driver has " + std::to_string(samples));
+  if (binding.num_points != doc.character->num_vertices())
+    return make_error(ErrorCode::kTopologyMismatch, "it binds " + std::to_string(binding.num_points) +
+                                                        " skin points, the character has " +
+                                                        std::to_string(doc.character->num_vertices()));
+  return Ok{};
+}
+
+Result<BindingCacheFile> make_driver_binding_cache(const std::string& project_path, const Document& doc, size_t driver,
+                                                   const Binding& binding) {
+  const Status fits = driver_binding_fits(binding, doc, driver);
+  return make_cache_file(driver_binding_cache_path(project_path, driver), binding,
+                         fits ? driver_binding_inputs(doc, driver) : BindingInputs{}, fits);
+}
+
+Result<Binding> load_driver_binding_cache(const Document& doc, size_t driver) {
+  const BindingCacheRecord& r = driver_at(doc, driver).place->binding_cache;
+  if (r.file.empty())
+    return make_error(ErrorCode::kFileNotFound, (doc.project_path.empty() ? std::string("the document") : doc.project_path) +
+                                                    ": no binding of parametric driver '" + driver_name(doc, driver) + "' is cached");
+  return load_recorded(r, driver_binding_inputs(doc, driver),
+                       [&doc, driver](const Binding& b) { return driver_binding_fits(b, doc, driver); });
 }
 
 StackBindingCache load_stack_binding_caches(const Document& doc) {
@@ -163,6 +239,17 @@ StackBindingCache load_stack_binding_caches(const Document& doc) {
     if (b) {
       out.bindings[d] = std::move(b).value();
       ++out.used;
+    } else {
+      out.not_used.push_back(b.error().message);
+    }
+  }
+  out.drivers.resize(driver_count(doc));
+  for (size_t i = 0; i < out.drivers.size(); ++i) {
+    if (!driver_moves_skin(doc, i) || driver_at(doc, i).place->binding_cache.file.empty()) continue;
+    auto b = load_driver_binding_cache(doc, i);
+    if (b) {
+      out.drivers[i] = std::move(b).value();
+      ++out.drivers_used;
     } else {
       out.not_used.push_back(b.error().message);
     }

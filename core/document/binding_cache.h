@@ -54,11 +54,30 @@ Result<Binding> load_binding_cache(const Document& doc);
 // The cached bindings of every deformer of the stack that moves the skin (not muted), each loaded with
 // load_binding_cache(deformer_document(doc, d)): bindings[d] for deformer d (nullopt where nothing usable is
 // cached), and for each deformer that recorded a cache it cannot use, why (load_binding_cache's sentence).
+// The same for the parametric drivers that move the skin: drivers[i] for driver i (driver_at's number).
 struct StackBindingCache {
   std::vector<std::optional<Binding>> bindings;  // #deformers
+  std::vector<std::optional<Binding>> drivers;   // #drivers
   std::vector<std::string> not_used;
-  size_t used = 0;  // how many bindings came from the cache
+  size_t used = 0;          // how many deformers' bindings came from the cache
+  size_t drivers_used = 0;  // how many drivers' bindings came from the cache
 };
 StackBindingCache load_stack_binding_caches(const Document& doc);
+
+// The parametric drivers' caches (issue 21): driver i (driver_at's number) is bound to the samples of its
+// rest surface (core/deform/patch_binding.h), and its binding is cached as a cage's is, in
+// `P.cagewrap.D<i + 1>.cwb`, recorded in its DriverPlacement::binding_cache. Its inputs: the character
+// file, the rest surface with its density (in BindingInputs::cage), the parameters it binds with
+// (patch_bind_params of driver_params), its set edits (sample ids) and the program; the attachment is
+// not an input (it does not reach the bind).
+std::string driver_binding_cache_path(const std::string& project_path, size_t driver);
+// i < driver_count(doc): checked.
+BindingInputs driver_binding_inputs(const Document& doc, size_t driver);
+// Whether `binding` is driver i's as the document has it: the parameters, the sample count, the point count.
+Status driver_binding_fits(const Binding& binding, const Document& doc, size_t driver);
+Result<BindingCacheFile> make_driver_binding_cache(const std::string& project_path, const Document& doc, size_t driver,
+                                                   const Binding& binding);
+// Driver i's cached binding when its record is still valid (load_binding_cache's rules and errors).
+Result<Binding> load_driver_binding_cache(const Document& doc, size_t driver);
 
 }  // namespace cagewrap

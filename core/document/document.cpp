@@ -286,6 +286,12 @@ size_t moving_deformers(const Document& doc) {
   return n;
 }
 
+size_t moving_drivers(const Document& doc) {
+  size_t n = 0;
+  for (size_t i = 0; i < driver_count(doc); ++i) n += driver_moves_skin(doc, i);
+  return n;
+}
+
 bool deformer_hidden(const Document& doc, size_t d) {
   if (d == 0) return doc.stack.base_hidden;
   return d - 1 < doc.layers.size() ? doc.layers[d - 1].hidden : true;

@@ -122,6 +122,9 @@ struct DriverPlacement {
   bool hidden = false;  // its control net not drawn in the editor (a view setting, saved with the project)
   // Contributing-set edits whose element ids are its samples (core/deform/patch_binding.h); canonical.
   std::vector<SetEdit> set_edits;
+  // Its binding cached beside the project (P.cagewrap.D<i + 1>.cwb; core/document/binding_cache.h), when the
+  // document caches bindings; not part of the work (not compared), like Document::binding_cache.
+  BindingCacheRecord binding_cache;
   bool operator==(const DriverPlacement& o) const {
     return name == o.name && hidden == o.hidden && set_edits == o.set_edits && after == o.after && (mask == o.mask || (mask && o.mask && *mask == *o.mask)) && mask_source == o.mask_source &&
            keyposes == o.keyposes && params == o.params && attachment == o.attachment;
@@ -278,6 +281,8 @@ Document with_driver_solo(const Document& doc, std::optional<size_t> i);
 bool deformer_muted(const Document& doc, size_t d);
 // How many deformers move the skin (those deformer_muted leaves in).
 size_t moving_deformers(const Document& doc);
+// How many parametric drivers move the skin (driver_moves_skin).
+size_t moving_drivers(const Document& doc);
 bool deformer_hidden(const Document& doc, size_t d);
 // "cage" for 0, else the layer's name.
 std::string deformer_name(const Document& doc, size_t d);

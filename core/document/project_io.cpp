@@ -203,11 +203,22 @@ Result<std::string> mask_text(const std::string& path, const std::string& what, 
   return s + "\n  ],\n";
 }
 
+// "binding_cache": the record (its file relative to the project's folder), or {} when caching is on
+// and nothing is cached.
+std::string binding_cache_text(const std::string& path, const BindingCacheRecord& record) {
+  if (record.file.empty()) return "  \"binding_cache\": {},\n";
+  Json inputs = Json::object();
+  for (const auto& [key, member] : kInputFields) inputs[key] = record.inputs.*member;
+  std::string s = "  \"binding_cache\": {\"file\": " + Json(relative_path(path, record.file)).dump() +
+                  ", \"hash\": " + Json(record.file_hash).dump() + ",\n    \"inputs\": " + one_line(inputs) + "},\n";
+  return s;
+}
+
 // A parametric driver's object ("{...}"): the rest grids in the .cwpatch layout, the density, whether it
 // drives the skin and the posed control points, grid by grid; then its name, place in the stack, mask,
 // binding and keyposes (DriverPlacement) when they are not the defaults. ("{...}"); `who` names it in messages ("the parametric driver", "parametric driver 'x'").
 Result<std::string> driver_object_text(const std::string& path, const Document& doc, const PatchDriver& d,
-                                       const DriverPlacement& place, const std::string& who) {
+                                       const DriverPlacement& place, const std::string& who, const BindingCacheRecord* cache) {
   if (auto v = validate_patch_surface(d.rest, who); !v)
     return make_error(v.error().code, path + ": not saved: " + v.error().message);
   if (d.posed.num_control_points() != d.rest.num_control_points())
@@ -273,38 +284,32 @@ Result<std::string> driver_object_text(const std::string& path, const Document& 
     const std::string k = keyposes_text(doc, place.keyposes);
     s += ",\n" + k.substr(0, k.size() - 2);
   }
+  if (cache) {
+    const std::string c = binding_cache_text(path, *cache);
+    s += ",\n  " + c.substr(0, c.size() - 2);
+  }
   return s + "}";
 }
 
 // "patch_driver" (the first) and "more_drivers" (the others), only when the document has them.
-Result<std::string> patch_driver_text(const std::string& path, const Document& doc) {
+// `caches`: each driver's binding cache record to write (null: caching is off).
+Result<std::string> patch_driver_text(const std::string& path, const Document& doc, const std::vector<BindingCacheRecord>* caches) {
   if (!doc.patch_driver) return std::string();
-  auto first = driver_object_text(path, doc, *doc.patch_driver, doc.driver_place, "the parametric driver");
+  auto cache = [caches](size_t i) { return caches && i < caches->size() ? &(*caches)[i] : nullptr; };
+  auto first = driver_object_text(path, doc, *doc.patch_driver, doc.driver_place, "the parametric driver", cache(0));
   if (!first) return first.error();
   std::string s = "  \"patch_driver\": " + *first + ",\n";
   if (doc.more_drivers.empty()) return s;
   s += "  \"more_drivers\": [";
   for (size_t i = 0; i < doc.more_drivers.size(); ++i) {
     auto o = driver_object_text(path, doc, *doc.more_drivers[i].driver, doc.more_drivers[i].place,
-                                "parametric driver '" + driver_name(doc, i + 1) + "'");
+                                "parametric driver '" + driver_name(doc, i + 1) + "'", cache(i + 1));
     if (!o) return o.error();
     s += std::string(i ? ",\n    " : "\n    ") + *o;
   }
   return s + "\n  ],\n";
 }
 
-// "binding_cache": the record (its file relative to the project's folder), or {} when caching is on
-// and nothing is cached.
-std::string binding_cache_text(const std::string& path, const BindingCacheRecord& record) {
-  if (record.file.empty()) return "  \"binding_cache\": {},\n";
-  Json inputs = Json::object();
-  for (const auto& [key, member] : kInputFields) inputs[key] = record.inputs.*member;
-  std::string s = "  \"binding_cache\": {\"file\": " + Json(relative_path(path, record.file)).dump() +
-                  ", \"hash\": " + Json(record.file_hash).dump() + ",\n    \"inputs\": " + one_line(inputs) + "},\n";
-  return s;
-}
-
-// `cache`: the binding cache record to write (null: caching is off).
 // What the document's own cage and every layer hold, each field a line ending in ",\n": the cage
 // (positions, faces, offsets), "binding", "set_edits", "attachment", "keyposes", "simulation".
 Result<std::string> deformer_fields_text(const std::string& path, const Document& doc) {
@@ -397,8 +402,14 @@ Result<std::string> layers_text(const std::string& path, const Document& doc, co
   return s;
 }
 
-Result<std::string> project_text(const std::string& path, const Document& doc, const BindingCacheRecord* cache,
-                                 const std::vector<BindingCacheRecord>* layer_caches,
+// The binding cache records a project writes: the document's cage's, each layer's, each driver's.
+struct CacheRecords {
+  BindingCacheRecord cage;
+  std::vector<BindingCacheRecord> layers, drivers;
+};
+
+// `caches`: the records to write (null: caching is off).
+Result<std::string> project_text(const std::string& path, const Document& doc, const CacheRecords* caches,
                                  const std::optional<RecoveryInfo>& recovery) {
   Json preserved = Json::object();
   if (!doc.preserved_fields.empty()) {
@@ -421,13 +432,13 @@ Result<std::string> project_text(const std::string& path, const Document& doc, c
   auto fields = deformer_fields_text(path, doc);
   if (!fields) return fields.error();
   s += *fields;
-  auto layers = layers_text(path, doc, layer_caches);
+  auto layers = layers_text(path, doc, caches ? &caches->layers : nullptr);
   if (!layers) return layers.error();
   s += *layers;
-  auto patch = patch_driver_text(path, doc);
+  auto patch = patch_driver_text(path, doc, caches ? &caches->drivers : nullptr);
   if (!patch) return patch.error();
   s += *patch;
-  if (cache) s += binding_cache_text(path, *cache);
+  if (caches) s += binding_cache_text(path, caches->cage);
   s += "  \"extensions\": " + (preserved.contains("extensions") ? preserved["extensions"] : Json::object()).dump();
   for (const auto& [key, value] : preserved.items())
     if (!known_field(key)) s += ",\n  " + Json(key).dump() + ": " + value.dump();
@@ -694,7 +705,7 @@ std::shared_ptr<const PatchDriver> read_patch_driver(const Reader& r, const Json
     for (size_t k = 0; k < n; ++k) points[k] = read_dvec3(r, list[k], Reader::at(where + ".posed", k));
     d.posed.set_control_points(points);
   }
-  warn_unknown(j, where, {"density", "drive_skin", "rest", "posed", "name", "hidden", "set_edits", "after", "mask", "mask_source", "keyposes", "binding", "attachment"},
+  warn_unknown(j, where, {"density", "drive_skin", "rest", "posed", "name", "hidden", "set_edits", "after", "mask", "mask_source", "keyposes", "binding", "attachment", "binding_cache"},
                warnings, file);
   return std::make_shared<const PatchDriver>(std::move(d));
 }
@@ -919,6 +930,11 @@ DriverPlacement read_driver_place(const Reader& r, const Json& j, const Characte
     }
     place.set_edits = canonical_set_edits(place.set_edits);
   }
+  if (j.contains("binding_cache")) {  // its cached binding (a malformed record is a warning: it binds again)
+    Document cached;
+    read_binding_cache(j, file, cached, warnings);
+    place.binding_cache = std::move(cached.binding_cache);
+  }
   if (j.contains("attachment")) {
     const Reader in(r.file() + ": " + where);
     place.attachment = read_attachment(in, j["attachment"], character, num_control_points, warnings, file);
@@ -1116,30 +1132,49 @@ Status save_project(const std::string& path, const Document& doc, const SaveOpti
                       path + ": not saved: that is the character file; choose another name for the project");
   if (auto v = validate(doc.params); !v)
     return make_error(ErrorCode::kInvalidArgument, path + ": not saved: " + v.error().message);
-  // the binding caches (the document's cage's and each layer's): written first, so a project never names
-  // a cache file that is not there yet
+  // the binding caches (the document's cage's, each layer's and each driver's): written first, so a project
+  // never names a cache file that is not there yet
   std::vector<BindingCacheFile> cache_files;
-  std::vector<BindingCacheRecord> records(deformer_count(doc));  // what the project records; empty = nothing cached
+  CacheRecords records;  // what the project records; an empty record = nothing cached
+  records.layers.resize(doc.layers.size());
+  records.drivers.resize(driver_count(doc));
+  // a record the document already has is kept when the file is where this save puts it and nothing the
+  // binding depends on changed
+  auto still_valid = [](const BindingCacheRecord& r, const std::string& file, const BindingInputs& now) {
+    return r.file == fs::absolute(file).lexically_normal().string() && r.inputs == now;
+  };
   if (doc.cache_binding && !options.recovery && doc.cage) {
-    for (size_t d = 0; d < records.size(); ++d) {
+    for (size_t d = 0; d < deformer_count(doc); ++d) {
       const Binding* binding = d == 0 ? options.binding
                                       : d - 1 < options.layer_bindings.size() ? options.layer_bindings[d - 1] : nullptr;
+      BindingCacheRecord& record = d == 0 ? records.cage : records.layers[d - 1];
       const Document view = deformer_document(doc, d);
       if (binding) {
         auto made = make_binding_cache(path, view, *binding, d);
         if (!made) return make_error(made.error().code, made.error().message + (d ? " (deformer '" + doc.layers[d - 1].name + "')" : ""));
-        records[d] = made->record;
+        record = made->record;
         cache_files.push_back(std::move(made).value());
-      } else if (view.binding_cache.file == fs::absolute(binding_cache_path(path, d)).lexically_normal().string() &&
-                 view.binding_cache.inputs == binding_inputs(view)) {
-        records[d] = view.binding_cache;  // saved again, nothing the binding depends on changed
+      } else if (still_valid(view.binding_cache, binding_cache_path(path, d), binding_inputs(view))) {
+        record = view.binding_cache;  // saved again, nothing the binding depends on changed
+      }
+    }
+  }
+  if (doc.cache_binding && !options.recovery) {
+    for (size_t i = 0; i < driver_count(doc); ++i) {
+      const Binding* binding = i < options.driver_bindings.size() ? options.driver_bindings[i] : nullptr;
+      const BindingCacheRecord& had = driver_at(doc, i).place->binding_cache;
+      if (binding) {
+        auto made = make_driver_binding_cache(path, doc, i, *binding);
+        if (!made) return make_error(made.error().code, made.error().message + " (parametric driver '" + driver_name(doc, i) + "')");
+        records.drivers[i] = made->record;
+        cache_files.push_back(std::move(made).value());
+      } else if (still_valid(had, driver_binding_cache_path(path, i), driver_binding_inputs(doc, i))) {
+        records.drivers[i] = had;
       }
     }
   }
   try {
-    const std::vector<BindingCacheRecord> layer_records(records.begin() + (records.empty() ? 0 : 1), records.end());
-    auto text = project_text(path, doc, doc.cache_binding && !records.empty() ? &records[0] : nullptr,
-                             doc.cache_binding ? &layer_records : nullptr, options.recovery);
+    auto text = project_text(path, doc, doc.cache_binding ? &records : nullptr, options.recovery);
     if (!text) return text.error();
     for (const BindingCacheFile& f : cache_files)
       if (auto s = write_file_atomic(f.path, f.bytes); !s) return s.error();

@@ -35,6 +35,9 @@ struct SaveOptions {
   // The same for each layer of the stack (index = layer; missing or null = keep a valid record or none);
   // layer i's cache is binding_cache_path(path, i + 1).
   std::vector<const Binding*> layer_bindings;
+  // The same for each parametric driver (index = driver_at's number); driver i's cache is
+  // driver_binding_cache_path(path, i).
+  std::vector<const Binding*> driver_bindings;
   // Writing a recovery file: recorded in it; no binding cache is written then.
   std::optional<RecoveryInfo> recovery;
 };

@@ -12,7 +12,9 @@ namespace cagewrap {
 namespace {
 
 constexpr char kMagic[8] = {'C', 'W', 'B', 'I', 'N', 'D', '0', '1'};
-constexpr uint32_t kVersion = 2;  // reads 1 (no sets, no separation) and 2
+constexpr uint32_t kVersion = 3;  // reads 1 (no sets, no separation), 2 and 3 (a parametric driver's samples)
+// A cage's binding is written as version 2 (older builds still read it); a sample binding as version 3.
+constexpr uint32_t kCageVersion = 2;
 
 class Writer {
  public:
@@ -77,7 +79,8 @@ class Reader {
 std::string binding_bytes(const Binding& b) {
   Writer w;
   for (char c : kMagic) w.pod(c);
-  w.pod(kVersion);
+  const bool samples = b.num_samples > 0;
+  w.pod(samples ? kVersion : kCageVersion);
   w.pod(b.params.local);
   w.pod(b.params.epsilon);
   w.pod(b.params.max_elements);
@@ -112,6 +115,10 @@ std::string binding_bytes(const Binding& b) {
   w.array(b.set_ids);
   w.array(b.set_weights);
   w.array(b.separated);
+  if (samples) {  // version 3
+    w.pod(b.num_samples);
+    w.array(b.invalid_elements);
+  }
   return std::string(w.data().begin(), w.data().end());
 }
 
@@ -135,7 +142,7 @@ Result<Binding> load_binding(const std::string& path) {
   if (std::memcmp(magic, kMagic, 8) != 0) return make_error(ErrorCode::kParse, path + ": not a cagewrap binding (wrong magic)");
   uint32_t version;
   if (!r.pod(version)) return make_error(ErrorCode::kParse, path + ": truncated header");
-  if (version != 1 && version != kVersion)
+  if (version < 1 || version > kVersion)
     return make_error(ErrorCode::kVersion, path + ": binding format version " + std::to_string(version) +
                                                " is not supported (this build reads version " +
                                                "1 to " + std::to_string(kVersion) + "); bind again");
@@ -156,6 +163,8 @@ Result<Binding> load_binding(const std::string& path) {
     ok = ok && r.pod(separate) && r.pod(b.params.separation_steps) && r.pod(applied) &&
          r.array(b.set_offsets, "set_offsets") && r.array(b.set_ids, "set_ids") &&
          r.array(b.set_weights, "set_weights") && r.array(b.separated, "separated");
+  std::vector<uint32_t> invalid_samples;
+  if (version >= 3) ok = ok && r.pod(b.num_samples) && r.array(invalid_samples, "invalid_samples");
   if (!ok)
     return make_error(ErrorCode::kParse, path + ": " + (r.problem().empty() ? "the file is cut short" : r.problem()));
   if (!r.at_end()) return make_error(ErrorCode::kParse, path + ": unexpected data after the last table");
@@ -176,6 +185,12 @@ Result<Binding> load_binding(const std::string& path) {
   if (auto v = validate_binding(b); !v) return make_error(v.error().code, path + ": " + v.error().message);
   for (size_t e = 0; e < b.element_status.size(); ++e)
     if (b.element_status[e] != ElementStatus::kValid) b.invalid_elements.push_back(static_cast<uint32_t>(e));
+  for (size_t i = 0; i < invalid_samples.size(); ++i)
+    if (invalid_samples[i] >= b.num_samples || (i > 0 && invalid_samples[i] <= invalid_samples[i - 1]))
+      return make_error(ErrorCode::kParse, path + ": degenerate sample entry " + std::to_string(i) + " (" +
+                                               std::to_string(invalid_samples[i]) + ") is out of order or past the " +
+                                               std::to_string(b.num_samples) + " samples");
+  if (b.num_samples > 0) b.invalid_elements = std::move(invalid_samples);
   return b;
 }
 

@@ -97,6 +97,7 @@ bool DriverLayer::fits(const PatchDriver& driver, const BindParams& params, std:
 }
 
 size_t DriverLayer::num_control_points() const { return s_->rest_points.size(); }
+const Binding& DriverLayer::binding() const { return s_->binding; }
 
 Status DriverLayer::attach(const Character& character, const AttachmentSettings* settings) {
   State& s = *s_;

@@ -56,6 +56,8 @@ class DriverLayer {
   Result<bool> displacement(const PatchDriver& driver, std::span<const KeyposeSet> keyposes, const Skeleton& skeleton,
                             const Pose& pose, std::span<const glm::mat4> globals, std::span<glm::vec3> delta);
   size_t num_control_points() const;
+  // The skin's binding to the driver's samples (what a project caches for it).
+  const Binding& binding() const;
   // Attaches the control points by `settings` (rigid, smooth or skin_weights; its overrides name control
   // points) instead of each rigidly to its closest limb (null: back to that), without binding again.
   // Errors: fitted (it fits a cage's attachment to its binding), an override past the control points or on

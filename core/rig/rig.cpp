@@ -188,11 +188,13 @@ Result<Rig> Rig::create(const Document& doc, Binding binding) {
   return make(doc, std::move(bindings), {});
 }
 
-Result<Rig> Rig::create(const Document& doc, std::vector<std::optional<Binding>> bindings, const BindProgress& progress) {
-  return make(doc, std::move(bindings), progress);
+Result<Rig> Rig::create(const Document& doc, std::vector<std::optional<Binding>> bindings, const BindProgress& progress,
+                        std::vector<std::optional<Binding>> driver_bindings) {
+  return make(doc, std::move(bindings), progress, std::move(driver_bindings));
 }
 
-Result<Rig> Rig::make(const Document& doc, std::vector<std::optional<Binding>> bindings, const BindProgress& progress) {
+Result<Rig> Rig::make(const Document& doc, std::vector<std::optional<Binding>> bindings, const BindProgress& progress,
+                      std::vector<std::optional<Binding>> driver_bindings) {
   if (!doc.character) return make_error(ErrorCode::kInvalidArgument, "the document has no character");
   if (!doc.cage)
     return make_error(ErrorCode::kInvalidArgument, "the document has no cage to pose the skin with");
@@ -243,7 +245,9 @@ Result<Rig> Rig::make(const Document& doc, std::vector<std::optional<Binding>> b
       return make_error(ErrorCode::kTopologyMismatch, "parametric driver '" + driver_name(doc, i) + "': its mask has " +
                                                           std::to_string(r.place->mask->size()) + " weights but the skin has " +
                                                           std::to_string(s.skin_rest.size()) + " points");
-    auto d = DriverLayer::create(ch, s.skin_rest, *r.driver, driver_params(doc, *r.place), progress, r.place->set_edits);
+    auto d = i < driver_bindings.size() && driver_bindings[i]
+                 ? DriverLayer::create(ch, s.skin_rest, *r.driver, std::move(*driver_bindings[i]), r.place->set_edits)
+                 : DriverLayer::create(ch, s.skin_rest, *r.driver, driver_params(doc, *r.place), progress, r.place->set_edits);
     if (!d) return make_error(d.error().code, "parametric driver '" + driver_name(doc, i) + "': " + d.error().message);
     if (r.place->attachment)
       if (auto a = d->attach(ch, &*r.place->attachment); !a)
@@ -258,6 +262,12 @@ Result<Rig> Rig::make(const Document& doc, std::vector<std::optional<Binding>> b
 const Binding* Rig::layer_binding(size_t layer) const {
   for (size_t k = 0; k < state_->layers.size(); ++k)
     if (state_->layer_index[k] == layer) return &state_->layers[k]->binding();
+  return nullptr;
+}
+
+const Binding* Rig::driver_binding(size_t driver) const {
+  for (size_t k = 0; k < state_->drivers.size(); ++k)
+    if (state_->driver_index[k] == driver) return &state_->drivers[k].binding();
   return nullptr;
 }
 

@@ -93,8 +93,10 @@ class Rig {
   // The same with bindings made earlier for some of the stack's deformers (index = deformer: 0 the
   // document's cage, k layer k - 1; core/document/binding_cache.h load_stack_binding_caches, which checks
   // that they fit): those are not bound again, the others are.
+  // `driver_bindings`: the same for the parametric drivers (index = driver_at's number; load_stack_binding_caches'
+  // drivers, checked there): those are not bound again.
   static Result<Rig> create(const Document& doc, std::vector<std::optional<Binding>> bindings,
-                            const BindProgress& progress = {});
+                            const BindProgress& progress = {}, std::vector<std::optional<Binding>> driver_bindings = {});
 
   // Whether `doc` has this rig's cage (same object or same content), parameters and attachment.
   bool fits(const Document& doc) const;
@@ -123,6 +125,9 @@ class Rig {
   // The registration of layer `layer` of the stack (its rig's binding()); null when it is muted or there
   // is no such layer. What the project caches for it.
   const Binding* layer_binding(size_t layer) const;
+  // The binding of parametric driver `driver` (driver_at's number); null when it does not move the skin.
+  // What the project caches for it.
+  const Binding* driver_binding(size_t driver) const;
   // What the deformer reads: the registration, or with a fitted attachment its stencil smoothed
   // where the rig would stretch the skin (core/deform/attachment_fit.h fit_rig).
   const Binding& deformer_binding() const;
@@ -134,7 +139,8 @@ class Rig {
 
  private:
   Rig();
-  static Result<Rig> make(const Document& doc, std::vector<std::optional<Binding>> bindings, const BindProgress& progress);
+  static Result<Rig> make(const Document& doc, std::vector<std::optional<Binding>> bindings, const BindProgress& progress,
+                          std::vector<std::optional<Binding>> driver_bindings = {});
   struct State;
   std::unique_ptr<State> state_;
 };

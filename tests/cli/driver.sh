@@ -203,4 +203,40 @@ check "rules by faces are refused" hasf "$T/err" "rules by cage faces do not app
 run new --character "$DEMO" --cage "$CAGE" --patch "$T/rest.cwpatch" --patch "$T/rest.cwpatch" --posed-patch "$T/posed.cwpatch" \
   --out "$T/bad.cagewrap"
 check "one --posed-patch for two --patch fails" hasf "$T/err" "1 --posed-patch for 2 --patch"
+
+# the drivers' bindings in the binding cache (P.cagewrap.D1.cwb, .D2.cwb): used by pose (no bind, the same
+# skin), dropped with a message naming the file and what changed
+cp "$T/two.cagewrap" "$T/cached.cagewrap"
+run project "$T/cached.cagewrap" --cache-binding
+check "project --cache-binding exits 0" test "$rc" -eq 0
+check "it caches the first driver" test -s "$T/cached.cagewrap.D1.cwb"
+check "it caches the second driver" test -s "$T/cached.cagewrap.D2.cwb"
+check "it reports the drivers' caches" has "$T/out" "^driver D2 'rest': cached in .*cached.cagewrap.D2.cwb (up to date)"
+run pose --project "$T/cached.cagewrap" --clip walk --time 0.4 --out "$T/cached.bin"
+check "pose uses the drivers' caches" hasf "$T/err" "using the cached bindings of 1 of 1 deformers and 2 of 2 parametric drivers (no bind)"
+check "the cached rig poses as the bound one" cmp_close "$T/two.bin" "$T/cached.bin" 1e-7
+cp "$T/cached.cagewrap" "$T/cached.keep"
+run deformer set --project "$T/cached.cagewrap" --driver --name rest --set-edits "$T/edits.json"
+run pose --project "$T/cached.cagewrap" --clip walk --time 0.4 --out "$T/cached_edited.bin"
+check "a driver's new set edits: its cache is dropped, the other's used" \
+  hasf "$T/err" "using the cached bindings of 1 of 1 deformers and 1 of 2 parametric drivers (the others bound)"
+check "... and the set edit changes the pose" bash -c "! cmp -s '$T/two.bin' '$T/cached_edited.bin'"
+cp "$T/cached.keep" "$T/cached.cagewrap"
+python3 - "$T/cached.cagewrap" <<'PY'
+import json, sys
+p = json.load(open(sys.argv[1]))
+p['more_drivers'][0]['binding_cache']['inputs']['set_edits'] = 'fnv1a64:0000000000000000'
+json.dump(p, open(sys.argv[1], 'w'))
+PY
+run pose --project "$T/cached.cagewrap" --clip walk --time 0.4 --out "$T/cached1.bin"
+check "an out-of-date driver cache is named" hasf "$T/err" "cached.cagewrap.D2.cwb is out of date: the set edits changed since it was written"
+cp "$T/cached.keep" "$T/cached.cagewrap"
+cp "$T/cached.cagewrap.D2.cwb" "$T/keep.cwb"
+printf 'x' >> "$T/cached.cagewrap.D2.cwb"
+run pose --project "$T/cached.cagewrap" --clip walk --time 0.4 --out "$T/cached2.bin"
+check "a replaced driver cache is named and not used" hasf "$T/err" "cached.cagewrap.D2.cwb was changed or replaced since the project was saved"
+check "binding again gives the same skin" cmp_close "$T/two.bin" "$T/cached2.bin" 1e-7
+cp "$T/keep.cwb" "$T/cached.cagewrap.D2.cwb"
+run project "$T/cached.cagewrap" --no-cache-binding
+check "--no-cache-binding removes the drivers' caches" bash -c "test ! -e '$T/cached.cagewrap.D1.cwb' && test ! -e '$T/cached.cagewrap.D2.cwb'"
 finish
