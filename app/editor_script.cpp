@@ -154,6 +154,16 @@ void Editor::add_window_actions() {
         const auto& driver = ws_.scene()->doc().patch_driver;
         if (driver && i < driver->posed.num_control_points()) click_at(driver->posed.control_points()[i]);
       });
+  add("click_patch_sample", "I [add]", "With the driver window's sample tool on, clicks at the driver's sample I (shift-clicks with `add`).",
+      [this](std::istringstream& in) {
+        uint32_t i = 0;
+        std::string mode;
+        in >> i >> mode;
+        const std::vector<glm::vec3>& samples = ws_.driver_sample_points();
+        if (i >= samples.size()) return;
+        const glm::dvec2 px = ws_.view.camera.project(glm::dvec3(samples[i]), view_w_, view_h_).pixel;
+        click_select(ImVec2(view_x_ + static_cast<float>(px.x), view_y_ + static_cast<float>(px.y)), mode == "add", false);
+      });
   // the workspace's `move` moves the cage selection; with a control point picked it moves that
   add("move", "DX DY DZ", "Moves the selection (cage vertices, faces' corners, or the picked control point) by a world displacement: one undo step.",
       [this, fail](std::istringstream& in) {

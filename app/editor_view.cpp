@@ -125,7 +125,8 @@ void Editor::click_select(const ImVec2& mouse, bool add, bool remove) {
   Viewport vp{view_w_, view_h_};
   glm::dvec2 px = to_view(mouse);
   std::optional<uint32_t> hit;
-  if (patch_panel_.pick(ws_, ws_.view.camera, vp, px)) return;  // a parametric driver's control point, while its window is open
+  // a parametric driver's control point (or sample, with its sample tool), while its window is open
+  if (patch_panel_.pick(ws_, ws_.view.camera, vp, px, add, remove)) return;
   if (!add && !remove) ws_.view.patch.point = -1;
   IndexSet* set = &ws_.active_set();
   switch (ws_.view.mode) {

@@ -18,9 +18,18 @@ std::vector<glm::vec3> float_points(const PatchSurface& surface) {
 }
 }  // namespace
 
-bool PatchPanel::pick(Workspace& ws, const Camera& camera, Viewport viewport, glm::dvec2 pixel) {
+bool PatchPanel::pick(Workspace& ws, const Camera& camera, Viewport viewport, glm::dvec2 pixel, bool add, bool remove) {
   const auto& driver = ws.scene()->doc().patch_driver;
   if (!ws.view.patch.editing || !driver || ws.scene()->work().driver_place.hidden) return false;
+  if (ws.view.patch.samples) {  // the sample tool: the driver's set elements, like cage faces in the Sets window
+    const auto hit = pick_vertex(camera, viewport, pixel, ws.driver_sample_points(), 6.0);
+    if (!hit) return false;  // beside the samples: the click selects as usual (skin vertices with F7)
+    const uint32_t s = static_cast<uint32_t>(*hit);
+    if (remove) ws.view.patch.picked.remove(std::span<const uint32_t>(&s, 1));
+    else if (add) ws.view.patch.picked.add(std::span<const uint32_t>(&s, 1));
+    else ws.view.patch.picked.set(std::span<const uint32_t>(&s, 1));
+    return true;
+  }
   const auto hit = pick_vertex(camera, viewport, pixel, float_points(driver->posed), 8.0);
   if (hit) ws.view.patch.point = int(*hit);
   return hit.has_value();
@@ -45,7 +54,14 @@ void PatchPanel::update_display(Workspace& ws, render::ViewportRenderer& rendere
     points.insert(points.end(), p.begin(), p.end());
     for (const auto& e : control_net_edges(d.driver->posed)) edges.push_back({e[0] + base, e[1] + base});
   }
-  renderer.update_control_net(points, edges, selected);
+  // the sample tool: the first driver's samples, coloured by state (picked, driving the selected skin vertices)
+  std::vector<glm::vec3> samples;
+  std::vector<uint8_t> states;
+  if (ws.view.patch.editing && ws.view.patch.samples && w.patch_driver && !w.driver_place.hidden) {
+    samples = ws.driver_sample_points();
+    states = ws.driver_sample_states();
+  }
+  renderer.update_control_net(points, edges, selected, samples, states);
 }
 
 void PatchPanel::draw(Workspace& ws) {
@@ -160,6 +176,9 @@ void PatchPanel::draw_stack_place(Workspace& ws) {
   ImGui::EndDisabled();
   hint("%s", place.params ? "its own binding parameters" : "binds with the cage's parameters");
   // how its control points follow the skeleton, and the selected one's joint (folded: the window stays short)
+  // the sample tool turned on (here or by the action patch_samples) unfolds the row that holds it
+  if (ws.view.patch.samples && !samples_shown_) ImGui::SetNextItemOpen(true);
+  samples_shown_ = ws.view.patch.samples;
   if (ImGui::TreeNode("attach", "Attachment: %s; %zu set edits", place.attachment ? attachment_mode_name(place.attachment->mode) : "closest limb",
                       place.set_edits.size())) {
     int mode = place.attachment ? int(place.attachment->mode) + 1 : 0;  // 0 closest, 1 rigid, 2 smooth, 3 skin weights
@@ -179,7 +198,7 @@ void PatchPanel::draw_stack_place(Workspace& ws) {
     ImGui::BeginDisabled(!assigned);
     if (ImGui::SmallButton("automatic")) ws.assign_driver_points(std::span<const uint32_t>(&p, 1), std::nullopt);
     ImGui::EndDisabled();
-    // its contributing-set edits (samples): from a set edits file in the path field above, or none
+    // its contributing-set edits (samples): picked in the view, from a set edits file in the path field above, or none
     ImGui::Text("Set edits: %zu", place.set_edits.size());
     ImGui::SameLine();
     if (ImGui::SmallButton("from the file above")) ws.set_driver_set_edits(path_field_);
@@ -188,6 +207,25 @@ void PatchPanel::draw_stack_place(Workspace& ws) {
     ImGui::BeginDisabled(place.set_edits.empty());
     if (ImGui::SmallButton("clear")) ws.set_driver_set_edits("");
     ImGui::EndDisabled();
+    ImGui::Checkbox("pick samples in the view", &ws.view.patch.samples);
+    if (ImGui::IsItemHovered())
+      ImGui::SetTooltip("clicks pick the driver's samples (its set elements; shift adds, ctrl removes) instead of control points");
+    if (ws.view.patch.samples) {
+      const size_t skin = ws.view.selection.skin_vertices.size();
+      hint("%zu samples picked, %zu skin vertices selected (F7)", ws.view.patch.picked.size(), skin);
+      ImGui::BeginDisabled(skin == 0);
+      if (ImGui::SmallButton("pick those driving them")) ws.select_driver_set_samples();
+      ImGui::EndDisabled();
+      ImGui::BeginDisabled(skin == 0 || ws.view.patch.picked.empty());
+      for (SetEditMode m : {SetEditMode::kRemove, SetEditMode::kAdd, SetEditMode::kOnly}) {
+        ImGui::SameLine();
+        if (ImGui::SmallButton(set_edit_mode_name(m))) ws.driver_set_edit(m);
+      }
+      ImGui::EndDisabled();
+      ImGui::BeginDisabled(skin == 0);
+      if (ImGui::SmallButton("reset the selected vertices' sets")) ws.driver_set_edit(SetEditMode::kReset);
+      ImGui::EndDisabled();
+    }
     ImGui::TreePop();
   }
   ImGui::TextUnformatted("Key the sculpt at this pose, against");

@@ -21,8 +21,9 @@ class PatchPanel {
   // The control net, into the renderer.
   void update_display(Workspace& ws, render::ViewportRenderer& renderer);
   // While the window is open, a click within 8 pixels of a control point selects it
-  // (app/workspace/picking.h pick_vertex); false when none is near.
-  bool pick(Workspace& ws, const Camera& camera, Viewport viewport, glm::dvec2 pixel);
+  // (app/workspace/picking.h pick_vertex); false when none is near. With the sample tool on, a click within
+  // 6 pixels of a sample picks it instead (`add`: shift, `remove`: ctrl); a click beside them selects as usual.
+  bool pick(Workspace& ws, const Camera& camera, Viewport viewport, glm::dvec2 pixel, bool add = false, bool remove = false);
 
  private:
 #if CAGEWRAP_GUI
@@ -35,6 +36,7 @@ class PatchPanel {
     int k = 0;
   } params_field_;
   bool params_edited_ = false;  // the fields hold the artist's values, not the driver's
+  bool samples_shown_ = false;  // the sample tool was on at the last frame
 };
 
 }  // namespace cagewrap::app

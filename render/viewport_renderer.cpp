@@ -41,6 +41,7 @@ bool ViewportRenderer::init(std::string& log) {
   axes_ = std::make_unique<LineBuffer>();
   net_edges_ = std::make_unique<LineBuffer>();
   net_points_ = std::make_unique<LineBuffer>();
+  net_samples_ = std::make_unique<LineBuffer>();
   other_cages_ = std::make_unique<LineBuffer>();
   return true;
 }
@@ -115,7 +116,8 @@ void ViewportRenderer::update_skin_points(std::span<const glm::vec3> skin_positi
 }
 
 void ViewportRenderer::update_control_net(std::span<const glm::vec3> points,
-                                          std::span<const std::array<uint32_t, 2>> edges, int selected) {
+                                          std::span<const std::array<uint32_t, 2>> edges, int selected,
+                                          std::span<const glm::vec3> samples, std::span<const uint8_t> sample_states) {
   scratch_positions_.clear();
   scratch_colors_.clear();
   for (const auto& [a, b] : edges)
@@ -127,6 +129,10 @@ void ViewportRenderer::update_control_net(std::span<const glm::vec3> points,
   scratch_colors_.assign(points.size(), kNetColor);
   if (selected >= 0 && size_t(selected) < points.size()) scratch_colors_[size_t(selected)] = kSelectedColor;
   net_points_->upload(points, scratch_colors_);
+  const glm::vec4 sample_colors[3] = {glm::vec4(0.80f, 0.85f, 0.90f, 0.9f), glm::vec4(0.35f, 0.95f, 0.35f, 1.0f), kSelectedColor};
+  scratch_colors_.assign(samples.size(), sample_colors[0]);
+  for (size_t i = 0; i < samples.size() && i < sample_states.size(); ++i) scratch_colors_[i] = sample_colors[std::min<uint8_t>(sample_states[i], 2)];
+  net_samples_->upload(samples, scratch_colors_);
 }
 
 void ViewportRenderer::update_other_cages(std::span<const glm::vec3> segments) {
@@ -265,6 +271,7 @@ void ViewportRenderer::draw(const ViewParams& v, const ViewportStyle& style) {
     glLineWidth(2.0f);
     net_edges_->draw(GL_LINES);
     draw_round_points(*net_points_, 8.0f);
+    if (net_samples_->size() > 0) draw_round_points(*net_samples_, 6.0f);
   }
   if (style.show_skeleton) {
     line_program_.use();

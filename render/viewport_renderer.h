@@ -61,9 +61,10 @@ class ViewportRenderer {
 
   // A parametric driver's control net (core/deform/patch_surface.h), drawn on top: `points` (#C control
   // points), `edges` (pairs of control point indices), `selected` (a control point or -1)
-  // highlighted. Empty `points` hide it.
+  // highlighted. Empty `points` hide it. `samples` (may be empty): the driver's samples, drawn as small dots
+  // coloured by `sample_states` (#samples: 0 plain, 1 driving the selected skin vertices, 2 picked).
   void update_control_net(std::span<const glm::vec3> points, std::span<const std::array<uint32_t, 2>> edges,
-                          int selected);
+                          int selected, std::span<const glm::vec3> samples = {}, std::span<const uint8_t> sample_states = {});
 
   // The cages of the other deformers of the stack (issue 21), as line segments (pairs of points), drawn
   // fainter than the active cage when the cage is shown; empty hides them.
@@ -83,7 +84,7 @@ class ViewportRenderer {
   GlProgram mesh_program_, line_program_;
   std::unique_ptr<TriangleBuffer> skin_, cage_faces_, cage_selected_faces_;
   std::unique_ptr<LineBuffer> cage_edges_, cage_points_, skin_points_, bones_, joints_, grid_, axes_;
-  std::unique_ptr<LineBuffer> net_edges_, net_points_, other_cages_;
+  std::unique_ptr<LineBuffer> net_edges_, net_points_, net_samples_, other_cages_;
   std::vector<Tri> cage_elements_, selected_elements_;
   std::vector<uint32_t> element_face_;
   std::vector<uint8_t> uploaded_face_mask_;

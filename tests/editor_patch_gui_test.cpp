@@ -91,4 +91,34 @@ TEST(EditorPatchGui, FitMoveAndDensityDriveTheSkin) {
   EXPECT_EQ(*after_error, *moved);
 }
 
+// The driver's set edits picked in the view (issue 21): with the sample tool on, two clicks on the driver's
+// samples (the second shift-click adds) pick them, and "only" on a selected chest vertex makes them its set;
+// the saved project holds exactly that edit, and the driver was bound again with it.
+TEST(EditorPatchGui, SamplesPickedInTheViewMakeTheDriversSetEdit) {
+  std::string why;
+  if (!gui_available(why)) GTEST_SKIP() << why;
+  const fs::path dir = gui_test_dir();
+  const fs::path driver = dir / "samples_chest.cwpatch", project = dir / "samples.cagewrap";
+  const PolyMesh cage = chest_sheet();
+  std::vector<uint32_t> faces(cage.num_faces());
+  for (uint32_t f = 0; f < faces.size(); ++f) faces[f] = f;
+  auto grid = fit_patch_to_faces(cage, cage.positions, faces);
+  ASSERT_TRUE(grid.ok());
+  PatchSurface rest;
+  rest.grids = {*grid};
+  ASSERT_TRUE(save_patch_any(driver.string(), rest).ok());
+  fs::remove(project);
+  const std::string script = "driver_add " + driver.string() + "\nwait 3\nclip rest\npatch_panel\npatch_samples on\ncamera 0 0 1.5 0 1.2 0\nwait 2\n"
+                             "click_patch_sample 0\nclick_patch_sample 8 add\nselect_skin_vertex 32831\npatch_set_edit only\nwait 3\n"
+                             "screenshot " + (dir / "patch_samples.png").string() + "\nsave " + project.string() + "\n";
+  const std::string demo = std::string(CAGEWRAP_SOURCE_DIR) + "/assets/demo_character.glb";
+  EditorRun run = run_editor_script(dir, "patch_samples", script, demo + " --width 1280 --height 720", dir / "config_patch_samples");
+  ASSERT_EQ(run.status, 0) << run.log;
+  EXPECT_NE(run.log.find("Driver sets: only 2 samples on 1 points"), std::string::npos) << run.log;
+  std::ifstream in(project);
+  ASSERT_TRUE(in) << run.log;
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("\"point\": 32831, \"exclude\": [], \"include\": [0, 8], \"only\": true"), std::string::npos) << text.substr(0, 400);
+}
+
 }  // namespace

@@ -376,3 +376,40 @@ TEST(SkinBrush, MeasuresAlongTheSurfaceAndDoesNotJumpTheGap) {
 
 }  // namespace
 }  // namespace cagewrap
+
+namespace cagewrap {
+namespace {
+
+// Set edits by element id (a parametric driver's samples, issue 21): the same rules as by cage faces, with the
+// elements given directly (duplicates and order ignored); errors name the point or element out of range.
+TEST(ElementSetEdit, AppliesTheModesToTheGivenElements) {
+  const std::vector<SetEdit> none;
+  auto only = apply_element_set_edit(none, SetEditMode::kOnly, IndexSet{4, 9}, std::vector<uint32_t>{7, 2, 7}, 10, 8);
+  ASSERT_TRUE(only.ok()) << only.error().message;
+  ASSERT_EQ(only->edits.size(), 2u);
+  EXPECT_TRUE(only->edits[0] == (SetEdit{4, {}, {2, 7}, true}));
+  EXPECT_EQ(only->changed_points, (std::vector<uint32_t>{4, 9}));
+  auto removed = apply_element_set_edit(only->edits, SetEditMode::kRemove, IndexSet{4}, std::vector<uint32_t>{7}, 10, 8);
+  ASSERT_TRUE(removed.ok());
+  EXPECT_TRUE(removed->edits[0] == (SetEdit{4, {}, {2}, true})) << "removing from an `only` set drops it from the included";
+  auto added = apply_element_set_edit(none, SetEditMode::kAdd, IndexSet{1}, std::vector<uint32_t>{3}, 10, 8);
+  ASSERT_TRUE(added.ok());
+  EXPECT_TRUE(added->edits[0] == (SetEdit{1, {}, {3}, false}));
+  auto reset = apply_element_set_edit(only->edits, SetEditMode::kReset, IndexSet{9}, {}, 10, 8);
+  ASSERT_TRUE(reset.ok());
+  EXPECT_EQ(reset->edits.size(), 1u);
+  EXPECT_EQ(reset->changed_points, (std::vector<uint32_t>{9}));
+  auto same = apply_element_set_edit(only->edits, SetEditMode::kOnly, IndexSet{4}, std::vector<uint32_t>{2, 7}, 10, 8);
+  ASSERT_TRUE(same.ok());
+  EXPECT_TRUE(same->changed_points.empty()) << "the same rule again changes nothing";
+
+  EXPECT_TRUE(Fails(apply_element_set_edit(none, SetEditMode::kAdd, IndexSet{10}, std::vector<uint32_t>{1}, 10, 8),
+                    ErrorCode::kIndexOutOfRange, {"skin point 10"}));
+  EXPECT_TRUE(Fails(apply_element_set_edit(none, SetEditMode::kAdd, IndexSet{1}, std::vector<uint32_t>{8}, 10, 8),
+                    ErrorCode::kIndexOutOfRange, {"element 8", "there are 8"}));
+  EXPECT_TRUE(Fails(apply_element_set_edit(none, SetEditMode::kAdd, IndexSet{1}, {}, 10, 8), ErrorCode::kInvalidArgument,
+                    {"no elements given to add"}));
+}
+
+}  // namespace
+}  // namespace cagewrap

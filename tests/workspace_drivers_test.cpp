@@ -5,6 +5,7 @@
 // makes for `pose` and the exports (within 1e-5 of the diagonal) with both drivers moving the skin, and
 // changes by each one's sculpt alone; mute and remove act on the driver named, undo brings it back; the
 // project file keeps both.
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -236,6 +237,84 @@ TEST_F(WorkspaceDriversTest, TheDriversAttachmentIsEditedAndTheFrameIsTheRigs) {
   EXPECT_GT(moved, 1e-3);
   ws.run("undo");
   EXPECT_TRUE(w().driver_place.attachment);
+}
+
+// The first driver's set edits picked in the view (patch_samples, patch_select_set_samples, patch_sample_select,
+// patch_set_edit; the driver window's "pick samples in the view"): the samples driving a selected chest vertex
+// are its binding's set; "only" with one picked sample is one undo step, binds again, and the vertex then follows
+// that sample alone, as the file-made edit does; remove and reset act the same way; refused edits (no
+// samples picked, no skin selected, a sample past the driver's) are named and leave no step.
+TEST_F(WorkspaceDriversTest, SetEditsArePickedInTheViewAndTheFrameIsTheRigs) {
+  const fs::path dir = fs::temp_directory_path() / "cagewrap_workspace_drivers_sets";
+  fs::create_directories(dir);
+  ASSERT_TRUE(save_patch_any((dir / "chest.cwpatch").string(), test::chest_driver(0.0)->rest).ok());
+  finish_bind();
+  const auto w = [this]() -> const Document& { return ws.scene()->work(); };
+  ws.run("driver_add " + (dir / "chest.cwpatch").string());
+  poll_while([this] { return ws.binding_patch_driver(); });
+  ws.run("patch_panel");
+  ws.run("patch_select 14");
+  ws.run("patch_move 0 0 0.05");
+  ws.run("clip walk");
+  ws.run("time 0.3");
+  ws.run("patch_samples on");
+  EXPECT_TRUE(ws.view.patch.samples);
+  EXPECT_EQ(ws.driver_sample_points().size(), 35u) << "5 x 4 spans at density 2: 7 x 5 samples";
+
+  constexpr uint32_t kChest = 32831;
+  const Binding& before = *ws.scene()->driver_binding.binding;
+  std::vector<uint32_t> set;
+  for (uint32_t i = before.offsets[kChest]; i < before.offsets[kChest + 1]; ++i)
+    if (before.weights[i] > 0) set.push_back(before.ids[i]);
+  std::sort(set.begin(), set.end());
+  ASSERT_GT(set.size(), 1u) << "the chest vertex is driven by several samples";
+  ws.run("select_skin_vertex " + std::to_string(kChest));
+  ws.run("patch_select_set_samples");
+  EXPECT_EQ(std::vector<uint32_t>(ws.view.patch.picked.begin(), ws.view.patch.picked.end()), set);
+  const std::vector<uint8_t> states = ws.driver_sample_states();
+  EXPECT_EQ(std::count(states.begin(), states.end(), 2), std::ptrdiff_t(set.size())) << "the picked samples are shown picked";
+
+  // only sample 0: one undo step, bound again, the vertex follows sample 0 alone; the frame is the rig's
+  const size_t steps = undo_steps();
+  ws.run("patch_sample_select 0");
+  ws.run("patch_set_edit only");
+  EXPECT_EQ(undo_steps(), steps + 1);
+  ASSERT_EQ(w().driver_place.set_edits.size(), 1u);
+  EXPECT_TRUE(w().driver_place.set_edits[0] == (SetEdit{kChest, {}, {0}, true}));
+  ws.poll_jobs();
+  poll_while([this] { return ws.binding_patch_driver(); });
+  ASSERT_TRUE(ws.scene()->driving()) << "bound again with the edit";
+  const Binding& after = *ws.scene()->driver_binding.binding;
+  ASSERT_EQ(after.offsets[kChest + 1] - after.offsets[kChest], 1u);
+  EXPECT_EQ(after.ids[after.offsets[kChest]], 0u);
+  ws.update_pose();
+  EXPECT_LT(rig_gap(), 1e-5) << "the picked edit is in the rig pose and export use";
+
+  // remove two samples of another vertex's set; reset brings the vertex back; undo restores
+  ws.run("select_skin_vertex " + std::to_string(kChest + 1));
+  ws.run("patch_sample_select " + std::to_string(set[0]) + "," + std::to_string(set[1]));
+  ws.run("patch_set_edit remove");
+  ASSERT_EQ(w().driver_place.set_edits.size(), 2u);
+  EXPECT_EQ(w().driver_place.set_edits[1].exclude, (std::vector<uint32_t>{set[0], set[1]}));
+  ws.run("patch_set_edit reset");
+  EXPECT_EQ(w().driver_place.set_edits.size(), 1u);
+  EXPECT_EQ(undo_steps(), steps + 3);
+  ws.run("undo");
+  EXPECT_EQ(w().driver_place.set_edits.size(), 2u);
+
+  // refused: nothing picked, no skin selected, a sample past the driver's; no step
+  const size_t refused = undo_steps();
+  ws.run("patch_sample_select none");
+  ws.run("patch_set_edit add");
+  EXPECT_TRUE(logged("pick the driver's samples to add first"));
+  ws.run("patch_sample_select 35");
+  EXPECT_TRUE(logged("no sample 35 (the driver has 35)"));
+  ws.run("select none");
+  ws.view.selection.skin_vertices.clear();
+  ws.run("patch_sample_select 3");
+  ws.run("patch_set_edit add");
+  EXPECT_TRUE(logged("select the skin vertices to edit first"));
+  EXPECT_EQ(undo_steps(), refused);
 }
 
 }  // namespace

@@ -73,9 +73,14 @@ struct ViewState {
   } mask;
   // The parametric driver's window: while it is open (`editing`) clicks pick control points and the
   // move gizmo moves `point` (-1: none).
+  // With `samples` on, clicks pick the first driver's samples instead (its contributing-set elements,
+  // core/deform/patch_binding.h) into `picked`, which the driver's set edits act on with the selected
+  // skin vertices (app/workspace/workspace_driver_sets.cpp).
   struct PatchTool {
     bool editing = false;
     int point = -1;
+    bool samples = false;
+    IndexSet picked;
   } patch;
   // Fidelity to the file's skinning: the heat map on the skin, and the thresholds the warning and
   // the check of every clip judge by.

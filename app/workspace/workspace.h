@@ -270,6 +270,15 @@ class Workspace {
   // The first driver's contributing-set edits from a set edits file (per-point edits of its samples;
   // docs/edits-format.md), or none (""): one undo step; it binds again.
   bool set_driver_set_edits(const std::string& path);
+  // The same picked in the view (app/workspace/workspace_driver_sets.cpp): `mode` (remove, add, only, reset)
+  // with the picked samples (view.patch.picked) on the selected skin vertices; one undo step; it binds again.
+  bool driver_set_edit(SetEditMode mode);
+  // Picks the samples that drive the selected skin vertices (their contributing sets in the driver's binding).
+  bool select_driver_set_samples();
+  // The first driver's samples on its posed surface (#S, what the view draws and picks), cached per driver.
+  const std::vector<glm::vec3>& driver_sample_points();
+  // Per sample: 0 plain, 1 in the set of a selected skin vertex, 2 picked (what the view colours them by).
+  std::vector<uint8_t> driver_sample_states() const;
   bool remove_driver(size_t i);
   void bind_patch_driver();                            // binds the document's driver again (after a failure)
   void cancel_patch_bind();
@@ -400,6 +409,10 @@ class Workspace {
     SetEditMirror maps;  // points at the two above
   };
   std::optional<SetMirrorMaps> set_mirror_;
+  struct SamplePoints {
+    std::shared_ptr<const PatchDriver> driver;  // what `points` were made for
+    std::vector<glm::vec3> points;
+  } sample_points_;
   const SetEditMirror& set_edit_mirror();
   void clip_cage_selection();  // drops selected cage vertex and face ids past the cage's counts
   bool commit_sim(SimSettings sim, const std::string& label);

@@ -510,6 +510,46 @@ void Workspace::add_actions() {
         if (path.empty()) return fail("patch_set_edits PATH|none");
         set_driver_set_edits(path == "none" ? std::string() : path);
       });
+  // its set edits picked in the view (app/workspace/workspace_driver_sets.cpp)
+  add("patch_samples", "on|off", "The driver window's sample tool: clicks pick the driver's samples (its set elements) instead of control points.",
+      [this](std::istringstream& in) {
+        std::string on;
+        in >> on;
+        if (on != "on" && on != "off") return fail("patch_samples on|off");
+        view.patch.samples = on == "on";
+        if (view.patch.samples) view.patch.editing = true;
+      });
+  add("patch_sample_select", "I[,J...] [add]|none", "Picks the driver's samples I, J, ... (adds them with `add`), or none.",
+      [this](std::istringstream& in) {
+        std::string list, mode;
+        in >> list >> mode;
+        if (list == "none") return view.patch.picked.clear();
+        std::vector<uint32_t> ids;
+        std::istringstream items(list);
+        for (std::string item; std::getline(items, item, ',');) {
+          char* end = nullptr;
+          const unsigned long v = std::strtoul(item.c_str(), &end, 10);
+          if (item.empty() || *end || item[0] == '-') return fail("patch_sample_select I[,J...] [add]|none");
+          ids.push_back(static_cast<uint32_t>(v));
+        }
+        const auto& driver = scene_->work().patch_driver;
+        const size_t n = driver ? patch_sample_count(driver->rest, driver->density) : 0;
+        for (uint32_t v : ids)
+          if (v >= n) return fail("no sample " + std::to_string(v) + " (the driver has " + std::to_string(n) + ")");
+        if (ids.empty()) return fail("patch_sample_select I[,J...] [add]|none");
+        if (mode == "add") view.patch.picked.add(ids);
+        else view.patch.picked.set(ids);
+      });
+  add("patch_select_set_samples", "", "Picks the driver's samples that drive the selected skin vertices.",
+      [this](std::istringstream&) { select_driver_set_samples(); });
+  add_bind("patch_set_edit", "remove|add|only|reset", "A set edit of the driver: the picked samples on the selected skin vertices; one undo step; it binds again.",
+      [this](std::istringstream& in) {
+        std::string m;
+        in >> m;
+        SetEditMode mode;
+        if (!parse_set_edit_mode(m, mode)) return fail("unknown set edit mode '" + m + "' (remove, add, only, reset)");
+        driver_set_edit(mode);
+      });
   add("patch_keyset_remove", "I", "Removes the driver's keypose set I.", [this](std::istringstream& in) {
     size_t i = 0;
     if (!(in >> i)) return fail("patch_keyset_remove I");

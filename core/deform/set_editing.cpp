@@ -101,6 +101,43 @@ std::vector<glm::vec3> face_centroids(const PolyMesh& mesh) {
   return out;
 }
 
+// Applies `mode` to each target point with its elements (ascending by point), into result.edits and
+// result.changed_points.
+static void apply_to_targets(std::span<const SetEdit> edits, SetEditMode mode, const std::map<uint32_t, std::vector<uint32_t>>& targets,
+                             SetEditResult& result) {
+  std::vector<SetEdit> current = canonical_set_edits(edits);
+  auto it = current.begin();
+  std::vector<SetEdit> out;
+  out.reserve(current.size() + targets.size());
+  for (const auto& [p, elements] : targets) {
+    for (; it != current.end() && it->point < p; ++it) out.push_back(std::move(*it));
+    const bool had = it != current.end() && it->point == p;
+    SetEdit before = had ? std::move(*it++) : SetEdit{p, {}, {}};
+    SetEdit after = before;
+    switch (mode) {
+      case SetEditMode::kRemove:
+        after.include = minus(after.include, elements);
+        if (!after.only) after.exclude = plus(after.exclude, elements);
+        break;
+      case SetEditMode::kAdd:
+        after.include = plus(after.include, elements);
+        after.exclude = minus(after.exclude, elements);
+        break;
+      case SetEditMode::kOnly:
+        after = SetEdit{p, {}, elements, true};
+        break;
+      case SetEditMode::kReset:
+        after = SetEdit{p, {}, {}};
+        break;
+    }
+    const bool keep = make_canonical(after);
+    if (keep != had || (keep && !same_rules(before, after))) result.changed_points.push_back(p);
+    if (keep) out.push_back(std::move(after));
+  }
+  for (; it != current.end(); ++it) out.push_back(std::move(*it));
+  result.edits = std::move(out);
+}
+
 Result<SetEditResult> apply_set_edit(std::span<const SetEdit> edits, SetEditMode mode, const IndexSet& points,
                                      const IndexSet& faces, const Cage& cage, size_t num_points,
                                      const SetEditMirror& mirror) {
@@ -134,37 +171,28 @@ Result<SetEditResult> apply_set_edit(std::span<const SetEdit> edits, SetEditMode
     }
   }
 
-  std::vector<SetEdit> current = canonical_set_edits(edits);
-  auto it = current.begin();
-  std::vector<SetEdit> out;
-  out.reserve(current.size() + targets.size());
-  for (const auto& [p, elements] : targets) {
-    for (; it != current.end() && it->point < p; ++it) out.push_back(std::move(*it));
-    const bool had = it != current.end() && it->point == p;
-    SetEdit before = had ? std::move(*it++) : SetEdit{p, {}, {}};
-    SetEdit after = before;
-    switch (mode) {
-      case SetEditMode::kRemove:
-        after.include = minus(after.include, elements);
-        if (!after.only) after.exclude = plus(after.exclude, elements);
-        break;
-      case SetEditMode::kAdd:
-        after.include = plus(after.include, elements);
-        after.exclude = minus(after.exclude, elements);
-        break;
-      case SetEditMode::kOnly:
-        after = SetEdit{p, {}, elements, true};
-        break;
-      case SetEditMode::kReset:
-        after = SetEdit{p, {}, {}};
-        break;
-    }
-    const bool keep = make_canonical(after);
-    if (keep != had || (keep && !same_rules(before, after))) result.changed_points.push_back(p);
-    if (keep) out.push_back(std::move(after));
-  }
-  for (; it != current.end(); ++it) out.push_back(std::move(*it));
-  result.edits = std::move(out);
+  apply_to_targets(edits, mode, targets, result);
+  return result;
+}
+
+Result<SetEditResult> apply_element_set_edit(std::span<const SetEdit> edits, SetEditMode mode, const IndexSet& points,
+                                             std::span<const uint32_t> elements, size_t num_points, size_t num_elements) {
+  if (!points.empty() && points.indices().back() >= num_points)
+    return make_error(ErrorCode::kIndexOutOfRange, "skin point " + std::to_string(points.indices().back()) +
+                                                       " is out of range: the skin has " + std::to_string(num_points) + " points");
+  std::vector<uint32_t> sorted(elements.begin(), elements.end());
+  std::sort(sorted.begin(), sorted.end());
+  sorted.erase(std::unique(sorted.begin(), sorted.end()), sorted.end());
+  if (!sorted.empty() && sorted.back() >= num_elements)
+    return make_error(ErrorCode::kIndexOutOfRange, "element " + std::to_string(sorted.back()) + " is out of range: there are " +
+                                                       std::to_string(num_elements));
+  if (mode != SetEditMode::kReset && sorted.empty() && !points.empty())
+    return make_error(ErrorCode::kInvalidArgument, std::string("no elements given to ") + set_edit_mode_name(mode) +
+                                                       " for the selected points");
+  SetEditResult result;
+  std::map<uint32_t, std::vector<uint32_t>> targets;
+  for (uint32_t p : points) targets[p] = sorted;
+  apply_to_targets(edits, mode, targets, result);
   return result;
 }
 

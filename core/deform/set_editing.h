@@ -62,4 +62,10 @@ Result<SetEditResult> apply_set_edit(std::span<const SetEdit> edits, SetEditMode
                                      const IndexSet& faces, const Cage& cage, size_t num_points,
                                      const SetEditMirror& mirror = {});
 
+// The same with the elements given by id (a parametric driver's samples, core/deform/patch_binding.h): each of
+// `points` takes `elements` (any order, duplicates ignored). Errors: a point or element out of range, named;
+// a mode other than kReset with no elements. No mirroring.
+Result<SetEditResult> apply_element_set_edit(std::span<const SetEdit> edits, SetEditMode mode, const IndexSet& points,
+                                             std::span<const uint32_t> elements, size_t num_points, size_t num_elements);
+
 }  // namespace cagewrap
