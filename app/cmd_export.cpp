@@ -46,6 +46,8 @@ void add_export_command(CLI::App& app, int& exit_code) {
     std::vector<std::string> clips;
     double fps = 30.0;
     int keypose_steps = ExportOptions{}.keypose_steps;
+    int max_targets = -1;
+    double max_error = 0.0;
   };
   auto args = std::make_shared<Args>();
   auto* cmd = app.add_subcommand(
@@ -67,6 +69,13 @@ void add_export_command(CLI::App& app, int& exit_code) {
          "poses per keypose key, swept from rest to the key, that baked-skin fits and every glb mode "
          "measures (0: none)")
       ->capture_default_str();
+  cmd->add_option("--max-targets", args->max_targets,
+                  "glb skin modes: at most this many corrective morph targets, the principal components of every "
+                  "frame's residual, each frame keyed with its weights (default: " + std::to_string(kDefaultMaxTargets) +
+                      " for baked-skin, one per frame for baked-animation; 0: one per frame, exact at the frames)");
+  cmd->add_option("--max-error", args->max_error,
+                  "with compressed targets: the fewest (up to --max-targets) whose largest error over the frames is "
+                  "within this length, in the file's units");
   cmd->add_option("--out", args->out,
                   "glb: F.glb; obj: F.obj (writes F_<clip>_<frame>.obj beside it) or a folder; json: F.json")
       ->required();
@@ -103,6 +112,27 @@ void add_export_command(CLI::App& app, int& exit_code) {
       std::fprintf(stderr, "error: --keypose-steps must be a whole number from 0 to 100\n");
       return;
     }
+    if (args->max_targets < -1 || args->max_targets > 4096) {
+      std::fprintf(stderr, "error: --max-targets must be a whole number from 0 (one per frame) to 4096\n");
+      return;
+    }
+    if (!(args->max_error >= 0.0) || !std::isfinite(args->max_error)) {
+      std::fprintf(stderr, "error: --max-error must be a length >= 0 in the file's units\n");
+      return;
+    }
+    if (args->max_error > 0.0 && args->max_targets == 0) {
+      std::fprintf(stderr, "error: --max-error picks among compressed targets; --max-targets 0 keeps one per frame\n");
+      return;
+    }
+    if ((args->max_targets >= 0 || args->max_error > 0.0) &&
+        (request.format != ExportFormat::kGlb || request.options.mode == ExportMode::kCage)) {
+      std::fprintf(stderr, "error: --max-targets and --max-error are for --format glb with a skin mode (baked-skin, baked-animation)\n");
+      return;
+    }
+    request.options.max_targets = args->max_targets;
+    request.options.max_error = args->max_error;
+    if (args->max_error > 0.0 && args->max_targets < 0 && request.options.mode == ExportMode::kBakedAnimation)
+      request.options.max_targets = kDefaultMaxTargets;
     request.options.fps = args->fps;
     request.options.keypose_steps = args->keypose_steps;
     request.out = args->out;

@@ -1,4 +1,6 @@
 #include "app/export_panel.h"
+
+#include <algorithm>
 #include "app/ui_text.h"
 
 #if CAGEWRAP_GUI
@@ -165,6 +167,27 @@ void ExportPanel::draw(Workspace& ws) {
     ImGui::SetNextItemWidth(180);
     if (ImGui::DragFloat("##fps", &fps, 0.5f, 1.0f, 240.0f, "%.1f frames/s", ImGuiSliderFlags_AlwaysClamp))
       request_.options.fps = fps;
+    if (request_.format == ExportFormat::kGlb && request_.options.mode != ExportMode::kCage) {
+      // the corrective morph targets: the residuals' principal components (0: one per frame)
+      int targets = corrective_targets(request_.options);
+      ImGui::TextUnformatted("correctives");
+      ImGui::SameLine(110);
+      ImGui::SetNextItemWidth(180);
+      if (ImGui::InputInt("targets##ct", &targets, 1, 4)) request_.options.max_targets = std::clamp(targets, 0, 4096);
+      if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("at most this many corrective morph targets: the principal components of every frame's residual, "
+                          "each frame keyed with its weights; 0: one per frame (exact at the frames, heavy)");
+      if (targets > 0) {
+        float e = static_cast<float>(request_.options.max_error);
+        ImGui::TextUnformatted("");
+        ImGui::SameLine(110);
+        ImGui::SetNextItemWidth(180);
+        if (ImGui::InputFloat("max error##ce", &e, 0.0f, 0.0f, "%.5f")) request_.options.max_error = std::max(0.0f, e);
+        if (ImGui::IsItemHovered())
+          ImGui::SetTooltip("> 0: the fewest targets (up to the number above) whose largest error over the frames is within this "
+                            "length, in the file's units");
+      }
+    }
     if (request_.format == ExportFormat::kGlb && request_.options.mode != ExportMode::kBakedAnimation) {
       ImGui::TextUnformatted("keyposes");
       ImGui::SameLine(110);

@@ -23,12 +23,12 @@ done < <(for p in "${PACKAGES[@]}"; do
            echo "$p ${s:-absent}"
          done)
 
-# The Khronos glTF validator (npm package, pinned in tests/gltf_validate/package.json) for the
-# glTF tests; node and npm come from Debian when absent.
+# The Khronos glTF validator and three.js (npm packages, pinned in tests/gltf_validate/package.json) for
+# the glTF tests (validation; what a runtime shows); node and npm come from Debian when absent.
 install_gltf_validator() {
   local dir
   dir="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)/tests/gltf_validate"
-  [[ -d "$dir/node_modules/gltf-validator" ]] && return 0
+  [[ -d "$dir/node_modules/gltf-validator" && -d "$dir/node_modules/three" ]] && return 0
   if ! command -v node >/dev/null || ! command -v npm >/dev/null; then
     echo "setup: installing nodejs npm"
     local sudo=""

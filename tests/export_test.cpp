@@ -296,6 +296,53 @@ TEST(Export, CageReportsWhatLeavingTheKeyposesOutCosts) {
 
 // ------------------------------------------------------------------ progress and cancel
 
+// Compressed correctives (issue 22): with at most 2 targets the keyed demo's residuals are cut to their first
+// 2 principal components; the error at the frames is what the basis leaves (the reconstruction's largest
+// residual, carried to world space by rigid joints: within 2% of it) and larger than with one target per
+// frame; --max-error set just above that residual picks the same 2 of 16; the per-clip errors add up to the
+// whole; the sizes by part sum to about the file's; the targets part shrinks with the count.
+TEST(Export, CompressedCorrectivesKeepTheLeadingComponentsWithinTheirError) {
+  ExportOptions o;
+  o.mode = ExportMode::kBakedSkin;
+  o.fps = kFps;
+  o.max_targets = 0;
+  auto per_frame = export_rig(keyed_demo(), *demo().rig, o);
+  ASSERT_TRUE(per_frame.ok()) << per_frame.error().message;
+  EXPECT_EQ(per_frame->morph_targets, per_frame->frames);
+  o.max_targets = 2;
+  auto two = export_rig(keyed_demo(), *demo().rig, o);
+  ASSERT_TRUE(two.ok()) << two.error().message;
+  EXPECT_EQ(two->morph_targets, 2u);
+  EXPECT_GT(two->residual_rank, 2u);
+  EXPECT_GT(two->basis_error, 1e-5) << "two components cannot hold every frame's residual";
+  EXPECT_GT(two->at_frames.max, 10 * per_frame->at_frames.max);
+  EXPECT_LT(two->at_frames.max, 1.02 * two->basis_error + 1e-6);
+  EXPECT_GT(two->at_frames.max, 0.5 * two->basis_error) << "the reported residual is what the frames show";
+  ASSERT_EQ(two->clips.size(), per_frame->clips.size());
+  double worst = 0.0;
+  size_t samples = 0;
+  for (const auto& c : two->clips) worst = std::max(worst, c.at_frames.max), samples += c.at_frames.samples;
+  EXPECT_DOUBLE_EQ(worst, two->at_frames.max);
+  EXPECT_EQ(samples, two->at_frames.samples);
+  EXPECT_LT(two->sizes.targets * (per_frame->frames / 2 - 1), per_frame->sizes.targets) << "2 targets against one per frame";
+  EXPECT_EQ(two->sizes.mesh, per_frame->sizes.mesh);
+  EXPECT_GT(two->sizes.skin, 0u);
+  EXPECT_GT(two->sizes.animation, 0u);
+
+  o.max_targets = 16;
+  o.max_error = two->basis_error * 1.0001;
+  auto picked = export_rig(keyed_demo(), *demo().rig, o);
+  ASSERT_TRUE(picked.ok());
+  EXPECT_EQ(picked->morph_targets, 2u) << "the fewest components within --max-error";
+  EXPECT_TRUE(picked->warnings.empty());
+  o.max_targets = 1;
+  auto short_of = export_rig(keyed_demo(), *demo().rig, o);
+  ASSERT_TRUE(short_of.ok());
+  EXPECT_EQ(short_of->morph_targets, 1u);
+  ASSERT_FALSE(short_of->warnings.empty()) << "one target cannot meet the error: said";
+  EXPECT_NE(short_of->warnings.back().find("more than --max-error"), std::string::npos) << short_of->warnings.back();
+}
+
 TEST(Export, ReportsProgressAndStopsWhenCancelled) {
   ExportOptions o;
   o.mode = ExportMode::kBakedSkin;
@@ -313,7 +360,7 @@ TEST(Export, ReportsProgressAndStopsWhenCancelled) {
   ASSERT_TRUE(r.ok()) << r.error().message;
   EXPECT_TRUE(monotone);
   EXPECT_DOUBLE_EQ(last, 1.0);
-  EXPECT_EQ(stages, (std::vector<std::string>{"posing", "keyposes", "fitting", "correctives", "measuring"}));
+  EXPECT_EQ(stages, (std::vector<std::string>{"posing", "keyposes", "fitting", "correctives", "compressing", "measuring"}));
 
   // cancelled during the fit: kCancelled, and no more progress after it
   std::atomic<bool> cancel{false};

@@ -38,7 +38,7 @@ class WorkspaceExportTest : public DemoWorkspaceTest {
   fs::path dir_;
 };
 
-TEST_F(WorkspaceExportTest, BakedSkinLoadsAgainWithACorrectivePerFrame) {
+TEST_F(WorkspaceExportTest, BakedSkinLoadsAgainWithCompressedCorrectives) {
   const fs::path glb = dir_ / "demo walk.glb";  // a space in the name, as people write them
   ASSERT_TRUE(ws.run("export glb baked-skin 4 walk " + glb.string()));
   EXPECT_TRUE(ws.exporting());
@@ -47,7 +47,10 @@ TEST_F(WorkspaceExportTest, BakedSkinLoadsAgainWithACorrectivePerFrame) {
   ASSERT_TRUE(errors.empty()) << errors.front();
   ASSERT_TRUE(fs::exists(glb)) << log_text();
   const std::string log = log_text();
-  EXPECT_NE(log.find("exported baked-skin: 5 frames, 5 morph targets, wrote " + glb.string()), std::string::npos) << log;
+  // compressed correctives (the default): the walk's first and last frames are the same pose, so its 5 frames'
+  // residuals have 4 components, all kept
+  EXPECT_NE(log.find("exported baked-skin: 5 frames, 4 morph targets, wrote " + glb.string()), std::string::npos) << log;
+  EXPECT_NE(log.find("correctives: 4 of the residuals' 4 components (at most 16)"), std::string::npos) << log;
   EXPECT_NE(log.find("error at frames, skeleton only:"), std::string::npos) << log;
   ASSERT_TRUE(ws.export_state().report.has_value());
   EXPECT_EQ(ws.export_state().failures, 0);
@@ -59,14 +62,31 @@ TEST_F(WorkspaceExportTest, BakedSkinLoadsAgainWithACorrectivePerFrame) {
   ASSERT_FALSE(loaded->primitives.empty());
   for (const Primitive& p : loaded->primitives) {
     EXPECT_GE(p.skin, 0) << "fitted weights";
-    EXPECT_EQ(p.morph_targets.size(), 5u) << "one corrective per frame (walk, 1 s at 4 fps)";
+    EXPECT_EQ(p.morph_targets.size(), 4u) << "the residuals' components (walk, 1 s at 4 fps)";
   }
+  ASSERT_GT(loaded->clips[0].samplers.size(), 0u);
   if (test::node_available()) {
     std::string report;
     const int rc = test::run_gltf_validator({glb.string()}, (dir_ / "validator.txt").string(), report);
     ASSERT_NE(rc, 2) << "gltf-validator is not installed: run scripts/setup.sh\n" << report;
     EXPECT_EQ(rc, 0) << report;
   }
+  // one target per frame, asked for by export_correctives (the Export window has the same field); a bad
+  // request is refused by name and changes nothing
+  ASSERT_TRUE(ws.run("export_correctives frames"));
+  const fs::path per_frame = dir_ / "per frame.glb";
+  ASSERT_TRUE(ws.run("export glb baked-skin 4 walk " + per_frame.string()));
+  finish_export();
+  EXPECT_NE(log_text().find("exported baked-skin: 5 frames, 5 morph targets, wrote " + per_frame.string()), std::string::npos);
+  EXPECT_NE(log_text().find("correctives: one per frame (exact at the frames)"), std::string::npos);
+  ws.run("export_correctives 5000");
+  ws.run("export_correctives frames 0.001");
+  EXPECT_NE(log_text().find("export_correctives N|frames|default [MAX_ERROR] (N from 1 to 4096"), std::string::npos) << log_text();
+  EXPECT_EQ(ws.export_correctives.max_targets, 0) << "refused requests change nothing";
+  EXPECT_EQ(ws.export_correctives.max_error, 0.0);
+  ASSERT_TRUE(ws.run("export_correctives 8 0.002"));
+  EXPECT_EQ(ws.export_correctives.max_targets, 8);
+  EXPECT_EQ(ws.export_correctives.max_error, 0.002);
 }
 
 TEST_F(WorkspaceExportTest, ABadPathIsRefusedByNameAndTheNextExportRuns) {

@@ -211,6 +211,12 @@ class Workspace {
   // run_export). False (shown as an error, counted in failures) when it cannot start: one is running,
   // no cage, no clip to bake, a bad path.
   bool start_export(const ExportRequest& request);
+  // The corrective targets script exports ask for (the action export_correctives; the Export window has its
+  // own fields): ExportOptions::max_targets (-1: the mode's default) and max_error.
+  struct ExportCorrectives {
+    int max_targets = -1;
+    double max_error = 0.0;
+  } export_correctives;
   void cancel_export();
   const ExportState& export_state() const { return export_; }
   bool exporting() const { return export_.job != nullptr; }

@@ -1,6 +1,7 @@
 // The workspace's own actions: the document, the selection, moves, posing and the camera. Each is
 // what a menu item, a shortcut or a panel runs, and a script line (docs/editor-actions.md).
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 
@@ -657,6 +658,22 @@ void Workspace::add_actions() {
   };
   add("export", "FORMAT MODE|- FPS all|CLIP[,CLIP] PATH", "Exports the rig (glb, obj or json) in the background.", export_line);
   add("export_nowait", "FORMAT MODE|- FPS all|CLIP[,CLIP] PATH", "The same; a script goes on meanwhile.", export_line);
+  add("export_correctives", "N|frames|default [MAX_ERROR]",
+      "The corrective morph targets of the next glb skin exports: at most N principal components (with MAX_ERROR, the fewest within it, "
+      "in the file's units), one per frame, or the mode's default (16 for baked-skin).",
+      [this](std::istringstream& in) {
+        std::string n;
+        double e = 0.0;
+        in >> n;
+        if (!(in >> e)) e = 0.0;
+        char* end = nullptr;
+        const long v = std::strtol(n.c_str(), &end, 10);
+        const bool number = !n.empty() && !*end && v >= 1 && v <= 4096;
+        if ((!number && n != "frames" && n != "default") || !(e >= 0.0) || !std::isfinite(e) || (e > 0.0 && n == "frames"))
+          return fail("export_correctives N|frames|default [MAX_ERROR] (N from 1 to 4096; MAX_ERROR >= 0, not with frames)");
+        export_correctives.max_targets = n == "frames" ? 0 : n == "default" ? -1 : static_cast<int>(v);
+        export_correctives.max_error = e;
+      });
   add("export_cancel", "", "Cancels the running export.", [this](std::istringstream&) { cancel_export(); });
 
   // ---- the camera

@@ -16,6 +16,7 @@
 #include "core/cage/keyposes.h"
 #include "core/geometry/mesh_io.h"
 #include "core/character/skinning.h"
+#include "core/io/gltf_writer.h"
 
 namespace cagewrap {
 
@@ -29,6 +30,11 @@ const char* export_mode_name(ExportMode m) {
       return "cage";
   }
   return "?";
+}
+
+int corrective_targets(const ExportOptions& options) {
+  if (options.max_targets >= 0) return options.max_targets;
+  return options.mode == ExportMode::kBakedSkin ? kDefaultMaxTargets : 0;
 }
 
 bool parse_export_mode(const std::string& name, ExportMode& out) {
@@ -90,6 +96,87 @@ void accumulate(ExportError& e, std::span<const glm::vec3> a, std::span<const gl
   }
   e.samples += a.size();
   e.mean = e.samples ? sum / double(e.samples) : 0.0;
+}
+
+// The residual shapes (#N of #V each, bind space) reduced to their principal components (issue 22): the
+// Gram matrix G = D^T D of the 3V x N residual matrix D (in double), its eigen decomposition G = V L V^T,
+// component k = D v_k / sqrt(l_k) (orthonormal), shape n's weight on it sqrt(l_k) v_k[n]. The first K
+// components are kept: max_k, or with max_error > 0 the fewest whose largest vertex error over the shapes
+// is within it (up to max_k).
+struct CompressedTargets {
+  std::vector<std::vector<glm::vec3>> basis;  // #K x #V
+  std::vector<std::vector<float>> weights;    // #N x #K
+  size_t rank = 0;                            // components with a non-zero singular value
+  double max_error = 0.0;                     // largest |residual - reconstruction| over the shapes and vertices
+};
+
+bool compress_targets(const std::vector<std::vector<glm::vec3>>& residuals, size_t max_k, double max_error,
+                      const StageProgress& stage, CompressedTargets& out) {
+  const size_t n = residuals.size(), nv = n ? residuals[0].size() : 0;
+  Eigen::MatrixXd gram = Eigen::MatrixXd::Zero(Eigen::Index(n), Eigen::Index(n));
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1), [&](const tbb::blocked_range<size_t>& range) {
+    for (size_t a = range.begin(); a != range.end(); ++a)
+      for (size_t b = 0; b <= a; ++b) {
+        double sum = 0.0;
+        const glm::vec3* x = residuals[a].data();
+        const glm::vec3* y = residuals[b].data();
+        for (size_t i = 0; i < nv; ++i) sum += double(x[i].x) * y[i].x + double(x[i].y) * y[i].y + double(x[i].z) * y[i].z;
+        gram(Eigen::Index(a), Eigen::Index(b)) = gram(Eigen::Index(b), Eigen::Index(a)) = sum;
+      }
+  });
+  if (!stage.step(1, 3)) return false;
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(gram);
+  // descending; a component whose singular value is below 1e-7 of the largest carries rounding only
+  std::vector<Eigen::Index> order;
+  const double top = n ? std::max(eig.eigenvalues().maxCoeff(), 0.0) : 0.0;
+  for (Eigen::Index k = Eigen::Index(n) - 1; k >= 0; --k)
+    if (eig.eigenvalues()(k) > top * 1e-14 && eig.eigenvalues()(k) > 0.0) order.push_back(k);
+  out.rank = order.size();
+  // the shapes' error as components are added, until it is within max_error or max_k are kept
+  std::vector<std::vector<glm::vec3>> left = residuals;
+  auto largest = [&] {
+    double worst = 0.0;
+    for (const auto& shape : left)
+      for (const glm::vec3& d : shape) worst = std::max(worst, double(glm::dot(d, d)));
+    return std::sqrt(worst);
+  };
+  out.max_error = largest();
+  for (size_t k = 0; k < order.size() && k < max_k; ++k) {
+    if (max_error > 0.0 && out.max_error <= max_error) break;
+    const Eigen::VectorXd v = eig.eigenvectors().col(order[k]);
+    const double sigma = std::sqrt(eig.eigenvalues()(order[k]));
+    std::vector<glm::vec3> component(nv);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, nv, 4096), [&](const tbb::blocked_range<size_t>& range) {
+      for (size_t i = range.begin(); i != range.end(); ++i) {
+        glm::dvec3 c(0.0);
+        for (size_t a = 0; a < n; ++a) c += v(Eigen::Index(a)) * glm::dvec3(residuals[a][i]);
+        component[i] = glm::vec3(c / sigma);
+      }
+    });
+    out.weights.resize(n);
+    for (size_t a = 0; a < n; ++a) {
+      const float w = static_cast<float>(sigma * v(Eigen::Index(a)));
+      out.weights[a].push_back(w);
+      for (size_t i = 0; i < nv; ++i) left[a][i] -= w * component[i];
+    }
+    out.basis.push_back(std::move(component));
+    out.max_error = largest();
+    if (!stage.step(2, 3)) return false;
+  }
+  out.weights.resize(n);
+  for (auto& w : out.weights) w.resize(out.basis.size(), 0.0f);
+  return stage.step(3, 3);
+}
+
+// Keys `weights` (#frames x #K, the clip's frames from `first`) on the clip's frame times.
+AnimationSampler basis_weights(const std::vector<double>& times, size_t first, const std::vector<std::vector<float>>& weights) {
+  AnimationSampler s;
+  s.interpolation = Interpolation::kLinear;
+  const size_t k = weights.empty() ? 0 : weights[0].size();
+  s.components = static_cast<uint32_t>(k);
+  s.times.assign(times.begin(), times.end());
+  for (size_t f = 0; f < times.size(); ++f) s.values.insert(s.values.end(), weights[first + f].begin(), weights[first + f].end());
+  return s;
 }
 
 // Keys one-hot morph weights over `total` targets: key k sets target first + k to 1.
@@ -533,6 +620,8 @@ Result<ExportResult> export_rig(const Document& doc, Rig& rig, const ExportOptio
       if (!stage.step(r.frames + k + 1, posed_count)) return cancelled();
     }
     r.fitted = r.at_frames;
+    const GlbPartSizes sizes = glb_part_sizes(out);
+    r.sizes = {sizes.mesh, sizes.skin, sizes.targets, sizes.animation};
     return r;
   }
 
@@ -590,45 +679,67 @@ Result<ExportResult> export_rig(const Document& doc, Rig& rig, const ExportOptio
     }
   }
 
-  // One morph target per frame: what takes the exported mesh (unskinned, or skinned with the fitted
-  // weights) to the rig's skin at that frame, in bind space.
-  r.morph_targets = r.frames;
-  for (Primitive& p : out.primitives) {
-    p.morph_targets.assign(r.frames, std::vector<glm::vec3>(p.num_vertices()));
-    p.morph_weights.assign(r.frames, 0.0f);
-  }
+  // The residual of each frame (and, compressed, of each fitted keypose pose): what takes the exported mesh
+  // (unskinned, or skinned with the fitted weights) to the rig's skin there, in bind space.
+  const size_t max_targets = static_cast<size_t>(std::max(0, corrective_targets(options)));
+  const bool compress = max_targets > 0;
+  const size_t shapes = compress && skin_fit && options.fit_keyposes ? posed_count : r.frames;
+  std::vector<std::vector<glm::vec3>> residuals(shapes, std::vector<glm::vec3>(np));
   const double targets_until = skin_fit ? 0.8 : 0.7;
-  stage.begin("correctives", skin_fit ? 0.7 : posed_until, targets_until);
-  for (size_t f = 0; f < r.frames; ++f) {
+  stage.begin("correctives", skin_fit ? 0.7 : posed_until, compress ? (skin_fit ? 0.74 : 0.64) : targets_until);
+  for (size_t f = 0; f < shapes; ++f) {
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, np, 1024), [&](const tbb::blocked_range<size_t>& range) {
+      for (size_t i = range.begin(); i != range.end(); ++i) {
+        if (fitted.joint.empty()) {
+          residuals[f][i] = skins[f][i] - rest_skin[i];
+          continue;
+        }
+        glm::dmat4 m(0.0);
+        for (size_t k = 0; k < kMaxInfluences; ++k)
+          if (fitted.weight[i][k] > 0.0f) m += double(fitted.weight[i][k]) * glm::dmat4(joints[f][fitted.joint[i][k]]);
+        const glm::dvec3 lbs(m * glm::dvec4(glm::dvec3(rest_skin[i]), 1.0));
+        const glm::dvec3 residual = glm::dvec3(skins[f][i]) - lbs;
+        const glm::dmat3 l(m);
+        const double det = glm::determinant(l);
+        residuals[f][i] = glm::vec3(std::abs(det) > 1e-12 ? glm::inverse(l) * residual : residual);
+      }
+    });
+    if (!stage.step(f + 1, shapes)) return cancelled();
+  }
+  // the targets: one per frame, or the residuals' first principal components with each frame's weights
+  std::vector<std::vector<glm::vec3>> targets;
+  CompressedTargets basis;
+  if (compress) {
+    stage.begin("compressing", skin_fit ? 0.74 : 0.64, targets_until);
+    if (!compress_targets(residuals, max_targets, options.max_error, stage, basis)) return cancelled();
+    targets = std::move(basis.basis);
+    r.residual_rank = basis.rank;
+    r.basis_error = basis.max_error;
+    if (options.max_error > 0.0 && basis.max_error > options.max_error)
+      r.warnings.push_back("the " + std::to_string(targets.size()) + " corrective targets allowed (--max-targets) leave " +
+                           std::to_string(basis.max_error) + " of error over the frames, more than --max-error " +
+                           std::to_string(options.max_error) + "; allow more targets");
+  } else {
+    residuals.resize(r.frames);
+    targets = std::move(residuals);
+  }
+  r.morph_targets = targets.size();
+  {
     size_t off = 0;
     for (Primitive& p : out.primitives) {
-      tbb::parallel_for(tbb::blocked_range<size_t>(0, p.num_vertices(), 1024),
-                        [&](const tbb::blocked_range<size_t>& range) {
-                          for (size_t v = range.begin(); v != range.end(); ++v) {
-                            const size_t i = off + v;
-                            if (fitted.joint.empty()) {
-                              p.morph_targets[f][v] = skins[f][i] - rest_skin[i];
-                              continue;
-                            }
-                            glm::dmat4 m(0.0);
-                            for (size_t k = 0; k < kMaxInfluences; ++k)
-                              if (fitted.weight[i][k] > 0.0f)
-                                m += double(fitted.weight[i][k]) * glm::dmat4(joints[f][fitted.joint[i][k]]);
-                            const glm::dvec3 lbs(m * glm::dvec4(glm::dvec3(rest_skin[i]), 1.0));
-                            const glm::dvec3 residual = glm::dvec3(skins[f][i]) - lbs;
-                            const glm::dmat3 l(m);
-                            const double det = glm::determinant(l);
-                            p.morph_targets[f][v] =
-                                glm::vec3(std::abs(det) > 1e-12 ? glm::inverse(l) * residual : residual);
-                          }
-                        });
+      p.morph_targets.assign(targets.size(), std::vector<glm::vec3>(p.num_vertices()));
+      p.morph_weights.assign(targets.size(), 0.0f);
+      for (size_t t = 0; t < targets.size(); ++t)
+        std::copy(targets[t].begin() + std::ptrdiff_t(off), targets[t].begin() + std::ptrdiff_t(off + p.num_vertices()),
+                  p.morph_targets[t].begin());
       off += p.num_vertices();
     }
-    if (!stage.step(f + 1, r.frames)) return cancelled();
   }
+  targets = {};
   for (const ExportClipFrames& cf : frames) {
-    AnimationSampler w = one_hot_weights(cf.times, cf.first, r.frames);
-    out.clips.push_back(export_clip(ch.clips[cf.clip], skin_fit, mesh_node, &w));
+    AnimationSampler w = compress ? basis_weights(cf.times, cf.first, basis.weights) : one_hot_weights(cf.times, cf.first, r.frames);
+    const bool keyed = r.morph_targets > 0;
+    out.clips.push_back(export_clip(ch.clips[cf.clip], skin_fit, mesh_node, keyed ? &w : nullptr));
     out.clips.back().duration = std::max(out.clips.back().duration, cf.times.back());
   }
 
@@ -639,20 +750,25 @@ Result<ExportResult> export_rig(const Document& doc, Rig& rig, const ExportOptio
   std::vector<glm::vec3> live(np);
   for (size_t c = 0; c < frames.size(); ++c) {
     const ExportClipFrames& cf = frames[c];
+    ExportResult::ClipErrors& clip_errors = r.clips.emplace_back();
+    clip_errors.name = ch.clips[cf.clip].name;
+    clip_errors.frames = cf.times.size();
     for (size_t k = 0; k < cf.times.size(); ++k) {
       Pose pose = sample_pose(out, static_cast<int32_t>(c), cf.times[k]);
       const std::vector<glm::vec3> exported = skin_character(out, pose);
       accumulate(r.at_frames, exported, skins[cf.first + k]);
+      accumulate(clip_errors.at_frames, exported, skins[cf.first + k]);
       if (!ch.skins.empty()) accumulate(r.vs_file, exported, skin_character(ch, sample_pose(ch, cf.clip, cf.times[k])));
       if (skin_fit) {
-        pose.morph_weights[mesh_node].assign(r.frames, 0.0f);
+        pose.morph_weights[mesh_node].assign(r.morph_targets, 0.0f);
         accumulate(r.fitted, skin_character(out, pose), skins[cf.first + k]);
       }
       if (k + 1 < cf.times.size()) {
         const double mid = 0.5 * (cf.times[k] + cf.times[k + 1]);
         if (auto s = rig.pose_clip(doc, cf.clip, mid, {}, posed, live); !s) return s.error();
-        accumulate(r.between_frames, skin_character(out, sample_pose(out, static_cast<int32_t>(c), mid)),
-                   live);
+        const std::vector<glm::vec3> between = skin_character(out, sample_pose(out, static_cast<int32_t>(c), mid));
+        accumulate(r.between_frames, between, live);
+        accumulate(clip_errors.between_frames, between, live);
       }
       if (!stage.step(cf.first + k + 1, posed_count)) return cancelled();
     }
@@ -663,6 +779,8 @@ Result<ExportResult> export_rig(const Document& doc, Rig& rig, const ExportOptio
     if (!stage.step(r.frames + k + 1, posed_count)) return cancelled();
   }
   if (options.mode == ExportMode::kBakedAnimation) r.fitted = r.at_frames;
+  const GlbPartSizes sizes = glb_part_sizes(out);
+  r.sizes = {sizes.mesh, sizes.skin, sizes.targets, sizes.animation};
   return r;
 }
 

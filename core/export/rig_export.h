@@ -53,7 +53,19 @@ struct ExportOptions {
   // to them (unless fit_keyposes is false) and every mode but kBakedAnimation reports its error there.
   int keypose_steps = 3;
   bool fit_keyposes = true;
+  // The corrective morph targets of the skin modes (issue 22). 0: one per sampled frame (exact at the
+  // frames; heavy: the mannequin's 261 frames are 34.6 MB). N > 0: the residuals of every sampled frame
+  // (and of the keypose sweep) reduced to at most N shapes, their principal components (an SVD of the
+  // residuals through their Gram matrix, in double), each frame keyed with its own N weights per clip.
+  // -1: the mode's default, kDefaultMaxTargets for baked-skin and 0 for baked-animation.
+  int max_targets = -1;
+  // > 0 (file units), with compressed targets: the fewest components (up to max_targets) whose largest
+  // reconstruction error of a vertex over the frames is within it; a warning when max_targets cannot.
+  double max_error = 0.0;
 };
+inline constexpr int kDefaultMaxTargets = 16;
+// The number of corrective targets `options` asks for in its mode (max_targets resolved; 0 = per frame).
+int corrective_targets(const ExportOptions& options);
 
 // Progress of a long export, reported on the calling thread: the stage ("posing", "keyposes",
 // "fitting", "correctives", "measuring", "writing"), items done of the stage's total (frames,
@@ -89,6 +101,24 @@ struct ExportResult {
   // diagonal, in the file's units, that the report relates the errors to.
   ExportError vs_file;
   double diagonal = 0.0;
+  // Per exported clip (the skin modes): its name, frames, and the errors at and between its frames.
+  struct ClipErrors {
+    std::string name;
+    size_t frames = 0;
+    ExportError at_frames, between_frames;
+  };
+  std::vector<ClipErrors> clips;
+  // Compressed correctives: how many components the residuals have (their rank, at most #frames +
+  // #keypose poses) and the largest reconstruction error over the fitted residuals with the targets kept
+  // (bind space, file units); 0 with per-frame targets.
+  size_t residual_rank = 0;
+  double basis_error = 0.0;
+  // What the exported character holds, by part, in bytes as written (float32 positions and normals,
+  // uint16 joints or uint8 where they fit, float32 weights, keys): the meshes (positions, normals, indices),
+  // the skin (joints, weights, inverse bind matrices), the morph targets, and the animation.
+  struct Sizes {
+    uint64_t mesh = 0, skin = 0, targets = 0, animation = 0;
+  } sizes;
   std::vector<std::string> warnings;
 };
 

@@ -128,6 +128,26 @@ Result<ExportReport> run_glb(const Document& doc, Rig& rig, const ExportRequest&
   }
   if (mode == ExportMode::kBakedSkin && r.keypose_poses)
     r.error_lines.push_back(error_line("error at " + poses + ", skeleton only", result->at_keyposes, result->diagonal));
+  if (mode != ExportMode::kCage) {
+    const int asked = corrective_targets(request.options);
+    if (asked > 0) {
+      char line[256];
+      std::snprintf(line, sizeof line, "correctives: %zu of the residuals' %zu components (at most %d), largest residual left %.3g %s",
+                    r.morph_targets, result->residual_rank, asked, result->basis_error, scene_units(result->diagonal).c_str());
+      r.error_lines.push_back(line);
+    } else {
+      r.error_lines.push_back("correctives: one per frame (exact at the frames)");
+    }
+    for (const ExportResult::ClipErrors& c : result->clips) {
+      r.error_lines.push_back(error_line("clip '" + c.name + "' (" + std::to_string(c.frames) + " frames) at frames", c.at_frames,
+                                         result->diagonal));
+      if (c.between_frames.samples)
+        r.error_lines.push_back(error_line("clip '" + c.name + "' between frames", c.between_frames, result->diagonal));
+    }
+  }
+  const auto& z = result->sizes;
+  r.error_lines.push_back("sizes: mesh " + megabytes(z.mesh) + ", skin " + megabytes(z.skin) + ", morph targets " + megabytes(z.targets) +
+                          ", animation " + megabytes(z.animation) + " (file " + megabytes(r.bytes) + ")");
   result->character = Character{};
   r.errors = std::move(result).value();
   return r;

@@ -157,6 +157,32 @@ json primitive_json(GlbBuilder& b, const Primitive& p, size_t num_skin_joints) {
 
 }  // namespace
 
+GlbPartSizes glb_part_sizes(const Character& c) {
+  GlbPartSizes s;
+  for (const Primitive& p : c.primitives) {
+    const uint64_t nv = p.num_vertices();
+    s.mesh += nv * 24 + p.triangles.size() * 3 * (nv <= 65535 ? 2 : 4);  // POSITION + NORMAL, indices
+    if (p.skin >= 0 && !p.influence_start.empty()) {
+      size_t max_inf = 1;
+      for (size_t v = 0; v < p.num_vertices(); ++v) max_inf = std::max<size_t>(max_inf, p.num_influences(v));
+      const uint64_t sets = (max_inf + 3) / 4;
+      const uint64_t joint_bytes = size_t(p.skin) < c.skins.size() && c.skins[p.skin].joints.size() <= 256 ? 1 : 2;
+      s.skin += sets * nv * (4 * joint_bytes + 16);
+    }
+    s.targets += p.morph_targets.size() * nv * 12;
+  }
+  for (const Skin& k : c.skins) s.skin += k.inverse_bind.size() * 64;
+  for (const Clip& clip : c.clips) {
+    std::vector<bool> counted(clip.samplers.size(), false);
+    for (const AnimationChannel& ch : clip.channels)
+      if (ch.sampler < clip.samplers.size() && !counted[ch.sampler]) {
+        counted[ch.sampler] = true;
+        s.animation += (clip.samplers[ch.sampler].times.size() + clip.samplers[ch.sampler].values.size()) * 4;
+      }
+  }
+  return s;
+}
+
 std::vector<uint8_t> encode_glb(const Character& c, const std::string& generator) {
   GlbBuilder b;
   b.doc["asset"] = {{"version", "2.0"}, {"generator", generator}};

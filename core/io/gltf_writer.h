@@ -23,6 +23,14 @@ Result<std::string> glb_json_chunk(const std::string& bytes, const std::string& 
 // The .glb bytes of a character; `generator` goes into asset.generator.
 std::vector<uint8_t> encode_glb(const Character& character, const std::string& generator = "cagewrap");
 
+// The bytes encode_glb writes for each part of `character` (its binary chunk, before alignment padding):
+// meshes (POSITION, NORMAL, indices), skins (JOINTS_n, WEIGHTS_n, inverse bind matrices), morph targets
+// (their POSITION deltas), animation (key times and values).
+struct GlbPartSizes {
+  uint64_t mesh = 0, skin = 0, targets = 0, animation = 0;
+};
+GlbPartSizes glb_part_sizes(const Character& character);
+
 // Atomic (core/base/atomic_write.h): a failed write leaves an existing file as it was.
 Status write_glb(const std::string& path, const Character& character, const std::string& generator = "cagewrap");
 

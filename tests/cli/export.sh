@@ -86,5 +86,15 @@ check "it names the clips there are" has "$T/err" "no clip named or numbered 'ru
 run export --project "$P" --mode cage --out "$T/x.obj"
 check "a non-.glb output is refused" [ "$rc" -ne 0 ]
 check "it says what glb writes" has "$T/err" "a glb export is written to a .glb file"
+# the corrective targets' options (issue 22)
+run export --project "$P" --mode baked-skin --max-targets -3 --out "$T/x.glb"
+check "a negative --max-targets is refused" hasf "$T/err" "--max-targets must be a whole number from 0 (one per frame) to 4096"
+run export --project "$P" --mode baked-skin --max-targets 0 --max-error 0.001 --out "$T/x.glb"
+check "--max-error with one target per frame is refused" hasf "$T/err" "--max-error picks among compressed targets"
+run export --project "$P" --mode cage --max-targets 4 --out "$T/x.glb"
+check "--max-targets with the cage is refused" hasf "$T/err" "--max-targets and --max-error are for --format glb with a skin mode"
+run export --project "$P" --mode baked-skin --max-error nan --out "$T/x.glb"
+check "a --max-error that is not a length is refused" [ "$rc" -ne 0 ]
+check "no file is left by the refusals" test ! -e "$T/x.glb"
 
 finish

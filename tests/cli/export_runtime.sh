@@ -1,0 +1,90 @@
+#!/usr/bin/env bash
+# What a glTF runtime shows is what cagewrap showed (issue 22): each exported skin mode of the demo (baked-skin
+# with compressed correctives, the default 16 targets; baked-skin with one target per frame; baked-animation;
+# the cage skinned) is loaded by three.js (tests/gltf_validate/three_pose.mjs: GLTFLoader, AnimationMixer,
+# Mesh.getVertexPosition; the npm package pinned in package.json) and its positions at frames and between
+# frames are compared with `cagewrap pose` (the skin, or --cage-out for the cage): within the error the export
+# reports (plus 1e-6 m for float rounding) and never beyond 1% of the diagonal. The skinned node, its name and
+# the joint order survive the trip, and every file passes the Khronos validator. Exit 77 (skipped) when node
+# or three is unavailable. $1 = cagewrap binary.
+set -uo pipefail
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+source "$ROOT/tests/cli/harness.bash"
+need_demo_assets
+command -v node > /dev/null || { echo "skipped: node is not installed"; exit 77; }
+[ -d "$ROOT/tests/gltf_validate/node_modules/three" ] || { echo "skipped: three is not installed (scripts/setup.sh)"; exit 77; }
+THREE="$ROOT/tests/gltf_validate/three_pose.mjs"
+
+P="$T/demo.cagewrap"
+run new --character "$DEMO" --cage "$CAGE" --out "$P"
+check "new exits 0" test "$rc" -eq 0
+
+# the largest distance between two float32 .bin files, in metres
+largest() {
+  python3 - "$1" "$2" <<'PY'
+import struct, sys
+a = open(sys.argv[1], 'rb').read(); b = open(sys.argv[2], 'rb').read()
+if len(a) != len(b):
+    print('sizes differ: %d and %d bytes' % (len(a), len(b))); sys.exit(1)
+fa = struct.unpack('%df' % (len(a) // 4), a); fb = struct.unpack('%df' % (len(b) // 4), b)
+print('%.9g' % max(sum((fa[i + k] - fb[i + k]) ** 2 for k in range(3)) ** 0.5 for i in range(0, len(fa), 3)))
+PY
+}
+# the "max" of an export report line whose label matches $2 (in metres), from the export's stdout $1
+reported() { grep -m1 -- "$2" "$1" | sed -E 's/.* max ([0-9.e+-]+) m.*/\1/'; }
+# within A B LIMIT: A <= LIMIT
+within() { python3 -c "import sys; sys.exit(0 if float('$1') <= float('$2') else 1)"; }
+
+DIAG=$(python3 - "$DEMO" <<'PY'
+import json, struct, sys
+data = open(sys.argv[1], 'rb').read()
+n = struct.unpack('<I', data[12:16])[0]
+doc = json.loads(data[20:20 + n])
+acc = doc['accessors'][doc['meshes'][0]['primitives'][0]['attributes']['POSITION']]
+print(sum((acc['max'][k] - acc['min'][k]) ** 2 for k in range(3)) ** 0.5)
+PY
+)
+ONE_PERCENT=$(python3 -c "print(0.01 * $DIAG)")
+node "$THREE" "$DEMO" walk 0 "$T/source.bin" > "$T/source.json"
+SOURCE_BONES=$(python3 -c "import json; print(json.load(open('$T/source.json'))['bones'])")
+
+# walk at 10 fps: frame times 0, 0.1, ...; 0.4 is a frame, 0.45 and 0.05 are between frames
+for variant in "skin:baked-skin:" "skin4:baked-skin:--max-targets 4" "skin_frames:baked-skin:--max-targets 0" "anim:baked-animation:" "cage:cage:"; do
+  IFS=: read -r name mode extra <<< "$variant"
+  run export --project "$P" --format glb --mode "$mode" $extra --clips walk --fps 10 --keypose-steps 0 --out "$T/$name.glb"
+  check "$name: export exits 0" test "$rc" -eq 0
+  cp "$T/out" "$T/$name.report"
+  node "$ROOT/tests/gltf_validate/validate.js" "$T/$name.glb" > "$T/$name.valid" 2>&1
+  check "$name: the validator finds no errors" has "$T/$name.valid" ": 0 errors"
+  if [ "$mode" = cage ]; then
+    at=$(reported "$T/$name.report" "cage error at frames"); between="$at"
+  else
+    at=$(reported "$T/$name.report" "^  error at frames:"); between=$(reported "$T/$name.report" "^  error between frames:")
+  fi
+  check "$name: the export reports its errors" test -n "$at" -a -n "$between"
+  for t in 0 0.4 0.05 0.45; do
+    case "$t" in 0 | 0.4) bound="$at" ;; *) bound="$between" ;; esac
+    if [ "$mode" = cage ]; then
+      run pose --project "$P" --clip walk --time "$t" --out "$T/skin_$t.bin" --cage-out "$T/rig_$t.bin"
+    else
+      run pose --project "$P" --clip walk --time "$t" --out "$T/rig_$t.bin"
+    fi
+    node "$THREE" "$T/$name.glb" walk "$t" "$T/three_$t.bin" > "$T/three.json" 2> "$T/three.err"
+    check "$name at $t s: three.js loads and plays it" test $? -eq 0
+    gap=$(largest "$T/three_$t.bin" "$T/rig_$t.bin")
+    echo "$name at $t s: three.js vs cagewrap pose: largest $gap m (the export reports max $bound m)"
+    check "$name at $t s: within the reported error" within "$gap" "$(python3 -c "print($bound + 1e-6)")"
+    check "$name at $t s: within 1% of the diagonal" within "$gap" "$ONE_PERCENT"
+  done
+  # the skinned node, its name and the joint order
+  if [ "$mode" != baked-animation ]; then
+    check "$name: one skinned mesh" has "$T/three.json" '"skinned":1'
+    check "$name: the skinned node is named" has "$T/three.json" "\"node\":\"$([ "$mode" = cage ] && echo cage || echo skin)\""
+    bones=$(python3 -c "import json; print(json.load(open('$T/three.json'))['bones'])")
+    check "$name: the joints in the source's order" test "$bones" = "$SOURCE_BONES"
+  fi
+done
+# compressed: at most 16 targets against one per frame, and a smaller file
+check "baked-skin: 16 targets by default" has "$T/skin.report" "11 frames, 1[0-6] morph targets"
+check "baked-skin --max-targets 0: one per frame" has "$T/skin_frames.report" "11 frames, 11 morph targets"
+finish

@@ -1,0 +1,86 @@
+// Usage: node three_pose.mjs FILE.glb CLIP TIME OUT.bin
+// Loads FILE.glb with three.js's GLTFLoader (the npm package pinned in package.json), plays the animation
+// named CLIP (or none: "-") with an AnimationMixer at TIME seconds (clamped at the clip's end, not wrapped),
+// and writes every mesh vertex as three shows it (morph targets applied, then skinning, then the node's world
+// transform: Mesh.getVertexPosition and matrixWorld) as float32 x, y, z, the meshes in the glTF's mesh and
+// primitive order: what `cagewrap pose --out` writes for the same frame. Prints one line describing the scene
+// (meshes, vertices, skinned, morph targets, the skinned mesh's node name and its bones' names in joint order).
+// Exits 1 on a load error or an unknown clip, 2 when three is not installed.
+import fs from 'node:fs';
+
+let THREE, GLTFLoader;
+try {
+  THREE = await import('three');
+  ({ GLTFLoader } = await import('three/examples/jsm/loaders/GLTFLoader.js'));
+} catch (e) {
+  console.error('three is not installed: run scripts/setup.sh (npm install in tests/gltf_validate)');
+  process.exit(2);
+}
+
+const [file, clipName, timeText, out] = process.argv.slice(2);
+if (!file || !clipName || !timeText || !out) {
+  console.error('usage: node three_pose.mjs FILE.glb CLIP|- TIME OUT.bin');
+  process.exit(1);
+}
+const bytes = fs.readFileSync(file);
+const buffer = bytes.buffer.slice(bytes.byteOffset, bytes.byteOffset + bytes.byteLength);
+const gltf = await new Promise((resolve, reject) => new GLTFLoader().parse(buffer, '', resolve, reject)).catch((e) => {
+  console.error(`${file}: three.js cannot load it: ${e && e.message ? e.message : e}`);
+  process.exit(1);
+});
+
+const scene = gltf.scene;
+const time = Number(timeText);
+if (clipName !== '-') {
+  const clip = gltf.animations.find((a) => a.name === clipName);
+  if (!clip) {
+    console.error(`${file}: no animation '${clipName}' (it has: ${gltf.animations.map((a) => a.name).join(', ') || 'none'})`);
+    process.exit(1);
+  }
+  const mixer = new THREE.AnimationMixer(scene);
+  const action = mixer.clipAction(clip);
+  action.setLoop(THREE.LoopOnce, 1);
+  action.clampWhenFinished = true;
+  action.play();
+  mixer.setTime(Math.min(time, clip.duration));
+}
+scene.updateMatrixWorld(true);
+
+const meshes = [];
+scene.traverse((o) => {
+  if (o.isMesh) {
+    const a = gltf.parser.associations.get(o) || {};
+    meshes.push({ mesh: o, order: [a.meshes ?? 0, a.primitives ?? 0] });
+  }
+});
+meshes.sort((x, y) => x.order[0] - y.order[0] || x.order[1] - y.order[1]);
+let total = 0;
+for (const { mesh } of meshes) total += mesh.geometry.attributes.position.count;
+const values = new Float32Array(total * 3);
+const v = new THREE.Vector3();
+let at = 0;
+let skinned = null;
+for (const { mesh } of meshes) {
+  if (mesh.isSkinnedMesh) {
+    mesh.skeleton.update();
+    skinned = skinned || mesh;
+  }
+  const n = mesh.geometry.attributes.position.count;
+  for (let i = 0; i < n; ++i) {
+    mesh.getVertexPosition(i, v);
+    v.applyMatrix4(mesh.matrixWorld);
+    values[at++] = v.x;
+    values[at++] = v.y;
+    values[at++] = v.z;
+  }
+}
+fs.writeFileSync(out, Buffer.from(values.buffer));
+const targets = meshes.length ? (meshes[0].mesh.geometry.morphAttributes.position || []).length : 0;
+console.log(JSON.stringify({
+  meshes: meshes.length,
+  vertices: total,
+  skinned: meshes.filter((m) => m.mesh.isSkinnedMesh).length,
+  morph_targets: targets,
+  node: skinned ? skinned.name : null,
+  bones: skinned ? skinned.skeleton.bones.map((b) => b.name) : [],
+}));
