@@ -2,6 +2,8 @@
 
 #include "core/base/atomic_write.h"
 
+#include <map>
+#include <set>
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -172,12 +174,14 @@ GlbPartSizes glb_part_sizes(const Character& c) {
     s.targets += p.morph_targets.size() * nv * 12;
   }
   for (const Skin& k : c.skins) s.skin += k.inverse_bind.size() * 64;
+  std::set<std::vector<float>> times;  // written once each (encode_glb shares them)
   for (const Clip& clip : c.clips) {
     std::vector<bool> counted(clip.samplers.size(), false);
     for (const AnimationChannel& ch : clip.channels)
       if (ch.sampler < clip.samplers.size() && !counted[ch.sampler]) {
         counted[ch.sampler] = true;
-        s.animation += (clip.samplers[ch.sampler].times.size() + clip.samplers[ch.sampler].values.size()) * 4;
+        const AnimationSampler& sampler = clip.samplers[ch.sampler];
+        s.animation += sampler.values.size() * 4 + (times.insert(sampler.times).second ? sampler.times.size() * 4 : 0);
       }
   }
   return s;
@@ -222,6 +226,8 @@ std::vector<uint8_t> encode_glb(const Character& c, const std::string& generator
     if (!s.name.empty()) skin["name"] = s.name;
     b.doc["skins"].push_back(skin);
   }
+  // key times shared by samplers (every channel of a baked clip keys the same frames) are written once
+  std::map<std::vector<float>, int> times_accessor;
   for (const Clip& clip : c.clips) {
     json anim = {{"name", clip.name}};
     std::vector<int> sampler_index(clip.samplers.size(), -1);
@@ -232,7 +238,9 @@ std::vector<uint8_t> encode_glb(const Character& c, const std::string& generator
         const bool weights = ch.path == ChannelPath::kWeights;
         const char* type = weights ? "SCALAR" : s.components == 4 ? "VEC4" : "VEC3";
         int nc = weights ? 1 : int(s.components);
-        int in = b.add_accessor(s.times, "SCALAR", 1, kFloat, 0, true);
+        auto [at, fresh] = times_accessor.try_emplace(s.times, -1);
+        if (fresh) at->second = b.add_accessor(s.times, "SCALAR", 1, kFloat, 0, true);
+        const int in = at->second;
         int out = b.add_accessor(s.values, type, nc, kFloat, 0);
         sampler_index[ch.sampler] = static_cast<int>(anim["samplers"].size());
         anim["samplers"].push_back({{"input", in}, {"output", out}, {"interpolation", interpolation_name(s.interpolation)}});
