@@ -48,6 +48,7 @@ void add_export_command(CLI::App& app, int& exit_code) {
     int keypose_steps = ExportOptions{}.keypose_steps;
     int max_targets = -1;
     double max_error = 0.0;
+    int max_influences = 4;
   };
   auto args = std::make_shared<Args>();
   auto* cmd = app.add_subcommand(
@@ -76,6 +77,10 @@ void add_export_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--max-error", args->max_error,
                   "with compressed targets: the fewest (up to --max-targets) whose largest error over the frames is "
                   "within this length, in the file's units");
+  cmd->add_option("--max-influences", args->max_influences,
+                  "baked-skin: fitted joints per vertex, 4 (every runtime) or 8 (JOINTS_1/WEIGHTS_1 too, for engines that "
+                  "read a second set)")
+      ->capture_default_str();
   cmd->add_option("--out", args->out,
                   "glb: F.glb; obj: F.obj (writes F_<clip>_<frame>.obj beside it) or a folder; json: F.json")
       ->required();
@@ -129,6 +134,15 @@ void add_export_command(CLI::App& app, int& exit_code) {
       std::fprintf(stderr, "error: --max-targets and --max-error are for --format glb with a skin mode (baked-skin, baked-animation)\n");
       return;
     }
+    if (args->max_influences != 4 && args->max_influences != 8) {
+      std::fprintf(stderr, "error: --max-influences must be 4 or 8\n");
+      return;
+    }
+    if (args->max_influences != 4 && (request.format != ExportFormat::kGlb || request.options.mode != ExportMode::kBakedSkin)) {
+      std::fprintf(stderr, "error: --max-influences is for --format glb --mode baked-skin (the fitted weights)\n");
+      return;
+    }
+    request.options.max_influences = args->max_influences;
     request.options.max_targets = args->max_targets;
     request.options.max_error = args->max_error;
     if (args->max_error > 0.0 && args->max_targets < 0 && request.options.mode == ExportMode::kBakedAnimation)

@@ -188,6 +188,16 @@ void ExportPanel::draw(Workspace& ws) {
                             "length, in the file's units");
       }
     }
+    if (request_.format == ExportFormat::kGlb && request_.options.mode == ExportMode::kBakedSkin) {
+      int eight = request_.options.max_influences == 8 ? 1 : 0;
+      ImGui::TextUnformatted("joints");
+      ImGui::SameLine(110);
+      ImGui::SetNextItemWidth(180);
+      if (ImGui::Combo("per vertex##mi", &eight, "4 (every runtime)\0" "8 (JOINTS_1 too)\0")) request_.options.max_influences = eight ? 8 : 4;
+      if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("the fitted skinning weights per vertex: 8 adds a second JOINTS/WEIGHTS set, for engines that read it "
+                          "(three.js reads the first only)");
+    }
     if (request_.format == ExportFormat::kGlb && request_.options.mode != ExportMode::kBakedAnimation) {
       ImGui::TextUnformatted("keyposes");
       ImGui::SameLine(110);

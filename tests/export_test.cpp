@@ -245,7 +245,7 @@ TEST(KeyposeSweep, SweepsEachKeyFromRest) {
 }
 
 // The fitted weights see the keyposed shapes: at the sweep's poses (elbow bent to 40, 80, 120
-// degrees with the bulge) the skeleton-only error is lower when the fit sampled them.
+// degrees with the bulge) the skeleton-only error is lower on average when the fit sampled them.
 TEST(Export, BakedSkinFitsTheKeyposeSweep) {
   ExportOptions o;
   o.mode = ExportMode::kBakedSkin;
@@ -272,7 +272,10 @@ TEST(Export, BakedSkinFitsTheKeyposeSweep) {
       with->fitted.mean, without->fitted.mean);
   EXPECT_GT(without->at_keyposes.mean, 0.0);
   EXPECT_LT(with->at_keyposes.mean, without->at_keyposes.mean);
-  EXPECT_LT(with->at_keyposes.max, without->at_keyposes.max);
+  // the worst vertex at the sweep is the bulge itself (2 cm at 120 degrees), which no blend of rigid joints
+  // makes: with the exact weight solve (refine_simplex) it is the same with or without the sweep in the fit
+  EXPECT_LE(with->at_keyposes.max, without->at_keyposes.max);
+  EXPECT_GT(with->at_keyposes.max, 0.015);
   // the correctives still make the clip frames exact
   EXPECT_LT(with->at_frames.max, 1e-5);
 }

@@ -216,6 +216,7 @@ class Workspace {
   struct ExportCorrectives {
     int max_targets = -1;
     double max_error = 0.0;
+    int max_influences = 4;  // baked-skin's fitted joints per vertex (the action export_influences)
   } export_correctives;
   void cancel_export();
   const ExportState& export_state() const { return export_; }

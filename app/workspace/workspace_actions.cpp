@@ -674,6 +674,12 @@ void Workspace::add_actions() {
         export_correctives.max_targets = n == "frames" ? 0 : n == "default" ? -1 : static_cast<int>(v);
         export_correctives.max_error = e;
       });
+  add("export_influences", "4|8", "The fitted joints per vertex of the next baked-skin exports: 4, or 8 (JOINTS_1/WEIGHTS_1 too).",
+      [this](std::istringstream& in) {
+        int n = 0;
+        if (!(in >> n) || (n != 4 && n != 8)) return fail("export_influences 4|8");
+        export_correctives.max_influences = n;
+      });
   add("export_cancel", "", "Cancels the running export.", [this](std::istringstream&) { cancel_export(); });
 
   // ---- the camera

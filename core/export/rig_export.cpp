@@ -56,7 +56,7 @@ std::vector<double> export_frame_times(double duration, double fps) {
 
 namespace {
 
-constexpr size_t kMaxInfluences = 4;
+constexpr size_t kMaxInfluences = 8;  // what FittedWeights holds; the fit keeps ExportOptions::max_influences
 constexpr size_t kNearestCageVertices = 8;
 constexpr size_t kMaxCandidates = 16;
 
@@ -281,6 +281,42 @@ Eigen::VectorXd fit_simplex(const Eigen::MatrixXd& G, const Eigen::VectorXd& h, 
   return prev;
 }
 
+// The same problem solved exactly on a small support (k <= 8): the equality-constrained least squares on the
+// active set (KKT system, its least-norm solution when G is singular), dropping the most negative weight
+// until none is negative. Returns whichever of it and `start` (a feasible point) has the lower objective
+// w^T G w - 2 h^T w: FISTA's 300 steps stop short on ill-conditioned G (joints that move together).
+Eigen::VectorXd refine_simplex(const Eigen::MatrixXd& G, const Eigen::VectorXd& h, const Eigen::VectorXd& start) {
+  const Eigen::Index k = h.size();
+  auto objective = [&](const Eigen::VectorXd& w) { return w.dot(G * w) - 2.0 * h.dot(w); };
+  std::vector<Eigen::Index> active(static_cast<size_t>(k));
+  std::iota(active.begin(), active.end(), Eigen::Index(0));
+  Eigen::VectorXd best = start;
+  while (!active.empty()) {
+    const Eigen::Index a = static_cast<Eigen::Index>(active.size());
+    Eigen::MatrixXd kkt = Eigen::MatrixXd::Zero(a + 1, a + 1);
+    Eigen::VectorXd rhs(a + 1);
+    for (Eigen::Index i = 0; i < a; ++i) {
+      for (Eigen::Index j = 0; j < a; ++j) kkt(i, j) = 2.0 * G(active[size_t(i)], active[size_t(j)]);
+      kkt(i, a) = kkt(a, i) = 1.0;
+      rhs(i) = 2.0 * h(active[size_t(i)]);
+    }
+    rhs(a) = 1.0;
+    const Eigen::VectorXd x = kkt.completeOrthogonalDecomposition().solve(rhs);
+    Eigen::Index worst = -1;
+    for (Eigen::Index i = 0; i < a; ++i)
+      if (!std::isfinite(x(i))) return best;
+      else if (x(i) < 0.0 && (worst < 0 || x(i) < x(worst))) worst = i;
+    if (worst < 0) {
+      Eigen::VectorXd w = Eigen::VectorXd::Zero(k);
+      for (Eigen::Index i = 0; i < a; ++i) w(active[size_t(i)]) = x(i);
+      if (std::abs(w.sum() - 1.0) < 1e-9 && objective(w) < objective(best)) best = w;
+      return best;
+    }
+    active.erase(active.begin() + worst);
+  }
+  return best;
+}
+
 // Weights (sorted, largest first) with sum exactly 1 in float32, summed in order as a reader would:
 // the last (smallest) becomes 1 - (the sum of the others). That partial sum is at least 3/4 (the
 // smallest of at most 4 weights is at most 1/4), so by Sterbenz's lemma 1 - partial is exact and
@@ -308,7 +344,7 @@ struct FittedWeights {
 bool fit_weights(std::span<const glm::vec3> rest_skin, const std::vector<std::vector<uint32_t>>& original,
                  std::span<const glm::vec3> cage_rest, const CageAttachment& att,
                  const std::vector<const std::vector<glm::mat4>*>& joints,
-                 const std::vector<const std::vector<glm::vec3>*>& x, StageProgress& progress,
+                 const std::vector<const std::vector<glm::vec3>*>& x, size_t max_influences, StageProgress& progress,
                  FittedWeights& out) {
   const size_t np = rest_skin.size(), S = x.size();
   out.joint.assign(np, {});
@@ -330,10 +366,11 @@ bool fit_weights(std::span<const glm::vec3> rest_skin, const std::vector<std::ve
     for (uint32_t j : cand)
       if (std::find(uniq.begin(), uniq.end(), j) == uniq.end() && uniq.size() < kMaxCandidates)
         uniq.push_back(j);
-    auto solve = [&](const std::vector<uint32_t>& js) {
+    // the normal equations of the fit over joints `js`
+    auto normal_equations = [&](const std::vector<uint32_t>& js, Eigen::MatrixXd& G, Eigen::VectorXd& h) {
       const Eigen::Index k = static_cast<Eigen::Index>(js.size());
-      Eigen::MatrixXd G = Eigen::MatrixXd::Zero(k, k);
-      Eigen::VectorXd h = Eigen::VectorXd::Zero(k);
+      G = Eigen::MatrixXd::Zero(k, k);
+      h = Eigen::VectorXd::Zero(k);
       std::vector<glm::dvec3> a(js.size());
       const glm::vec4 p(rest_skin[v], 1.0f);
       for (size_t s = 0; s < S; ++s) {
@@ -345,20 +382,32 @@ bool fit_weights(std::span<const glm::vec3> rest_skin, const std::vector<std::ve
         }
       }
       G.triangularView<Eigen::StrictlyLower>() = G.transpose();
+    };
+    auto solve = [&](const std::vector<uint32_t>& js) {
+      Eigen::MatrixXd G;
+      Eigen::VectorXd h;
+      normal_equations(js, G, h);
       return fit_simplex(G, h, 300);
+    };
+    auto refine = [&](const std::vector<uint32_t>& js, const Eigen::VectorXd& start) {
+      Eigen::MatrixXd G;
+      Eigen::VectorXd h;
+      normal_equations(js, G, h);
+      return refine_simplex(G, h, start);
     };
     Eigen::VectorXd w = solve(uniq);
     std::vector<size_t> order(uniq.size());
     std::iota(order.begin(), order.end(), 0);
     std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return w[a] > w[b]; });
     std::vector<uint32_t> best;
-    for (size_t i = 0; i < order.size() && best.size() < kMaxInfluences; ++i)
+    for (size_t i = 0; i < order.size() && best.size() < max_influences; ++i)
       if (best.empty() || w[order[i]] > 1e-6) best.push_back(uniq[order[i]]);
     Eigen::VectorXd wb = best.size() < uniq.size() ? solve(best) : Eigen::VectorXd();
     if (wb.size() == 0) {
       wb.resize(best.size());
       for (size_t i = 0; i < best.size(); ++i) wb[i] = w[order[i]];
     }
+    wb = refine(best, wb);
     std::vector<std::pair<float, uint32_t>> kept;
     for (size_t i = 0; i < best.size(); ++i)
       if (wb[i] > 1e-6) kept.push_back({static_cast<float>(wb[i]), best[i]});
@@ -661,7 +710,8 @@ Result<ExportResult> export_rig(const Document& doc, Rig& rig, const ExportOptio
       }
     }
     stage.begin("fitting", posed_until, 0.7);
-    if (!fit_weights(rest_skin, original, doc.cage_positions(), *att, sample_joints, sample_x, stage, fitted))
+    if (!fit_weights(rest_skin, original, doc.cage_positions(), *att, sample_joints, sample_x,
+                     std::clamp<size_t>(size_t(options.max_influences), 1, kMaxInfluences), stage, fitted))
       return cancelled();
     size_t off = 0;
     for (Primitive& p : out.primitives) {
@@ -674,6 +724,7 @@ Result<ExportResult> export_rig(const Document& doc, Rig& rig, const ExportOptio
             p.influence_weight.push_back(fitted.weight[off + v][i]);
           }
         p.influence_start.push_back(static_cast<uint32_t>(p.influence_joint.size()));
+        r.influences = std::max<size_t>(r.influences, p.num_influences(v));
       }
       off += p.num_vertices();
     }

@@ -9,7 +9,7 @@
 //                    attachment's weights, at most kMaxAttachmentInfluences), with the character's
 //                    skeleton, inverse bind matrices and clips. Exact (the rig poses the cage by
 //                    this same linear blend) except for keyposes, which a skin cannot carry.
-//   kBakedSkin:      linear blend skinning weights (<= 4 per vertex, >= 0, summing to 1 in float32)
+//   kBakedSkin:      linear blend skinning weights (<= 4 per vertex, or 8 with max_influences, >= 0, summing to 1 in float32)
 //                    fitted so the skeleton alone reproduces the rig over the sampled frames, plus
 //                    the residual of every sampled frame as a corrective morph target (in bind
 //                    space: the blended joint's 3x3 inverse applied to the world residual, which
@@ -62,6 +62,9 @@ struct ExportOptions {
   // > 0 (file units), with compressed targets: the fewest components (up to max_targets) whose largest
   // reconstruction error of a vertex over the frames is within it; a warning when max_targets cannot.
   double max_error = 0.0;
+  // baked-skin: the fitted joints per vertex, 4 (JOINTS_0/WEIGHTS_0: every runtime) or 8 (also
+  // JOINTS_1/WEIGHTS_1, for engines that read a second set; three.js reads the first only).
+  int max_influences = 4;
 };
 inline constexpr int kDefaultMaxTargets = 16;
 // The number of corrective targets `options` asks for in its mode (max_targets resolved; 0 = per frame).
@@ -111,6 +114,7 @@ struct ExportResult {
   // Compressed correctives: how many components the residuals have (their rank, at most #frames +
   // #keypose poses) and the largest reconstruction error over the fitted residuals with the targets kept
   // (bind space, file units); 0 with per-frame targets.
+  size_t influences = 0;  // baked-skin: the most joints any vertex's fitted weights use
   size_t residual_rank = 0;
   double basis_error = 0.0;
   // What the exported character holds, by part, in bytes as written (float32 positions and normals,

@@ -114,8 +114,11 @@ Result<ExportReport> run_glb(const Document& doc, Rig& rig, const ExportRequest&
               " morph targets, wrote " + request.out + " (" + megabytes(r.bytes) + ")";
   const ExportMode mode = request.options.mode;
   const std::string poses = std::to_string(r.keypose_poses) + " keypose poses";
-  if (mode == ExportMode::kBakedSkin)
+  if (mode == ExportMode::kBakedSkin) {
     r.error_lines.push_back(error_line("error at frames, skeleton only", result->fitted, result->diagonal));
+    r.error_lines.push_back("skin: up to " + std::to_string(result->influences) + " joints a vertex (asked " +
+                            std::to_string(request.options.max_influences) + ")");
+  }
   if (mode == ExportMode::kCage) {
     r.error_lines.push_back(error_line("cage error at frames", result->at_frames, result->diagonal));
     if (r.keypose_poses)
