@@ -346,6 +346,39 @@ TEST(Export, CompressedCorrectivesKeepTheLeadingComponentsWithinTheirError) {
   EXPECT_NE(short_of->warnings.back().find("more than --max-error"), std::string::npos) << short_of->warnings.back();
 }
 
+// Eight joints a vertex (issue 22, --max-influences 8): the fit may keep up to 8 (some vertex does), the written
+// file has a second JOINTS/WEIGHTS set that the loader reads back, each vertex's weights still sum to 1, and the
+// skeleton alone is closer to the rig on average than with 4.
+TEST(Export, EightInfluencesAreFittedWrittenAndReadBack) {
+  ExportOptions o;
+  o.mode = ExportMode::kBakedSkin;
+  o.fps = kFps;
+  o.clips = {0};
+  auto four = export_rig(keyed_demo(), *demo().rig, o);
+  ASSERT_TRUE(four.ok()) << four.error().message;
+  o.max_influences = 8;
+  auto eight = export_rig(keyed_demo(), *demo().rig, o);
+  ASSERT_TRUE(eight.ok()) << eight.error().message;
+  EXPECT_LE(four->influences, 4u);
+  EXPECT_GT(eight->influences, 4u);
+  EXPECT_LE(eight->influences, 8u);
+  EXPECT_LT(eight->fitted.mean, four->fitted.mean);
+  EXPECT_GT(eight->sizes.skin, four->sizes.skin) << "the second set is written";
+  const std::string path = test::temp_dir("export_eight") + "/eight.glb";
+  ASSERT_TRUE(write_glb(path, eight->character).ok());
+  auto back = load_character(path);
+  ASSERT_TRUE(back.ok()) << back.error().message;
+  size_t most = 0;
+  for (const Primitive& p : back->primitives)
+    for (size_t v = 0; v < p.num_vertices(); ++v) {
+      most = std::max(most, p.num_influences(v));
+      float sum = 0.0f;
+      for (uint32_t e = p.influence_start[v]; e < p.influence_start[v + 1]; ++e) sum += p.influence_weight[e];
+      ASSERT_NEAR(sum, 1.0f, 1e-6f) << "vertex " << v;
+    }
+  EXPECT_EQ(most, eight->influences) << "JOINTS_1/WEIGHTS_1 read back";
+}
+
 TEST(Export, ReportsProgressAndStopsWhenCancelled) {
   ExportOptions o;
   o.mode = ExportMode::kBakedSkin;

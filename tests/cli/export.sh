@@ -96,5 +96,16 @@ check "--max-targets with the cage is refused" hasf "$T/err" "--max-targets and 
 run export --project "$P" --mode baked-skin --max-error nan --out "$T/x.glb"
 check "a --max-error that is not a length is refused" [ "$rc" -ne 0 ]
 check "no file is left by the refusals" test ! -e "$T/x.glb"
+run export --project "$P" --mode baked-skin --max-influences 6 --out "$T/x.glb"
+check "--max-influences 6 is refused" hasf "$T/err" "--max-influences must be 4 or 8"
+run export --project "$P" --mode baked-animation --max-influences 8 --out "$T/x.glb"
+check "--max-influences without baked-skin is refused" hasf "$T/err" "--max-influences is for --format glb --mode baked-skin"
+run export --project "$P" --mode baked-skin --max-influences 8 --clips walk --fps 4 --out "$T/eight.glb"
+check "--max-influences 8 exports" test "$rc" -eq 0
+check "it reports the joints a vertex" has "$T/out" "skin: up to [5-8] joints a vertex (asked 8)"
+if command -v node > /dev/null && [ -d "$ROOT/tests/gltf_validate/node_modules/gltf-validator" ]; then
+  node "$ROOT/tests/gltf_validate/validate.js" "$T/eight.glb" > "$T/eight.valid" 2>&1
+  check "the 8-joint file passes the validator" has "$T/eight.valid" ": 0 errors"
+fi
 
 finish
