@@ -338,6 +338,16 @@ TEST(BindingInputs, EachInputIsNamedWhenItChanges) {
   EXPECT_EQ(changed_inputs(a, binding_inputs(f)), "the character file, the binding parameters and the set edits");
 }
 
+// The demo character written to `dir` (emptied first) with the demo cage, caching its bindings.
+Document caching_demo_in(const fs::path& dir) {
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  EXPECT_TRUE(write_glb((dir / "demo.glb").string(), make_demo_character()).ok());
+  auto loaded = document_from_files((dir / "demo.glb").string(), std::string(CAGEWRAP_SOURCE_DIR) + "/assets/demo_cage.obj");
+  if (!loaded) ADD_FAILURE() << loaded.error().message;
+  return loaded ? with_cache_binding(*loaded, true) : Document{};
+}
+
 // A deformer stack caches each deformer's binding (issue 21): the demo with two layers (a sculpted copy of its
 // cage under the head's mask, and a muted copy) saved with the rig's bindings writes P.cwb and P.1.cwb (the
 // muted layer moves nothing: no file); opened again, both are used and the rig made from them poses the skin
@@ -345,12 +355,8 @@ TEST(BindingInputs, EachInputIsNamedWhenItChanges) {
 // and saving again keeps deformer 0's record and drops the layer's.
 TEST(BindingCacheStack, EachLayerIsCachedAndAStaleLayerAloneBindsAgain) {
   const fs::path dir = fs::temp_directory_path() / ("cagewrap-binding-cache-stack-" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  ASSERT_TRUE(write_glb((dir / "demo.glb").string(), make_demo_character()).ok());
-  auto loaded = document_from_files((dir / "demo.glb").string(), std::string(CAGEWRAP_SOURCE_DIR) + "/assets/demo_cage.obj");
-  ASSERT_TRUE(loaded.ok()) << loaded.error().message;
-  Document doc = with_cache_binding(*loaded, true);
+  Document doc = caching_demo_in(dir);
+  ASSERT_TRUE(doc.cage);
   DeformerLayer face;
   face.name = "face";
   face.cage = doc.cage;
@@ -423,12 +429,8 @@ TEST(BindingCacheStack, EachLayerIsCachedAndAStaleLayerAloneBindsAgain) {
 // driver_binding_fits.
 TEST(BindingCacheStack, EachDriverIsCachedAndAStaleDriverAloneBindsAgain) {
   const fs::path dir = fs::temp_directory_path() / ("cagewrap-binding-cache-drivers-" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  ASSERT_TRUE(write_glb((dir / "demo.glb").string(), make_demo_character()).ok());
-  auto loaded = document_from_files((dir / "demo.glb").string(), std::string(CAGEWRAP_SOURCE_DIR) + "/assets/demo_cage.obj");
-  ASSERT_TRUE(loaded.ok()) << loaded.error().message;
-  Document doc = with_cache_binding(*loaded, true);
+  Document doc = caching_demo_in(dir);
+  ASSERT_TRUE(doc.cage);
   doc = with_patch_driver(doc, test::chest_driver(0.06));
   DriverDeformer second{test::chest_driver(-0.04), {}};
   second.place.name = "second";

@@ -26,7 +26,23 @@ namespace {
 
 namespace fs = std::filesystem;
 
-using WorkspaceDriversTest = DemoWorkspaceTest;
+// The demo with the chest driver added (its file in `dir`), control point 14 sculpted out of the chest, at
+// the walk's 0.3 s: what the tests of the first driver's attachment and set edits start from.
+class WorkspaceDriversTest : public DemoWorkspaceTest {
+ protected:
+  void add_sculpted_chest_driver(const fs::path& dir) {
+    fs::create_directories(dir);
+    ASSERT_TRUE(save_patch_any((dir / "chest.cwpatch").string(), test::chest_driver(0.0)->rest).ok());
+    finish_bind();
+    ws.run("driver_add " + (dir / "chest.cwpatch").string());
+    poll_while([this] { return ws.binding_patch_driver(); });
+    ws.run("patch_panel");
+    ws.run("patch_select 14");
+    ws.run("patch_move 0 0 0.05");
+    ws.run("clip walk");
+    ws.run("time 0.3");
+  }
+};
 
 TEST_F(WorkspaceDriversTest, SeveralDriversAreAddedEditedMutedAndMatchTheRig) {
   const fs::path dir = fs::temp_directory_path() / "cagewrap_workspace_drivers_test";
@@ -172,17 +188,8 @@ TEST_F(WorkspaceDriversTest, SeveralDriversAreAddedEditedMutedAndMatchTheRig) {
 // attach (fitted, a control point past the driver's, a node that is not a joint), and the frame is the rig's.
 TEST_F(WorkspaceDriversTest, TheDriversAttachmentIsEditedAndTheFrameIsTheRigs) {
   const fs::path dir = fs::temp_directory_path() / "cagewrap_workspace_drivers_attach";
-  fs::create_directories(dir);
-  ASSERT_TRUE(save_patch_any((dir / "chest.cwpatch").string(), test::chest_driver(0.0)->rest).ok());
-  finish_bind();
+  add_sculpted_chest_driver(dir);
   const auto w = [this]() -> const Document& { return ws.scene()->work(); };
-  ws.run("driver_add " + (dir / "chest.cwpatch").string());
-  poll_while([this] { return ws.binding_patch_driver(); });
-  ws.run("patch_panel");
-  ws.run("patch_select 14");
-  ws.run("patch_move 0 0 0.05");
-  ws.run("clip walk");
-  ws.run("time 0.3");
   const size_t steps = undo_steps();
   ws.run("patch_attach skin_weights");
   ASSERT_TRUE(w().driver_place.attachment);
@@ -246,17 +253,8 @@ TEST_F(WorkspaceDriversTest, TheDriversAttachmentIsEditedAndTheFrameIsTheRigs) {
 // samples picked, no skin selected, a sample past the driver's) are named and leave no step.
 TEST_F(WorkspaceDriversTest, SetEditsArePickedInTheViewAndTheFrameIsTheRigs) {
   const fs::path dir = fs::temp_directory_path() / "cagewrap_workspace_drivers_sets";
-  fs::create_directories(dir);
-  ASSERT_TRUE(save_patch_any((dir / "chest.cwpatch").string(), test::chest_driver(0.0)->rest).ok());
-  finish_bind();
+  add_sculpted_chest_driver(dir);
   const auto w = [this]() -> const Document& { return ws.scene()->work(); };
-  ws.run("driver_add " + (dir / "chest.cwpatch").string());
-  poll_while([this] { return ws.binding_patch_driver(); });
-  ws.run("patch_panel");
-  ws.run("patch_select 14");
-  ws.run("patch_move 0 0 0.05");
-  ws.run("clip walk");
-  ws.run("time 0.3");
   ws.run("patch_samples on");
   EXPECT_TRUE(ws.view.patch.samples);
   EXPECT_EQ(ws.driver_sample_points().size(), 35u) << "5 x 4 spans at density 2: 7 x 5 samples";
