@@ -49,6 +49,7 @@ void add_export_command(CLI::App& app, int& exit_code) {
     int max_targets = -1;
     double max_error = 0.0;
     int max_influences = 4;
+    bool optimize = false;
   };
   auto args = std::make_shared<Args>();
   auto* cmd = app.add_subcommand(
@@ -81,6 +82,9 @@ void add_export_command(CLI::App& app, int& exit_code) {
                   "baked-skin: fitted joints per vertex, 4 (every runtime) or 8 (JOINTS_1/WEIGHTS_1 too, for engines that "
                   "read a second set)")
       ->capture_default_str();
+  cmd->add_flag("--optimize", args->optimize,
+                "glb: reorder each mesh for the GPU (vertex cache, then fetch order; libmeshoptimizer), writing each "
+                "vertex's source index as _CAGEWRAP_SOURCE_INDEX");
   cmd->add_option("--out", args->out,
                   "glb: F.glb; obj: F.obj (writes F_<clip>_<frame>.obj beside it) or a folder; json: F.json")
       ->required();
@@ -142,6 +146,11 @@ void add_export_command(CLI::App& app, int& exit_code) {
       std::fprintf(stderr, "error: --max-influences is for --format glb --mode baked-skin (the fitted weights)\n");
       return;
     }
+    if (args->optimize && request.format != ExportFormat::kGlb) {
+      std::fprintf(stderr, "error: --optimize is for --format glb\n");
+      return;
+    }
+    request.options.optimize = args->optimize;
     request.options.max_influences = args->max_influences;
     request.options.max_targets = args->max_targets;
     request.options.max_error = args->max_error;

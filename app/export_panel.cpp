@@ -188,6 +188,14 @@ void ExportPanel::draw(Workspace& ws) {
                             "length, in the file's units");
       }
     }
+    if (request_.format == ExportFormat::kGlb) {
+      ImGui::TextUnformatted("");
+      ImGui::SameLine(110);
+      ImGui::Checkbox("reorder for the GPU##opt", &request_.options.optimize);
+      if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("triangles in vertex cache order and vertices in fetch order (meshoptimizer); each vertex's source "
+                          "index is written as _CAGEWRAP_SOURCE_INDEX");
+    }
     if (request_.format == ExportFormat::kGlb && request_.options.mode == ExportMode::kBakedSkin) {
       int eight = request_.options.max_influences == 8 ? 1 : 0;
       ImGui::TextUnformatted("joints");

@@ -680,6 +680,13 @@ void Workspace::add_actions() {
         if (!(in >> n) || (n != 4 && n != 8)) return fail("export_influences 4|8");
         export_correctives.max_influences = n;
       });
+  add("export_optimize", "on|off", "Whether the next glb exports are reordered for the GPU (vertex cache and fetch order).",
+      [this](std::istringstream& in) {
+        std::string on;
+        in >> on;
+        if (on != "on" && on != "off") return fail("export_optimize on|off");
+        export_correctives.optimize = on == "on";
+      });
   add("export_cancel", "", "Cancels the running export.", [this](std::istringstream&) { cancel_export(); });
 
   // ---- the camera

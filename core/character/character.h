@@ -37,6 +37,9 @@ struct Primitive {
   std::vector<float> influence_weight;
   std::vector<std::vector<glm::vec3>> morph_targets;  // #M x #V x 3 position offsets
   std::vector<float> morph_weights;                   // #M default weights
+  // When the vertices were reordered (an export optimised for the GPU): each vertex's index before, written
+  // as the application-specific attribute _CAGEWRAP_SOURCE_INDEX (float); empty = the order is the source's.
+  std::vector<uint32_t> source_index;
 
   size_t num_vertices() const { return positions.size(); }
   size_t num_influences(size_t v) const { return influence_start[v + 1] - influence_start[v]; }

@@ -138,6 +138,10 @@ json primitive_json(GlbBuilder& b, const Primitive& p, size_t num_skin_joints) {
       attrs[ws] = b.add_accessor(weights, "VEC4", 4, kFloat, kArrayBuffer);
     }
   }
+  if (!p.source_index.empty()) {  // exact in float below 2^24 vertices (checked by the exporter)
+    std::vector<float> index(p.source_index.begin(), p.source_index.end());
+    attrs["_CAGEWRAP_SOURCE_INDEX"] = b.add_accessor(index, "SCALAR", 1, kFloat, kArrayBuffer);
+  }
   json prim = {{"attributes", attrs}, {"mode", 4}};
   if (!p.triangles.empty()) {
     std::vector<uint32_t> idx;
@@ -163,7 +167,7 @@ GlbPartSizes glb_part_sizes(const Character& c) {
   GlbPartSizes s;
   for (const Primitive& p : c.primitives) {
     const uint64_t nv = p.num_vertices();
-    s.mesh += nv * 24 + p.triangles.size() * 3 * (nv <= 65535 ? 2 : 4);  // POSITION + NORMAL, indices
+    s.mesh += nv * 24 + p.triangles.size() * 3 * (nv <= 65535 ? 2 : 4) + p.source_index.size() * 4;  // POSITION + NORMAL, indices
     if (p.skin >= 0 && !p.influence_start.empty()) {
       size_t max_inf = 1;
       for (size_t v = 0; v < p.num_vertices(); ++v) max_inf = std::max<size_t>(max_inf, p.num_influences(v));

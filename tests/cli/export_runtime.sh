@@ -49,7 +49,8 @@ node "$THREE" "$DEMO" walk 0 "$T/source.bin" > "$T/source.json"
 SOURCE_BONES=$(python3 -c "import json; print(json.load(open('$T/source.json'))['bones'])")
 
 # walk at 10 fps: frame times 0, 0.1, ...; 0.4 is a frame, 0.45 and 0.05 are between frames
-for variant in "skin:baked-skin:" "skin4:baked-skin:--max-targets 4" "skin_frames:baked-skin:--max-targets 0" "anim:baked-animation:" "cage:cage:"; do
+for variant in "skin:baked-skin:" "skin4:baked-skin:--max-targets 4" "skin_frames:baked-skin:--max-targets 0" "opt:baked-skin:--optimize" \
+               "anim:baked-animation:" "cage:cage:"; do
   IFS=: read -r name mode extra <<< "$variant"
   run export --project "$P" --format glb --mode "$mode" $extra --clips walk --fps 10 --keypose-steps 0 --out "$T/$name.glb"
   check "$name: export exits 0" test "$rc" -eq 0
@@ -76,6 +77,7 @@ for variant in "skin:baked-skin:" "skin4:baked-skin:--max-targets 4" "skin_frame
     check "$name at $t s: within the reported error" within "$gap" "$(python3 -c "print($bound + 1e-6)")"
     check "$name at $t s: within 1% of the diagonal" within "$gap" "$ONE_PERCENT"
   done
+  cp "$T/three.json" "$T/$name.three.json"
   # the skinned node, its name and the joint order
   if [ "$mode" != baked-animation ]; then
     check "$name: one skinned mesh" has "$T/three.json" '"skinned":1'
@@ -84,6 +86,18 @@ for variant in "skin:baked-skin:" "skin4:baked-skin:--max-targets 4" "skin_frame
     check "$name: the joints in the source's order" test "$bones" = "$SOURCE_BONES"
   fi
 done
+# reordered for the GPU: fewer cache misses, and three.js read the source order back
+check "--optimize reports the cache" has "$T/opt.report" "GPU order: vertex cache misses per triangle"
+fewer_misses() {
+  python3 - "$1" <<'PY'
+import re, sys
+m = re.search(r'per triangle ([0-9.]+) before, ([0-9.]+) after', open(sys.argv[1]).read())
+print(m.group(0) if m else 'no cache figures')
+sys.exit(0 if m and float(m.group(2)) < float(m.group(1)) else 1)
+PY
+}
+check "--optimize lowers the vertex cache misses" fewer_misses "$T/opt.report"
+check "three.js saw the reordered mesh" grep -q '"reordered":true' "$T/opt.three.json"
 # compressed: at most 16 targets against one per frame, and a smaller file
 check "baked-skin: 16 targets by default" has "$T/skin.report" "11 frames, 1[0-6] morph targets"
 check "baked-skin --max-targets 0: one per frame" has "$T/skin_frames.report" "11 frames, 11 morph targets"

@@ -3,7 +3,8 @@
 // named CLIP (or none: "-") with an AnimationMixer at TIME seconds (clamped at the clip's end, not wrapped),
 // and writes every mesh vertex as three shows it (morph targets applied, then skinning, then the node's world
 // transform: Mesh.getVertexPosition and matrixWorld) as float32 x, y, z, the meshes in the glTF's mesh and
-// primitive order: what `cagewrap pose --out` writes for the same frame. Prints one line describing the scene
+// primitive order (a mesh reordered by `export --optimize` put back in its source order by its
+// _CAGEWRAP_SOURCE_INDEX attribute): what `cagewrap pose --out` writes for the same frame. Prints one line describing the scene
 // (meshes, vertices, skinned, morph targets, the skinned mesh's node name and its bones' names in joint order).
 // Exits 1 on a load error or an unknown clip, 2 when three is not installed.
 import fs from 'node:fs';
@@ -60,19 +61,25 @@ const values = new Float32Array(total * 3);
 const v = new THREE.Vector3();
 let at = 0;
 let skinned = null;
+let reordered = false;
 for (const { mesh } of meshes) {
   if (mesh.isSkinnedMesh) {
     mesh.skeleton.update();
     skinned = skinned || mesh;
   }
   const n = mesh.geometry.attributes.position.count;
+  // a mesh reordered for the GPU (cagewrap export --optimize) says where each vertex came from
+  const source = mesh.geometry.attributes._cagewrap_source_index;
+  reordered = reordered || !!source;
   for (let i = 0; i < n; ++i) {
     mesh.getVertexPosition(i, v);
     v.applyMatrix4(mesh.matrixWorld);
-    values[at++] = v.x;
-    values[at++] = v.y;
-    values[at++] = v.z;
+    const k = at + 3 * (source ? source.getX(i) : i);
+    values[k] = v.x;
+    values[k + 1] = v.y;
+    values[k + 2] = v.z;
   }
+  at += 3 * n;
 }
 fs.writeFileSync(out, Buffer.from(values.buffer));
 const targets = meshes.length ? (meshes[0].mesh.geometry.morphAttributes.position || []).length : 0;
@@ -81,6 +88,7 @@ console.log(JSON.stringify({
   vertices: total,
   skinned: meshes.filter((m) => m.mesh.isSkinnedMesh).length,
   morph_targets: targets,
+  reordered,
   node: skinned ? skinned.name : null,
   bones: skinned ? skinned.skeleton.bones.map((b) => b.name) : [],
 }));
