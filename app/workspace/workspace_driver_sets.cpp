@@ -29,18 +29,27 @@ const std::vector<glm::vec3>& Workspace::driver_sample_points() {
   return sample_points_.points;
 }
 
+namespace {
+// The samples in the contributing sets of `points` in the driver's binding (ascending, with a weight > 0).
+std::vector<uint32_t> driving_samples(const Binding& b, const IndexSet& points) {
+  std::vector<uint32_t> out;
+  for (uint32_t p : points)
+    if (p < b.num_points)
+      for (uint32_t i = b.offsets[p]; i < b.offsets[p + 1]; ++i)
+        if (b.weights[i] > 0.0f) out.push_back(b.ids[i]);
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+}  // namespace
+
 std::vector<uint8_t> Workspace::driver_sample_states() const {
   const auto& driver = scene_ ? scene_->work().patch_driver : nullptr;
   if (!driver) return {};
   std::vector<uint8_t> state(patch_sample_count(driver->rest, driver->density), 0);
-  if (scene_->driver_bound()) {
-    const Binding& b = *scene_->driver_binding.binding;
-    for (uint32_t p : view.selection.skin_vertices) {
-      if (p >= b.num_points) continue;
-      for (uint32_t i = b.offsets[p]; i < b.offsets[p + 1]; ++i)
-        if (b.ids[i] < state.size() && b.weights[i] > 0.0f) state[b.ids[i]] = 1;
-    }
-  }
+  if (scene_->driver_bound())
+    for (uint32_t s : driving_samples(*scene_->driver_binding.binding, view.selection.skin_vertices))
+      if (s < state.size()) state[s] = 1;
   for (uint32_t s : view.patch.picked)
     if (s < state.size()) state[s] = 2;
   return state;
@@ -50,17 +59,8 @@ bool Workspace::select_driver_set_samples() {
   if (!scene_ || !scene_->doc().patch_driver) return fail(kNoDriver), false;
   if (view.selection.skin_vertices.empty()) return fail("select the skin vertices first (F7)"), false;
   if (!scene_->driver_bound()) return fail("parametric driver: it is still binding; try again when the bind is done"), false;
-  std::vector<uint32_t> picked;
-  const std::vector<uint8_t> state = [this] {
-    IndexSet keep = std::exchange(view.patch.picked, {});
-    auto s = driver_sample_states();
-    view.patch.picked = std::move(keep);
-    return s;
-  }();
-  for (uint32_t s = 0; s < state.size(); ++s)
-    if (state[s] == 1) picked.push_back(s);
-  view.patch.picked.set(picked);
-  log("parametric driver: picked the " + std::to_string(picked.size()) + " samples driving the " +
+  view.patch.picked.set(driving_samples(*scene_->driver_binding.binding, view.selection.skin_vertices));
+  log("parametric driver: picked the " + std::to_string(view.patch.picked.size()) + " samples driving the " +
       std::to_string(view.selection.skin_vertices.size()) + " selected skin vertices");
   return true;
 }
