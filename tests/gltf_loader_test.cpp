@@ -264,6 +264,19 @@ TEST(GltfLoader, UnusableFilesNameTheObjectAndIndex) {
               std::string::npos)
         << e;
   }
+  // Geometry compressed with an extension the loader cannot decode: named, with what to do.
+  {
+    GltfBuilder b = single_primitive(grid_positions(2), {0, 1, 3});
+    b.doc["extensionsUsed"] = {"KHR_draco_mesh_compression"};
+    b.doc["extensionsRequired"] = {"KHR_draco_mesh_compression"};
+    b.write_embedded(dir + "/draco.gltf");
+    std::string e = load_error(dir + "/draco.gltf");
+    EXPECT_EQ(e.rfind(dir + "/draco.gltf: its meshes are compressed with KHR_draco_mesh_compression, which cagewrap does not "
+                            "read; save it uncompressed",
+                      0),
+              0u)
+        << e;
+  }
   // Cyclic hierarchy: 0 -> 1 -> 2 -> 1.
   {
     GltfBuilder b = single_primitive(grid_positions(2), {0, 1, 3});

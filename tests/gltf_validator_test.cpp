@@ -32,6 +32,12 @@ TEST(GltfValidator, WrittenAndHandBuiltFilesHaveNoErrors) {
   ASSERT_TRUE(write_glb(files[0], make_demo_character()).ok());
   ASSERT_TRUE(write_glb(files[1], test::sample_character()).ok());
   files.push_back(std::string(CAGEWRAP_SOURCE_DIR) + "/assets/demo_character.glb");
+  // quantized (KHR_mesh_quantization): SHORT positions and targets, BYTE normals, UNSIGNED_SHORT weights
+  for (const auto& [name, c] : {std::pair{"sample_q.glb", test::sample_character()}, std::pair{"demo_q.glb", make_demo_character()}}) {
+    const GlbQuantization q = plan_glb_quantization(c);
+    files.push_back(dir + "/" + name);
+    ASSERT_TRUE(write_glb(files.back(), c, "test", &q).ok());
+  }
   std::string log;
   int rc = validate(files, dir, log);
   ASSERT_NE(rc, 2) << "gltf-validator is not installed: run scripts/setup.sh\n" << log;

@@ -218,6 +218,7 @@ class Workspace {
     double max_error = 0.0;
     int max_influences = 4;  // baked-skin's fitted joints per vertex (the action export_influences)
     bool optimize = false;   // glb: reordered for the GPU (the action export_optimize)
+    bool quantize = false;   // glb: KHR_mesh_quantization (the action export_quantize)
   } export_correctives;
   void cancel_export();
   const ExportState& export_state() const { return export_; }

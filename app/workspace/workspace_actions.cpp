@@ -687,6 +687,13 @@ void Workspace::add_actions() {
         if (on != "on" && on != "off") return fail("export_optimize on|off");
         export_correctives.optimize = on == "on";
       });
+  add("export_quantize", "on|off", "Whether the next glb exports are quantized (KHR_mesh_quantization: 16-bit positions and targets).",
+      [this](std::istringstream& in) {
+        std::string on;
+        in >> on;
+        if (on != "on" && on != "off") return fail("export_quantize on|off");
+        export_correctives.quantize = on == "on";
+      });
   add("export_cancel", "", "Cancels the running export.", [this](std::istringstream&) { cancel_export(); });
 
   // ---- the camera

@@ -31,6 +31,7 @@ Result<ExportRequest> Workspace::parse_export(std::istringstream& in) const {
   request.options.max_error = export_correctives.max_error;
   request.options.max_influences = export_correctives.max_influences;
   request.options.optimize = export_correctives.optimize;
+  request.options.quantize = export_correctives.quantize;
   if (!parse_export_format(format, request.format)) return bad("format '" + format + "' is not glb, obj or json");
   if (mode != "-" && !parse_export_mode(mode, request.options.mode)) return bad("unknown mode '" + mode + "'");
   const Character& ch = *scene_->doc().character;

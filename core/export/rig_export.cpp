@@ -236,6 +236,14 @@ void optimize_export(Character& out, const ExportOptions& options, ExportResult&
 }
 
 // Keys `weights` (#frames x #K, the clip's frames from `first`) on the clip's frame times.
+// ExportOptions::quantize: the plan the writer follows, and the character snapped to it so that what is measured
+// next is what the file holds.
+void quantize_export(Character& out, const ExportOptions& options, ExportResult& r) {
+  if (!options.quantize) return;
+  r.quantization = plan_glb_quantization(out);
+  snap_to_glb_quantization(out, *r.quantization);
+}
+
 AnimationSampler basis_weights(const std::vector<double>& times, size_t first, const std::vector<std::vector<float>>& weights) {
   AnimationSampler s;
   s.interpolation = Interpolation::kLinear;
@@ -723,6 +731,7 @@ Result<ExportResult> export_rig(const Document& doc, Rig& rig, const ExportOptio
     out.primitives.push_back(std::move(p));
     for (const ExportClipFrames& cf : frames)
       out.clips.push_back(export_clip(ch.clips[cf.clip], true, mesh_node, nullptr));
+    quantize_export(out, options, r);
     stage.begin("measuring", posed_until, 1.0);
     for (size_t c = 0; c < frames.size(); ++c)
       for (size_t k = 0; k < frames[c].times.size(); ++k) {
@@ -737,7 +746,7 @@ Result<ExportResult> export_rig(const Document& doc, Rig& rig, const ExportOptio
     }
     r.fitted = r.at_frames;
     optimize_export(out, options, r);
-    const GlbPartSizes sizes = glb_part_sizes(out);
+    const GlbPartSizes sizes = glb_part_sizes(out, r.quantization ? &*r.quantization : nullptr);
     r.sizes = {sizes.mesh, sizes.skin, sizes.targets, sizes.animation};
     return r;
   }
@@ -862,8 +871,9 @@ Result<ExportResult> export_rig(const Document& doc, Rig& rig, const ExportOptio
     out.clips.back().duration = std::max(out.clips.back().duration, cf.times.back());
   }
 
-  // Errors against the rig, measured on the exported character itself (what a loader sees), and
-  // against the file's own skinning at the same frames.
+  quantize_export(out, options, r);
+  // Errors against the rig, measured on the exported character itself (what a loader sees, quantized
+  // when asked), and against the file's own skinning at the same frames.
   stage.begin("measuring", targets_until, 1.0);
   PosedCage posed;
   std::vector<glm::vec3> live(np);
@@ -899,7 +909,7 @@ Result<ExportResult> export_rig(const Document& doc, Rig& rig, const ExportOptio
   }
   if (options.mode == ExportMode::kBakedAnimation) r.fitted = r.at_frames;
   optimize_export(out, options, r);
-  const GlbPartSizes sizes = glb_part_sizes(out);
+  const GlbPartSizes sizes = glb_part_sizes(out, r.quantization ? &*r.quantization : nullptr);
   r.sizes = {sizes.mesh, sizes.skin, sizes.targets, sizes.animation};
   return r;
 }

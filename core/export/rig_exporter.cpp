@@ -102,7 +102,8 @@ Result<ExportReport> run_glb(const Document& doc, Rig& rig, const ExportRequest&
   auto result = export_rig(doc, rig, request.options, progress);
   if (!result) return result.error();
   if (progress.on_progress) progress.on_progress("writing", 0, 1, 1.0);
-  if (auto s = write_glb(request.out, result->character, "cagewrap export"); !s) return s.error();
+  if (auto s = write_glb(request.out, result->character, "cagewrap export",
+                           result->quantization ? &*result->quantization : nullptr); !s) return s.error();
   ExportReport r;
   r.frames = result->frames;
   r.morph_targets = result->morph_targets;
@@ -152,6 +153,15 @@ Result<ExportReport> run_glb(const Document& doc, Rig& rig, const ExportRequest&
     char line[160];
     std::snprintf(line, sizeof line, "GPU order: vertex cache misses per triangle %.3f before, %.3f after (32 entries)",
                   result->acmr_before, result->acmr_after);
+    r.error_lines.push_back(line);
+  }
+  if (result->quantization) {
+    double step = 0.0;
+    for (const GlbQuantization::Dequant& d : result->quantization->skins) step = std::max(step, d.step);
+    for (const auto& [node, d] : result->quantization->nodes) step = std::max(step, d.step);
+    char line[200];
+    std::snprintf(line, sizeof line, "quantized (KHR_mesh_quantization): positions in steps of %.3g %s, normals 8-bit, weights 16-bit",
+                  step, scene_units(result->diagonal).c_str());
     r.error_lines.push_back(line);
   }
   const auto& z = result->sizes;

@@ -812,6 +812,14 @@ Result<Character> import_parsed(bool ok, const tinygltf::Model& model, const std
     if (!which.empty()) return make_error(ErrorCode::kFileUnreadable, name + ": " + which);
     return make_error(ErrorCode::kParse, name + ": not a usable glTF 2.0 file: " + first_lines(err));
   }
+  // Required extensions that change what the geometry's bytes mean: the compressed ones cannot be read here
+  // (KHR_mesh_quantization, integer attributes, is read like any accessor).
+  for (const std::string& ext : model.extensionsRequired)
+    if (ext == "KHR_draco_mesh_compression" || ext == "EXT_meshopt_compression" || ext == "KHR_meshopt_compression")
+      return make_error(ErrorCode::kUnsupportedFormat,
+                        name + ": its meshes are compressed with " + ext +
+                            ", which cagewrap does not read; save it uncompressed (e.g. gltf-transform copy, or "
+                            "Blender's glTF export without compression)");
   try {
     auto c = Importer(model, name).run();
     if (c && !warn.empty()) c->warnings.insert(c->warnings.begin(), name + ": " + first_lines(warn));

@@ -50,7 +50,8 @@ SOURCE_BONES=$(python3 -c "import json; print(json.load(open('$T/source.json'))[
 
 # walk at 10 fps: frame times 0, 0.1, ...; 0.4 is a frame, 0.45 and 0.05 are between frames
 for variant in "skin:baked-skin:" "skin4:baked-skin:--max-targets 4" "skin_frames:baked-skin:--max-targets 0" "opt:baked-skin:--optimize" \
-               "anim:baked-animation:" "cage:cage:"; do
+               "anim:baked-animation:" "cage:cage:" "q:baked-skin:--quantize" "qopt:baked-skin:--quantize --optimize" \
+               "qanim:baked-animation:--quantize" "qcage:cage:--quantize"; do
   IFS=: read -r name mode extra <<< "$variant"
   run export --project "$P" --format glb --mode "$mode" $extra --clips walk --fps 10 --keypose-steps 0 --out "$T/$name.glb"
   check "$name: export exits 0" test "$rc" -eq 0
@@ -101,4 +102,35 @@ check "three.js saw the reordered mesh" grep -q '"reordered":true' "$T/opt.three
 # compressed: at most 16 targets against one per frame, and a smaller file
 check "baked-skin: 16 targets by default" has "$T/skin.report" "11 frames, 1[0-6] morph targets"
 check "baked-skin --max-targets 0: one per frame" has "$T/skin_frames.report" "11 frames, 11 morph targets"
+# quantized: the extension required, integer positions and targets, and files smaller than the float ones
+quantized() {
+  python3 - "$1" <<'PY'
+import json, struct, sys
+data = open(sys.argv[1], 'rb').read()
+n = struct.unpack('<I', data[12:16])[0]
+doc = json.loads(data[20:20 + n])
+prim = doc['meshes'][0]['primitives'][0]
+types = [doc['accessors'][prim['attributes']['POSITION']]['componentType']]
+types += [doc['accessors'][t['POSITION']]['componentType'] for t in prim.get('targets', [])]
+print('required', doc.get('extensionsRequired'), 'component types', sorted(set(types)))
+sys.exit(0 if doc.get('extensionsRequired') == ['KHR_mesh_quantization'] and set(types) == {5122} else 1)
+PY
+}
+smaller() { test "$(stat -c %s "$1")" -lt "$(python3 -c "print(int(0.8 * $(stat -c %s "$2")))")"; }
+for pair in q:skin qanim:anim qcage:cage; do
+  IFS=: read -r q f <<< "$pair"
+  check "$q: KHR_mesh_quantization, SHORT positions and targets" quantized "$T/$q.glb"
+  check "$q: the report says it is quantized" has "$T/$q.report" "quantized (KHR_mesh_quantization)"
+  echo "$q: $(stat -c %s "$T/$q.glb") bytes, $f: $(stat -c %s "$T/$f.glb") bytes"
+done
+check "q: at least a fifth smaller than the float baked-skin" smaller "$T/q.glb" "$T/skin.glb"
+check "qanim: at least a fifth smaller than the float baked-animation" smaller "$T/qanim.glb" "$T/anim.glb"
+# cagewrap reads its own quantized export back: its skinning (morphs at the clip's weights, then the folded
+# inverse bind matrices) matches three.js's reading of the same file
+run skin --character "$T/q.glb" --clip walk --time 0.4 --out "$T/q_own.bin"
+check "cagewrap reads the quantized export" test "$rc" -eq 0
+node "$THREE" "$T/q.glb" walk 0.4 "$T/q_three.bin" > /dev/null 2>&1
+gap=$(largest "$T/q_own.bin" "$T/q_three.bin")
+echo "q at 0.4 s: cagewrap skin vs three.js on the quantized file: largest $gap m"
+check "cagewrap and three.js read the quantized file alike" within "$gap" 1e-5
 finish
