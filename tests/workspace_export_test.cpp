@@ -4,6 +4,8 @@
 // on, stops on Cancel leaving no file, and names what it cannot read in an export line. The Export
 // window only draws this (tests/editor_export_gui_test.cpp keeps the window's Browse and a script's end).
 #include <chrono>
+#include <fstream>
+#include <iterator>
 #include <filesystem>
 #include <string>
 #include <thread>
@@ -87,6 +89,30 @@ TEST_F(WorkspaceExportTest, BakedSkinLoadsAgainWithCompressedCorrectives) {
   ASSERT_TRUE(ws.run("export_correctives 8 0.002"));
   EXPECT_EQ(ws.export_correctives.max_targets, 8);
   EXPECT_EQ(ws.export_correctives.max_error, 0.002);
+}
+
+// The options the Export window's check boxes set, from a script: quantized (KHR_mesh_quantization) and
+// reordered for the GPU; the file says so, loads again and its report says it is quantized.
+TEST_F(WorkspaceExportTest, QuantizedAndReorderedExportFromAScript) {
+  ws.run("export_quantize maybe");
+  EXPECT_NE(log_text().find("export_quantize on|off"), std::string::npos) << log_text();
+  EXPECT_FALSE(ws.export_correctives.quantize);
+  ASSERT_TRUE(ws.run("export_quantize on"));
+  ASSERT_TRUE(ws.run("export_optimize on"));
+  const fs::path glb = dir_ / "q.glb";
+  ASSERT_TRUE(ws.run("export glb baked-skin 4 walk " + glb.string()));
+  finish_export();
+  ASSERT_TRUE(fs::exists(glb)) << log_text();
+  EXPECT_NE(log_text().find("quantized (KHR_mesh_quantization): positions in steps of"), std::string::npos) << log_text();
+  EXPECT_NE(log_text().find("GPU order: vertex cache misses per triangle"), std::string::npos) << log_text();
+  auto loaded = load_character(glb.string());
+  ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+  ASSERT_FALSE(loaded->primitives.empty());
+  EXPECT_EQ(loaded->primitives[0].morph_targets.size(), 4u);
+  std::ifstream in(glb, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(bytes.find(R"("extensionsRequired":["KHR_mesh_quantization"])"), std::string::npos);
+  EXPECT_NE(bytes.find("_CAGEWRAP_SOURCE_INDEX"), std::string::npos);
 }
 
 TEST_F(WorkspaceExportTest, ABadPathIsRefusedByNameAndTheNextExportRuns) {
