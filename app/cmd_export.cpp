@@ -51,6 +51,7 @@ void add_export_command(CLI::App& app, int& exit_code) {
     int max_influences = 4;
     bool optimize = false;
     bool quantize = false;
+    std::string correctives = "baked", hold_out;
   };
   auto args = std::make_shared<Args>();
   auto* cmd = app.add_subcommand(
@@ -89,6 +90,14 @@ void add_export_command(CLI::App& app, int& exit_code) {
   cmd->add_flag("--quantize", args->quantize,
                 "glb: KHR_mesh_quantization: 16-bit positions and morph targets, 8-bit normals, 16-bit weights (about a "
                 "third smaller; the errors reported are measured on the quantized file)");
+  cmd->add_option("--correctives", args->correctives,
+                  "baked-skin: baked (the targets keyed per frame in each clip) or pose-driven (each target driven by "
+                  "one joint angle, the drivers in the mesh's extras so an engine corrects new animations; "
+                  "docs/pose-correctives.md)")
+      ->capture_default_str();
+  cmd->add_option("--hold-out", args->hold_out,
+                  "pose-driven: a clip (name or index, one of those exported) left out of every fit and still "
+                  "exported, so its errors are those of an animation the export never saw");
   cmd->add_option("--out", args->out,
                   "glb: F.glb; obj: F.obj (writes F_<clip>_<frame>.obj beside it) or a folder; json: F.json")
       ->required();
@@ -158,6 +167,24 @@ void add_export_command(CLI::App& app, int& exit_code) {
       std::fprintf(stderr, "error: --quantize is for --format glb\n");
       return;
     }
+    if (args->correctives != "baked" && args->correctives != "pose-driven") {
+      std::fprintf(stderr, "error: --correctives '%s' should be baked or pose-driven\n", args->correctives.c_str());
+      return;
+    }
+    const bool pose_driven = args->correctives == "pose-driven";
+    if (pose_driven && (request.format != ExportFormat::kGlb || request.options.mode != ExportMode::kBakedSkin)) {
+      std::fprintf(stderr, "error: --correctives pose-driven is for --format glb --mode baked-skin\n");
+      return;
+    }
+    if (!args->hold_out.empty() && !pose_driven) {
+      std::fprintf(stderr, "error: --hold-out is for --correctives pose-driven\n");
+      return;
+    }
+    if (pose_driven && args->max_error > 0.0) {
+      std::fprintf(stderr, "error: --max-error picks among compressed baked targets; pose-driven targets are counted by --max-targets\n");
+      return;
+    }
+    if (pose_driven) request.options.correctives = ExportOptions::Correctives::kPoseDriven;
     request.options.optimize = args->optimize;
     request.options.quantize = args->quantize;
     request.options.max_influences = args->max_influences;
@@ -188,6 +215,14 @@ void add_export_command(CLI::App& app, int& exit_code) {
         return;
       }
       request.options.clips.push_back(c);
+    }
+    if (!args->hold_out.empty()) {
+      request.options.hold_out = ch.find_clip(args->hold_out);
+      if (request.options.hold_out < 0) {
+        std::fprintf(stderr, "error: %s: --hold-out '%s': its character %s has no clip by that name or number\n", P.c_str(),
+                     args->hold_out.c_str(), doc.character_path.c_str());
+        return;
+      }
     }
     std::optional<Rig> rig;
     if (request.format != ExportFormat::kJson || doc.attachment.mode == AttachmentMode::kFitted) {

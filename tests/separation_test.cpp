@@ -19,7 +19,7 @@
 namespace cagewrap {
 namespace {
 
-struct Demo {
+struct SeparationDemo {
   Character character;
   Cage cage;
   std::vector<glm::vec3> skin;  // rest
@@ -28,9 +28,9 @@ struct Demo {
   PartLabels labels;
 };
 
-const Demo& demo() {
-  static const Demo d = [] {
-    Demo d;
+const SeparationDemo& separation_demo() {
+  static const SeparationDemo d = [] {
+    SeparationDemo d;
     const std::string dir = std::string(CAGEWRAP_SOURCE_DIR) + "/assets/";
     d.character = std::move(load_character(dir + "demo_character.glb")).value();
     d.cage = std::move(make_cage(std::move(load_mesh(dir + "demo_cage.obj")).value(), "demo cage")).value();
@@ -80,7 +80,7 @@ struct LegMetrics {
 };
 
 TEST(Separation, LegsBentApartOpenTheGapWithoutDents) {
-  const Demo& d = demo();
+  const SeparationDemo& d = separation_demo();
   const Character& c = d.character;
   Pose pose = legs_apart(c, 40);
   std::vector<glm::vec3> lbs = skin_character(c, pose);
@@ -199,7 +199,7 @@ struct ClipFit {
 
 // The cage rig (demo cage, extended variant) against the file's own linear blend skinning over
 // the demo's two clips, 9 poses each: distance and Laplacian deviation over the whole skin.
-ClipFit fit_to_lbs(const Demo& d, const CageAttachment& attachment, bool separate) {
+ClipFit fit_to_lbs(const SeparationDemo& d, const CageAttachment& attachment, bool separate) {
   const Character& c = d.character;
   std::vector<std::vector<uint32_t>> nb(d.skin.size());
   for (size_t f = 0; f < d.topology.num_faces(); ++f) {
@@ -265,7 +265,7 @@ void print_fit(const char* what, const ClipFit& f) {
 // file's own linear blend skinning, the whole skin is closer and no rougher with it than without
 // (docs/algorithm-notes.md has the numbers).
 TEST(Separation, WholeBodyAgainstLinearBlendSkinning) {
-  const Demo& d = demo();
+  const SeparationDemo& d = separation_demo();
   const ClipFit off = fit_to_lbs(d, d.attachment, false), on = fit_to_lbs(d, d.attachment, true);
   print_fit("separate 0", off);
   print_fit("separate 1", on);
@@ -277,7 +277,7 @@ TEST(Separation, WholeBodyAgainstLinearBlendSkinning) {
 // closest limb: the cage bends with the character's own skinning, so the skin it drives stays far
 // closer to that skinning (measured: RMS 18.2 -> 1.6 mm) and smoother.
 TEST(Separation, SkinWeightsAttachmentFollowsTheCharactersSkinning) {
-  const Demo& d = demo();
+  const SeparationDemo& d = separation_demo();
   auto rigid = attach_to_closest_limb(d.character, d.cage.polygons.positions);
   ASSERT_TRUE(rigid.ok());
   const ClipFit r = fit_to_lbs(d, *rigid, true), w = fit_to_lbs(d, d.attachment, true);

@@ -40,6 +40,9 @@ struct Primitive {
   // When the vertices were reordered (an export optimised for the GPU): each vertex's index before, written
   // as the application-specific attribute _CAGEWRAP_SOURCE_INDEX (float); empty = the order is the source's.
   std::vector<uint32_t> source_index;
+  // The glTF extras of the mesh, as JSON text, written from the mesh's first primitive (the writer's only;
+  // an export's pose-driven correctives, docs/pose-correctives.md); empty = none.
+  std::string mesh_extras;
 
   size_t num_vertices() const { return positions.size(); }
   size_t num_influences(size_t v) const { return influence_start[v + 1] - influence_start[v]; }

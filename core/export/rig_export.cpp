@@ -17,6 +17,7 @@
 #include "core/geometry/mesh_io.h"
 #include "core/character/skinning.h"
 #include "core/io/gltf_writer.h"
+#include "core/export/pose_correctives.h"
 
 #include <meshoptimizer.h>
 
@@ -656,6 +657,25 @@ Result<ExportResult> export_rig(const Document& doc, Rig& rig, const ExportOptio
 
   ExportResult r;
   for (const ExportClipFrames& cf : frames) r.frames += cf.times.size();
+  const bool pose_driven = options.correctives == ExportOptions::Correctives::kPoseDriven;
+  if (pose_driven && options.mode != ExportMode::kBakedSkin)
+    return make_error(ErrorCode::kInvalidArgument, "pose-driven correctives are for baked-skin: they ride on its fitted skeleton");
+  // the held-out clip's frames [held_first, held_end) are left out of every fit
+  size_t held_first = 0, held_end = 0;
+  if (options.hold_out >= 0) {
+    if (!pose_driven)
+      return make_error(ErrorCode::kInvalidArgument, "holding a clip out is for pose-driven correctives (--correctives pose-driven)");
+    auto held = std::find_if(frames.begin(), frames.end(), [&](const ExportClipFrames& cf) { return cf.clip == options.hold_out; });
+    const std::string name = size_t(options.hold_out) < ch.clips.size() ? "'" + ch.clips[options.hold_out].name + "'"
+                                                                         : std::to_string(options.hold_out);
+    if (held == frames.end())
+      return make_error(ErrorCode::kInvalidArgument, "the held-out clip " + name + " is not one of the exported clips");
+    if (frames.size() < 2)
+      return make_error(ErrorCode::kInvalidArgument, "holding out " + name + ", the only exported clip, leaves nothing to fit");
+    held_first = held->first;
+    held_end = held->first + held->times.size();
+  }
+  auto held_out = [&](size_t f) { return f >= held_first && f < held_end; };
   if (!doc.keyposes.empty() && options.mode == ExportMode::kCage)
     r.warnings.push_back("the cage export leaves out the " + std::to_string(doc.keyposes.size()) +
                          " keypose set(s): a skinned cage cannot carry them");
@@ -771,6 +791,7 @@ Result<ExportResult> export_rig(const Document& doc, Rig& rig, const ExportOptio
     std::vector<const std::vector<glm::vec3>*> sample_x{&rest_rig};
     const size_t fitted_poses = options.fit_keyposes ? posed_count : r.frames;
     for (size_t f = 0; f < fitted_poses; ++f) {
+      if (held_out(f)) continue;
       sample_joints.push_back(&joints[f]);
       sample_x.push_back(&skins[f]);
     }
@@ -811,7 +832,7 @@ Result<ExportResult> export_rig(const Document& doc, Rig& rig, const ExportOptio
   // (unskinned, or skinned with the fitted weights) to the rig's skin there, in bind space.
   const size_t max_targets = static_cast<size_t>(std::max(0, corrective_targets(options)));
   const bool compress = max_targets > 0;
-  const size_t shapes = compress && skin_fit && options.fit_keyposes ? posed_count : r.frames;
+  const size_t shapes = pose_driven || (compress && skin_fit && options.fit_keyposes) ? posed_count : r.frames;
   std::vector<std::vector<glm::vec3>> residuals(shapes, std::vector<glm::vec3>(np));
   const double targets_until = skin_fit ? 0.8 : 0.7;
   stage.begin("correctives", skin_fit ? 0.7 : posed_until, compress ? (skin_fit ? 0.74 : 0.64) : targets_until);
@@ -837,7 +858,38 @@ Result<ExportResult> export_rig(const Document& doc, Rig& rig, const ExportOptio
   // the targets: one per frame, or the residuals' first principal components with each frame's weights
   std::vector<std::vector<glm::vec3>> targets;
   CompressedTargets basis;
-  if (compress) {
+  std::string mesh_extras;
+  if (pose_driven) {
+    stage.begin("pose correctives", 0.74, targets_until);
+    const Skin& skin = ch.skins[att->skin];
+    std::vector<Pose> poses;
+    for (const ExportClipFrames& cf : frames)
+      for (double t : cf.times) poses.push_back(sample_pose(ch, cf.clip, t));
+    poses.insert(poses.end(), keypose_poses.begin(), keypose_poses.end());
+    std::vector<bool> fit(posed_count);
+    for (size_t f = 0; f < posed_count; ++f) fit[f] = !held_out(f) && (f < r.frames || options.fit_keyposes);
+    // each point's nodes: those of its fitted joints and their children
+    std::vector<std::vector<uint32_t>> point_nodes(np);
+    for (size_t i = 0; i < np; ++i) {
+      for (size_t k = 0; k < kMaxInfluences; ++k) {
+        if (fitted.weight[i][k] <= 0.0f || fitted.joint[i][k] >= skin.joints.size()) continue;
+        const uint32_t node = skin.joints[fitted.joint[i][k]];
+        point_nodes[i].push_back(node);
+        for (uint32_t c : ch.skeleton.children(node)) point_nodes[i].push_back(c);
+      }
+    }
+    const std::vector<JointDriver> drivers = pose_corrective_drivers(doc.keyposes, skin.joints);
+    PoseCorrectiveFit pf;
+    if (!fit_pose_correctives(ch.skeleton, drivers, poses, residuals, fit, point_nodes, max_targets ? max_targets : kDefaultMaxTargets,
+                              [&](size_t done, size_t total) { return stage.step(done, total); }, pf))
+      return cancelled();
+    mesh_extras = pose_correctives_extras(ch.skeleton, pf);
+    targets = std::move(pf.targets);
+    basis.weights = std::move(pf.weights);
+    r.residual_rank = pf.rank;
+    for (const PoseFeature& f : pf.features) r.pose_features.push_back(f.name);
+
+  } else if (compress) {
     stage.begin("compressing", skin_fit ? 0.74 : 0.64, targets_until);
     if (!compress_targets(residuals, max_targets, options.max_error, stage, basis)) return cancelled();
     targets = std::move(basis.basis);
@@ -864,8 +916,9 @@ Result<ExportResult> export_rig(const Document& doc, Rig& rig, const ExportOptio
     }
   }
   targets = {};
+  if (!out.primitives.empty()) out.primitives[0].mesh_extras = mesh_extras;
   for (const ExportClipFrames& cf : frames) {
-    AnimationSampler w = compress ? basis_weights(cf.times, cf.first, basis.weights) : one_hot_weights(cf.times, cf.first, r.frames);
+    AnimationSampler w = compress || pose_driven ? basis_weights(cf.times, cf.first, basis.weights) : one_hot_weights(cf.times, cf.first, r.frames);
     const bool keyed = r.morph_targets > 0;
     out.clips.push_back(export_clip(ch.clips[cf.clip], skin_fit, mesh_node, keyed ? &w : nullptr));
     out.clips.back().duration = std::max(out.clips.back().duration, cf.times.back());
@@ -882,6 +935,7 @@ Result<ExportResult> export_rig(const Document& doc, Rig& rig, const ExportOptio
     ExportResult::ClipErrors& clip_errors = r.clips.emplace_back();
     clip_errors.name = ch.clips[cf.clip].name;
     clip_errors.frames = cf.times.size();
+    clip_errors.held_out = held_out(cf.first);
     for (size_t k = 0; k < cf.times.size(); ++k) {
       Pose pose = sample_pose(out, static_cast<int32_t>(c), cf.times[k]);
       const std::vector<glm::vec3> exported = skin_character(out, pose);
@@ -890,7 +944,9 @@ Result<ExportResult> export_rig(const Document& doc, Rig& rig, const ExportOptio
       if (!ch.skins.empty()) accumulate(r.vs_file, exported, skin_character(ch, sample_pose(ch, cf.clip, cf.times[k])));
       if (skin_fit) {
         pose.morph_weights[mesh_node].assign(r.morph_targets, 0.0f);
-        accumulate(r.fitted, skin_character(out, pose), skins[cf.first + k]);
+        const std::vector<glm::vec3> alone = skin_character(out, pose);
+        accumulate(r.fitted, alone, skins[cf.first + k]);
+        accumulate(clip_errors.fitted, alone, skins[cf.first + k]);
       }
       if (k + 1 < cf.times.size()) {
         const double mid = 0.5 * (cf.times[k] + cf.times[k + 1]);
@@ -903,8 +959,9 @@ Result<ExportResult> export_rig(const Document& doc, Rig& rig, const ExportOptio
     }
   }
   for (size_t k = 0; k < keypose_poses.size(); ++k) {
-    accumulate(r.at_keyposes, skin_character(out, export_pose_at(out, keypose_poses[k])),
-               skins[r.frames + k]);
+    Pose pose = export_pose_at(out, keypose_poses[k]);
+    if (pose_driven) pose.morph_weights[mesh_node] = basis.weights[r.frames + k];  // the drivers' weights there
+    accumulate(r.at_keyposes, skin_character(out, pose), skins[r.frames + k]);
     if (!stage.step(r.frames + k + 1, posed_count)) return cancelled();
   }
   if (options.mode == ExportMode::kBakedAnimation) r.fitted = r.at_frames;

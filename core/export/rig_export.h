@@ -75,6 +75,14 @@ struct ExportOptions {
   // glb: KHR_mesh_quantization (core/io/gltf_quantize.h): 16-bit positions and targets, 8-bit normals, 16-bit
   // weights, about a third smaller. The errors are measured on the quantized values.
   bool quantize = false;
+  // baked-skin: how the corrective targets are weighted. kBaked: keyed per frame (compressed or one per frame,
+  // above). kPoseDriven: each target driven by one joint angle (core/export/pose_correctives.h), at most
+  // max_targets (the default 16), the drivers written in the mesh's extras (docs/pose-correctives.md) so an engine
+  // corrects new animations; the clips key the weights the drivers give at each frame, so any runtime plays them.
+  enum class Correctives { kBaked, kPoseDriven } correctives = Correctives::kBaked;
+  // kPoseDriven: a clip index of the character (one of `clips`) left out of every fit (weights and correctives)
+  // and still exported: its errors are those of an animation the export never saw. -1: none.
+  int32_t hold_out = -1;
 };
 inline constexpr int kDefaultMaxTargets = 16;
 // The number of corrective targets `options` asks for in its mode (max_targets resolved; 0 = per frame).
@@ -119,6 +127,8 @@ struct ExportResult {
     std::string name;
     size_t frames = 0;
     ExportError at_frames, between_frames;
+    ExportError fitted;     // baked-skin: the skeleton alone (no correctives) at the clip's frames
+    bool held_out = false;  // left out of the fits (ExportOptions::hold_out)
   };
   std::vector<ClipErrors> clips;
   // Compressed correctives: how many components the residuals have (their rank, at most #frames +
@@ -130,6 +140,9 @@ struct ExportResult {
   double acmr_before = 0.0, acmr_after = 0.0;
   size_t residual_rank = 0;
   double basis_error = 0.0;
+  // Pose-driven correctives: the joint-angle ramps their weights are made of ("forearm.L rotation x+"); the
+  // predicted residuals' rank is residual_rank.
+  std::vector<std::string> pose_features;
   // What the exported character holds, by part, in bytes as written (float32 positions and normals,
   // uint16 joints or uint8 where they fit, float32 weights, keys): the meshes (positions, normals, indices),
   // the skin (joints, weights, inverse bind matrices), the morph targets, and the animation.

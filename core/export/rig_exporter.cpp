@@ -134,7 +134,14 @@ Result<ExportReport> run_glb(const Document& doc, Rig& rig, const ExportRequest&
     r.error_lines.push_back(error_line("error at " + poses + ", skeleton only", result->at_keyposes, result->diagonal));
   if (mode != ExportMode::kCage) {
     const int asked = corrective_targets(request.options);
-    if (asked > 0) {
+    if (request.options.correctives == ExportOptions::Correctives::kPoseDriven) {
+      std::string names;
+      for (size_t k = 0; k < result->pose_features.size() && k < 4; ++k) names += (k ? ", " : "") + result->pose_features[k];
+      if (result->pose_features.size() > 4) names += ", ...";
+      r.error_lines.push_back("correctives: " + std::to_string(r.morph_targets) + " pose-driven targets (of " +
+                              std::to_string(result->residual_rank) + " components), weighted by " +
+                              std::to_string(result->pose_features.size()) + " joint-angle ramps (" + names + ")");
+    } else if (asked > 0) {
       char line[256];
       std::snprintf(line, sizeof line, "correctives: %zu of the residuals' %zu components (at most %d), largest residual left %.3g %s",
                     r.morph_targets, result->residual_rank, asked, result->basis_error, scene_units(result->diagonal).c_str());
@@ -143,10 +150,13 @@ Result<ExportReport> run_glb(const Document& doc, Rig& rig, const ExportRequest&
       r.error_lines.push_back("correctives: one per frame (exact at the frames)");
     }
     for (const ExportResult::ClipErrors& c : result->clips) {
-      r.error_lines.push_back(error_line("clip '" + c.name + "' (" + std::to_string(c.frames) + " frames) at frames", c.at_frames,
-                                         result->diagonal));
+      r.error_lines.push_back(error_line("clip '" + c.name + "' (" + std::to_string(c.frames) + " frames" +
+                                             (c.held_out ? ", held out of the fit" : "") + ") at frames",
+                                         c.at_frames, result->diagonal));
       if (c.between_frames.samples)
         r.error_lines.push_back(error_line("clip '" + c.name + "' between frames", c.between_frames, result->diagonal));
+      if (c.held_out && c.fitted.samples)
+        r.error_lines.push_back(error_line("clip '" + c.name + "' at frames, skeleton alone", c.fitted, result->diagonal));
     }
   }
   if (request.options.optimize) {

@@ -315,6 +315,17 @@ std::vector<uint8_t> encode(const Character& c, const std::string& generator, co
           for (size_t t = 0; t < weights.size() && t < it->second.size(); ++t) weights[t] = float(weights[t] * it->second[t]);
       mesh["weights"] = weights;
     }
+    if (!first.mesh_extras.empty()) {
+      json extras = json::parse(first.mesh_extras, nullptr, false);
+      // quantized targets carry their weights times the target's step over the positions': a pose-driven
+      // target is fully on at that weight
+      if (q && extras.is_object() && extras.contains("cagewrap_pose_correctives"))
+        if (auto it = q->target_scale.find(first.node); it != q->target_scale.end()) {
+          json& full = extras["cagewrap_pose_correctives"]["full"];
+          for (size_t t = 0; t < full.size() && t < it->second.size(); ++t) full[t] = it->second[t];
+        }
+      if (!extras.is_discarded()) mesh["extras"] = extras;
+    }
     json& node = nodes[holder_of(first.node)];
     node["mesh"] = meshes.size();
     if (first.skin >= 0) node["skin"] = first.skin;

@@ -6,6 +6,9 @@
 // primitive order (a mesh reordered by `export --optimize` put back in its source order by its
 // _CAGEWRAP_SOURCE_INDEX attribute): what `cagewrap pose --out` writes for the same frame. Prints one line describing the scene
 // (meshes, vertices, skinned, morph targets, the skinned mesh's node name and its bones' names in joint order).
+// With a fifth argument "drivers", the morph weights of a mesh carrying pose-driven correctives (its extras'
+// cagewrap_pose_correctives, docs/pose-correctives.md) are computed from the posed bones' angles as an engine
+// would, replacing the clip's keyed weights: weight_k = full_k * sum_f weights[k][f] * clamp(side_f * angle_f / scale_f, 0, 1).
 // Exits 1 on a load error or an unknown clip, 2 when three is not installed.
 import fs from 'node:fs';
 
@@ -18,7 +21,7 @@ try {
   process.exit(2);
 }
 
-const [file, clipName, timeText, out] = process.argv.slice(2);
+const [file, clipName, timeText, out, mode] = process.argv.slice(2);
 if (!file || !clipName || !timeText || !out) {
   console.error('usage: node three_pose.mjs FILE.glb CLIP|- TIME OUT.bin');
   process.exit(1);
@@ -44,6 +47,52 @@ if (clipName !== '-') {
   action.clampWhenFinished = true;
   action.play();
   mixer.setTime(Math.min(time, clip.duration));
+}
+
+// one joint angle (degrees) of a node, relative to its rest rotation (core/cage/keyposes.h, driver_value)
+function driverAngle(target, bone) {
+  const rest = new THREE.Quaternion(...target.rest_rotation);
+  const q = rest.invert().multiply(bone.quaternion).normalize();
+  if (q.w < 0) q.set(-q.x, -q.y, -q.z, -q.w);
+  const axis = new THREE.Vector3(...target.axis).normalize();
+  const v = new THREE.Vector3(q.x, q.y, q.z);
+  const deg = 180 / Math.PI;
+  if (target.kind === 'rotation') {
+    const s = v.length();
+    return s < 1e-15 ? 0 : 2 * Math.atan2(s, q.w) * (v.dot(axis) / s) * deg;
+  }
+  // swing * twist about the axis
+  const proj = v.dot(axis);
+  const twist = new THREE.Quaternion(axis.x * proj, axis.y * proj, axis.z * proj, q.w);
+  const len = twist.length();
+  if (len < 1e-12) return target.kind === 'twist' ? 0 : 180;
+  twist.normalize();
+  if (target.kind === 'twist') return 2 * Math.atan2(proj / len, q.w / len) * deg;
+  const swing = q.clone().multiply(twist.clone().invert());
+  return 2 * Math.acos(Math.min(1, Math.abs(swing.w))) * deg;
+}
+let driven = 0;
+if (mode === 'drivers') {
+  const byNode = new Map();
+  scene.traverse((o) => {
+    const a = gltf.parser.associations.get(o);
+    if (a && a.nodes !== undefined) byNode.set(a.nodes, o);
+  });
+  scene.traverse((o) => {
+    const pc = o.isMesh && o.userData && o.userData.cagewrap_pose_correctives;
+    if (!pc) return;
+    const features = pc.features.map((f, i) => {
+      const bone = byNode.get(f.node);
+      if (!bone) throw new Error(`pose-driven feature ${i} names node ${f.node}, which three.js did not load`);
+      return Math.min(1, Math.max(0, (f.side * driverAngle(f, bone)) / f.scale));
+    });
+    pc.weights.forEach((row, k) => {
+      let w = 0;
+      row.forEach((c, i) => { w += c * features[i]; });
+      o.morphTargetInfluences[k] = pc.full[k] * w;
+    });
+    driven += pc.weights.length;
+  });
 }
 scene.updateMatrixWorld(true);
 
@@ -89,6 +138,7 @@ console.log(JSON.stringify({
   skinned: meshes.filter((m) => m.mesh.isSkinnedMesh).length,
   morph_targets: targets,
   reordered,
+  driven,
   node: skinned ? skinned.name : null,
   bones: skinned ? skinned.skeleton.bones.map((b) => b.name) : [],
 }));
