@@ -177,7 +177,7 @@ void ExportPanel::draw(Workspace& ws) {
       if (ImGui::IsItemHovered())
         ImGui::SetTooltip("at most this many corrective morph targets: the principal components of every frame's residual, "
                           "each frame keyed with its weights; 0: one per frame (exact at the frames, heavy)");
-      if (targets > 0) {
+      if (targets > 0 && request_.options.correctives != ExportOptions::Correctives::kPoseDriven) {
         float e = static_cast<float>(request_.options.max_error);
         ImGui::TextUnformatted("");
         ImGui::SameLine(110);
@@ -186,6 +186,41 @@ void ExportPanel::draw(Workspace& ws) {
         if (ImGui::IsItemHovered())
           ImGui::SetTooltip("> 0: the fewest targets (up to the number above) whose largest error over the frames is within this "
                             "length, in the file's units");
+      }
+    }
+    if (request_.format == ExportFormat::kGlb && request_.options.mode == ExportMode::kBakedSkin) {
+      // how the targets' weights are made: keyed per frame, or driven by joint angles (docs/pose-correctives.md)
+      using C = ExportOptions::Correctives;
+      int driven = request_.options.correctives == C::kPoseDriven ? 1 : 0;
+      ImGui::TextUnformatted("weights");
+      ImGui::SameLine(110);
+      ImGui::SetNextItemWidth(180);
+      if (ImGui::Combo("##cw", &driven, "keyed per frame\0" "driven by joint angles\0")) {
+        request_.options.correctives = driven ? C::kPoseDriven : C::kBaked;
+        if (!driven) request_.options.hold_out = -1;
+        if (driven) request_.options.max_error = 0.0;
+      }
+      if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("driven by joint angles: each target's weight is a linear function of joint-angle ramps written in the "
+                          "mesh's extras, so an engine that drives morph weights from joints corrects new animations");
+      if (driven) {
+        std::string preview = request_.options.hold_out >= 0 && size_t(request_.options.hold_out) < ch.clips.size()
+                                  ? ch.clips[request_.options.hold_out].name
+                                  : "none";
+        ImGui::TextUnformatted("hold out");
+        ImGui::SameLine(110);
+        ImGui::SetNextItemWidth(180);
+        if (ImGui::BeginCombo("##ho", preview.c_str())) {
+          if (ImGui::Selectable("none", request_.options.hold_out < 0)) request_.options.hold_out = -1;
+          for (size_t c = 0; c < ch.clips.size(); ++c)
+            if (c < clip_on_.size() && clip_on_[c] &&
+                ImGui::Selectable((ch.clips[c].name + "##ho" + std::to_string(c)).c_str(), request_.options.hold_out == int32_t(c)))
+              request_.options.hold_out = int32_t(c);
+          ImGui::EndCombo();
+        }
+        if (ImGui::IsItemHovered())
+          ImGui::SetTooltip("a clip left out of every fit and still exported: its errors in the report are those of an "
+                            "animation the export never saw");
       }
     }
     if (request_.format == ExportFormat::kGlb) {

@@ -219,6 +219,8 @@ class Workspace {
     int max_influences = 4;  // baked-skin's fitted joints per vertex (the action export_influences)
     bool optimize = false;   // glb: reordered for the GPU (the action export_optimize)
     bool quantize = false;   // glb: KHR_mesh_quantization (the action export_quantize)
+    bool pose_driven = false;  // baked-skin: pose-driven correctives (the action export_pose_driven)
+    std::string hold_out;      // with pose_driven: a clip left out of the fits ("" none)
   } export_correctives;
   void cancel_export();
   const ExportState& export_state() const { return export_; }

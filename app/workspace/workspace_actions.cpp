@@ -694,6 +694,17 @@ void Workspace::add_actions() {
         if (on != "on" && on != "off") return fail("export_quantize on|off");
         export_correctives.quantize = on == "on";
       });
+  add("export_pose_driven", "on|off [CLIP]",
+      "Whether the next baked-skin exports' correctives are driven by joint angles (docs/pose-correctives.md), holding CLIP out of "
+      "the fits.",
+      [this](std::istringstream& in) {
+        std::string on, clip;
+        in >> on;
+        std::getline(in >> std::ws, clip);
+        if ((on != "on" && on != "off") || (on == "off" && !clip.empty())) return fail("export_pose_driven on|off [CLIP]");
+        export_correctives.pose_driven = on == "on";
+        export_correctives.hold_out = clip;
+      });
   add("export_cancel", "", "Cancels the running export.", [this](std::istringstream&) { cancel_export(); });
 
   // ---- the camera

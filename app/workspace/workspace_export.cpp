@@ -32,6 +32,7 @@ Result<ExportRequest> Workspace::parse_export(std::istringstream& in) const {
   request.options.max_influences = export_correctives.max_influences;
   request.options.optimize = export_correctives.optimize;
   request.options.quantize = export_correctives.quantize;
+  if (export_correctives.pose_driven) request.options.correctives = ExportOptions::Correctives::kPoseDriven;
   if (!parse_export_format(format, request.format)) return bad("format '" + format + "' is not glb, obj or json");
   if (mode != "-" && !parse_export_mode(mode, request.options.mode)) return bad("unknown mode '" + mode + "'");
   const Character& ch = *scene_->doc().character;
@@ -44,6 +45,10 @@ Result<ExportRequest> Workspace::parse_export(std::istringstream& in) const {
     if (c < 0) return bad("no clip '" + name + "'");
     request.options.clips.push_back(c);
     start = comma + 1;
+  }
+  if (!export_correctives.hold_out.empty()) {
+    request.options.hold_out = ch.find_clip(export_correctives.hold_out);
+    if (request.options.hold_out < 0) return bad("export_pose_driven holds out '" + export_correctives.hold_out + "', which is no clip");
   }
   return request;
 }
