@@ -62,6 +62,12 @@ namespace {
 constexpr size_t kMaxInfluences = 8;  // what FittedWeights holds; the fit keeps ExportOptions::max_influences
 constexpr size_t kNearestCageVertices = 8;
 constexpr size_t kMaxCandidates = 16;
+// The pull of a point's fitted weights towards the character's own (the fit's prior), relative to the mean
+// curvature of its data term: what decides the weights of joints the sampled poses never move (an export of
+// the arm clips alone would otherwise bind the legs to whichever joint, and an engine's walk would tear them).
+// Chosen on the mannequin and the centimetre arms-down demo (docs/algorithm-notes.md): 0 let ill-conditioned
+// points overfit (worst vertex 9.0 mm at frames, 98 cm on a held-out walk); 3e-3 gives 1.6 mm and 2.9 mm.
+constexpr double kWeightPrior = 3e-3;
 
 // Reports a stage's items as a share of the whole export: the stage covers [from, to).
 class StageProgress {
@@ -418,7 +424,7 @@ struct FittedWeights {
 // joints (`original`), then the attachment joints of its nearest rest cage vertices. Runs in
 // chunks of points so that progress is reported and cancel is seen; false when cancelled.
 bool fit_weights(std::span<const glm::vec3> rest_skin, const std::vector<std::vector<uint32_t>>& original,
-                 std::span<const glm::vec3> cage_rest, const CageAttachment& att,
+                 const std::vector<std::vector<float>>& original_weight, std::span<const glm::vec3> cage_rest, const CageAttachment& att,
                  const std::vector<const std::vector<glm::mat4>*>& joints,
                  const std::vector<const std::vector<glm::vec3>*>& x, size_t max_influences, StageProgress& progress,
                  FittedWeights& out) {
@@ -458,6 +464,14 @@ bool fit_weights(std::span<const glm::vec3> rest_skin, const std::vector<std::ve
         }
       }
       G.triangularView<Eigen::StrictlyLower>() = G.transpose();
+      // the prior: the character's own weights, which decide what the poses leave open (joints that never move in
+      // them); kWeightPrior of the data's mean curvature elsewhere
+      const double mu = kWeightPrior * std::max(G.trace() / double(std::max<Eigen::Index>(1, k)), 1e-300);
+      for (Eigen::Index i = 0; i < k; ++i) {
+        G(i, i) += mu;
+        for (size_t o = 0; o < original[v].size(); ++o)
+          if (original[v][o] == js[size_t(i)]) h[i] += mu * original_weight[v][o];
+      }
     };
     auto solve = [&](const std::vector<uint32_t>& js) {
       Eigen::MatrixXd G;
@@ -795,20 +809,23 @@ Result<ExportResult> export_rig(const Document& doc, Rig& rig, const ExportOptio
       sample_joints.push_back(&joints[f]);
       sample_x.push_back(&skins[f]);
     }
-    // Original LBS joints per point (when the primitive uses the cage's skin).
+    // Original LBS joints and weights per point (when the primitive uses the cage's skin).
     std::vector<std::vector<uint32_t>> original(np);
+    std::vector<std::vector<float>> original_weight(np);
     {
       size_t off = 0;
       for (const Primitive& p : ch.primitives) {
         if (p.skin == static_cast<int32_t>(att->skin) && !p.influence_start.empty())
           for (size_t v = 0; v < p.num_vertices(); ++v)
-            for (uint32_t e = p.influence_start[v]; e < p.influence_start[v + 1]; ++e)
+            for (uint32_t e = p.influence_start[v]; e < p.influence_start[v + 1]; ++e) {
               original[off + v].push_back(p.influence_joint[e]);
+              original_weight[off + v].push_back(p.influence_weight[e]);
+            }
         off += p.num_vertices();
       }
     }
     stage.begin("fitting", posed_until, 0.7);
-    if (!fit_weights(rest_skin, original, doc.cage_positions(), *att, sample_joints, sample_x,
+    if (!fit_weights(rest_skin, original, original_weight, doc.cage_positions(), *att, sample_joints, sample_x,
                      std::clamp<size_t>(size_t(options.max_influences), 1, kMaxInfluences), stage, fitted))
       return cancelled();
     size_t off = 0;

@@ -20,7 +20,9 @@
 //
 // The fit, per skin vertex p with rig positions x_s over the S sampled poses and candidate joints
 // j (the original LBS joints of the vertex and the attachment joints of its 8 nearest cage
-// vertices): minimise sum_s |sum_j w_j J_sj p - x_s|^2 over the simplex (w >= 0, sum w = 1) by
+// vertices): minimise sum_s |sum_j w_j J_sj p - x_s|^2 + mu |w - w0|^2 over the simplex (w >= 0,
+// sum w = 1), the prior pulling towards the character's own weights w0 (mu = 3e-3 of the normal matrix's
+// mean diagonal: it decides the joints the sampled poses never move, and steadies ill-conditioned points), by
 // accelerated projected gradient (FISTA, Beck and Teboulle 2009) on the k x k normal equations,
 // projection onto the simplex by sorting (Duchi et al. 2008); the 4 largest are kept and refitted.
 // This is the weight step of Le and Deng, "Smooth Skinning Decomposition with Rigid Bones"
