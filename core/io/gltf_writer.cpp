@@ -161,7 +161,10 @@ json primitive_json(GlbBuilder& b, const Primitive& p, size_t num_skin_joints, c
       }
       if (q) {
         const std::vector<uint16_t> w16 = quantized_weights({p.influence_weight.data() + e0, n});
-        for (size_t i = 0; i < n; ++i) weights16[at(i)] = w16[i];
+        for (size_t i = 0; i < n; ++i) {
+          weights16[at(i)] = w16[i];
+          if (w16[i] == 0) joints[at(i)] = 0;  // a weight rounded away: no joint (validators warn of one kept)
+        }
       }
     }
     const size_t per_set = p.num_vertices() * 4;
