@@ -390,6 +390,8 @@ class Workspace {
   bool apply_driver_place(size_t i, const std::string& label, DriverPlacement place);
   // Logs "error: <where the running action came from>: text".
   void fail(const std::string& text);
+  // An action's on|off argument into `flag`; anything else fails naming `action` ("ACTION on|off").
+  void read_on_off(std::istringstream& in, const char* action, bool& flag);
   std::string where_ = "action";
   std::unique_ptr<Scene> scene_;
   std::deque<LogLine> log_;

@@ -681,19 +681,9 @@ void Workspace::add_actions() {
         export_correctives.max_influences = n;
       });
   add("export_optimize", "on|off", "Whether the next glb exports are reordered for the GPU (vertex cache and fetch order).",
-      [this](std::istringstream& in) {
-        std::string on;
-        in >> on;
-        if (on != "on" && on != "off") return fail("export_optimize on|off");
-        export_correctives.optimize = on == "on";
-      });
+      [this](std::istringstream& in) { read_on_off(in, "export_optimize", export_correctives.optimize); });
   add("export_quantize", "on|off", "Whether the next glb exports are quantized (KHR_mesh_quantization: 16-bit positions and targets).",
-      [this](std::istringstream& in) {
-        std::string on;
-        in >> on;
-        if (on != "on" && on != "off") return fail("export_quantize on|off");
-        export_correctives.quantize = on == "on";
-      });
+      [this](std::istringstream& in) { read_on_off(in, "export_quantize", export_correctives.quantize); });
   add("export_pose_driven", "on|off [CLIP]",
       "Whether the next baked-skin exports' correctives are driven by joint angles (docs/pose-correctives.md), holding CLIP out of "
       "the fits.",
@@ -721,6 +711,13 @@ void Workspace::add_actions() {
     glm::dvec3 t;
     if (in >> t.x >> t.y >> t.z) view.camera.set_target(t);
   });
+}
+
+void Workspace::read_on_off(std::istringstream& in, const char* action, bool& flag) {
+  std::string on;
+  in >> on;
+  if (on != "on" && on != "off") return fail(std::string(action) + " on|off");
+  flag = on == "on";
 }
 
 }  // namespace cagewrap::app

@@ -96,6 +96,7 @@ bool fit_pose_correctives(const Skeleton& skeleton, std::span<const JointDriver>
     if (s < fit.size() && fit[s]) fitted.push_back(s);
   // the features: both sides of each driver, scaled to the largest reading over the fitted poses
   std::vector<PoseFeature> features;
+  std::vector<size_t> driver_of;  // each feature's driver
   std::vector<std::vector<double>> readings(drivers.size(), std::vector<double>(ns));
   for (size_t d = 0; d < drivers.size(); ++d) {
     for (size_t s = 0; s < ns; ++s) readings[d][s] = driver_value(drivers[d], skeleton, poses[s]);
@@ -112,18 +113,15 @@ bool fit_pose_correctives(const Skeleton& skeleton, std::span<const JointDriver>
                                                                             : "node " + std::to_string(node)) +
                " " + driver_kind_name(drivers[d].kind) + " " + axis_name(drivers[d].axis) + (side > 0 ? "+" : "-");
       features.push_back(f);
-      // the sample values go in the matrix below, by the feature's index
+      driver_of.push_back(d);
     }
   }
   const Eigen::Index nf = Eigen::Index(features.size());
   Eigen::MatrixXd values(Eigen::Index(ns), nf);
-  {
-    Eigen::Index k = 0;
-    for (size_t d = 0; d < drivers.size(); ++d)
-      for (; k < nf && same_driver(features[k].driver, drivers[d]); ++k)
-        for (size_t s = 0; s < ns; ++s)
-          values(Eigen::Index(s), k) = std::clamp(double(features[k].side) * readings[d][s] / features[k].scale, 0.0, 1.0);
-  }
+  for (Eigen::Index k = 0; k < nf; ++k)
+    for (size_t s = 0; s < ns; ++s)
+      values(Eigen::Index(s), k) =
+          std::clamp(double(features[k].side) * readings[driver_of[k]][s] / features[k].scale, 0.0, 1.0);
   Eigen::MatrixXd gram = Eigen::MatrixXd::Zero(nf, nf);
   for (size_t s : fitted) gram.noalias() += values.row(Eigen::Index(s)).transpose() * values.row(Eigen::Index(s));
   // each point's candidates: the features on its nodes
@@ -146,9 +144,8 @@ bool fit_pose_correctives(const Skeleton& skeleton, std::span<const JointDriver>
   constexpr size_t kChunk = 512;
   const size_t chunks = (np + kChunk - 1) / kChunk;
   std::atomic<size_t> done{0};
-  std::atomic<bool> stop{false};
   tbb::parallel_for(tbb::blocked_range<size_t>(0, chunks, 1), [&](const tbb::blocked_range<size_t>& range) {
-    for (size_t chunk = range.begin(); chunk != range.end() && !stop; ++chunk) {
+    for (size_t chunk = range.begin(); chunk != range.end(); ++chunk) {
       for (size_t i = chunk * kChunk; i < std::min(np, (chunk + 1) * kChunk); ++i) {
         const std::vector<uint32_t> c = candidates(i);
         if (c.empty()) continue;

@@ -32,6 +32,16 @@ const GlbQuantization::Dequant& GlbQuantization::positions_of(const Primitive& p
   return it == nodes.end() ? identity : it->second;
 }
 
+std::span<const double> GlbQuantization::target_scales(uint32_t node) const {
+  auto it = target_scale.find(node);
+  return it == target_scale.end() ? std::span<const double>() : std::span<const double>(it->second);
+}
+
+double GlbQuantization::target_step(const Primitive& p, size_t t) const {
+  const std::span<const double> scales = target_scales(p.node);
+  return positions_of(p).step * (t < scales.size() ? scales[t] : 1.0);
+}
+
 int16_t quantize_short(double value, double step) {
   const double q = std::round(value / step);
   return static_cast<int16_t>(std::clamp(q, -kQuantizedRange, kQuantizedRange));
@@ -93,9 +103,8 @@ void snap_to_glb_quantization(Character& c, const GlbQuantization& q) {
     const GlbQuantization::Dequant& d = q.positions_of(p);
     for (glm::vec3& x : p.positions)
       for (int k = 0; k < 3; ++k) x[k] = float(d.offset[k] + d.step * quantize_short(double(x[k]) - d.offset[k], d.step));
-    auto scale = q.target_scale.find(p.node);
     for (size_t t = 0; t < p.morph_targets.size(); ++t) {
-      const double step = d.step * (scale != q.target_scale.end() && t < scale->second.size() ? scale->second[t] : 1.0);
+      const double step = q.target_step(p, t);
       for (glm::vec3& x : p.morph_targets[t])
         for (int k = 0; k < 3; ++k) x[k] = float(step * quantize_short(double(x[k]), step));
     }

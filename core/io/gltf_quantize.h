@@ -37,6 +37,10 @@ struct GlbQuantization {
   std::map<uint32_t, std::vector<double>> target_scale;
 
   const Dequant& positions_of(const Primitive& p) const;
+  // The weight factors of the mesh on `node` (empty when it has no targets).
+  std::span<const double> target_scales(uint32_t node) const;
+  // Target t's step in primitive p (its position step times the target's factor).
+  double target_step(const Primitive& p, size_t t) const;
 };
 
 inline constexpr double kQuantizedRange = 32767.0;

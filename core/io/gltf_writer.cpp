@@ -206,13 +206,10 @@ json primitive_json(GlbBuilder& b, const Primitive& p, size_t num_skin_joints, c
     prim["mode"] = 0;  // points: the vertices without faces
   }
   b.part = &sizes.targets;
-  const std::vector<double>* target_scale = nullptr;
-  if (q)
-    if (auto it = q->target_scale.find(p.node); it != q->target_scale.end()) target_scale = &it->second;
   for (size_t t = 0; t < p.morph_targets.size(); ++t) {
     const auto& target = p.morph_targets[t];
     if (dq) {
-      const double step = dq->step * (target_scale && t < target_scale->size() ? (*target_scale)[t] : 1.0);
+      const double step = q->target_step(p, t);
       prim["targets"].push_back(
           {{"POSITION", b.add_accessor(quantized_vec3(target, glm::dvec3(0.0), step), "VEC3", 3, kShort, kArrayBuffer, true, false, 4)}});
     } else {
@@ -313,20 +310,19 @@ std::vector<uint8_t> encode(const Character& c, const std::string& generator, co
     }
     if (!first.morph_targets.empty()) {
       std::vector<float> weights = first.morph_weights;
-      if (q)
-        if (auto it = q->target_scale.find(first.node); it != q->target_scale.end())
-          for (size_t t = 0; t < weights.size() && t < it->second.size(); ++t) weights[t] = float(weights[t] * it->second[t]);
+      const std::span<const double> scales = q ? q->target_scales(first.node) : std::span<const double>();
+      for (size_t t = 0; t < weights.size() && t < scales.size(); ++t) weights[t] = float(weights[t] * scales[t]);
       mesh["weights"] = weights;
     }
     if (!first.mesh_extras.empty()) {
       json extras = json::parse(first.mesh_extras, nullptr, false);
       // quantized targets carry their weights times the target's step over the positions': a pose-driven
       // target is fully on at that weight
-      if (q && extras.is_object() && extras.contains("cagewrap_pose_correctives"))
-        if (auto it = q->target_scale.find(first.node); it != q->target_scale.end()) {
-          json& full = extras["cagewrap_pose_correctives"]["full"];
-          for (size_t t = 0; t < full.size() && t < it->second.size(); ++t) full[t] = it->second[t];
-        }
+      if (q && extras.is_object() && extras.contains("cagewrap_pose_correctives")) {
+        const std::span<const double> scales = q->target_scales(first.node);
+        json& full = extras["cagewrap_pose_correctives"]["full"];
+        for (size_t t = 0; t < full.size() && t < scales.size(); ++t) full[t] = scales[t];
+      }
       if (!extras.is_discarded()) mesh["extras"] = extras;
     }
     json& node = nodes[holder_of(first.node)];
@@ -370,9 +366,10 @@ std::vector<uint8_t> encode(const Character& c, const std::string& generator, co
         if (fresh) at->second = b.add_accessor(s.times, "SCALAR", 1, kFloat, 0, true);
         const int in = at->second;
         std::vector<float> values = s.values;
-        if (weights && q)  // quantized targets: each weight times the target's step over the positions'
-          if (auto it = q->target_scale.find(ch.node); it != q->target_scale.end() && !it->second.empty())
-            for (size_t v = 0; v < values.size(); ++v) values[v] = float(values[v] * it->second[v % it->second.size()]);
+        if (weights && q) {  // quantized targets: each weight times the target's step over the positions'
+          const std::span<const double> scales = q->target_scales(ch.node);
+          for (size_t v = 0; !scales.empty() && v < values.size(); ++v) values[v] = float(values[v] * scales[v % scales.size()]);
+        }
         int out = b.add_accessor(values, type, nc, kFloat, 0);
         sampler_index[ch.sampler] = static_cast<int>(anim["samplers"].size());
         anim["samplers"].push_back({{"input", in}, {"output", out}, {"interpolation", interpolation_name(s.interpolation)}});
