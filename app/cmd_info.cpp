@@ -3,6 +3,7 @@
 
 #include "app/cli_common.h"
 #include "app/commands.h"
+#include "core/io/assimp_loader.h"
 #include "core/io/gltf_loader.h"
 #include "core/geometry/mesh_io.h"
 
@@ -48,11 +49,28 @@ void print_character(const std::string& path, const Character& c) {
 
 void add_info_command(CLI::App& app, int& exit_code) {
   auto file = std::make_shared<std::string>();
+  auto keep_units = std::make_shared<bool>(false);
   auto* cmd = app.add_subcommand("info", "print what a file holds: meshes, vertex and triangle counts, joints, clips, warnings");
-  cmd->add_option("file", *file, "a character (.glb, .gltf) or a mesh (.obj, .ply, .off, .stl)")->required();
-  cmd->callback([file, &exit_code] {
+  cmd->add_option("file", *file,
+                  "a character (.glb, .gltf; through assimp .fbx, .dae, .x, .b3d, .ms3d, .smd, .md5mesh) or a mesh (.obj, "
+                  ".ply, .off, .stl)")
+      ->required();
+  cmd->add_flag("--keep-units", *keep_units, "FBX, Collada, ...: leave the file's units and up axis (default: metres, Y up)");
+  cmd->callback([file, keep_units, &exit_code] {
     exit_code = 1;
-    if (has_extension(*file, ".glb") || has_extension(*file, ".gltf")) {
+    if (is_assimp_character(*file)) {
+      AssimpImportOptions options;
+      options.keep_units = *keep_units;
+      AssimpUnits units;
+      auto c = load_character_assimp(*file, options, &units);
+      if (!c) {
+        report_error(c.error());
+        return;
+      }
+      print_character(*file, *c);
+      std::printf("units       the file: %g m a unit, %s up; %s\n", units.metres_per_unit, units.up_axis.c_str(),
+                  *keep_units ? "kept (--keep-units)" : units.converted ? "brought to metres, Y up" : "already metres, Y up");
+    } else if (has_extension(*file, ".glb") || has_extension(*file, ".gltf")) {
       auto c = load_character(*file);
       if (!c) {
         report_error(c.error());

@@ -8,7 +8,7 @@ PACKAGES=(
   libglfw3-dev libimgui-dev libglm-dev libtinygltf-dev libopenmesh-dev libeigen3-dev
   libepoxy-dev libgl-dev libgl1-mesa-dri libglx-mesa0 mesa-utils
   libegl-dev libegl1 libegl-mesa0
-  libtbb-dev nlohmann-json3-dev libcli11-dev libstb-dev libmeshoptimizer-dev
+  libtbb-dev nlohmann-json3-dev libcli11-dev libstb-dev libmeshoptimizer-dev libassimp-dev assimp-testmodels
   libgtest-dev libgmock-dev libbenchmark-dev
   xvfb xauth
   python3

@@ -7,6 +7,7 @@
 #include <tiny_gltf.h>
 
 #include "core/io/gltf_loader.h"
+#include "core/io/assimp_loader.h"
 #include "core/base/digits.h"
 
 #include <algorithm>
@@ -832,6 +833,7 @@ Result<Character> import_parsed(bool ok, const tinygltf::Model& model, const std
 }  // namespace
 
 Result<Character> load_character(const std::string& path) {
+  if (is_assimp_character(path)) return load_character_assimp(path);
   std::error_code ec;
   if (!std::filesystem::exists(path, ec))
     return make_error(ErrorCode::kFileNotFound, path + ": no such file");

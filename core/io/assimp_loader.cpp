@@ -1,0 +1,313 @@
+#include "core/io/assimp_loader.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+#include <map>
+
+#include <assimp/Importer.hpp>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
+
+#include "core/io/skin_weights.h"
+
+namespace cagewrap {
+namespace {
+
+std::string lower_extension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char ch) { return char(std::tolower(ch)); });
+  return ext;
+}
+
+glm::mat4 to_glm(const aiMatrix4x4& m) {  // assimp is row-major (a1..a4 the first row), glm column-major
+  glm::mat4 g;
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) g[c][r] = m[r][c];
+  return g;
+}
+
+// The node's local transform as TRS, or as a matrix when it does not decompose (shear).
+void set_local(SkeletonNode& n, const aiMatrix4x4& m) {
+  aiVector3D s, t;
+  aiQuaternion q;
+  m.Decompose(s, q, t);
+  n.rest.translation = {t.x, t.y, t.z};
+  n.rest.rotation = glm::normalize(glm::quat(q.w, q.x, q.y, q.z));
+  n.rest.scale = {s.x, s.y, s.z};
+  const glm::mat4 back = n.rest.matrix(), given = to_glm(m);
+  float gap = 0.0f, size = 0.0f;
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 4; ++r) {
+      gap = std::max(gap, std::abs(back[c][r] - given[c][r]));
+      size = std::max(size, std::abs(given[c][r]));
+    }
+  if (gap > 1e-5f * std::max(1.0f, size)) {
+    n.has_matrix = true;
+    n.matrix = given;
+  }
+}
+
+template <class T>
+bool metadata(const aiScene* s, const char* key, T& out) {
+  return s->mMetaData && s->mMetaData->Get(key, out);
+}
+
+std::string axis_name(int axis, int sign) { return std::string(sign < 0 ? "-" : "+") + "XYZ"[std::clamp(axis, 0, 2)]; }
+
+class Importer {
+ public:
+  Importer(const aiScene* scene, const std::string& file) : s_(scene), file_(file) {}
+
+  Result<Character> run(const AssimpImportOptions& options, AssimpUnits* units_out) {
+    Character c;
+    c.source = file_;
+    if (!s_->mRootNode) return make_error(ErrorCode::kParse, file_ + ": the file has no node hierarchy");
+    // nodes, parents before children
+    std::vector<SkeletonNode> nodes;
+    std::vector<const aiNode*> order;
+    std::vector<std::pair<const aiNode*, int32_t>> stack{{s_->mRootNode, -1}};
+    while (!stack.empty()) {
+      auto [n, parent] = stack.back();
+      stack.pop_back();
+      const uint32_t index = uint32_t(nodes.size());
+      SkeletonNode sn;
+      sn.name = n->mName.C_Str();
+      sn.parent = parent;
+      set_local(sn, n->mTransformation);
+      nodes.push_back(sn);
+      order.push_back(n);
+      index_[n] = index;
+      by_name_.emplace(sn.name, index);
+      for (unsigned k = n->mNumChildren; k-- > 0;) stack.push_back({n->mChildren[k], int32_t(index)});
+    }
+    // units and axes
+    AssimpUnits units;
+    float unit_cm = 0.0f;
+    double unit_cm_d = 0.0;
+    if (metadata(s_, "UnitScaleFactor", unit_cm) && unit_cm > 0.0f) units.metres_per_unit = unit_cm / 100.0;
+    else if (metadata(s_, "UnitScaleFactor", unit_cm_d) && unit_cm_d > 0.0) units.metres_per_unit = unit_cm_d / 100.0;
+    int32_t up = 1, up_sign = 1;
+    metadata(s_, "UpAxis", up);
+    metadata(s_, "UpAxisSign", up_sign);
+    units.up_axis = axis_name(up, up_sign);
+    glm::quat turn(1.0f, 0.0f, 0.0f, 0.0f);  // applied to the root nodes: the file's up to +Y
+    if (!options.keep_units) {
+      const glm::vec3 file_up = float(up_sign < 0 ? -1 : 1) * glm::vec3(up == 0, up == 1, up == 2);
+      turn = glm::quat(glm::normalize(file_up), glm::vec3(0, 1, 0));  // the shortest turn of the file's up onto +Y
+      units.converted = units.metres_per_unit != 1.0 || up != 1 || up_sign < 0;
+    }
+    scale_ = options.keep_units ? 1.0f : float(units.metres_per_unit);
+    for (SkeletonNode& n : nodes) {
+      if (n.has_matrix) {
+        n.matrix[3] = glm::vec4(glm::vec3(n.matrix[3]) * scale_, 1.0f);
+      } else {
+        n.rest.translation *= scale_;
+      }
+      if (n.parent < 0 && turn != glm::quat(1, 0, 0, 0)) {
+        if (n.has_matrix) {
+          n.matrix = glm::mat4_cast(turn) * n.matrix;
+        } else {
+          n.rest.translation = turn * n.rest.translation;
+          n.rest.rotation = glm::normalize(turn * n.rest.rotation);
+        }
+      }
+    }
+    auto sk = Skeleton::create(nodes, file_);
+    if (!sk) return sk.error();
+    c.skeleton = std::move(sk).value();
+    if (units.converted)
+      c.warnings.push_back(file_ + ": brought to metres, Y up (the file: " + std::to_string(units.metres_per_unit) +
+                           " m a unit, " + units.up_axis + " up); --keep-units leaves it as it is");
+    // meshes, one primitive per (mesh, instancing node)
+    for (size_t k = 0; k < order.size(); ++k)
+      for (unsigned m = 0; m < order[k]->mNumMeshes; ++m) {
+        const unsigned mi = order[k]->mMeshes[m];
+        if (mi >= s_->mNumMeshes) continue;
+        if (auto st = add_mesh(c, mi, uint32_t(k)); !st) return st.error();
+      }
+    if (c.primitives.empty()) return make_error(ErrorCode::kEmpty, file_ + ": the file has no triangle mesh");
+    for (const SkeletonNode& n : nodes) parent_.push_back(n.parent);
+    c.clips = build_clips(turn);
+    c.warnings.insert(c.warnings.end(), warnings_.begin(), warnings_.end());
+    if (units_out) *units_out = units;
+    return c;
+  }
+
+ private:
+  Status add_mesh(Character& c, unsigned mi, uint32_t node) {
+    const aiMesh* m = s_->mMeshes[mi];
+    const std::string label = file_ + ": mesh " + std::to_string(mi) + (m->mName.length ? " ('" + std::string(m->mName.C_Str()) + "')" : "");
+    if (!(m->mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) return Ok{};  // points and lines
+    Primitive p;
+    p.mesh_name = m->mName.C_Str();
+    p.mesh = mi;
+    p.node = node;
+    p.positions.reserve(m->mNumVertices);
+    for (unsigned v = 0; v < m->mNumVertices; ++v) p.positions.emplace_back(m->mVertices[v].x * scale_, m->mVertices[v].y * scale_, m->mVertices[v].z * scale_);
+    for (unsigned f = 0; f < m->mNumFaces; ++f) {
+      const aiFace& face = m->mFaces[f];
+      if (face.mNumIndices != 3) continue;
+      Tri t{face.mIndices[0], face.mIndices[1], face.mIndices[2]};
+      for (uint32_t i : t)
+        if (i >= m->mNumVertices)
+          return make_error(ErrorCode::kIndexOutOfRange, label + ": face " + std::to_string(f) + " uses vertex " + std::to_string(i) +
+                                                             ", but the mesh has " + std::to_string(m->mNumVertices));
+      if (t[0] != t[1] && t[1] != t[2] && t[0] != t[2]) p.triangles.push_back(t);
+    }
+    if (m->mNumAnimMeshes) warnings_.push_back(label + ": " + std::to_string(m->mNumAnimMeshes) + " morph targets are not imported");
+    if (m->mNumBones) {
+      auto skin = skin_of(c, mi, label);
+      if (!skin) return skin.error();
+      p.skin = *skin;
+      std::vector<std::vector<std::pair<uint32_t, double>>> entries(m->mNumVertices);
+      for (unsigned b = 0; b < m->mNumBones; ++b) {
+        const aiBone* bone = m->mBones[b];
+        for (unsigned w = 0; w < bone->mNumWeights; ++w) {
+          const aiVertexWeight& vw = bone->mWeights[w];
+          if (vw.mVertexId >= m->mNumVertices)
+            return make_error(ErrorCode::kIndexOutOfRange, label + ": bone '" + std::string(bone->mName.C_Str()) + "' weighs vertex " +
+                                                               std::to_string(vw.mVertexId) + ", but the mesh has " +
+                                                               std::to_string(m->mNumVertices));
+          entries[vw.mVertexId].emplace_back(b, double(vw.mWeight));
+        }
+      }
+      SkinWeightCleanup cleanup;
+      for (unsigned v = 0; v < m->mNumVertices; ++v) cleanup.add_vertex(v, std::move(entries[v]), p);
+      for (std::string& w : cleanup.take_warnings(label)) warnings_.push_back(std::move(w));
+    }
+    c.primitives.push_back(std::move(p));
+    return Ok{};
+  }
+
+  // The skin of mesh mi (made once): its bones as joints, their offset matrices as inverse bind matrices.
+  Result<int32_t> skin_of(Character& c, unsigned mi, const std::string& label) {
+    if (auto it = skin_of_mesh_.find(mi); it != skin_of_mesh_.end()) return it->second;
+    const aiMesh* m = s_->mMeshes[mi];
+    Skin skin;
+    skin.name = m->mName.C_Str();
+    for (unsigned b = 0; b < m->mNumBones; ++b) {
+      const aiBone* bone = m->mBones[b];
+      auto it = by_name_.find(bone->mName.C_Str());
+      if (it == by_name_.end())
+        return make_error(ErrorCode::kParse, label + ": bone " + std::to_string(b) + " ('" + std::string(bone->mName.C_Str()) +
+                                                 "') names no node of the file");
+      skin.joints.push_back(it->second);
+      glm::mat4 ibm = to_glm(bone->mOffsetMatrix);
+      ibm[3] = glm::vec4(glm::vec3(ibm[3]) * scale_, 1.0f);  // lengths in metres; the linear part is scale-free
+      skin.inverse_bind.push_back(ibm);
+    }
+    c.skins.push_back(std::move(skin));
+    const int32_t index = int32_t(c.skins.size() - 1);
+    skin_of_mesh_[mi] = index;
+    return index;
+  }
+
+  std::vector<Clip> build_clips(const glm::quat& turn) {
+    std::vector<Clip> clips;
+    for (unsigned a = 0; a < s_->mNumAnimations; ++a) {
+      const aiAnimation* anim = s_->mAnimations[a];
+      const double tps = anim->mTicksPerSecond > 0.0 ? anim->mTicksPerSecond : 25.0;
+      Clip clip;
+      clip.name = anim->mName.length ? anim->mName.C_Str() : "animation_" + std::to_string(a);
+      for (unsigned ci = 0; ci < anim->mNumChannels; ++ci) {
+        const aiNodeAnim* ch = anim->mChannels[ci];
+        auto it = by_name_.find(ch->mNodeName.C_Str());
+        if (it == by_name_.end()) {
+          warnings_.push_back(file_ + ": animation '" + clip.name + "' moves '" + std::string(ch->mNodeName.C_Str()) +
+                              "', which is no node of the file; that channel is skipped");
+          continue;
+        }
+        const uint32_t node = it->second;
+        const bool root = node < parent_.size() && parent_[node] < 0;
+        auto add = [&](ChannelPath path, AnimationSampler sampler) {
+          if (sampler.times.empty()) return;
+          for (float t : sampler.times) clip.duration = std::max(clip.duration, double(t));
+          clip.samplers.push_back(std::move(sampler));
+          clip.channels.push_back({node, path, uint32_t(clip.samplers.size() - 1)});
+        };
+        AnimationSampler tr{Interpolation::kLinear, {}, {}, 3}, rot{Interpolation::kLinear, {}, {}, 4}, sc{Interpolation::kLinear, {}, {}, 3};
+        for (unsigned k = 0; k < ch->mNumPositionKeys; ++k) {
+          glm::vec3 v(ch->mPositionKeys[k].mValue.x, ch->mPositionKeys[k].mValue.y, ch->mPositionKeys[k].mValue.z);
+          v *= scale_;
+          if (root) v = turn * v;
+          if (!push_time(tr, ch->mPositionKeys[k].mTime / tps)) continue;
+          tr.values.insert(tr.values.end(), {v.x, v.y, v.z});
+        }
+        for (unsigned k = 0; k < ch->mNumRotationKeys; ++k) {
+          const aiQuaternion& q = ch->mRotationKeys[k].mValue;
+          glm::quat g = glm::normalize(glm::quat(q.w, q.x, q.y, q.z));
+          if (root) g = glm::normalize(turn * g);
+          if (!push_time(rot, ch->mRotationKeys[k].mTime / tps)) continue;
+          rot.values.insert(rot.values.end(), {g.x, g.y, g.z, g.w});
+        }
+        for (unsigned k = 0; k < ch->mNumScalingKeys; ++k) {
+          const aiVector3D& v = ch->mScalingKeys[k].mValue;
+          if (!push_time(sc, ch->mScalingKeys[k].mTime / tps)) continue;
+          sc.values.insert(sc.values.end(), {v.x, v.y, v.z});
+        }
+        add(ChannelPath::kTranslation, std::move(tr));
+        add(ChannelPath::kRotation, std::move(rot));
+        add(ChannelPath::kScale, std::move(sc));
+      }
+      if (!clip.channels.empty()) clips.push_back(std::move(clip));
+    }
+    return clips;
+  }
+
+  // Keys at increasing times only (a repeated or earlier key is dropped).
+  static bool push_time(AnimationSampler& s, double t) {
+    if (!std::isfinite(t) || (!s.times.empty() && float(t) <= s.times.back())) return false;
+    s.times.push_back(float(t));
+    return true;
+  }
+
+  const aiScene* s_;
+  std::string file_;
+  float scale_ = 1.0f;
+  std::map<const aiNode*, uint32_t> index_;
+  std::vector<int32_t> parent_;
+  std::multimap<std::string, uint32_t> by_name_;
+  std::map<unsigned, int32_t> skin_of_mesh_;
+  std::vector<std::string> warnings_;
+};
+
+}  // namespace
+
+bool is_assimp_character(const std::string& path) {
+  const std::string ext = lower_extension(path);
+  for (const char* e : {".fbx", ".dae", ".x", ".b3d", ".ms3d", ".smd", ".md5mesh"})
+    if (ext == e) return true;
+  return false;
+}
+
+Result<Character> load_character_assimp(const std::string& path, const AssimpImportOptions& options, AssimpUnits* units) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) return make_error(ErrorCode::kFileNotFound, path + ": no such file");
+  if (std::filesystem::is_directory(path, ec)) return make_error(ErrorCode::kFileUnreadable, path + ": is a directory, not a character file");
+  Assimp::Importer importer;
+  importer.SetPropertyBool(AI_CONFIG_IMPORT_FBX_PRESERVE_PIVOTS, false);  // pivots and pre-rotations folded into the nodes
+  importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
+  if (options.keep_units) {
+    importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);
+  }
+  const aiScene* scene = nullptr;
+  try {
+    scene = importer.ReadFile(path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_SortByPType);
+  } catch (const std::exception& e) {
+    return make_error(ErrorCode::kParse, path + ": the importer stopped: " + e.what());
+  }
+  if (!scene) return make_error(ErrorCode::kParse, path + ": not a usable character file: " + importer.GetErrorString());
+  if (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE)
+    return make_error(ErrorCode::kParse, path + ": the importer read it only in part (" + importer.GetErrorString() + ")");
+  try {
+    return Importer(scene, path).run(options, units);
+  } catch (const std::bad_alloc&) {
+    return make_error(ErrorCode::kParse, path + ": a size in it is too large to load");
+  }
+}
+
+}  // namespace cagewrap

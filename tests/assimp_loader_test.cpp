@@ -1,0 +1,204 @@
+// Characters read through assimp (core/io/assimp_loader.h, issue 23): for every skinned, animated model of
+// assimp-testmodels (/usr/share/assimp/models, or $CAGEWRAP_ASSIMP_MODELS; skipped with a message when absent),
+// cagewrap's linear blend skinning at several clip times equals the skinning computed here from assimp's own
+// data (each bone's offset matrix applied to its node's global transform, the animation keys interpolated
+// here), within 1e-5 of the diagonal; units and axes conversion is a scale and a turn of that.
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <functional>
+#include <map>
+
+#include <assimp/Importer.hpp>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+#include <gtest/gtest.h>
+#include <glm/gtc/quaternion.hpp>
+
+#include "core/character/skinning.h"
+#include "core/io/assimp_loader.h"
+#include "core/io/gltf_loader.h"
+
+namespace cagewrap {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string models_dir() {
+  if (const char* env = std::getenv("CAGEWRAP_ASSIMP_MODELS"); env && *env) return env;
+  return "/usr/share/assimp/models";
+}
+
+glm::dmat4 to_glm(const aiMatrix4x4& m) {
+  glm::dmat4 g;
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) g[c][r] = m[r][c];
+  return g;
+}
+
+// A key track at time t (seconds; keys in ticks): linear, clamped.
+template <class Key, class F>
+auto sample_keys(const Key* keys, unsigned n, double ticks, F lerp) {
+  if (n == 1 || ticks <= keys[0].mTime) return keys[0].mValue;
+  for (unsigned k = 0; k + 1 < n; ++k)
+    if (ticks <= keys[k + 1].mTime) {
+      const double u = (ticks - keys[k].mTime) / std::max(1e-12, keys[k + 1].mTime - keys[k].mTime);
+      return lerp(keys[k].mValue, keys[k + 1].mValue, u);
+    }
+  return keys[n - 1].mValue;
+}
+
+// The reference: assimp's scene skinned at `seconds` into animation `a`, every mesh of every node, in the
+// loader's order (nodes depth first, each node's meshes in order).
+std::vector<glm::dvec3> assimp_skinned(const aiScene* s, unsigned a, double seconds) {
+  const aiAnimation* anim = s->mAnimations[a];
+  const double tps = anim->mTicksPerSecond > 0 ? anim->mTicksPerSecond : 25.0;
+  const double ticks = seconds * tps;
+  std::map<std::string, glm::dmat4> local;
+  for (unsigned c = 0; c < anim->mNumChannels; ++c) {
+    const aiNodeAnim* ch = anim->mChannels[c];
+    const aiNode* node = s->mRootNode->FindNode(ch->mNodeName);
+    if (!node) continue;
+    aiVector3D ns, nt;
+    aiQuaternion nq;
+    node->mTransformation.Decompose(ns, nq, nt);
+    auto lerp3 = [](const aiVector3D& x, const aiVector3D& y, double u) { return x + (y - x) * float(u); };
+    auto slerp = [](const aiQuaternion& x, const aiQuaternion& y, double u) {
+      aiQuaternion out;
+      aiQuaternion::Interpolate(out, x, y, float(u));
+      return out.Normalize();
+    };
+    const aiVector3D t = ch->mNumPositionKeys ? sample_keys(ch->mPositionKeys, ch->mNumPositionKeys, ticks, lerp3) : nt;
+    const aiQuaternion q = ch->mNumRotationKeys ? sample_keys(ch->mRotationKeys, ch->mNumRotationKeys, ticks, slerp) : nq;
+    const aiVector3D sc = ch->mNumScalingKeys ? sample_keys(ch->mScalingKeys, ch->mNumScalingKeys, ticks, lerp3) : ns;
+    glm::dmat4 m = glm::translate(glm::dmat4(1.0), glm::dvec3(t.x, t.y, t.z)) * glm::mat4_cast(glm::dquat(q.w, q.x, q.y, q.z)) *
+                   glm::scale(glm::dmat4(1.0), glm::dvec3(sc.x, sc.y, sc.z));
+    local[ch->mNodeName.C_Str()] = m;
+  }
+  std::map<std::string, glm::dmat4> global;
+  std::vector<glm::dvec3> out;
+  std::function<void(const aiNode*, const glm::dmat4&)> walk = [&](const aiNode* n, const glm::dmat4& parent) {
+    auto it = local.find(n->mName.C_Str());
+    const glm::dmat4 g = parent * (it != local.end() ? it->second : to_glm(n->mTransformation));
+    global[n->mName.C_Str()] = g;
+    for (unsigned c = 0; c < n->mNumChildren; ++c) walk(n->mChildren[c], g);
+  };
+  walk(s->mRootNode, glm::dmat4(1.0));
+  std::function<void(const aiNode*)> meshes = [&](const aiNode* n) {
+    for (unsigned k = 0; k < n->mNumMeshes; ++k) {
+      const aiMesh* m = s->mMeshes[n->mMeshes[k]];
+      if (!(m->mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) continue;
+      std::vector<glm::dvec3> p(m->mNumVertices, glm::dvec3(0.0));
+      if (!m->mNumBones) {
+        for (unsigned v = 0; v < m->mNumVertices; ++v)
+          p[v] = glm::dvec3(global[n->mName.C_Str()] * glm::dvec4(m->mVertices[v].x, m->mVertices[v].y, m->mVertices[v].z, 1.0));
+      } else {
+        std::vector<double> total(m->mNumVertices, 0.0);
+        for (unsigned b = 0; b < m->mNumBones; ++b) {
+          const aiBone* bone = m->mBones[b];
+          const glm::dmat4 j = global[bone->mName.C_Str()] * to_glm(bone->mOffsetMatrix);
+          for (unsigned w = 0; w < bone->mNumWeights; ++w) {
+            const aiVertexWeight& vw = bone->mWeights[w];
+            const aiVector3D& x = m->mVertices[vw.mVertexId];
+            p[vw.mVertexId] += double(vw.mWeight) * glm::dvec3(j * glm::dvec4(x.x, x.y, x.z, 1.0));
+            total[vw.mVertexId] += vw.mWeight;
+          }
+        }
+        for (unsigned v = 0; v < m->mNumVertices; ++v)
+          if (total[v] > 0) p[v] /= total[v];
+      }
+      out.insert(out.end(), p.begin(), p.end());
+    }
+    for (unsigned c = 0; c < n->mNumChildren; ++c) meshes(n->mChildren[c]);
+  };
+  meshes(s->mRootNode);
+  return out;
+}
+
+TEST(AssimpLoader, SkinnedAnimatedTestModelsMatchAssimpsOwnSkinning) {
+  const fs::path dir = models_dir();
+  if (!fs::is_directory(dir)) GTEST_SKIP() << dir << " is absent: install assimp-testmodels (scripts/setup.sh)";
+  size_t checked = 0;
+  for (const auto& entry : fs::recursive_directory_iterator(dir)) {
+    const std::string path = entry.path().string();
+    if (!entry.is_regular_file() || !is_assimp_character(path) || path.find("/invalid/") != std::string::npos) continue;
+    Assimp::Importer importer;
+    importer.SetPropertyBool(AI_CONFIG_IMPORT_FBX_PRESERVE_PIVOTS, false);
+    importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
+    importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);
+    const aiScene* s = importer.ReadFile(path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_SortByPType);
+    if (!s || !s->mNumAnimations) continue;
+    bool bones = false;
+    for (unsigned m = 0; m < s->mNumMeshes; ++m) bones = bones || s->mMeshes[m]->mNumBones > 0;
+    if (!bones) continue;
+    AssimpImportOptions keep;
+    keep.keep_units = true;
+    auto c = load_character_assimp(path, keep);
+    ASSERT_TRUE(c.ok()) << c.error().message;
+    ASSERT_FALSE(c->clips.empty()) << path;
+    const std::vector<glm::vec3> rest = skin_character(*c, c->skeleton.rest_pose());
+    glm::vec3 lo(1e30f), hi(-1e30f);
+    for (const glm::vec3& p : rest) {
+      lo = glm::min(lo, p);
+      hi = glm::max(hi, p);
+    }
+    const double diagonal = glm::length(hi - lo);
+    const double duration = c->clips[0].duration;
+    double worst = 0.0;
+    for (double f : {0.0, 0.3, 0.55, 1.0}) {
+      const double t = f * duration;
+      const std::vector<glm::vec3> ours = skin_character(*c, sample_pose(*c, 0, t));
+      const std::vector<glm::dvec3> ref = assimp_skinned(s, 0, t);
+      ASSERT_EQ(ours.size(), ref.size()) << path;
+      for (size_t v = 0; v < ours.size(); ++v) worst = std::max(worst, glm::length(glm::dvec3(ours[v]) - ref[v]));
+    }
+    std::printf("%s: %zu vertices, %zu joints, clip '%s' %.3g s: worst %.3g (diagonal %.3g)\n", path.c_str(), rest.size(),
+                c->num_joints(), c->clips[0].name.c_str(), duration, worst, diagonal);
+    EXPECT_LE(worst, 1e-5 * diagonal) << path;
+    ++checked;
+  }
+  EXPECT_GT(checked, 2u) << "skinned, animated models found in " << dir;
+}
+
+TEST(AssimpLoader, UnitsAndUpAxisAreAScaleAndATurn) {
+  const std::string path = models_dir() + "/FBX/animation_with_skeleton.fbx";
+  if (!fs::exists(path)) GTEST_SKIP() << path << " is absent: install assimp-testmodels (scripts/setup.sh)";
+  AssimpUnits units;
+  auto converted = load_character_assimp(path, {}, &units);
+  ASSERT_TRUE(converted.ok()) << converted.error().message;
+  AssimpImportOptions keep;
+  keep.keep_units = true;
+  auto kept = load_character_assimp(path, keep);
+  ASSERT_TRUE(kept.ok()) << kept.error().message;
+  std::printf("%s: %g m a unit, %s up, converted %d\n", path.c_str(), units.metres_per_unit, units.up_axis.c_str(), int(units.converted));
+  const std::vector<glm::vec3> a = skin_character(*converted, sample_pose(*converted, 0, 0.2));
+  const std::vector<glm::vec3> b = skin_character(*kept, sample_pose(*kept, 0, 0.2));
+  ASSERT_EQ(a.size(), b.size());
+  // a = s R b for the file's scale s and the turn R of its up axis to +Y: the distances scale by s
+  double ratio_lo = 1e30, ratio_hi = 0;
+  for (size_t v = 1; v < a.size(); v += std::max<size_t>(1, a.size() / 50)) {
+    const double da = glm::length(a[v] - a[0]), db = glm::length(b[v] - b[0]);
+    if (db > 1e-6) {
+      ratio_lo = std::min(ratio_lo, da / db);
+      ratio_hi = std::max(ratio_hi, da / db);
+    }
+  }
+  EXPECT_NEAR(ratio_lo, units.metres_per_unit, 1e-4 * units.metres_per_unit);
+  EXPECT_NEAR(ratio_hi, units.metres_per_unit, 1e-4 * units.metres_per_unit);
+}
+
+TEST(AssimpLoader, BadFilesAreNamed) {
+  const fs::path dir = fs::temp_directory_path() / "cagewrap_assimp_bad";
+  fs::create_directories(dir);
+  const std::string fbx = (dir / "garbage.fbx").string();
+  { FILE* f = std::fopen(fbx.c_str(), "wb"); std::fputs("this is not an FBX file at all", f); std::fclose(f); }
+  auto r = load_character(fbx);
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error().message.rfind(fbx + ": ", 0), 0u) << r.error().message;
+  auto missing = load_character((dir / "nothing.dae").string());
+  ASSERT_FALSE(missing.ok());
+  EXPECT_NE(missing.error().message.find("no such file"), std::string::npos) << missing.error().message;
+}
+
+}  // namespace
+}  // namespace cagewrap
