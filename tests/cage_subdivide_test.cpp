@@ -26,7 +26,7 @@ using test::no_t_junctions;
 using test::rows_reproduce;
 using test::signed_volume;
 
-Cage cage_of(PolyMesh m) {
+Cage subdivided_cage_of(PolyMesh m) {
   return std::move(make_cage(std::move(m), "test cage")).value();
 }
 
@@ -41,7 +41,7 @@ Cage triangle_grid(int n) {
       m.add_face({a, b, c});
       m.add_face({a, c, d});
     }
-  return cage_of(std::move(m));
+  return subdivided_cage_of(std::move(m));
 }
 
 size_t count_edges(const PolyMesh& m) {
@@ -223,7 +223,7 @@ TEST(RefineFaces, TwoTrianglesRedAndGreen) {
   m.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
   m.add_face({0, 1, 2});
   m.add_face({0, 2, 3});
-  const Cage square = cage_of(m);
+  const Cage square = subdivided_cage_of(m);
   auto r = refine_faces(square, V{0});
   ASSERT_TRUE(r.ok()) << r.error().message;
   EXPECT_EQ(r->cage.num_vertices(), 7u);
@@ -254,7 +254,7 @@ TEST(RefineFaces, ClosureTurnsTwiceSplitTrianglesRed) {
 }
 
 TEST(RefineFaces, TriangleMeshStaysClosedAndUntouchedFacesStay) {
-  const Cage tube = cage_of(fixtures::cylinder_skin(0.5, 4.0, 8, 4));
+  const Cage tube = subdivided_cage_of(fixtures::cylinder_skin(0.5, 4.0, 8, 4));
   const V selected{3, 10, 11, 40};
   auto r = refine_faces(tube, selected);
   ASSERT_TRUE(r.ok()) << r.error().message;
@@ -301,7 +301,7 @@ TEST(RefineFaces, QuadWithTwoOppositeSplitEdgesBecomesTwoQuads) {
   for (int y = 0; y < 2; ++y)
     for (int x = 0; x < 4; ++x) m.positions.emplace_back(x, y, 0);
   for (uint32_t x = 0; x < 3; ++x) m.add_face({x, x + 1, x + 5, x + 4});
-  const Cage strip = cage_of(m);
+  const Cage strip = subdivided_cage_of(m);
   auto r = refine_faces(strip, V{0, 2});
   ASSERT_TRUE(r.ok());
   EXPECT_EQ(r->cage.polygons.num_faces(), 4u + 2u + 4u);
