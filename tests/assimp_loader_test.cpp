@@ -96,6 +96,7 @@ std::vector<glm::dvec3> assimp_skinned(const aiScene* s, unsigned a, double seco
         std::vector<double> total(m->mNumVertices, 0.0);
         for (unsigned b = 0; b < m->mNumBones; ++b) {
           const aiBone* bone = m->mBones[b];
+          if (!global.count(bone->mName.C_Str())) continue;  // a bone of no node: left out, as the loader does
           const glm::dmat4 j = global[bone->mName.C_Str()] * to_glm(bone->mOffsetMatrix);
           for (unsigned w = 0; w < bone->mNumWeights; ++w) {
             const aiVertexWeight& vw = bone->mWeights[w];
@@ -104,8 +105,19 @@ std::vector<glm::dvec3> assimp_skinned(const aiScene* s, unsigned a, double seco
             total[vw.mVertexId] += vw.mWeight;
           }
         }
-        for (unsigned v = 0; v < m->mNumVertices; ++v)
+        // a vertex left with no weight is bound to the skin's first joint (the first bone with a node), as every
+        // loader does
+        glm::dmat4 first(1.0);
+        for (unsigned b = 0; b < m->mNumBones; ++b)
+          if (global.count(m->mBones[b]->mName.C_Str())) {
+            first = global[m->mBones[b]->mName.C_Str()] * to_glm(m->mBones[b]->mOffsetMatrix);
+            break;
+          }
+        for (unsigned v = 0; v < m->mNumVertices; ++v) {
+          const aiVector3D& x = m->mVertices[v];
           if (total[v] > 0) p[v] /= total[v];
+          else p[v] = glm::dvec3(first * glm::dvec4(x.x, x.y, x.z, 1.0));
+        }
       }
       out.insert(out.end(), p.begin(), p.end());
     }

@@ -160,9 +160,9 @@ class Importer {
     }
     if (m->mNumAnimMeshes) warnings_.push_back(label + ": " + std::to_string(m->mNumAnimMeshes) + " morph targets are not imported");
     if (m->mNumBones) {
-      auto skin = skin_of(c, mi, label);
-      if (!skin) return skin.error();
-      p.skin = *skin;
+      const int32_t skin = skin_of(c, mi, label);
+      p.skin = skin;
+      const std::vector<int32_t>& joint_of_bone = joint_of_bone_[mi];
       std::vector<std::vector<std::pair<uint32_t, double>>> entries(m->mNumVertices);
       for (unsigned b = 0; b < m->mNumBones; ++b) {
         const aiBone* bone = m->mBones[b];
@@ -172,7 +172,7 @@ class Importer {
             return make_error(ErrorCode::kIndexOutOfRange, label + ": bone '" + std::string(bone->mName.C_Str()) + "' weighs vertex " +
                                                                std::to_string(vw.mVertexId) + ", but the mesh has " +
                                                                std::to_string(m->mNumVertices));
-          entries[vw.mVertexId].emplace_back(b, double(vw.mWeight));
+          if (joint_of_bone[b] >= 0) entries[vw.mVertexId].emplace_back(uint32_t(joint_of_bone[b]), double(vw.mWeight));
         }
       }
       SkinWeightCleanup cleanup;
@@ -183,18 +183,24 @@ class Importer {
     return Ok{};
   }
 
-  // The skin of mesh mi (made once): its bones as joints, their offset matrices as inverse bind matrices.
-  Result<int32_t> skin_of(Character& c, unsigned mi, const std::string& label) {
+  // The skin of mesh mi (made once): its bones as joints, their offset matrices as inverse bind matrices. A bone
+  // that names no node is left out with a warning (its weights go to the vertices' other bones).
+  int32_t skin_of(Character& c, unsigned mi, const std::string& label) {
     if (auto it = skin_of_mesh_.find(mi); it != skin_of_mesh_.end()) return it->second;
     const aiMesh* m = s_->mMeshes[mi];
     Skin skin;
     skin.name = m->mName.C_Str();
+    std::vector<int32_t>& joint_of_bone = joint_of_bone_[mi];
+    joint_of_bone.assign(m->mNumBones, -1);
     for (unsigned b = 0; b < m->mNumBones; ++b) {
       const aiBone* bone = m->mBones[b];
       auto it = by_name_.find(bone->mName.C_Str());
-      if (it == by_name_.end())
-        return make_error(ErrorCode::kParse, label + ": bone " + std::to_string(b) + " ('" + std::string(bone->mName.C_Str()) +
-                                                 "') names no node of the file");
+      if (it == by_name_.end()) {
+        warnings_.push_back(label + ": bone " + std::to_string(b) + " ('" + std::string(bone->mName.C_Str()) + "') names no node of the file; its " +
+                            std::to_string(bone->mNumWeights) + " weights are left out");
+        continue;
+      }
+      joint_of_bone[b] = int32_t(skin.joints.size());
       skin.joints.push_back(it->second);
       glm::mat4 ibm = to_glm(bone->mOffsetMatrix);
       ibm[3] = glm::vec4(glm::vec3(ibm[3]) * scale_, 1.0f);  // lengths in metres; the linear part is scale-free
@@ -272,6 +278,7 @@ class Importer {
   std::vector<int32_t> parent_;
   std::multimap<std::string, uint32_t> by_name_;
   std::map<unsigned, int32_t> skin_of_mesh_;
+  std::map<unsigned, std::vector<int32_t>> joint_of_bone_;
   std::vector<std::string> warnings_;
 };
 
