@@ -97,6 +97,11 @@ bool positions_output_or_report(const std::string& path) {
   return false;
 }
 
+void add_keep_units_flag(CLI::App& cmd, bool& keep) {
+  cmd.add_flag("--keep-units", keep,
+               "FBX, Collada, .x, ...: read the character in the file's own units and up axis (default: brought to metres, Y up)");
+}
+
 int report_error(const Error& e) {
   std::fprintf(stderr, "error: %s\n", e.message.c_str());
   return 1;

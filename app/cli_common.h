@@ -52,6 +52,9 @@ std::optional<PolyMesh> load_posed_cage_or_report(const std::string& path, const
 // Loads a project, printing "error: <message>" on failure and "warning: <message>" for each warning.
 std::optional<ProjectLoad> load_project_or_report(const std::string& path);
 
+// --keep-units on a command that reads a character: FBX, Collada, ... in the file's own units and up axis.
+void add_keep_units_flag(CLI::App& cmd, bool& keep);
+
 int report_error(const Error& e);  // prints to stderr, returns the exit code (1)
 // Whether `path` names a positions output (.obj or .bin); prints the error when not.
 bool positions_output_or_report(const std::string& path);

@@ -20,11 +20,13 @@ void add_cage_command(CLI::App& app, int& exit_code) {
     std::string mesh, out, failures;
     AutoCageOptions cage;
     BindOptions bind;
+    bool keep_units = false;
   };
   auto args = std::make_shared<Args>();
   auto* cmd =
       app.add_subcommand("cage", "build a cage around a character automatically (weld, decimate, inflate)");
-  cmd->add_option("--mesh", args->mesh, "character (.glb .gltf) or mesh (.obj .ply .off .stl)")->required();
+  cmd->add_option("--mesh", args->mesh, "character (.glb .gltf .fbx .dae .x ...) or mesh (.obj .ply .off .stl)")->required();
+  add_keep_units_flag(*cmd, args->keep_units);
   add_auto_cage_options(*cmd, args->cage, "--faces");
   cmd->add_option("--out", args->out, "cage to write (.obj)")->required();
   cmd->add_option("--failures", args->failures,
@@ -41,8 +43,8 @@ void add_cage_command(CLI::App& app, int& exit_code) {
     const AutoCageParams& params = args->cage.params;
     AutoCageProgress progress = terminal_cage_progress();
     Result<AutoCageReport> r = make_error(ErrorCode::kEmpty, "");
-    if (has_extension(args->mesh, ".glb") || has_extension(args->mesh, ".gltf")) {
-      auto c = load_character(args->mesh);
+    if (is_character_file(args->mesh)) {
+      auto c = load_character(args->mesh, {args->keep_units});
       if (!c) {
         report_error(c.error());
         return;

@@ -93,14 +93,15 @@ void add_check_command(CLI::App& app, int& exit_code) {
     FidelityOptions options;
     AutoCageOptions auto_cage;
     CLI::Option* auto_cage_option = nullptr;
-    bool json = false, no_rest = false;
+    bool json = false, no_rest = false, keep_units = false;
   };
   auto args = std::make_shared<Args>();
   auto* cmd = app.add_subcommand(
       "check", "compare a rig with the character's own skinning at every clip's frames (worst vertex, RMS, edge stretch)");
   cmd->add_option("--project", args->project, "project (.cagewrap)");
   cmd->add_option("--character", args->character,
-                  "character (.glb .gltf): checks the default rig (the automatic cage unless --cage is given)");
+                  "character (.glb .gltf .fbx .dae .x ...): checks the default rig (the automatic cage unless --cage is given)");
+  add_keep_units_flag(*cmd, args->keep_units);
   cmd->add_option("--cage", args->cage, "with --character: the cage at rest (.obj .ply .off .stl)");
   args->auto_cage_option = add_auto_cage_options(*cmd, args->auto_cage, "--auto-cage");
   args->auto_cage_option->description("with --character: the automatic cage's triangle count (default 2000)");
@@ -123,8 +124,8 @@ void add_check_command(CLI::App& app, int& exit_code) {
       std::fprintf(stderr, "error: give either --project or --character\n");
       return;
     }
-    if (!args->project.empty() && (!args->cage.empty() || args->auto_cage_option->count())) {
-      std::fprintf(stderr, "error: --cage and --auto-cage go with --character; a project has its cage\n");
+    if (!args->project.empty() && (!args->cage.empty() || args->auto_cage_option->count() || args->keep_units)) {
+      std::fprintf(stderr, "error: --cage, --auto-cage and --keep-units go with --character; a project has its cage and units\n");
       return;
     }
     if (!(args->options.fps >= 0 && args->options.fps <= 1000)) {
@@ -144,7 +145,7 @@ void add_check_command(CLI::App& app, int& exit_code) {
         return;
       }
     } else {
-      auto d = document_from_files(args->character, args->cage);
+      auto d = document_from_files(args->character, args->cage, {args->keep_units});
       if (!d) {
         report_error(d.error());
         return;

@@ -55,11 +55,11 @@ void add_info_command(CLI::App& app, int& exit_code) {
                   "a character (.glb, .gltf; through assimp .fbx, .dae, .x, .b3d, .ms3d, .smd, .md5mesh) or a mesh (.obj, "
                   ".ply, .off, .stl)")
       ->required();
-  cmd->add_flag("--keep-units", *keep_units, "FBX, Collada, ...: leave the file's units and up axis (default: metres, Y up)");
+  add_keep_units_flag(*cmd, *keep_units);
   cmd->callback([file, keep_units, &exit_code] {
     exit_code = 1;
     if (is_assimp_character(*file)) {
-      AssimpImportOptions options;
+      CharacterLoadOptions options;
       options.keep_units = *keep_units;
       AssimpUnits units;
       auto c = load_character_assimp(*file, options, &units);

@@ -25,11 +25,12 @@ void add_new_command(CLI::App& app, int& exit_code) {
     BindOptions bind;
     AutoCageOptions auto_cage;
     CLI::Option* auto_cage_option = nullptr;
-    bool embed = false, cache = false;
+    bool embed = false, cache = false, keep_units = false;
   };
   auto args = std::make_shared<Args>();
   auto* cmd = app.add_subcommand("new", "make a project (.cagewrap) from a character and a cage");
-  cmd->add_option("--character", args->character, "character (.glb .gltf)")->required();
+  cmd->add_option("--character", args->character, "character (.glb .gltf .fbx .dae .x .b3d .ms3d .smd .md5mesh)")->required();
+  add_keep_units_flag(*cmd, args->keep_units);
   cmd->add_option("--cage", args->cages,
                   "cage at rest (.obj .ply .off .stl); without it the project has no cage yet. Given again: more cages, "
                   "each a deformer layer over the first (docs/deformer-stack.md)");
@@ -64,7 +65,7 @@ void add_new_command(CLI::App& app, int& exit_code) {
       return;
     }
     if (automatic && !finish_auto_cage_options(args->auto_cage, args->bind.params)) return;
-    auto doc = document_from_files(args->character, args->cage);
+    auto doc = document_from_files(args->character, args->cage, {args->keep_units});
     if (!doc) {
       report_error(doc.error());
       return;

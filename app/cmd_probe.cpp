@@ -27,7 +27,7 @@ nlohmann::json vec_json(const glm::dvec3& v) { return {v.x, v.y, v.z}; }
 // The rest skin of a mesh file or of a glTF character (every primitive, bind pose); nullopt after
 // printing the error.
 std::optional<std::vector<glm::vec3>> load_skin_or_report(const std::string& path) {
-  if (has_extension(path, ".glb") || has_extension(path, ".gltf")) {
+  if (is_character_file(path)) {
     auto c = load_character(path);
     if (!c) {
       report_error(c.error());

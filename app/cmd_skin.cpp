@@ -19,11 +19,12 @@ void add_skin_command(CLI::App& app, int& exit_code) {
   struct Args {
     std::string character, clip, out, region;
     double time = 0.0;
-    bool loop = false;
+    bool loop = false, keep_units = false;
   };
   auto args = std::make_shared<Args>();
   auto* cmd = app.add_subcommand("skin", "write a character's linear blend skinning at a clip time");
-  cmd->add_option("--character", args->character, "character file (.glb, .gltf)")->required();
+  cmd->add_option("--character", args->character, "character file (.glb .gltf .fbx .dae .x .b3d .ms3d .smd .md5mesh)")->required();
+  add_keep_units_flag(*cmd, args->keep_units);
   cmd->add_option("--clip", args->clip, "clip name or index (default: the file's rest pose)");
   cmd->add_option("--time", args->time, "seconds into the clip (clamped to the clip)")->capture_default_str();
   cmd->add_flag("--loop", args->loop, "wrap the time into the clip instead of clamping");
@@ -34,7 +35,7 @@ void add_skin_command(CLI::App& app, int& exit_code) {
   cmd->callback([args, &exit_code] {
     exit_code = 1;
     if (!positions_output_or_report(args->out)) return;
-    auto c = load_character(args->character);
+    auto c = load_character(args->character, {args->keep_units});
     if (!c) {
       report_error(c.error());
       return;

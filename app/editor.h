@@ -14,6 +14,7 @@ struct EditorOptions {
   int frames = 3;
   int width = 0, height = 0;  // 0 = the size the window was left at (preferences), else 1600 x 900
   bool play = false;       // start playing the first clip
+  bool keep_units = false;  // an FBX, Collada, ... `file` read in its own units and up axis (not metres, Y up)
   double autosave_seconds = -1;  // recovery file interval (app/workspace/autosave.h); < 0 = the preferences'; 0 = off
   bool cpu_deform = false;   // deform the skin on the CPU even where OpenGL 4.3 could (app/skin_display.h)
   bool gpu_deform = false;   // deform it on the GPU even on a software OpenGL (Mesa's llvmpipe)

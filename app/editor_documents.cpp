@@ -35,7 +35,7 @@ void Editor::load_initial() {
     open_project(path);
     return;
   }
-  auto s = load_scene(path, cage);
+  auto s = load_scene(path, cage, {options_.keep_units});
   if (!s.ok()) {
     error_modal_ = s.error().message;
     log("error: " + s.error().message, true);
@@ -120,13 +120,14 @@ bool Editor::open_project(const std::string& path, const std::string& character_
 
 bool Editor::open_path(const std::string& path) {
   if (has_extension(path, ".cagewrap")) return open_project(path);
-  auto s = load_scene(path, "");
+  auto s = load_scene(path, "", {files_.browser().keep_units()});
   if (!s.ok()) {  // the current document stays as it is
     error_modal_ = s.error().message;
     log("error: " + s.error().message, true);
     return false;
   }
   log("opened " + path);
+  for (const auto& w : s.value()->doc().character->warnings) log("warning: " + w);
   set_scene(std::move(s).value());
   if (auto e = files_.add_recent(path); !e.empty()) log("warning: " + e);
   return true;

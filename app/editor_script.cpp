@@ -49,6 +49,13 @@ void Editor::add_window_actions() {
   // ---- files
   add("open", "PATH", "Opens a character or a project (no question about unsaved work).",
       [this, rest_of_line](std::istringstream& in) { open_path(rest_of_line(in)); }, false);
+  add("keep_units", "on|off", "Ticks the file browser's \"Keep the file's units and up axis\" for the next character opened.",
+      [this, fail](std::istringstream& in) {
+        std::string v;
+        in >> v;
+        if (v != "on" && v != "off") return fail("keep_units takes on or off");
+        files_.browser().set_keep_units(v == "on");
+      }, false);
   add("open_asking", "PATH", "Opens as File > Open does: asks first when there are unsaved changes.",
       [this, rest_of_line](std::istringstream& in) {
         std::string p = rest_of_line(in);

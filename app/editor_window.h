@@ -116,6 +116,7 @@ class Editor {
   void draw_gizmo();
   void request_save();
   bool save_project_to(const std::string& path);
+  // A project, or a character (read with the file browser's "keep units" choice).
   bool open_path(const std::string& path);
   bool open_project(const std::string& path, const std::string& character_override = {});
   void act_on(const ProjectDialogs::Request& request);

@@ -1,6 +1,8 @@
 #if CAGEWRAP_GUI  // the editor's; nothing here without it
 #include "app/file_browser.h"
 
+#include "core/io/gltf_loader.h"
+
 #include <imgui/imgui.h>
 
 #include <algorithm>
@@ -25,21 +27,30 @@ std::string joined(const std::vector<std::string>& extensions) {
   return out;
 }
 
+// The character files the editor opens (glTF, and FBX, Collada, ... through assimp), after `first`.
+std::vector<std::string> with_characters(std::vector<std::string> first) {
+  for (const std::string& e : character_extensions())
+    if (std::find(first.begin(), first.end(), e) == first.end()) first.push_back(e);
+  return first;
+}
+
+// Opening a character from a file shows the "keep units" choice (a moved project's character has the project's).
+bool shows_keep_units(FilePurpose purpose) { return purpose == FilePurpose::kOpen || purpose == FilePurpose::kNewFromCharacter; }
+
 }  // namespace
 
 const FilePurposeInfo& purpose_info(FilePurpose purpose) {
-  static const FilePurposeInfo kOpen{
-      "Open project or character", "Open", {".cagewrap", ".glb", ".gltf"}, "", false};
+  static const FilePurposeInfo kOpen{"Open project or character", "Open", with_characters({".cagewrap"}), "", false};
   static const FilePurposeInfo kSave{"Save project as", "Save", {".cagewrap"}, ".cagewrap", true};
-  static const FilePurposeInfo kCage{"Import cage", "Import", {".obj", ".ply", ".off", ".stl", ".glb", ".gltf"}, "", false};
+  static const FilePurposeInfo kCage{"Import cage", "Import", with_characters({".obj", ".ply", ".off", ".stl"}), "", false};
   static const FilePurposeInfo kLayer{"Add a cage as a deformer layer", "Add", {".obj", ".ply", ".off", ".stl", ".glb", ".gltf"}, "", false};
   static const FilePurposeInfo kDriver{"Add a parametric driver", "Add", {".cwpatch", ".glb", ".gltf"}, "", false};
   static const FilePurposeInfo kShot{"Save screenshot", "Save", {".png"}, ".png", true};
-  static const FilePurposeInfo kNew{"New project from a character", "Create", {".glb", ".gltf"}, "", false};
+  static const FilePurposeInfo kNew{"New project from a character", "Create", character_extensions(), "", false};
   static const FilePurposeInfo kGlb{"Export to glTF binary", "Choose", {".glb"}, ".glb", true};
   static const FilePurposeInfo kObj{"Export OBJ frames (F.obj gives F_<clip>_<frame>.obj)", "Choose", {".obj"}, ".obj", true};
   static const FilePurposeInfo kJson{"Export the rig as JSON", "Choose", {".json"}, ".json", true};
-  static const FilePurposeInfo kLocate{"Locate the character", "Use", {".glb", ".gltf"}, "", false};
+  static const FilePurposeInfo kLocate{"Locate the character", "Use", character_extensions(), "", false};
   static const FilePurposeInfo kSaveCharacter{"Save the embedded character as", "Save", {".glb", ".gltf"}, ".glb", true};
   switch (purpose) {
     case FilePurpose::kOpen:
@@ -319,6 +330,12 @@ std::optional<std::string> FileBrowser::draw() {
               (l.filtered_count == 1 ? " other file" : " other files") + " not shown";
   if (l.hidden_count) listed += ", " + std::to_string(l.hidden_count) + " hidden";
   ImGui::TextDisabled("%s", listed.c_str());
+  if (shows_keep_units(purpose_)) {
+    ImGui::Checkbox("Keep the file's units and up axis", &keep_units_);
+    if (ImGui::IsItemHovered())
+      ImGui::SetTooltip("FBX, Collada, .x, ...: read the scene as the file has it. Off: brought to metres, Y up, as glTF is\n"
+                        "(the file's unit and up axis are in the log). A project remembers the choice.");
+  }
   bool enter = false;
   if (info.save) {
     ImGui::AlignTextToFramePadding();

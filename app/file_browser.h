@@ -55,6 +55,10 @@ class FileBrowser {
   bool select(const std::string& name);
   void set_file_name(const std::string& name);
   void confirm() { confirm_requested_ = true; }
+  // The open dialog's "Keep the file's units and up axis" (CharacterLoadOptions::keep_units) for the character
+  // chosen.
+  bool keep_units() const { return keep_units_; }
+  void set_keep_units(bool keep) { keep_units_ = keep; }
   void cancel() { cancel_requested_ = true; }
 
  private:
@@ -74,6 +78,7 @@ class FileBrowser {
   FilePurpose purpose_ = FilePurpose::kOpen;
   bool opening_ = false, open_ = false, close_ = false;
   bool confirm_requested_ = false, cancel_requested_ = false;
+  bool keep_units_ = false;
   int selected_ = -1;           // index into model_.entries()
   std::string error_;           // from the last confirm (a bad save name); the model has its own
   std::string overwrite_;       // asks before replacing this file

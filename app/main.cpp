@@ -9,7 +9,9 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", std::string("cagewrap ") + CAGEWRAP_VERSION);
   int exit_code = 0;
   cagewrap::app::EditorOptions editor;
-  app.add_option("file", editor.file, "character to open in the editor (.glb, .gltf); default: the demo character");
+  app.add_option("file", editor.file, "character (.glb .gltf .fbx .dae .x .b3d .ms3d .smd .md5mesh) or project (.cagewrap) to open; default: the demo character");
+  app.add_flag("--keep-units", editor.keep_units,
+               "FBX, Collada, ...: read the character in the file's own units and up axis (default: metres, Y up)");
   app.add_option("--cage", editor.cage, "cage to open with the character (.obj .ply .off .stl)");
   app.add_option("--screenshot", editor.screenshot, "render the editor, save this PNG and exit (for tests)");
   app.add_option("--script", editor.script, "replay editor actions from this file (tests)");

@@ -6,7 +6,9 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <functional>
+#include <iterator>
 #include <map>
 
 #include <assimp/Importer.hpp>
@@ -143,10 +145,15 @@ TEST(AssimpLoader, SkinnedAnimatedTestModelsMatchAssimpsOwnSkinning) {
     bool bones = false;
     for (unsigned m = 0; m < s->mNumMeshes; ++m) bones = bones || s->mMeshes[m]->mNumBones > 0;
     if (!bones) continue;
-    AssimpImportOptions keep;
+    CharacterLoadOptions keep;
     keep.keep_units = true;
-    auto c = load_character_assimp(path, keep);
+    AssimpUnits units;
+    auto c = load_character_assimp(path, keep, &units);
     ASSERT_TRUE(c.ok()) << c.error().message;
+    // assimp scales a Collada scene's root by its <unit>, which keep_units leaves out
+    std::string ext = fs::path(path).extension().string();
+    for (char& ch : ext) ch = char(std::tolower(static_cast<unsigned char>(ch)));
+    const double unit = ext == ".dae" ? units.metres_per_unit : 1.0;
     ASSERT_FALSE(c->clips.empty()) << path;
     const std::vector<glm::vec3> rest = skin_character(*c, c->skeleton.rest_pose());
     glm::vec3 lo(1e30f), hi(-1e30f);
@@ -154,7 +161,7 @@ TEST(AssimpLoader, SkinnedAnimatedTestModelsMatchAssimpsOwnSkinning) {
       lo = glm::min(lo, p);
       hi = glm::max(hi, p);
     }
-    const double diagonal = glm::length(hi - lo);
+    const double diagonal = unit * glm::length(hi - lo);
     const double duration = c->clips[0].duration;
     double worst = 0.0;
     for (double f : {0.0, 0.3, 0.55, 1.0}) {
@@ -162,7 +169,7 @@ TEST(AssimpLoader, SkinnedAnimatedTestModelsMatchAssimpsOwnSkinning) {
       const std::vector<glm::vec3> ours = skin_character(*c, sample_pose(*c, 0, t));
       const std::vector<glm::dvec3> ref = assimp_skinned(s, 0, t);
       ASSERT_EQ(ours.size(), ref.size()) << path;
-      for (size_t v = 0; v < ours.size(); ++v) worst = std::max(worst, glm::length(glm::dvec3(ours[v]) - ref[v]));
+      for (size_t v = 0; v < ours.size(); ++v) worst = std::max(worst, glm::length(unit * glm::dvec3(ours[v]) - ref[v]));
     }
     std::printf("%s: %zu vertices, %zu joints, clip '%s' %.3g s: worst %.3g (diagonal %.3g)\n", path.c_str(), rest.size(),
                 c->num_joints(), c->clips[0].name.c_str(), duration, worst, diagonal);
@@ -178,7 +185,7 @@ TEST(AssimpLoader, UnitsAndUpAxisAreAScaleAndATurn) {
   AssimpUnits units;
   auto converted = load_character_assimp(path, {}, &units);
   ASSERT_TRUE(converted.ok()) << converted.error().message;
-  AssimpImportOptions keep;
+  CharacterLoadOptions keep;
   keep.keep_units = true;
   auto kept = load_character_assimp(path, keep);
   ASSERT_TRUE(kept.ok()) << kept.error().message;
@@ -210,6 +217,88 @@ TEST(AssimpLoader, BadFilesAreNamed) {
   auto missing = load_character((dir / "nothing.dae").string());
   ASSERT_FALSE(missing.ok());
   EXPECT_NE(missing.error().message.find("no such file"), std::string::npos) << missing.error().message;
+}
+
+}  // namespace
+}  // namespace cagewrap
+
+namespace cagewrap {
+namespace {
+
+// The bounding box of a character's rest skin.
+std::pair<glm::vec3, glm::vec3> rest_box(const Character& c) {
+  glm::vec3 lo(1e30f), hi(-1e30f);
+  for (const glm::vec3& p : skin_character(c, c.skeleton.rest_pose())) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+  return {lo, hi};
+}
+
+// Collada's <unit> and <up_axis>, which assimp applies and does not report, are read from the file: an inch, Z-up
+// file comes in metres, Y up; with keep_units, in inches, Z up; the raw positions agree with the rest skinning.
+TEST(AssimpLoader, ColladaUnitAndUpAxisAreReadAndApplied) {
+  const std::string path = models_dir() + "/Collada/kwxport_test_vcolors.dae";
+  if (!fs::exists(path)) GTEST_SKIP() << path << " is absent: install assimp-testmodels (scripts/setup.sh)";
+  AssimpUnits units, kept_units;
+  auto converted = load_character_assimp(path, {}, &units);
+  ASSERT_TRUE(converted.ok()) << converted.error().message;
+  CharacterLoadOptions keep;
+  keep.keep_units = true;
+  auto kept = load_character_assimp(path, keep, &kept_units);
+  ASSERT_TRUE(kept.ok()) << kept.error().message;
+  EXPECT_NEAR(units.metres_per_unit, 0.0254, 1e-12);
+  EXPECT_EQ(units.up_axis, "+Z");
+  EXPECT_TRUE(units.converted);
+  EXPECT_FALSE(kept_units.converted);
+  const auto [clo, chi] = rest_box(*converted);
+  const auto [klo, khi] = rest_box(*kept);
+  // the file's Z extent (in inches) is the converted Y extent (in metres); X stays X
+  EXPECT_NEAR(chi.y - clo.y, 0.0254 * (khi.z - klo.z), 1e-4 * (chi.y - clo.y));
+  EXPECT_NEAR(chi.x - clo.x, 0.0254 * (khi.x - klo.x), 1e-4 * (chi.x - clo.x));
+  bool warned = false;
+  for (const std::string& w : converted->warnings) warned = warned || w.find("brought to metres, Y up") != std::string::npos;
+  EXPECT_TRUE(warned) << "the conversion is reported";
+}
+
+// A converted scene is in metres throughout: the raw positions (the bind pose every tool reads) and the rest pose's
+// skinning agree, for a centimetre FBX.
+TEST(AssimpLoader, ConvertedBindPoseAgreesWithTheRestSkinning) {
+  const std::string path = models_dir() + "/FBX/huesitos.fbx";
+  if (!fs::exists(path)) GTEST_SKIP() << path << " is absent: install assimp-testmodels (scripts/setup.sh)";
+  AssimpUnits units;
+  auto c = load_character_assimp(path, {}, &units);
+  ASSERT_TRUE(c.ok()) << c.error().message;
+  EXPECT_NEAR(units.metres_per_unit, 0.01, 1e-9);
+  std::vector<glm::vec3> raw;
+  for (const Primitive& p : c->primitives) raw.insert(raw.end(), p.positions.begin(), p.positions.end());
+  const std::vector<glm::vec3> rest = skin_character(*c, c->skeleton.rest_pose());
+  ASSERT_EQ(raw.size(), rest.size());
+  const auto [lo, hi] = rest_box(*c);
+  double worst = 0.0;
+  for (size_t v = 0; v < raw.size(); ++v) worst = std::max(worst, double(glm::length(raw[v] - rest[v])));
+  std::printf("%s: rest skin vs raw positions worst %.3g m (diagonal %.3g m)\n", path.c_str(), worst, double(glm::length(hi - lo)));
+  EXPECT_LE(worst, 1e-4 * glm::length(hi - lo));
+}
+
+// A character read from memory (a project's embedded FBX) is the one read from the file.
+TEST(AssimpLoader, BytesInMemoryReadAsTheFile) {
+  const std::string path = models_dir() + "/X/Testwuson.X";
+  if (!fs::exists(path)) GTEST_SKIP() << path << " is absent: install assimp-testmodels (scripts/setup.sh)";
+  std::ifstream in(path, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  auto from_file = load_character(path);
+  auto from_bytes = load_character_bytes(bytes, "embedded Testwuson.X", {}, path);
+  ASSERT_TRUE(from_file.ok()) << from_file.error().message;
+  ASSERT_TRUE(from_bytes.ok()) << from_bytes.error().message;
+  ASSERT_EQ(from_file->num_vertices(), from_bytes->num_vertices());
+  ASSERT_EQ(from_file->clips.size(), from_bytes->clips.size());
+  const auto a = skin_character(*from_file, sample_pose(*from_file, 1, 0.5));
+  const auto b = skin_character(*from_bytes, sample_pose(*from_bytes, 1, 0.5));
+  for (size_t v = 0; v < a.size(); ++v) ASSERT_EQ(a[v], b[v]) << "vertex " << v;
+  auto bad = load_character_bytes("not a DirectX file", "embedded bad.x", {}, "bad.x");
+  ASSERT_FALSE(bad.ok());
+  EXPECT_EQ(bad.error().message.rfind("embedded bad.x: ", 0), 0u) << bad.error().message;
 }
 
 }  // namespace

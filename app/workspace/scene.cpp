@@ -919,8 +919,9 @@ std::unique_ptr<Scene> make_scene(Document doc, std::optional<Binding> cached = 
 }
 }  // namespace
 
-Result<std::unique_ptr<Scene>> load_scene(const std::string& character_path, const std::string& cage_path) {
-  auto doc = document_from_files(character_path, cage_path);
+Result<std::unique_ptr<Scene>> load_scene(const std::string& character_path, const std::string& cage_path,
+                                          const CharacterLoadOptions& load) {
+  auto doc = document_from_files(character_path, cage_path, load);
   if (!doc) return doc.error();
   return make_scene(std::move(doc).value());
 }

@@ -370,8 +370,9 @@ struct Scene {
   std::optional<CageAttachment> transferred_;  // `attachment` as attach_cage made it (before any fit)
 };
 
-// Loads a character file (glTF) and optionally a cage; errors name the file.
-Result<std::unique_ptr<Scene>> load_scene(const std::string& character_path, const std::string& cage_path);
+// Loads a character file (glTF, FBX, Collada, ...: core/io/gltf_loader.h) and optionally a cage; errors name the file.
+Result<std::unique_ptr<Scene>> load_scene(const std::string& character_path, const std::string& cage_path,
+                                          const CharacterLoadOptions& load = {});
 // What opening a project reports beside its scene.
 struct ProjectOpen {
   std::vector<std::string> warnings;  // each to log as a warning

@@ -109,7 +109,7 @@ BindingInputs binding_inputs(const Document& doc) {
   CAGEWRAP_CHECK(doc.cage, "a binding's inputs need a cage");
   BindingInputs in;
   in.program = program_input();
-  in.character = doc.character_hash;
+  in.character = doc.character_hash + (doc.character_keep_units ? " keep-units" : "");
   const PolyMesh& cage = doc.cage->polygons;
   in.cage = Hasher().list(cage.face_start).list(cage.face_vertices).list(cage.positions).text();
   in.params = params_input(doc.params);
@@ -185,7 +185,7 @@ BindingInputs driver_binding_inputs(const Document& doc, size_t driver) {
   const DriverRef r = driver_at(doc, driver);
   BindingInputs in;
   in.program = program_input();
-  in.character = doc.character_hash;
+  in.character = doc.character_hash + (doc.character_keep_units ? " keep-units" : "");
   Hasher surface;
   surface.pod(r.driver->density).pod<uint64_t>(r.driver->rest.grids.size());
   for (const PatchGrid& g : r.driver->rest.grids) surface.pod(static_cast<uint8_t>(g.basis)).pod(g.rows).pod(g.cols).list(g.points);

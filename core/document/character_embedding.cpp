@@ -40,7 +40,7 @@ Result<Document> embed_character(const Document& doc) {
     return make_error(ErrorCode::kInvalidArgument,
                       path + ": cannot embed the character: the file changed since it was loaded (hash " + h +
                           ", loaded " + doc.character_hash + "); open the project again first");
-  if (auto loaded = load_character_bytes(*bytes, path); !loaded)
+  if (auto loaded = load_character_bytes(*bytes, path, {doc.character_keep_units}, path); !loaded)
     return make_error(loaded.error().code, "cannot embed the character: " + loaded.error().message);
   return with_embedded_character(doc, std::make_shared<const std::string>(std::move(bytes).value()));
 }

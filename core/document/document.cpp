@@ -21,8 +21,9 @@ uint64_t next_revision() {
   return ++counter;
 }
 
-Result<Document> document_from_files(const std::string& character_path, const std::string& cage_path) {
-  auto character = load_character(character_path);
+Result<Document> document_from_files(const std::string& character_path, const std::string& cage_path,
+                                     const CharacterLoadOptions& load) {
+  auto character = load_character(character_path, load);
   if (!character) return character.error();
   // a file with no vertex at all (animation only, or every primitive empty) has nothing to skin
   if (character->num_vertices() == 0)
@@ -34,6 +35,7 @@ Result<Document> document_from_files(const std::string& character_path, const st
   doc.character = std::make_shared<const Character>(std::move(character).value());
   doc.character_path = character_path;
   doc.character_hash = std::move(hash).value();
+  doc.character_keep_units = load.keep_units;
   if (!cage_path.empty()) {
     auto mesh = load_cage_mesh(cage_path);
     if (!mesh) return mesh.error();
@@ -258,6 +260,7 @@ Document layer_document(const Document& doc, size_t i) {
   out.character = doc.character;
   out.character_path = doc.character_path;
   out.character_hash = doc.character_hash;
+  out.character_keep_units = doc.character_keep_units;
   out.embedded_character = doc.embedded_character;
   out.cage = l.cage;
   out.params = l.params;
@@ -416,7 +419,8 @@ bool same_layers(std::span<const DeformerLayer> a, std::span<const DeformerLayer
 }  // namespace
 
 bool same_content(const Document& a, const Document& b) {
-  return a.character_hash == b.character_hash && !a.embedded_character == !b.embedded_character &&
+  return a.character_hash == b.character_hash && a.character_keep_units == b.character_keep_units &&
+         !a.embedded_character == !b.embedded_character &&
          a.cache_binding == b.cache_binding && same_cage(a.cage.get(), b.cage.get()) &&
          same_offsets(a.cage_offsets, b.cage_offsets) && same_params(a.params, b.params) &&
          same_set_edits(a.set_edits, b.set_edits) && a.attachment == b.attachment &&

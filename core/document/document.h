@@ -17,6 +17,7 @@
 
 #include "core/deform/binding.h"
 #include "core/cage/cage.h"
+#include "core/io/gltf_loader.h"
 #include "core/cage/cage_attachment.h"
 #include "core/cage/cage_sim.h"
 #include "core/character/character.h"
@@ -149,6 +150,9 @@ struct Document {
   std::shared_ptr<const Character> character;  // never null in a document made by the functions here
   std::string character_path;  // as given (command line, file dialog) or resolved from the project file
   std::string character_hash;  // "fnv1a64:<hex>" of the character file's bytes (core/base/file_hash.h)
+  // An FBX, Collada, ... character read in the file's own units and up axis (--keep-units) rather than brought to
+  // metres, Y up (CharacterLoadOptions::keep_units); saved in the project, so it opens the same way.
+  bool character_keep_units = false;
   // The character file's bytes when the project embeds the character (saved in the project file,
   // which then needs no other file to open; core/project_storage.h); null = the project names
   // character_path. character_path then tells where the file came from.
@@ -206,7 +210,8 @@ uint64_t next_revision();
 // A new document: the character (glTF, through load_character) and, unless `cage_path` is empty,
 // a cage (OBJ/PLY/OFF/STL through load_mesh + make_cage). Default binding parameters, no edits.
 // Errors name the file.
-Result<Document> document_from_files(const std::string& character_path, const std::string& cage_path);
+Result<Document> document_from_files(const std::string& character_path, const std::string& cage_path,
+                                     const CharacterLoadOptions& load = {});
 
 // Copy-on-write edits: each returns a new document with a fresh revision and leaves `doc` alone.
 // Same topology, new rest positions (#V x 3; must have exactly cage->num_vertices() entries and

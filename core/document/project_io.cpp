@@ -427,6 +427,7 @@ Result<std::string> project_text(const std::string& path, const Document& doc, c
     s += "  \"recovery\": " + one_line(r) + ",\n";
   }
   Json character = {{"path", relative_path(path, doc.character_path)}, {"hash", doc.character_hash}};
+  if (doc.character_keep_units) character["keep_units"] = true;
   if (doc.embedded_character) character["embedded"] = base64_encode(*doc.embedded_character);
   s += "  \"character\": " + one_line(character) + ",\n";
   auto fields = deformer_fields_text(path, doc);
@@ -1007,7 +1008,10 @@ Result<ProjectLoad> load(const std::string& path, const std::string& character_o
   std::string recorded = r.string(r.field(character, "character", "path"), "character.path");
   if (recorded.empty()) r.fail(ErrorCode::kParse, "character.path is empty");
   std::string recorded_hash = r.string(r.field(character, "character", "hash"), "character.hash");
-  warn_unknown(character, "character", {"path", "hash", "embedded"}, out.warnings, path);
+  warn_unknown(character, "character", {"path", "hash", "keep_units", "embedded"}, out.warnings, path);
+  CharacterLoadOptions load;
+  if (character.contains("keep_units")) load.keep_units = r.boolean(character["keep_units"], "character.keep_units");
+  doc.character_keep_units = load.keep_units;
   out.recovery = read_recovery(r, root);
   std::shared_ptr<const std::string> embedded;
   if (character.contains("embedded")) {
@@ -1041,7 +1045,7 @@ Result<ProjectLoad> load(const std::string& path, const std::string& character_o
   std::optional<Result<Character>> loaded_file;
   if (embedded) {
     const std::string name = fs::path(recorded).filename().string();
-    loaded_file.emplace(load_character_bytes(*embedded, path + ": the embedded character " + name));
+    loaded_file.emplace(load_character_bytes(*embedded, path + ": the embedded character " + name, load, recorded));
     if (*loaded_file) (*loaded_file)->source = name + " (embedded)";
   } else {
     if (!character_override.empty()) character_path = character_override;
@@ -1052,7 +1056,7 @@ Result<ProjectLoad> load(const std::string& path, const std::string& character_o
       return make_error(ErrorCode::kFileNotFound, path + ": character file " + character_path +
                                                       " not found; locate it (or move it back beside the project)");
     }
-    loaded_file.emplace(load_character(character_path));
+    loaded_file.emplace(load_character(character_path, load));
   }
   auto& loaded = *loaded_file;
   if (!loaded)

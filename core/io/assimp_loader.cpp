@@ -4,7 +4,12 @@
 #include <cctype>
 #include <cmath>
 #include <filesystem>
+#include <limits>
+#include <fstream>
 #include <map>
+#include <optional>
+#include <regex>
+#include <string_view>
 
 #include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
@@ -58,11 +63,34 @@ bool metadata(const aiScene* s, const char* key, T& out) {
 
 std::string axis_name(int axis, int sign) { return std::string(sign < 0 ? "-" : "+") + "XYZ"[std::clamp(axis, 0, 2)]; }
 
+// What a Collada file says of its units and up axis (<asset>: <unit meter="0.01"/>, <up_axis>Z_UP</up_axis>), which
+// assimp applies itself (the unit as a scale of the root node) and does not report: read from the file's head.
+struct ColladaAsset {
+  double metres = 1.0;
+  int up = 1;  // 0 X, 1 Y, 2 Z
+};
+
+ColladaAsset read_collada_asset(std::string_view head) {
+  ColladaAsset a;
+  static const std::regex kUnit(R"(<unit\b[^>]*\bmeter\s*=\s*["']\s*([0-9.eE+-]+)\s*["'])");
+  static const std::regex kUp(R"(<up_axis>\s*([XYZ])_UP\s*</up_axis>)");
+  std::match_results<std::string_view::const_iterator> m;
+  if (std::regex_search(head.begin(), head.end(), m, kUnit)) {
+    const double metres = std::strtod(m[1].str().c_str(), nullptr);
+    if (std::isfinite(metres) && metres > 0.0) a.metres = metres;
+  }
+  if (std::regex_search(head.begin(), head.end(), m, kUp)) a.up = m[1].str()[0] - 'X';
+  return a;
+}
+
 class Importer {
  public:
-  Importer(const aiScene* scene, const std::string& file) : s_(scene), file_(file) {}
+  // `collada`: the file is Collada, with that <asset> (assimp scaled its root node by the unit, which is undone
+  // here: lengths are brought to metres like every format's).
+  Importer(const aiScene* scene, const std::string& file, std::optional<ColladaAsset> collada)
+      : s_(scene), file_(file), collada_(collada) {}
 
-  Result<Character> run(const AssimpImportOptions& options, AssimpUnits* units_out) {
+  Result<Character> run(const CharacterLoadOptions& options, AssimpUnits* units_out) {
     Character c;
     c.source = file_;
     if (!s_->mRootNode) return make_error(ErrorCode::kParse, file_ + ": the file has no node hierarchy");
@@ -77,7 +105,13 @@ class Importer {
       SkeletonNode sn;
       sn.name = n->mName.C_Str();
       sn.parent = parent;
-      set_local(sn, n->mTransformation);
+      aiMatrix4x4 local = n->mTransformation;
+      if (n == s_->mRootNode && collada_ && collada_->metres != 1.0) {  // assimp's scale by the unit, undone
+        aiMatrix4x4 undo;
+        aiMatrix4x4::Scaling(aiVector3D(ai_real(1.0 / collada_->metres)), undo);
+        local = local * undo;
+      }
+      set_local(sn, local);
       nodes.push_back(sn);
       order.push_back(n);
       index_[n] = index;
@@ -93,6 +127,11 @@ class Importer {
     int32_t up = 1, up_sign = 1;
     metadata(s_, "UpAxis", up);
     metadata(s_, "UpAxisSign", up_sign);
+    if (collada_) {
+      units.metres_per_unit = collada_->metres;
+      up = collada_->up;
+      up_sign = 1;
+    }
     units.up_axis = axis_name(up, up_sign);
     glm::quat turn(1.0f, 0.0f, 0.0f, 0.0f);  // applied to the root nodes: the file's up to +Y
     if (!options.keep_units) {
@@ -119,6 +158,7 @@ class Importer {
     auto sk = Skeleton::create(nodes, file_);
     if (!sk) return sk.error();
     c.skeleton = std::move(sk).value();
+    rest_global_ = c.skeleton.global_transforms(c.skeleton.rest_pose());
     if (units.converted)
       c.warnings.push_back(file_ + ": brought to metres, Y up (the file: " + std::to_string(units.metres_per_unit) +
                            " m a unit, " + units.up_axis + " up); --keep-units leaves it as it is");
@@ -160,7 +200,13 @@ class Importer {
     }
     if (m->mNumAnimMeshes) warnings_.push_back(label + ": " + std::to_string(m->mNumAnimMeshes) + " morph targets are not imported");
     if (m->mNumBones) {
-      const int32_t skin = skin_of(c, mi, label);
+      // a skinned mesh's vertices are in its node's frame, which the bones' offset matrices start from: they are
+      // brought into the scene's frame at the node's rest transform (the offsets follow), so that the bind pose
+      // is where the skinning puts the skin, as in glTF
+      const glm::mat4& g = rest_global_[node];
+      if (g != glm::mat4(1.0f))
+        for (glm::vec3& x : p.positions) x = glm::vec3(g * glm::vec4(x, 1.0f));
+      const int32_t skin = skin_of(c, mi, node, label);
       p.skin = skin;
       const std::vector<int32_t>& joint_of_bone = joint_of_bone_[mi];
       std::vector<std::vector<std::pair<uint32_t, double>>> entries(m->mNumVertices);
@@ -176,8 +222,8 @@ class Importer {
         }
       }
       SkinWeightCleanup cleanup;
-      for (unsigned v = 0; v < m->mNumVertices; ++v) cleanup.add_vertex(v, std::move(entries[v]), p);
-      for (std::string& w : cleanup.take_warnings(label)) warnings_.push_back(std::move(w));
+      for (unsigned v = 0; v < m->mNumVertices; ++v) cleanup.add_vertex(v, entries[v], p);
+      for (std::string& w : cleanup.take_warnings(label, "skin " + std::to_string(skin) + " ('" + c.skins[size_t(skin)].name + "')")) warnings_.push_back(std::move(w));
     }
     c.primitives.push_back(std::move(p));
     return Ok{};
@@ -185,8 +231,9 @@ class Importer {
 
   // The skin of mesh mi (made once): its bones as joints, their offset matrices as inverse bind matrices. A bone
   // that names no node is left out with a warning (its weights go to the vertices' other bones).
-  int32_t skin_of(Character& c, unsigned mi, const std::string& label) {
-    if (auto it = skin_of_mesh_.find(mi); it != skin_of_mesh_.end()) return it->second;
+  int32_t skin_of(Character& c, unsigned mi, uint32_t node, const std::string& label) {
+    if (auto it = skin_of_mesh_.find({mi, node}); it != skin_of_mesh_.end()) return it->second;
+    const glm::mat4 to_mesh = glm::inverse(rest_global_[node]);
     const aiMesh* m = s_->mMeshes[mi];
     Skin skin;
     skin.name = m->mName.C_Str();
@@ -204,11 +251,11 @@ class Importer {
       skin.joints.push_back(it->second);
       glm::mat4 ibm = to_glm(bone->mOffsetMatrix);
       ibm[3] = glm::vec4(glm::vec3(ibm[3]) * scale_, 1.0f);  // lengths in metres; the linear part is scale-free
-      skin.inverse_bind.push_back(ibm);
+      skin.inverse_bind.push_back(ibm * to_mesh);
     }
     c.skins.push_back(std::move(skin));
     const int32_t index = int32_t(c.skins.size() - 1);
-    skin_of_mesh_[mi] = index;
+    skin_of_mesh_[{mi, node}] = index;
     return index;
   }
 
@@ -273,48 +320,86 @@ class Importer {
 
   const aiScene* s_;
   std::string file_;
+  std::optional<ColladaAsset> collada_;
   float scale_ = 1.0f;
   std::map<const aiNode*, uint32_t> index_;
   std::vector<int32_t> parent_;
   std::multimap<std::string, uint32_t> by_name_;
-  std::map<unsigned, int32_t> skin_of_mesh_;
+  std::vector<glm::mat4> rest_global_;  // the nodes' global transforms at rest
+  std::map<std::pair<unsigned, uint32_t>, int32_t> skin_of_mesh_;  // (mesh, the node instancing it)
   std::map<unsigned, std::vector<int32_t>> joint_of_bone_;
   std::vector<std::string> warnings_;
 };
 
 }  // namespace
 
-bool is_assimp_character(const std::string& path) {
-  const std::string ext = lower_extension(path);
-  for (const char* e : {".fbx", ".dae", ".x", ".b3d", ".ms3d", ".smd", ".md5mesh"})
-    if (ext == e) return true;
-  return false;
+const std::vector<std::string>& assimp_character_extensions() {
+  static const std::vector<std::string> kExtensions{".fbx", ".dae", ".x", ".b3d", ".ms3d", ".smd", ".md5mesh"};
+  return kExtensions;
 }
 
-Result<Character> load_character_assimp(const std::string& path, const AssimpImportOptions& options, AssimpUnits* units) {
-  std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) return make_error(ErrorCode::kFileNotFound, path + ": no such file");
-  if (std::filesystem::is_directory(path, ec)) return make_error(ErrorCode::kFileUnreadable, path + ": is a directory, not a character file");
+bool is_assimp_character(const std::string& path) {
+  const std::vector<std::string>& all = assimp_character_extensions();
+  return std::find(all.begin(), all.end(), lower_extension(path)) != all.end();
+}
+
+namespace {
+
+constexpr size_t kColladaHead = 1 << 16;  // where a Collada file's <asset> is looked for
+
+// Reads the scene with `read` (from a file or from memory) and imports it; `name` stands for the file.
+template <class Read>
+Result<Character> import_scene(const std::string& name, const std::optional<ColladaAsset>& collada, const CharacterLoadOptions& options,
+                               AssimpUnits* units, Read read) {
   Assimp::Importer importer;
   importer.SetPropertyBool(AI_CONFIG_IMPORT_FBX_PRESERVE_PIVOTS, false);  // pivots and pre-rotations folded into the nodes
   importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
-  if (options.keep_units) {
-    importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);
-  }
+  importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);  // turned here, as every format is
+  const unsigned flags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_SortByPType;
   const aiScene* scene = nullptr;
   try {
-    scene = importer.ReadFile(path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_SortByPType);
+    scene = read(importer, flags);
   } catch (const std::exception& e) {
-    return make_error(ErrorCode::kParse, path + ": the importer stopped: " + e.what());
+    return make_error(ErrorCode::kParse, name + ": the importer stopped: " + e.what());
   }
-  if (!scene) return make_error(ErrorCode::kParse, path + ": not a usable character file: " + importer.GetErrorString());
+  if (!scene) return make_error(ErrorCode::kParse, name + ": not a usable character file: " + importer.GetErrorString());
   if (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE)
-    return make_error(ErrorCode::kParse, path + ": the importer read it only in part (" + importer.GetErrorString() + ")");
+    return make_error(ErrorCode::kParse, name + ": the importer read it only in part (" + importer.GetErrorString() + ")");
   try {
-    return Importer(scene, path).run(options, units);
+    return Importer(scene, name, collada).run(options, units);
   } catch (const std::bad_alloc&) {
-    return make_error(ErrorCode::kParse, path + ": a size in it is too large to load");
+    return make_error(ErrorCode::kParse, name + ": a size in it is too large to load");
   }
+}
+
+}  // namespace
+
+Result<Character> load_character_assimp(const std::string& path, const CharacterLoadOptions& options, AssimpUnits* units) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) return make_error(ErrorCode::kFileNotFound, path + ": no such file");
+  if (std::filesystem::is_directory(path, ec)) return make_error(ErrorCode::kFileUnreadable, path + ": is a directory, not a character file");
+  std::optional<ColladaAsset> collada;
+  if (lower_extension(path) == ".dae") {
+    std::ifstream in(path, std::ios::binary);
+    std::string head(kColladaHead, '\0');
+    in.read(head.data(), std::streamsize(head.size()));
+    head.resize(size_t(std::max<std::streamsize>(0, in.gcount())));
+    collada = read_collada_asset(head);
+  }
+  return import_scene(path, collada, options, units,
+                      [&](Assimp::Importer& importer, unsigned flags) { return importer.ReadFile(path, flags); });
+}
+
+Result<Character> load_character_assimp_bytes(const std::string& bytes, const std::string& name, const std::string& file_name,
+                                              const CharacterLoadOptions& options, AssimpUnits* units) {
+  if (bytes.empty()) return make_error(ErrorCode::kEmpty, name + ": is empty");
+  if (bytes.size() > std::numeric_limits<unsigned int>::max()) return make_error(ErrorCode::kFileUnreadable, name + ": is larger than 4 GiB");
+  const std::string ext = lower_extension(file_name), hint = ext.empty() ? ext : ext.substr(1);
+  std::optional<ColladaAsset> collada;
+  if (hint == "dae") collada = read_collada_asset(std::string_view(bytes).substr(0, kColladaHead));
+  return import_scene(name, collada, options, units, [&](Assimp::Importer& importer, unsigned flags) {
+    return importer.ReadFileFromMemory(bytes.data(), bytes.size(), flags, hint.c_str());
+  });
 }
 
 }  // namespace cagewrap

@@ -12,19 +12,18 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "core/base/result.h"
 #include "core/character/character.h"
+#include "core/io/gltf_loader.h"
 
 namespace cagewrap {
 
-// Whether `path`'s extension is one load_character_assimp reads (.fbx, .dae, .x, .b3d, .ms3d, .smd, .md5mesh;
-// any case).
+// The extensions load_character_assimp reads (lower case, with the dot): .fbx .dae .x .b3d .ms3d .smd .md5mesh.
+const std::vector<std::string>& assimp_character_extensions();
+// Whether `path`'s extension is one of them (any case).
 bool is_assimp_character(const std::string& path);
-
-struct AssimpImportOptions {
-  bool keep_units = false;  // leave the file's units and up axis as they are
-};
 
 // What the import found and did about units and axes (also written to Character::warnings as a note).
 struct AssimpUnits {
@@ -33,7 +32,13 @@ struct AssimpUnits {
   bool converted = false;        // brought to metres, Y up
 };
 
-Result<Character> load_character_assimp(const std::string& path, const AssimpImportOptions& options = {},
+// Errors name the file and pass on the importer's own message.
+Result<Character> load_character_assimp(const std::string& path, const CharacterLoadOptions& options = {},
                                         AssimpUnits* units = nullptr);
+// The same from the file's bytes in memory (a project's embedded character): `name` stands for the file in
+// messages, `file_name`'s extension tells the format. A format that reads other files (.md5mesh's .md5anim)
+// finds none.
+Result<Character> load_character_assimp_bytes(const std::string& bytes, const std::string& name, const std::string& file_name,
+                                              const CharacterLoadOptions& options = {}, AssimpUnits* units = nullptr);
 
 }  // namespace cagewrap

@@ -8,6 +8,7 @@
 
 #include "core/io/gltf_loader.h"
 #include "core/io/assimp_loader.h"
+#include "core/io/skin_weights.h"
 #include "core/base/digits.h"
 
 #include <algorithm>
@@ -316,13 +317,6 @@ std::string first_lines(std::string s) {
   return s;
 }
 
-// Per-primitive counts of the weight problems cleaned up, each with a first example vertex.
-struct WeightIssues {
-  size_t renormalized = 0, zero_listed = 0, duplicates = 0, unweighted = 0, negative = 0;
-  size_t renormalized_v = 0, zero_v = 0, dup_v = 0, unweighted_v = 0, negative_v = 0;
-  double renormalized_sum = 0;
-};
-
 class Importer {
  public:
   Importer(const tinygltf::Model& model, const std::string& file) : m_(model), file_(file), reader_(model, file) {}
@@ -585,83 +579,26 @@ class Importer {
       weights.push_back(std::move(w).value());
     }
     const size_t nj = skin.joints.size();
-    WeightIssues is;
+    SkinWeightCleanup cleanup;
     prim.influence_start.assign(1, 0);
     prim.influence_start.reserve(nv + 1);
     std::vector<std::pair<uint32_t, double>> entries;
     for (size_t v = 0; v < nv; ++v) {
       entries.clear();
-      bool zero = false, negative = false;
       for (size_t set = 0; set < joints.size(); ++set) {
         for (int k = 0; k < 4; ++k) {
-          double j = joints[set][v * 4 + k], w = weights[set][v * 4 + k];
-          if (w < 0) {
-            negative = true;
-            continue;
-          }
-          if (w == 0) {
-            if (j != 0) zero = true;  // joint 0 with weight 0 is the usual padding, not a problem
-            continue;
-          }
-          if (j >= double(nj))  // (JOINTS of a signed component type were refused when read)
+          const double j = joints[set][v * 4 + k], w = weights[set][v * 4 + k];
+          if (w > 0 && j >= double(nj))  // (JOINTS of a signed component type were refused when read)
             return fail(ErrorCode::kIndexOutOfRange,
                         label + " vertex " + std::to_string(v) + ": JOINTS_" + std::to_string(set) + " lists joint " +
                             std::to_string(uint64_t(j)) + ", but " + named("skin", skin_index, skin.name) + " has " +
                             std::to_string(nj) + " joints");
-          entries.emplace_back(static_cast<uint32_t>(j), w);
+          entries.emplace_back(static_cast<uint32_t>(std::min(j, double(UINT32_MAX))), w);
         }
       }
-      std::sort(entries.begin(), entries.end());
-      size_t before = entries.size();
-      size_t out = 0;
-      for (size_t k = 0; k < entries.size(); ++k) {
-        if (out > 0 && entries[out - 1].first == entries[k].first)
-          entries[out - 1].second += entries[k].second;
-        else
-          entries[out++] = entries[k];
-      }
-      entries.resize(out);
-      if (out < before && is.duplicates++ == 0) is.dup_v = v;
-      if (zero && is.zero_listed++ == 0) is.zero_v = v;
-      if (negative && is.negative++ == 0) is.negative_v = v;
-      double sum = 0;
-      for (auto& e : entries) sum += e.second;
-      if (entries.empty()) {
-        if (is.unweighted++ == 0) is.unweighted_v = v;
-        entries.emplace_back(0u, 1.0);
-        sum = 1.0;
-      } else if (std::abs(sum - 1.0) > kWeightSumTolerance) {
-        if (is.renormalized++ == 0) {
-          is.renormalized_v = v;
-          is.renormalized_sum = sum;
-        }
-      }
-      std::sort(entries.begin(), entries.end(),
-                [](const auto& a, const auto& b) { return a.second != b.second ? a.second > b.second : a.first < b.first; });
-      for (auto& e : entries) {
-        prim.influence_joint.push_back(static_cast<uint16_t>(e.first));
-        prim.influence_weight.push_back(static_cast<float>(e.second / sum));
-      }
-      prim.influence_start.push_back(static_cast<uint32_t>(prim.influence_joint.size()));
+      cleanup.add_vertex(v, entries, prim);
     }
-    if (is.renormalized)
-      warn(c, label + ": " + std::to_string(is.renormalized) + " vertices have weights that do not sum to one (e.g. "
-                                                                "vertex " + std::to_string(is.renormalized_v) +
-                  " sums to " + std::to_string(is.renormalized_sum) + "); renormalized");
-    if (is.zero_listed)
-      warn(c, label + ": " + std::to_string(is.zero_listed) + " vertices list joints with zero weight (e.g. vertex " +
-                  std::to_string(is.zero_v) + "); ignored");
-    if (is.duplicates)
-      warn(c, label + ": " + std::to_string(is.duplicates) + " vertices list the same joint more than once (e.g. "
-                                                             "vertex " + std::to_string(is.dup_v) +
-                  "); their weights were merged");
-    if (is.negative)
-      warn(c, label + ": " + std::to_string(is.negative) + " vertices have negative weights (e.g. vertex " +
-                  std::to_string(is.negative_v) + "); ignored");
-    if (is.unweighted)
-      warn(c, label + ": " + std::to_string(is.unweighted) + " vertices have no non-zero weight (e.g. vertex " +
-                  std::to_string(is.unweighted_v) + "); bound fully to joint 0 of " +
-                  named("skin", skin_index, skin.name));
+    for (const std::string& w : cleanup.take_warnings(label, named("skin", skin_index, skin.name))) warn(c, w);
     return Ok{};
   }
 
@@ -781,7 +718,6 @@ class Importer {
     return Ok{};
   }
 
-  static constexpr double kWeightSumTolerance = 2e-3;  // normalized 8-bit weights round to 1/255 each
 
   const tinygltf::Model& m_;
   const std::string& file_;
@@ -832,8 +768,20 @@ Result<Character> import_parsed(bool ok, const tinygltf::Model& model, const std
 
 }  // namespace
 
-Result<Character> load_character(const std::string& path) {
-  if (is_assimp_character(path)) return load_character_assimp(path);
+std::vector<std::string> character_extensions() {
+  std::vector<std::string> out{".glb", ".gltf"};
+  out.insert(out.end(), assimp_character_extensions().begin(), assimp_character_extensions().end());
+  return out;
+}
+
+bool is_character_file(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& ch : ext) ch = char(std::tolower(static_cast<unsigned char>(ch)));
+  return ext == ".glb" || ext == ".gltf" || is_assimp_character(path);
+}
+
+Result<Character> load_character(const std::string& path, const CharacterLoadOptions& options) {
+  if (is_assimp_character(path)) return load_character_assimp(path, options);
   std::error_code ec;
   if (!std::filesystem::exists(path, ec))
     return make_error(ErrorCode::kFileNotFound, path + ": no such file");
@@ -859,8 +807,10 @@ Result<Character> load_character(const std::string& path) {
   return import_parsed(ok, model, err, warn, path, ok ? std::string() : read_whole_file(path), binary, &dir);
 }
 
-Result<Character> load_character_bytes(const std::string& bytes, const std::string& name) {
+Result<Character> load_character_bytes(const std::string& bytes, const std::string& name, const CharacterLoadOptions& options,
+                                       const std::string& file_name) {
   if (bytes.empty()) return make_error(ErrorCode::kEmpty, name + ": is empty");
+  if (is_assimp_character(file_name)) return load_character_assimp_bytes(bytes, name, file_name, options);
   if (bytes.size() > std::numeric_limits<unsigned int>::max())
     return make_error(ErrorCode::kFileUnreadable, name + ": is larger than 4 GiB");
   const bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;

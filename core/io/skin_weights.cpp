@@ -5,7 +5,7 @@
 
 namespace cagewrap {
 
-void SkinWeightCleanup::add_vertex(size_t v, std::vector<std::pair<uint32_t, double>> entries, Primitive& prim) {
+void SkinWeightCleanup::add_vertex(size_t v, const std::vector<std::pair<uint32_t, double>>& entries, Primitive& prim) {
   bool zero = false, negative = false;
   std::vector<std::pair<uint32_t, double>> kept;
   for (const auto& e : entries) {
@@ -47,7 +47,7 @@ void SkinWeightCleanup::add_vertex(size_t v, std::vector<std::pair<uint32_t, dou
   prim.influence_start.push_back(static_cast<uint32_t>(prim.influence_joint.size()));
 }
 
-std::vector<std::string> SkinWeightCleanup::take_warnings(const std::string& label) {
+std::vector<std::string> SkinWeightCleanup::take_warnings(const std::string& label, const std::string& skin) {
   std::vector<std::string> w;
   auto n = [](size_t k) { return std::to_string(k); };
   if (renormalized_)
@@ -61,8 +61,8 @@ std::vector<std::string> SkinWeightCleanup::take_warnings(const std::string& lab
   if (negative_)
     w.push_back(label + ": " + n(negative_) + " vertices have negative weights (e.g. vertex " + n(negative_v_) + "); ignored");
   if (unweighted_)
-    w.push_back(label + ": " + n(unweighted_) + " vertices have no joint weight (e.g. vertex " + n(unweighted_v_) +
-                "); bound to the skin's first joint");
+    w.push_back(label + ": " + n(unweighted_) + " vertices have no non-zero weight (e.g. vertex " + n(unweighted_v_) +
+                "); bound fully to joint 0 of " + skin);
   *this = SkinWeightCleanup{};
   return w;
 }

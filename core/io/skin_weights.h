@@ -19,10 +19,10 @@ class SkinWeightCleanup {
   static constexpr double kSumTolerance = 2e-3;
 
   // Appends vertex v's influences (joint, weight) to prim's CSR arrays, cleaned, largest first.
-  void add_vertex(size_t v, std::vector<std::pair<uint32_t, double>> entries, Primitive& prim);
+  void add_vertex(size_t v, const std::vector<std::pair<uint32_t, double>>& entries, Primitive& prim);
   // One line per kind of problem seen ("LABEL: 12 vertices have weights that do not sum to one (e.g. vertex 4
-  // sums to 0.8); renormalized"), then counts reset.
-  std::vector<std::string> take_warnings(const std::string& label);
+  // sums to 0.8); renormalized"), then counts reset. `skin` names the skin a weightless vertex is bound to.
+  std::vector<std::string> take_warnings(const std::string& label, const std::string& skin);
 
  private:
   size_t renormalized_ = 0, zero_ = 0, duplicates_ = 0, unweighted_ = 0, negative_ = 0;
