@@ -281,6 +281,20 @@ TEST(AssimpLoader, ConvertedBindPoseAgreesWithTheRestSkinning) {
   EXPECT_LE(worst, 1e-4 * glm::length(hi - lo));
 }
 
+// A character's meshes bound together share one skin, as a glTF character's do (the cage follows one skin): the
+// torso, head and legs of BCN_Epileptic.X, whose bones are disjoint; the skinning is still assimp's (the test above).
+TEST(AssimpLoader, MeshesBoundTogetherShareOneSkin) {
+  const std::string path = models_dir() + "/X/BCN_Epileptic.X";
+  if (!fs::exists(path)) GTEST_SKIP() << path << " is absent: install assimp-testmodels (scripts/setup.sh)";
+  auto c = load_character(path);
+  ASSERT_TRUE(c.ok()) << c.error().message;
+  ASSERT_EQ(c->primitives.size(), 3u);
+  EXPECT_EQ(c->skins.size(), 1u);
+  for (const Primitive& p : c->primitives) EXPECT_EQ(p.skin, 0) << p.mesh_name;
+  EXPECT_EQ(c->skins[0].joints.size(), c->skins[0].inverse_bind.size());
+  for (const std::string& w : c->warnings) EXPECT_EQ(w.find("another pose"), std::string::npos) << w;
+}
+
 // A character read from memory (a project's embedded FBX) is the one read from the file.
 TEST(AssimpLoader, BytesInMemoryReadAsTheFile) {
   const std::string path = models_dir() + "/X/Testwuson.X";

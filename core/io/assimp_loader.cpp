@@ -203,12 +203,13 @@ class Importer {
       // a skinned mesh's vertices are in its node's frame, which the bones' offset matrices start from: they are
       // brought into the scene's frame at the node's rest transform (the offsets follow), so that the bind pose
       // is where the skinning puts the skin, as in glTF
-      const glm::mat4& g = rest_global_[node];
+      glm::mat4 to_skin;
+      const int32_t skin = skin_of(c, mi, node, label, to_skin);
+      const glm::mat4 g = to_skin * rest_global_[node];
       if (g != glm::mat4(1.0f))
         for (glm::vec3& x : p.positions) x = glm::vec3(g * glm::vec4(x, 1.0f));
-      const int32_t skin = skin_of(c, mi, node, label);
       p.skin = skin;
-      const std::vector<int32_t>& joint_of_bone = joint_of_bone_[mi];
+      const std::vector<int32_t>& joint_of_bone = joint_of_bone_[{mi, node}];
       std::vector<std::vector<std::pair<uint32_t, double>>> entries(m->mNumVertices);
       for (unsigned b = 0; b < m->mNumBones; ++b) {
         const aiBone* bone = m->mBones[b];
@@ -229,16 +230,24 @@ class Importer {
     return Ok{};
   }
 
-  // The skin of mesh mi (made once): its bones as joints, their offset matrices as inverse bind matrices. A bone
-  // that names no node is left out with a warning (its weights go to the vertices' other bones).
-  int32_t skin_of(Character& c, unsigned mi, uint32_t node, const std::string& label) {
-    if (auto it = skin_of_mesh_.find({mi, node}); it != skin_of_mesh_.end()) return it->second;
+  // The skin of mesh mi instanced at `node` (made once), and the transform `to_skin` its vertices (in the scene's
+  // frame) take into that skin's bind pose. Every mesh whose bones were bound in one pose shares one skin, as a
+  // glTF character's meshes do (the cage follows one skin): a mesh bound with the same skeleton pose in another
+  // frame (its offsets differ from the skin's by one transform for every shared bone) is moved into the skin's
+  // frame; a mesh bound in another pose of the skeleton keeps its own skin, with a warning. A bone's offset
+  // matrix is its inverse bind matrix; a bone that names no node is left out with a warning (its weights go to
+  // the vertices' other bones).
+  int32_t skin_of(Character& c, unsigned mi, uint32_t node, const std::string& label, glm::mat4& to_skin) {
+    if (auto it = skin_of_mesh_.find({mi, node}); it != skin_of_mesh_.end()) {
+      to_skin = it->second.second;
+      return it->second.first;
+    }
     const glm::mat4 to_mesh = glm::inverse(rest_global_[node]);
     const aiMesh* m = s_->mMeshes[mi];
-    Skin skin;
-    skin.name = m->mName.C_Str();
-    std::vector<int32_t>& joint_of_bone = joint_of_bone_[mi];
+    std::vector<int32_t>& joint_of_bone = joint_of_bone_[{mi, node}];
     joint_of_bone.assign(m->mNumBones, -1);
+    std::vector<std::pair<uint32_t, glm::mat4>> bones;  // (node, inverse bind in the scene's frame)
+    std::vector<unsigned> bone_index;
     for (unsigned b = 0; b < m->mNumBones; ++b) {
       const aiBone* bone = m->mBones[b];
       auto it = by_name_.find(bone->mName.C_Str());
@@ -247,16 +256,63 @@ class Importer {
                             std::to_string(bone->mNumWeights) + " weights are left out");
         continue;
       }
-      joint_of_bone[b] = int32_t(skin.joints.size());
-      skin.joints.push_back(it->second);
       glm::mat4 ibm = to_glm(bone->mOffsetMatrix);
       ibm[3] = glm::vec4(glm::vec3(ibm[3]) * scale_, 1.0f);  // lengths in metres; the linear part is scale-free
-      skin.inverse_bind.push_back(ibm * to_mesh);
+      bones.emplace_back(it->second, ibm * to_mesh);
+      bone_index.push_back(b);
     }
-    c.skins.push_back(std::move(skin));
-    const int32_t index = int32_t(c.skins.size() - 1);
-    skin_of_mesh_[{mi, node}] = index;
+    // the first skin made whose bind pose this mesh shares
+    int32_t index = -1;
+    to_skin = glm::mat4(1.0f);
+    for (size_t k = 0; k < c.skins.size() && index < 0; ++k) {
+      const Skin& skin = c.skins[k];
+      std::optional<glm::mat4> found;  // inverse(skin's IBM) * this mesh's IBM, the same for every shared bone
+      bool agrees = true;
+      for (const auto& [joint_node, ibm] : bones) {
+        const auto at = std::find(skin.joints.begin(), skin.joints.end(), joint_node);
+        if (at == skin.joints.end()) continue;
+        const glm::mat4 offset = glm::inverse(skin.inverse_bind[size_t(at - skin.joints.begin())]) * ibm;
+        if (!found) found = offset;
+        else if (!close(*found, offset)) agrees = false;
+      }
+      if (agrees) {  // (sharing no bone: both bound in the scene's frame, as tools bind a character's meshes)
+        index = int32_t(k);
+        to_skin = found ? *found : glm::mat4(1.0f);
+      }
+    }
+    if (index < 0) {
+      if (!c.skins.empty())
+        warnings_.push_back(label + ": its bones were bound in another pose than skin 0's meshes; it keeps its own skin " +
+                            std::to_string(c.skins.size()) + ", which the cage does not follow");
+      Skin skin;
+      skin.name = m->mName.C_Str();
+      c.skins.push_back(std::move(skin));
+      index = int32_t(c.skins.size() - 1);
+    }
+    Skin& skin = c.skins[size_t(index)];
+    const glm::mat4 from_skin = glm::inverse(to_skin);
+    for (size_t k = 0; k < bones.size(); ++k) {
+      const auto at = std::find(skin.joints.begin(), skin.joints.end(), bones[k].first);
+      if (at != skin.joints.end()) {
+        joint_of_bone[bone_index[k]] = int32_t(at - skin.joints.begin());
+        continue;
+      }
+      joint_of_bone[bone_index[k]] = int32_t(skin.joints.size());
+      skin.joints.push_back(bones[k].first);
+      skin.inverse_bind.push_back(bones[k].second * from_skin);
+    }
+    skin_of_mesh_[{mi, node}] = {index, to_skin};
     return index;
+  }
+
+  // Two transforms equal within float rounding of the scene's size.
+  static bool close(const glm::mat4& a, const glm::mat4& b) {
+    float size = 1.0f;
+    for (int r = 0; r < 3; ++r) size = std::max({size, std::abs(a[3][r]), std::abs(b[3][r])});
+    for (int col = 0; col < 4; ++col)
+      for (int r = 0; r < 3; ++r)
+        if (std::abs(a[col][r] - b[col][r]) > (col == 3 ? 1e-4f * size : 1e-4f)) return false;
+    return true;
   }
 
   std::vector<Clip> build_clips(const glm::quat& turn) {
@@ -326,8 +382,9 @@ class Importer {
   std::vector<int32_t> parent_;
   std::multimap<std::string, uint32_t> by_name_;
   std::vector<glm::mat4> rest_global_;  // the nodes' global transforms at rest
-  std::map<std::pair<unsigned, uint32_t>, int32_t> skin_of_mesh_;  // (mesh, the node instancing it)
-  std::map<unsigned, std::vector<int32_t>> joint_of_bone_;
+  // by (mesh, the node instancing it): its skin and the transform into that skin's bind pose; each bone's joint
+  std::map<std::pair<unsigned, uint32_t>, std::pair<int32_t, glm::mat4>> skin_of_mesh_;
+  std::map<std::pair<unsigned, uint32_t>, std::vector<int32_t>> joint_of_bone_;
   std::vector<std::string> warnings_;
 };
 
