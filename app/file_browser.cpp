@@ -198,7 +198,7 @@ int FileBrowser::draw_entries() {
   const auto& entries = model_.entries();
   int activated = -1;
   const float footer =
-      ImGui::GetFrameHeightWithSpacing() * (info.save ? 3.0f : 2.0f) + ImGui::GetStyle().ItemSpacing.y;
+      ImGui::GetFrameHeightWithSpacing() * (info.save || shows_keep_units(purpose_) ? 3.0f : 2.0f) + ImGui::GetStyle().ItemSpacing.y;
   const ImGuiTableFlags flags = ImGuiTableFlags_ScrollY | ImGuiTableFlags_RowBg |
                                 ImGuiTableFlags_BordersOuter | ImGuiTableFlags_BordersV |
                                 ImGuiTableFlags_Resizable;

@@ -295,6 +295,24 @@ TEST(AssimpLoader, MeshesBoundTogetherShareOneSkin) {
   for (const std::string& w : c->warnings) EXPECT_EQ(w.find("another pose"), std::string::npos) << w;
 }
 
+// A file on which Open Asset Import itself crashes (an MD5 mesh fuzz_assimp made from SimpleCube.md5mesh) is an
+// error naming the file and the crash: the importer runs in a child process, and this one carries on.
+TEST(AssimpLoader, AFileThatCrashesTheImporterIsAnError) {
+  const fs::path input = fs::path(CAGEWRAP_SOURCE_DIR) / "tests/fuzz/corpus/assimp/md5-that-crashes-assimp";
+  ASSERT_TRUE(fs::exists(input)) << input;
+  const fs::path dir = fs::temp_directory_path() / "cagewrap_assimp_crash";
+  fs::create_directories(dir);
+  const std::string path = (dir / "cut.md5mesh").string();
+  fs::copy_file(input, path, fs::copy_options::overwrite_existing);
+  auto r = load_character(path);
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error().message.rfind(path + ": ", 0), 0u) << r.error().message;
+  EXPECT_NE(r.error().message.find("crashed"), std::string::npos) << r.error().message;
+  // and the next file reads as usual
+  const std::string good = models_dir() + "/X/Testwuson.X";
+  if (fs::exists(good)) EXPECT_TRUE(load_character(good).ok());
+}
+
 // A character read from memory (a project's embedded FBX) is the one read from the file.
 TEST(AssimpLoader, BytesInMemoryReadAsTheFile) {
   const std::string path = models_dir() + "/X/Testwuson.X";

@@ -54,6 +54,25 @@ TEST(GltfWriter, RoundTripKeepsEverythingTheLoaderReads) {
   EXPECT_EQ(encode_glb(c), encode_glb(c));
 }
 
+// An inverse bind matrix whose last row a product rounded off (0.99999994) is written affine, as glTF requires.
+TEST(GltfWriter, InverseBindMatricesAreWrittenAffine) {
+  Character c = sample_character();
+  ASSERT_FALSE(c.skins.empty());
+  ASSERT_FALSE(c.skins[0].inverse_bind.empty());
+  c.skins[0].inverse_bind[0][3][3] = 0.99999994f;
+  c.skins[0].inverse_bind[0][0][3] = 1e-9f;
+  auto dir = test::temp_dir("writer_affine");
+  ASSERT_TRUE(write_glb(dir + "/affine.glb", c).ok());
+  auto r = load_character(dir + "/affine.glb");
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  for (const glm::mat4& m : r->skins[0].inverse_bind) {
+    EXPECT_EQ(m[0][3], 0.0f);
+    EXPECT_EQ(m[1][3], 0.0f);
+    EXPECT_EQ(m[2][3], 0.0f);
+    EXPECT_EQ(m[3][3], 1.0f);
+  }
+}
+
 // The largest distance between the skinned positions of two characters at the clip's times.
 float largest_gap(const Character& a, const Character& b) {
   float gap = 0.0f;

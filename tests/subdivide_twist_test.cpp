@@ -288,7 +288,7 @@ TEST(Twist, PositiveAngleIsRightHanded) {
   EXPECT_NEAR(q.z, 0, 1e-12);
 }
 
-std::string write_text(const std::string& name, const std::string& text) {
+std::string write_twist_text(const std::string& name, const std::string& text) {
   fs::path p = fs::temp_directory_path() / ("cagewrap-twist-" + std::to_string(::getpid()) + "-" + name);
   std::ofstream(p) << text;
   return p.string();
@@ -320,21 +320,21 @@ TEST(Twist, LoadErrorsNameTheFile) {
   const std::string missing = (fs::temp_directory_path() / "cagewrap-no-such-inputs.json").string();
   EXPECT_TRUE(Fails(load_twist(missing), ErrorCode::kFileNotFound, {missing}));
 
-  const std::string no_twist = write_text("no_twist.json", R"({"base": {"verts": 3}})");
+  const std::string no_twist = write_twist_text("no_twist.json", R"({"base": {"verts": 3}})");
   EXPECT_TRUE(Fails(load_twist(no_twist), ErrorCode::kParse, {no_twist, "twist"}));
 
-  const std::string no_hi = write_text("no_hi.json", R"({"twist": {"axis": 1, "center": [0, 0, 0], "lo": 0, "twist_deg": 60}})");
+  const std::string no_hi = write_twist_text("no_hi.json", R"({"twist": {"axis": 1, "center": [0, 0, 0], "lo": 0, "twist_deg": 60}})");
   EXPECT_TRUE(Fails(load_twist(no_hi), ErrorCode::kParse, {no_hi, "hi"}));
 
   const std::string bad_axis =
-      write_text("bad_axis.json", R"({"twist": {"axis": 3, "center": [0, 0, 0], "lo": 0, "hi": 1, "twist_deg": 60}})");
+      write_twist_text("bad_axis.json", R"({"twist": {"axis": 3, "center": [0, 0, 0], "lo": 0, "hi": 1, "twist_deg": 60}})");
   EXPECT_TRUE(Fails(load_twist(bad_axis), ErrorCode::kParse, {bad_axis, "axis"}));
 
   const std::string empty_range =
-      write_text("empty_range.json", R"({"twist": {"axis": 0, "center": [0, 0, 0], "lo": 1, "hi": 1, "twist_deg": 60}})");
+      write_twist_text("empty_range.json", R"({"twist": {"axis": 0, "center": [0, 0, 0], "lo": 1, "hi": 1, "twist_deg": 60}})");
   EXPECT_TRUE(Fails(load_twist(empty_range), ErrorCode::kParse, {empty_range, "lo, hi"}));
 
-  const std::string not_json = write_text("not_json.json", "twist: yes\n");
+  const std::string not_json = write_twist_text("not_json.json", "twist: yes\n");
   EXPECT_TRUE(Fails(load_twist(not_json), ErrorCode::kParse, {not_json}));
 
   for (const auto& p : {no_twist, no_hi, bad_axis, empty_range, not_json}) fs::remove(p);

@@ -2,7 +2,17 @@
 
 #include <algorithm>
 #include <cctype>
+#include <poll.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <chrono>
+#include <cstdlib>
 #include <cmath>
+#include <cstring>
+#include <cstdio>
 #include <filesystem>
 #include <limits>
 #include <fstream>
@@ -17,6 +27,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 
+#include "core/io/gltf_writer.h"
 #include "core/io/skin_weights.h"
 
 namespace cagewrap {
@@ -59,6 +70,12 @@ void set_local(SkeletonNode& n, const aiMatrix4x4& m) {
 template <class T>
 bool metadata(const aiScene* s, const char* key, T& out) {
   return s->mMetaData && s->mMetaData->Get(key, out);
+}
+
+std::string short_number(double x) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", x);
+  return text;
 }
 
 std::string axis_name(int axis, int sign) { return std::string(sign < 0 ? "-" : "+") + "XYZ"[std::clamp(axis, 0, 2)]; }
@@ -112,6 +129,7 @@ class Importer {
         local = local * undo;
       }
       set_local(sn, local);
+      if (sn.has_matrix && animated(sn.name)) sn.has_matrix = false;  // an animated node is TRS (its keys replace it)
       nodes.push_back(sn);
       order.push_back(n);
       index_[n] = index;
@@ -160,15 +178,20 @@ class Importer {
     c.skeleton = std::move(sk).value();
     rest_global_ = c.skeleton.global_transforms(c.skeleton.rest_pose());
     if (units.converted)
-      c.warnings.push_back(file_ + ": brought to metres, Y up (the file: " + std::to_string(units.metres_per_unit) +
-                           " m a unit, " + units.up_axis + " up); --keep-units leaves it as it is");
-    // meshes, one primitive per (mesh, instancing node)
+      c.warnings.push_back(file_ + ": brought to metres, Y up (the file: " + short_number(units.metres_per_unit) + " m a unit, " +
+                           units.up_axis + " up); --keep-units leaves it as it is");
+    // meshes, one primitive per (assimp mesh, instancing node); the primitives of one node form one mesh, as a
+    // glTF node holds one mesh (the node's index is the mesh's)
     for (size_t k = 0; k < order.size(); ++k)
       for (unsigned m = 0; m < order[k]->mNumMeshes; ++m) {
         const unsigned mi = order[k]->mMeshes[m];
         if (mi >= s_->mNumMeshes) continue;
         if (auto st = add_mesh(c, mi, uint32_t(k)); !st) return st.error();
       }
+    for (size_t k = 0, mesh = 0; k < c.primitives.size(); ++k) {
+      if (k > 0 && c.primitives[k].node != c.primitives[k - 1].node) ++mesh;
+      c.primitives[k].mesh = uint32_t(mesh);
+    }
     if (c.primitives.empty()) return make_error(ErrorCode::kEmpty, file_ + ": the file has no triangle mesh");
     for (const SkeletonNode& n : nodes) parent_.push_back(n.parent);
     c.clips = build_clips(turn);
@@ -184,7 +207,6 @@ class Importer {
     if (!(m->mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) return Ok{};  // points and lines
     Primitive p;
     p.mesh_name = m->mName.C_Str();
-    p.mesh = mi;
     p.node = node;
     p.positions.reserve(m->mNumVertices);
     for (unsigned v = 0; v < m->mNumVertices; ++v) p.positions.emplace_back(m->mVertices[v].x * scale_, m->mVertices[v].y * scale_, m->mVertices[v].z * scale_);
@@ -299,7 +321,10 @@ class Importer {
       }
       joint_of_bone[bone_index[k]] = int32_t(skin.joints.size());
       skin.joints.push_back(bones[k].first);
-      skin.inverse_bind.push_back(bones[k].second * from_skin);
+      glm::mat4 ibm = bones[k].second * from_skin;
+      ibm[0][3] = ibm[1][3] = ibm[2][3] = 0.0f;  // affine: the products round its last row off (0, 0, 0, 1)
+      ibm[3][3] = 1.0f;
+      skin.inverse_bind.push_back(ibm);
     }
     skin_of_mesh_[{mi, node}] = {index, to_skin};
     return index;
@@ -367,6 +392,13 @@ class Importer {
     return clips;
   }
 
+  bool animated(const std::string& node) const {
+    for (unsigned a = 0; a < s_->mNumAnimations; ++a)
+      for (unsigned ci = 0; ci < s_->mAnimations[a]->mNumChannels; ++ci)
+        if (node == s_->mAnimations[a]->mChannels[ci]->mNodeName.C_Str()) return true;
+    return false;
+  }
+
   // Keys at increasing times only (a repeated or earlier key is dropped).
   static bool push_time(AnimationSampler& s, double t) {
     if (!std::isfinite(t) || (!s.times.empty() && float(t) <= s.times.back())) return false;
@@ -429,6 +461,166 @@ Result<Character> import_scene(const std::string& name, const std::optional<Coll
   }
 }
 
+
+// ---- the importer in a child process
+//
+// Open Asset Import is not robust against malformed files: its readers crash on some (an MD5 file cut short,
+// found by fuzz_assimp within a hundred inputs). A crash must not take the editor and its unsaved work down,
+// so the import runs in a child process (fork) that sends the character back to this one as a .glb (the
+// project's own writer and reader, which keep everything the loader fills) with its warnings and units; a
+// child that crashes, is killed or does not answer becomes an error naming the file and the signal.
+
+void put_u64(std::string& out, uint64_t v) { out.append(reinterpret_cast<const char*>(&v), sizeof v); }
+void put_text(std::string& out, std::string_view text) {
+  put_u64(out, text.size());
+  out.append(text);
+}
+bool get_u64(std::string_view& in, uint64_t& v) {
+  if (in.size() < sizeof v) return false;
+  std::memcpy(&v, in.data(), sizeof v);
+  in.remove_prefix(sizeof v);
+  return true;
+}
+bool get_text(std::string_view& in, std::string& text) {
+  uint64_t n = 0;
+  if (!get_u64(in, n) || n > in.size()) return false;
+  text.assign(in.data(), size_t(n));
+  in.remove_prefix(size_t(n));
+  return true;
+}
+
+// The child's answer: "ok" (units, warnings, the .glb) or "error" (the error's code and message).
+std::string encode_outcome(const Result<Character>& r, const AssimpUnits& units) {
+  std::string out;
+  if (!r) {
+    put_text(out, "error");
+    put_u64(out, uint64_t(r.error().code));
+    put_text(out, r.error().message);
+    return out;
+  }
+  put_text(out, "ok");
+  put_text(out, short_number(units.metres_per_unit));
+  put_text(out, units.up_axis);
+  put_u64(out, units.converted ? 1 : 0);
+  put_u64(out, r->warnings.size());
+  for (const std::string& w : r->warnings) put_text(out, w);
+  const std::vector<uint8_t> glb = encode_glb(r.value());
+  put_text(out, std::string_view(reinterpret_cast<const char*>(glb.data()), glb.size()));
+  return out;
+}
+
+Result<Character> decode_outcome(std::string_view in, const std::string& name, AssimpUnits* units_out) {
+  const auto broken = [&] { return make_error(ErrorCode::kParse, name + ": the importer's answer was cut short"); };
+  std::string kind;
+  if (!get_text(in, kind)) return broken();
+  if (kind == "error") {
+    uint64_t code = 0;
+    std::string message;
+    if (!get_u64(in, code) || !get_text(in, message)) return broken();
+    return make_error(ErrorCode(code), message);
+  }
+  AssimpUnits units;
+  std::string metres, glb;
+  uint64_t converted = 0, count = 0;
+  if (kind != "ok" || !get_text(in, metres) || !get_text(in, units.up_axis) || !get_u64(in, converted) || !get_u64(in, count))
+    return broken();
+  units.metres_per_unit = std::strtod(metres.c_str(), nullptr);
+  units.converted = converted != 0;
+  std::vector<std::string> warnings;
+  for (uint64_t k = 0; k < count; ++k) {
+    std::string w;
+    if (!get_text(in, w)) return broken();
+    warnings.push_back(std::move(w));
+  }
+  if (!get_text(in, glb)) return broken();
+  auto c = load_character_bytes(glb, name);
+  if (!c) return make_error(c.error().code, name + ": the imported character did not read back: " + c.error().message);
+  c->warnings = std::move(warnings);
+  c->source = name;
+  if (units_out) *units_out = units;
+  return c;
+}
+
+// A child silent this long is stopped (an importer caught in a loop): 600 s, or $CAGEWRAP_IMPORT_SECONDS (the
+// fuzzers give it seconds).
+int import_seconds() {
+  const char* env = std::getenv("CAGEWRAP_IMPORT_SECONDS");
+  const long s = env && *env ? std::strtol(env, nullptr, 10) : 600;
+  return int(std::clamp<long>(s, 1, 86400));
+}
+
+// Runs `import` in a child process and returns what it made; `name` stands for the file in messages.
+template <class Import>
+Result<Character> import_in_child(const std::string& name, AssimpUnits* units, Import import) {
+  int fds[2];
+  if (::pipe(fds) != 0) return make_error(ErrorCode::kFileUnreadable, name + ": cannot start the importer (pipe: " + std::strerror(errno) + ")");
+  const pid_t pid = ::fork();
+  if (pid < 0) {
+    ::close(fds[0]);
+    ::close(fds[1]);
+    return make_error(ErrorCode::kFileUnreadable, name + ": cannot start the importer (fork: " + std::strerror(errno) + ")");
+  }
+  if (pid == 0) {  // the child: import, answer, leave without running this process's exit handlers
+    ::close(fds[0]);
+    // a crash ends the child quietly, by its signal (not through handlers this process installed: a sanitizer's
+    // or a fuzzer's report of the importer's crash is the parent's business, as an error)
+    for (int sig : {SIGSEGV, SIGBUS, SIGILL, SIGFPE, SIGABRT, SIGTRAP}) ::signal(sig, SIG_DFL);
+    AssimpUnits u;
+    std::string out;
+    try {
+      out = encode_outcome(import(&u), u);
+    } catch (const std::exception& e) {
+      out.clear();
+      put_text(out, "error");
+      put_u64(out, uint64_t(ErrorCode::kParse));
+      put_text(out, name + ": the importer stopped: " + e.what());
+    }
+    std::string_view left(out);
+    while (!left.empty()) {
+      const ssize_t n = ::write(fds[1], left.data(), left.size());
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) ::_exit(3);
+      left.remove_prefix(size_t(n));
+    }
+    ::_exit(0);
+  }
+  ::close(fds[1]);
+  std::string answer;
+  char buffer[1 << 16];
+  bool timed_out = false;
+  const int seconds = import_seconds();
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(seconds);
+  for (;;) {
+    pollfd p{fds[0], POLLIN, 0};
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now()).count();
+    const int ready = left <= 0 ? 0 : ::poll(&p, 1, int(std::min<long long>(left, 1 << 30)));
+    if (ready < 0 && errno == EINTR) continue;
+    if (ready == 0) {
+      timed_out = true;
+      ::kill(pid, SIGKILL);
+      break;
+    }
+    const ssize_t n = ::read(fds[0], buffer, sizeof buffer);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) break;
+    answer.append(buffer, size_t(n));
+  }
+  ::close(fds[0]);
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  if (timed_out)
+    return make_error(ErrorCode::kParse, name + ": the importer gave no answer in " + std::to_string(seconds) +
+                                             " s and was stopped (a malformed file can make it loop)");
+  if (WIFSIGNALED(status))
+    return make_error(ErrorCode::kParse, name + ": the importer (Open Asset Import) crashed reading it (" + strsignal(WTERMSIG(status)) +
+                                             "): the file is malformed or uses something the importer cannot read");
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
+    return make_error(ErrorCode::kParse, name + ": the importer (Open Asset Import) failed reading it (exit status " +
+                                             std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) + ")");
+  return decode_outcome(answer, name, units);
+}
+
 }  // namespace
 
 Result<Character> load_character_assimp(const std::string& path, const CharacterLoadOptions& options, AssimpUnits* units) {
@@ -443,8 +635,11 @@ Result<Character> load_character_assimp(const std::string& path, const Character
     head.resize(size_t(std::max<std::streamsize>(0, in.gcount())));
     collada = read_collada_asset(head);
   }
-  return import_scene(path, collada, options, units,
-                      [&](Assimp::Importer& importer, unsigned flags) { return importer.ReadFile(path, flags); });
+  auto import = [&](AssimpUnits* u) {
+    return import_scene(path, collada, options, u,
+                        [&](Assimp::Importer& importer, unsigned flags) { return importer.ReadFile(path, flags); });
+  };
+  return options.in_process ? import(units) : import_in_child(path, units, import);
 }
 
 Result<Character> load_character_assimp_bytes(const std::string& bytes, const std::string& name, const std::string& file_name,
@@ -454,9 +649,12 @@ Result<Character> load_character_assimp_bytes(const std::string& bytes, const st
   const std::string ext = lower_extension(file_name), hint = ext.empty() ? ext : ext.substr(1);
   std::optional<ColladaAsset> collada;
   if (hint == "dae") collada = read_collada_asset(std::string_view(bytes).substr(0, kColladaHead));
-  return import_scene(name, collada, options, units, [&](Assimp::Importer& importer, unsigned flags) {
-    return importer.ReadFileFromMemory(bytes.data(), bytes.size(), flags, hint.c_str());
-  });
+  auto import = [&](AssimpUnits* u) {
+    return import_scene(name, collada, options, u, [&](Assimp::Importer& importer, unsigned flags) {
+      return importer.ReadFileFromMemory(bytes.data(), bytes.size(), flags, hint.c_str());
+    });
+  };
+  return options.in_process ? import(units) : import_in_child(name, units, import);
 }
 
 }  // namespace cagewrap

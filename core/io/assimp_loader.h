@@ -32,7 +32,9 @@ struct AssimpUnits {
   bool converted = false;        // brought to metres, Y up
 };
 
-// Errors name the file and pass on the importer's own message.
+// Errors name the file and pass on the importer's own message. The importer runs in a child process (fork; a
+// crash, a kill or 600 s without an answer is an error naming the file and the signal) whose character comes
+// back as a .glb (the project's writer and reader), unless options.in_process.
 Result<Character> load_character_assimp(const std::string& path, const CharacterLoadOptions& options = {},
                                         AssimpUnits* units = nullptr);
 // The same from the file's bytes in memory (a project's embedded character): `name` stands for the file in

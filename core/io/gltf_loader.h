@@ -17,6 +17,11 @@ struct CharacterLoadOptions {
   // FBX, Collada and the other formats read through assimp (core/io/assimp_loader.h): leave the file's units and
   // up axis as they are instead of bringing the scene to metres, Y up. glTF is metres, Y up, already.
   bool keep_units = false;
+  // Those formats are read by Open Asset Import in a child process, so that a crash of the importer on a
+  // malformed file is an error naming the file rather than the end of this process (core/io/assimp_loader.h).
+  // In this process instead: for the fuzzers, which run this project's part of the import under the
+  // sanitizers in-process once the importer has read the file in a child.
+  bool in_process = false;
 };
 
 // The extensions of the character files load_character reads (lower case, with the dot): .glb .gltf, then the

@@ -344,6 +344,10 @@ std::vector<uint8_t> encode(const Character& c, const std::string& generator, co
       } else {
         ibm.insert(ibm.end(), glm::value_ptr(m), glm::value_ptr(m) + 16);
       }
+      // an affine matrix: its last row exactly (0, 0, 0, 1), as glTF requires (products of matrices round it)
+      float* last = ibm.data() + ibm.size() - 16;
+      last[3] = last[7] = last[11] = 0.0f;
+      last[15] = 1.0f;
     }
     json skin = {{"joints", s.joints}, {"inverseBindMatrices", b.add_accessor(ibm, "MAT4", 16, kFloat, 0)}};
     if (!s.name.empty()) skin["name"] = s.name;

@@ -5,7 +5,7 @@ ASSETS=${CAGEWRAP_SHARED_ASSETS:-${2:-}}  # the environment overrides the config
 [ -x "$BIN" ] || { echo "not an executable: $BIN"; exit 1; }
 
 T=$(mktemp -d "${TMPDIR:-/tmp}/cagewrap-cli-$(basename "$0" .sh).XXXXXX")
-trap 'rm -rf "$T"' EXIT
+trap '[ -n "${KEEP_T:-}" ] || rm -rf "$T"' EXIT
 passed=0
 failed=0
 

@@ -1,9 +1,10 @@
 // Writes the fuzz harnesses' seed corpora, made by the project's own writers so they follow the
 // formats as they change: `cagewrap_fuzz_seeds OUT` fills OUT/<harness> for gltf, gltf_rig, mesh,
-// project, set_edits, patch and binding. Each harness's seeds also hold the hostile corpus of its
+// project, set_edits, patch, binding and assimp (the last from assimp-testmodels: no writer of ours makes FBX). Each harness's seeds also hold the hostile corpus of its
 // format (tests/tools/hostile_corpus.h: small files claiming huge counts) and the valid files they
 // were made from. Run by scripts/fuzz.sh before each fuzzing run.
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -38,7 +39,7 @@ static void fail(const std::string& what) {
 int main(int argc, char** argv) {
   if (argc != 2) fail("usage: cagewrap_fuzz_seeds OUT");
   const fs::path out = argv[1];
-  for (const char* d : {"gltf", "gltf_rig", "mesh", "project", "set_edits", "patch", "binding", "scratch"})
+  for (const char* d : {"gltf", "gltf_rig", "mesh", "project", "set_edits", "patch", "binding", "assimp", "scratch"})
     fs::create_directories(out / d);
   const std::string scratch = (out / "scratch").string();
 
@@ -190,6 +191,21 @@ int main(int argc, char** argv) {
           break;
       }
     }
+  // FBX, Collada, DirectX, MilkShape, MD5 and SMD (fuzz_assimp): no writer of ours makes them; the small files of
+  // assimp-testmodels (scripts/setup.sh installs it; $CAGEWRAP_ASSIMP_MODELS elsewhere), skinned and animated ones
+  // among them, when it is there
+  const char* models_env = std::getenv("CAGEWRAP_ASSIMP_MODELS");
+  const fs::path models = models_env && *models_env ? models_env : "/usr/share/assimp/models";
+  size_t assimp_seeds = 0;
+  for (const char* f : {"FBX/box.fbx", "FBX/phong_cube.fbx", "Collada/box_nested_animation.dae", "Collada/cube_triangulate.dae",
+                        "Collada/kwxport_test_vcolors.dae", "X/test_cube_text.x", "X/test_cube_binary.x", "X/test_cube_compressed.x",
+                        "MS3D/twospheres.ms3d", "MD5/SimpleCube.md5mesh", "SMD/triangle.smd"}) {
+    std::error_code ec;
+    if (!fs::is_regular_file(models / f, ec) || fs::file_size(models / f, ec) > 65536) continue;
+    fs::copy_file(models / f, out / "assimp" / fs::path(f).filename(), fs::copy_options::overwrite_existing, ec);
+    assimp_seeds += !ec;
+  }
+  if (!assimp_seeds) std::fprintf(stderr, "note: %s is absent (assimp-testmodels): fuzz_assimp starts from no seed\n", models.string().c_str());
   fs::remove_all(scratch);
   return 0;
 }
