@@ -68,7 +68,8 @@ for harness in "${harnesses[@]}"; do
     wait -n || true
     running=$((running - 1))
   fi
-  if [ -n "${FUZZ_RUNS:-}" ]; then echo "fuzz: $harness, -runs=$FUZZ_RUNS${FUZZ_SEED:+ -seed=$FUZZ_SEED}"
+  if [ -n "${FUZZ_RUNS:-}" ]; then
+    echo "fuzz: $harness, -runs=$([ "$harness" = assimp ] && echo "${FUZZ_RUNS_ASSIMP:-600}" || echo "$FUZZ_RUNS")${FUZZ_SEED:+ -seed=$FUZZ_SEED}"
   else echo "fuzz: $harness, -max_total_time=$SECONDS_EACH${FUZZ_SEED:+ -seed=$FUZZ_SEED}"; fi
   run_harness "$harness" &
   pid_of[$harness]=$!
