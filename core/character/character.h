@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -57,6 +58,10 @@ struct Character {
   std::vector<Primitive> primitives;  // in file order: by instancing node, then primitive index
   std::vector<Clip> clips;
   std::vector<std::string> warnings;  // one line per kind of problem, with counts
+  // A file read in its own units and up axis (CharacterLoadOptions::keep_units) that are not metres, Y up: the
+  // scale and turn that bring it there. A glTF export applies it as a root node (add_root_node), so that the
+  // file it writes is in metres, Y up, as glTF is.
+  std::optional<Trs> to_metres;
 
   size_t num_vertices() const;
   size_t num_triangles() const;
@@ -64,5 +69,10 @@ struct Character {
   // A clip by exact name, else by index ("3"); -1 when neither matches.
   int32_t find_clip(const std::string& name_or_index) const;
 };
+
+// Makes a new node named `name` with local transform `t` the parent of every root node of `c` but those that only
+// hold skinned meshes (their joints move them; glTF wants them at the root), appended last: every other node keeps
+// its index, so skins, primitives and clips stay as they are. Errors name `c.source`.
+Status add_root_node(Character& c, const std::string& name, const Trs& t);
 
 }  // namespace cagewrap

@@ -101,6 +101,9 @@ Result<ExportReport> run_glb(const Document& doc, Rig& rig, const ExportRequest&
                              const ExportProgress& progress) {
   auto result = export_rig(doc, rig, request.options, progress);
   if (!result) return result.error();
+  // a character kept in its file's units and axes (--keep-units): the glTF is metres, Y up all the same
+  if (doc.character && doc.character->to_metres)
+    if (auto s = add_root_node(result->character, "cagewrap_to_metres", *doc.character->to_metres); !s) return s.error();
   if (progress.on_progress) progress.on_progress("writing", 0, 1, 1.0);
   if (auto s = write_glb(request.out, result->character, "cagewrap export",
                            result->quantization ? &*result->quantization : nullptr); !s) return s.error();

@@ -78,6 +78,23 @@ std::string short_number(double x) {
   return text;
 }
 
+// The shortest turn of the axis `up` (0 X, 1 Y, 2 Z; sign) onto +Y.
+glm::quat turn_to_y_up(int up, int sign) {
+  const glm::vec3 file_up = float(sign < 0 ? -1 : 1) * glm::vec3(up == 0, up == 1, up == 2);
+  return glm::quat(glm::normalize(file_up), glm::vec3(0, 1, 0));
+}
+
+// Character::to_metres of a file kept in its own units and axes (none when they are metres, Y up).
+std::optional<Trs> kept_units_to_metres(const AssimpUnits& units) {
+  const std::string& a = units.up_axis;  // "+Z"
+  const int sign = !a.empty() && a[0] == '-' ? -1 : 1, up = a.size() == 2 ? std::clamp(a[1] - 'X', 0, 2) : 1;
+  if (units.metres_per_unit == 1.0 && up == 1 && sign > 0) return std::nullopt;
+  Trs t;
+  t.rotation = turn_to_y_up(up, sign);
+  t.scale = glm::vec3(float(units.metres_per_unit));
+  return t;
+}
+
 std::string axis_name(int axis, int sign) { return std::string(sign < 0 ? "-" : "+") + "XYZ"[std::clamp(axis, 0, 2)]; }
 
 // What a Collada file says of its units and up axis (<asset>: <unit meter="0.01"/>, <up_axis>Z_UP</up_axis>), which
@@ -153,9 +170,10 @@ class Importer {
     units.up_axis = axis_name(up, up_sign);
     glm::quat turn(1.0f, 0.0f, 0.0f, 0.0f);  // applied to the root nodes: the file's up to +Y
     if (!options.keep_units) {
-      const glm::vec3 file_up = float(up_sign < 0 ? -1 : 1) * glm::vec3(up == 0, up == 1, up == 2);
-      turn = glm::quat(glm::normalize(file_up), glm::vec3(0, 1, 0));  // the shortest turn of the file's up onto +Y
+      turn = turn_to_y_up(up, up_sign);
       units.converted = units.metres_per_unit != 1.0 || up != 1 || up_sign < 0;
+    } else {
+      c.to_metres = kept_units_to_metres(units);
     }
     scale_ = options.keep_units ? 1.0f : float(units.metres_per_unit);
     for (SkeletonNode& n : nodes) {
@@ -509,7 +527,7 @@ std::string encode_outcome(const Result<Character>& r, const AssimpUnits& units)
   return out;
 }
 
-Result<Character> decode_outcome(std::string_view in, const std::string& name, AssimpUnits* units_out) {
+Result<Character> decode_outcome(std::string_view in, const std::string& name, bool keep_units, AssimpUnits* units_out) {
   const auto broken = [&] { return make_error(ErrorCode::kParse, name + ": the importer's answer was cut short"); };
   std::string kind;
   if (!get_text(in, kind)) return broken();
@@ -537,6 +555,7 @@ Result<Character> decode_outcome(std::string_view in, const std::string& name, A
   if (!c) return make_error(c.error().code, name + ": the imported character did not read back: " + c.error().message);
   c->warnings = std::move(warnings);
   c->source = name;
+  if (keep_units) c->to_metres = kept_units_to_metres(units);
   if (units_out) *units_out = units;
   return c;
 }
@@ -551,7 +570,7 @@ int import_seconds() {
 
 // Runs `import` in a child process and returns what it made; `name` stands for the file in messages.
 template <class Import>
-Result<Character> import_in_child(const std::string& name, AssimpUnits* units, Import import) {
+Result<Character> import_in_child(const std::string& name, bool keep_units, AssimpUnits* units, Import import) {
   int fds[2];
   if (::pipe(fds) != 0) return make_error(ErrorCode::kFileUnreadable, name + ": cannot start the importer (pipe: " + std::strerror(errno) + ")");
   const pid_t pid = ::fork();
@@ -618,7 +637,7 @@ Result<Character> import_in_child(const std::string& name, AssimpUnits* units, I
   if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
     return make_error(ErrorCode::kParse, name + ": the importer (Open Asset Import) failed reading it (exit status " +
                                              std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) + ")");
-  return decode_outcome(answer, name, units);
+  return decode_outcome(answer, name, keep_units, units);
 }
 
 }  // namespace
@@ -639,7 +658,7 @@ Result<Character> load_character_assimp(const std::string& path, const Character
     return import_scene(path, collada, options, u,
                         [&](Assimp::Importer& importer, unsigned flags) { return importer.ReadFile(path, flags); });
   };
-  return options.in_process ? import(units) : import_in_child(path, units, import);
+  return options.in_process ? import(units) : import_in_child(path, options.keep_units, units, import);
 }
 
 Result<Character> load_character_assimp_bytes(const std::string& bytes, const std::string& name, const std::string& file_name,
@@ -654,7 +673,7 @@ Result<Character> load_character_assimp_bytes(const std::string& bytes, const st
       return importer.ReadFileFromMemory(bytes.data(), bytes.size(), flags, hint.c_str());
     });
   };
-  return options.in_process ? import(units) : import_in_child(name, units, import);
+  return options.in_process ? import(units) : import_in_child(name, options.keep_units, units, import);
 }
 
 }  // namespace cagewrap

@@ -59,6 +59,19 @@ if command -v node > /dev/null && [ -d "$ROOT/tests/gltf_validate/node_modules/g
   check "the FBX project's export passes the glTF validator" has "$T/bones.valid" "bones.glb: 0 errors"
 fi
 
+# the project kept the file's centimetres, yet its glTF is in metres: its skin at rest spans what the file's own
+# skinning, brought to metres, spans (a root node scales and turns the scene)
+run skin --character "$T/bones.glb" --clip 0 --time 0 --out "$T/exported.obj"
+check "the keep-units export reads back" [ "$rc" -eq 0 ]
+run skin --character "$FBX" --clip 0 --time 0 --out "$T/file.obj"
+check "the FBX's own skinning in metres" [ "$rc" -eq 0 ]
+extent() { awk '$1 == "v" { for (i = 2; i <= 4; ++i) { if (!(i in lo) || $i < lo[i]) lo[i] = $i; if (!(i in hi) || $i > hi[i]) hi[i] = $i } }
+  END { print hi[2] - lo[2], hi[3] - lo[3], hi[4] - lo[4] }' "$1"; }
+read -r ex ey ez < <(extent "$T/exported.obj")
+read -r fx fy fz < <(extent "$T/file.obj")
+check "the keep-units export is in metres, Y up (extent $ex $ey $ez against the file's $fx $fy $fz)" \
+  awk -v a="$ex $ey $ez" -v b="$fx $fy $fz" 'BEGIN { split(a, p); split(b, q); for (i = 1; i <= 3; ++i) { d = p[i] - q[i]; if (d < 0) d = -d; if (d > 0.05 * (q[i] + 0.01)) exit 1 } }'
+
 # an embedded FBX opens with the file gone
 cp "$FBX" "$T/moved.fbx"
 run new --character "$T/moved.fbx" --auto-cage 600 --embed --out "$T/embedded.cagewrap"
