@@ -19,6 +19,7 @@
 #include <map>
 #include <optional>
 #include <regex>
+#include <set>
 #include <string_view>
 
 #include <assimp/Importer.hpp>
@@ -410,11 +411,12 @@ class Importer {
     return clips;
   }
 
-  bool animated(const std::string& node) const {
-    for (unsigned a = 0; a < s_->mNumAnimations; ++a)
-      for (unsigned ci = 0; ci < s_->mAnimations[a]->mNumChannels; ++ci)
-        if (node == s_->mAnimations[a]->mChannels[ci]->mNodeName.C_Str()) return true;
-    return false;
+  // Whether an animation channel moves the node named `node` (the names collected once).
+  bool animated(const std::string& node) {
+    if (animated_.empty())
+      for (unsigned a = 0; a < s_->mNumAnimations; ++a)
+        for (unsigned ci = 0; ci < s_->mAnimations[a]->mNumChannels; ++ci) animated_.insert(s_->mAnimations[a]->mChannels[ci]->mNodeName.C_Str());
+    return animated_.count(node) > 0;
   }
 
   // Keys at increasing times only (a repeated or earlier key is dropped).
@@ -427,6 +429,7 @@ class Importer {
   const aiScene* s_;
   std::string file_;
   std::optional<ColladaAsset> collada_;
+  std::set<std::string> animated_;  // the nodes animation channels move
   float scale_ = 1.0f;
   std::map<const aiNode*, uint32_t> index_;
   std::vector<int32_t> parent_;

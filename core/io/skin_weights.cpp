@@ -7,7 +7,8 @@ namespace cagewrap {
 
 void SkinWeightCleanup::add_vertex(size_t v, const std::vector<std::pair<uint32_t, double>>& entries, Primitive& prim) {
   bool zero = false, negative = false;
-  std::vector<std::pair<uint32_t, double>> kept;
+  std::vector<std::pair<uint32_t, double>>& kept = kept_;  // reused: no allocation per vertex
+  kept.clear();
   for (const auto& e : entries) {
     if (!(e.second > 0.0)) {
       if (e.second < 0.0) negative = true;
@@ -63,7 +64,9 @@ std::vector<std::string> SkinWeightCleanup::take_warnings(const std::string& lab
   if (unweighted_)
     w.push_back(label + ": " + n(unweighted_) + " vertices have no non-zero weight (e.g. vertex " + n(unweighted_v_) +
                 "); bound fully to joint 0 of " + skin);
-  *this = SkinWeightCleanup{};
+  renormalized_ = zero_ = duplicates_ = unweighted_ = negative_ = 0;
+  renormalized_v_ = zero_v_ = dup_v_ = unweighted_v_ = negative_v_ = 0;
+  renormalized_sum_ = 0.0;
   return w;
 }
 

@@ -28,6 +28,7 @@ class SkinWeightCleanup {
   size_t renormalized_ = 0, zero_ = 0, duplicates_ = 0, unweighted_ = 0, negative_ = 0;
   size_t renormalized_v_ = 0, zero_v_ = 0, dup_v_ = 0, unweighted_v_ = 0, negative_v_ = 0;
   double renormalized_sum_ = 0.0;
+  std::vector<std::pair<uint32_t, double>> kept_;  // add_vertex's scratch
 };
 
 }  // namespace cagewrap
