@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/bench_gpu.h"
+#include "app/bench_probe.h"
 #include "app/cli_common.h"
 #include "app/commands.h"
 #include "core/deform/deformer.h"
@@ -31,7 +32,9 @@ double peak_rss_mb() {
 struct BenchResult {
   std::string variant;
   double bind_s = 0, deform_median_ms = 0, deform_min_ms = 0;
-  double binding_bytes_per_vertex = 0, mean_set = 0;
+  double binding_bytes_per_vertex = 0, table_bytes_per_vertex = 0, mean_set = 0;
+  double table_s = 0;  // making the deformer: the compact table (Deformer::create)
+  bool compact = false;
   size_t bytes_read = 0, bytes_written = 0;
   double gbps = 0, quality = 0;
   bool has_twist = false;
@@ -50,7 +53,7 @@ constexpr uint32_t kBenchProbeSamples = 1025;
 void add_bench_command(CLI::App& app, int& exit_code) {
   struct Args {
     std::string mesh, cage, posed, twist, variant_list = variant_name(BindParams{}.variant);
-    std::string export_skin, score_deformed, project, clip = "0";
+    std::string export_skin, score_deformed, project, clip = "0", table = "compact";
     uint32_t subdivide = 0, changes = 20;
     bool json = false, gpu = false;
     BindOptions bind;
@@ -72,6 +75,11 @@ void add_bench_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--score-deformed", args->score_deformed,
                   "score another tool's deformed skin for the posed cage instead of timing (raw float32 #P x 3 in "
                   "the skin's vertex order, .bin): its twist fidelity, the same figure (needs --twist)");
+  cmd->add_option("--table", args->table,
+                  "the table the kernel reads: compact (16-bit ids, unorm16 weights, points in groups; "
+                  "core/deform/kernel_table.h) or float (the binding's own)")
+      ->check(CLI::IsMember({"compact", "float"}))
+      ->capture_default_str();
   cmd->add_flag("--gpu", args->gpu,
                 "also time the OpenGL 4.3 compute path (deform + normals, GL timer queries) in a headless EGL context");
   add_bind_options(*cmd, args->bind);
@@ -194,7 +202,9 @@ void add_bench_command(CLI::App& app, int& exit_code) {
       r.quality = b->quality();
       r.affected_points = b->rigid_points.size();
       r.affected_elements = b->invalid_elements.size();
-      auto d = Deformer::create(*b, skin);
+      const auto tc0 = std::chrono::steady_clock::now();
+      auto d = Deformer::create(*b, skin, args->table == "float" ? TableFormat::kFloat : TableFormat::kCompact);
+      r.table_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - tc0).count();
       if (!d) {
         report_error(d.error());
         return;
@@ -215,6 +225,8 @@ void add_bench_command(CLI::App& app, int& exit_code) {
       std::sort(ms.begin(), ms.end());
       r.deform_median_ms = ms[ms.size() / 2];
       r.deform_min_ms = ms.front();
+      r.compact = d->kernel_table() != nullptr;
+      r.table_bytes_per_vertex = double(d->table_bytes()) / skin.size();
       r.bytes_read = d->bytes_read_per_call();
       r.bytes_written = d->bytes_written_per_call();
       r.gbps = double(r.bytes_read + r.bytes_written) / (r.deform_median_ms * 1e-3) / 1e9;
@@ -242,11 +254,19 @@ void add_bench_command(CLI::App& app, int& exit_code) {
       r.lipschitz = std::move(probe).value();
       results.push_back(r);
     }
+    // the memory-bandwidth probe, in the same run and on the same threads (its arrays are not in the
+    // peak memory figure, taken before it)
+    const double peak_mb = peak_rss_mb();
+    const BandwidthProbe probe = measure_bandwidth();
     if (args->json) {
       nlohmann::json j;
       j["points"] = skin.size();
       j["elements"] = cage->num_elements();
-      j["peak_rss_mb"] = peak_rss_mb();
+      j["peak_rss_mb"] = peak_mb;
+      j["bandwidth_probe"] = {{"triad_gbps", probe.triad_gbps},
+                              {"read_gbps", probe.read_gbps},
+                              {"array_bytes", probe.array_bytes},
+                              {"threads", probe.threads}};
       if (gpu) j["gpu_device"] = gpu->device();
       for (const auto& r : results) {
         nlohmann::json v{{"variant", r.variant},
@@ -254,6 +274,10 @@ void add_bench_command(CLI::App& app, int& exit_code) {
                          {"deform_median_ms", r.deform_median_ms},
                          {"deform_min_ms", r.deform_min_ms},
                          {"binding_bytes_per_vertex", r.binding_bytes_per_vertex},
+                         {"table", r.compact ? "compact" : "float"},
+                         {"table_bytes_per_vertex", r.table_bytes_per_vertex},
+                         {"table_s", r.table_s},
+                         {"probe_ratio", r.gbps / probe.triad_gbps},
                          {"mean_set_size", r.mean_set},
                          {"bytes_read_per_change", r.bytes_read},
                          {"bytes_written_per_change", r.bytes_written},
@@ -288,12 +312,16 @@ void add_bench_command(CLI::App& app, int& exit_code) {
     } else {
       std::printf("skin %zu points, cage %zu elements, %u cage changes timed\n", skin.size(), cage->num_elements(),
                   args->changes);
-      std::printf("%-9s %8s %10s %9s %9s %7s %11s %11s %7s %8s %10s %10s\n", "variant", "bind s", "deform ms",
-                  "min ms", "B/vertex", "set", "MB read", "MB written", "GB/s", "quality", "twist rms", "twist max");
+      std::printf("bandwidth probe (same run, %d threads, 3 x %.0f MB): triad %.1f GB/s, read %.1f GB/s\n",
+                  probe.threads, probe.array_bytes / 1e6, probe.triad_gbps, probe.read_gbps);
+      std::printf("%-9s %8s %8s %10s %9s %9s %9s %7s %9s %11s %7s %6s %8s %10s %10s\n", "variant", "bind s", "table s",
+                  "deform ms", "min ms", "B/vertex", "table B/v", "set", "MB read", "MB written", "GB/s", "probe",
+                  "quality", "twist rms", "twist max");
       for (const auto& r : results) {
-        std::printf("%-9s %8.3f %10.2f %9.2f %9.1f %7.2f %11.1f %11.1f %7.1f %7.2f%%", r.variant.c_str(), r.bind_s,
-                    r.deform_median_ms, r.deform_min_ms, r.binding_bytes_per_vertex, r.mean_set, r.bytes_read / 1e6,
-                    r.bytes_written / 1e6, r.gbps, 100 * r.quality);
+        std::printf("%-9s %8.3f %8.3f %10.2f %9.2f %9.1f %8.1f%s %7.2f %9.1f %11.1f %7.1f %5.0f%% %7.2f%%",
+                    r.variant.c_str(), r.bind_s, r.table_s, r.deform_median_ms, r.deform_min_ms,
+                    r.binding_bytes_per_vertex, r.table_bytes_per_vertex, r.compact ? "c" : "f", r.mean_set,
+                    r.bytes_read / 1e6, r.bytes_written / 1e6, r.gbps, 100 * r.gbps / probe.triad_gbps, 100 * r.quality);
         if (r.has_twist) std::printf(" %10.2e %10.2e", r.twist.rms, r.twist.max);
         std::printf("\n");
       }
@@ -313,7 +341,9 @@ void add_bench_command(CLI::App& app, int& exit_code) {
                       g.max_normal_degrees, g.gpu_bytes / 1e6);
         }
       }
-      std::printf("peak memory %.0f MB\n", peak_rss_mb());
+      std::printf("table: c = compact (core/deform/kernel_table.h), f = the binding's float table; probe: the kernel's "
+                  "GB/s as a share of the probe's triad\n");
+      std::printf("peak memory %.0f MB\n", peak_mb);
       for (const auto& r : results)
         std::printf("lipschitz: worst step ratio %.3f (%.3f x the cage's largest stretch %.3f) over %zu probe lines "
                     "(%s, %u samples, worst shrink %.3f, %.2f s)\n",

@@ -175,6 +175,8 @@ Result<std::unique_ptr<GpuDeformer>> GpuDeformer::make(const Deformer& deformer)
   std::string log;
   if (!g->affine_.build_compute("deform.comp.glsl", {"KERNEL_AFFINE"}, log) ||
       !g->rigid_.build_compute("deform.comp.glsl", {"KERNEL_RIGID"}, log) ||
+      !g->dense_affine_.build_compute("deform.comp.glsl", {"KERNEL_DENSE_AFFINE"}, log) ||
+      !g->dense_rigid_.build_compute("deform.comp.glsl", {"KERNEL_DENSE_RIGID"}, log) ||
       !g->fallback_.build_compute("deform.comp.glsl", {"KERNEL_FALLBACK"}, log))
     return make_error(ErrorCode::kParse, "a GPU deformer kernel does not compile: " + log);
   if (auto s = g->upload_table(); !s) return s.error();
@@ -211,10 +213,24 @@ Status GpuDeformer::upload_table() {
   if (auto s = check_storage(rest.size_bytes(), "the deformed skin (" + std::to_string(b.num_points) + " points)"); !s)
     return s;
   if (auto s = fill_storage(rest_, rest, "the rest skin", bytes); !s) return s;
-  if (auto s = fill_storage(offsets_, std::span<const uint32_t>(b.offsets), "the binding's offset table", bytes); !s) return s;
-  if (auto s = fill_storage(ids_, std::span<const uint32_t>(b.ids), "the binding's id table", bytes); !s) return s;
-  if (auto s = fill_storage(weights_, std::span<const float>(b.weights), "the binding's weight table", bytes); !s) return s;
-  if (auto s = fill_storage(bary_, std::span<const float>(b.bary), "the binding's anchor table", bytes); !s) return s;
+  // the table the CPU kernel reads: the compact one (core/deform/kernel_table.h) where the deformer has
+  // it, else the binding's float table
+  dense_ = deformer_->kernel_table() != nullptr;
+  if (dense_) {
+    const KernelTable& t = *deformer_->kernel_table();
+    if (auto s = fill_storage(offsets_, std::span<const uint32_t>(t.group_start), "the compact table's groups", bytes); !s)
+      return s;
+    if (auto s = fill_storage(ids_, std::span<const uint16_t>(t.member_id), "the compact table's ids", bytes); !s) return s;
+    if (auto s = fill_storage(weights_, std::span<const uint16_t>(t.weights), "the compact table's weights", bytes); !s)
+      return s;
+    if (auto s = fill_storage(bary_, std::span<const uint8_t>(t.weights_lo), "the compact table's low weight bits", bytes); !s)
+      return s;
+  } else {
+    if (auto s = fill_storage(offsets_, std::span<const uint32_t>(b.offsets), "the binding's offset table", bytes); !s) return s;
+    if (auto s = fill_storage(ids_, std::span<const uint32_t>(b.ids), "the binding's id table", bytes); !s) return s;
+    if (auto s = fill_storage(weights_, std::span<const float>(b.weights), "the binding's weight table", bytes); !s) return s;
+    if (auto s = fill_storage(bary_, std::span<const float>(b.bary), "the binding's anchor table", bytes); !s) return s;
+  }
   std::vector<glm::uvec4> fallback(b.rigid_points.size());
   for (size_t k = 0; k < fallback.size(); ++k)
     fallback[k] = glm::uvec4(b.rigid_points[k], b.rigid_element[k], std::bit_cast<uint32_t>(b.rigid_bary[2 * k]),
@@ -247,14 +263,15 @@ void GpuDeformer::deform_into(GLuint buffer, size_t offset) {
   glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 7, buffer, static_cast<GLintptr>(offset),
                     static_cast<GLsizeiptr>(std::max<size_t>(size_t{b.num_points} * sizeof(glm::vec3), 16)));
   const glm::vec3 origin(b.origin);
-  const GlProgram& main = clamped ? rigid_ : affine_;
+  const GlProgram& main = dense_ ? (clamped ? dense_rigid_ : dense_affine_) : (clamped ? rigid_ : affine_);
   main.use();
   main.set("u_origin", origin);
   bind(1, offsets_);
   bind(2, ids_);
   bind(3, weights_);
+  if (dense_) bind(6, bary_);  // the compact table's low weight bits
   if (clamped) {
-    bind(4, bary_);
+    if (!dense_) bind(4, bary_);
     bind(5, rigid_maps_);
   } else {
     bind(4, affine_maps_);

@@ -98,6 +98,8 @@ class GpuDeformer {
   }
 
   size_t num_points() const;
+  // Whether the uploaded table is the deformer's compact one (Deformer::kernel_table), not the float table.
+  bool reads_compact_table() const { return dense_; }
   // Bytes held on the GPU: table, rest skin, adjacency, scratch and maps (not the target buffers).
   size_t gpu_bytes() const { return table_bytes_ + (normals_ ? normals_->gpu_bytes() : 0) + maps_bytes_; }
   // Bytes uploaded per cage change (the maps).
@@ -110,8 +112,12 @@ class GpuDeformer {
 
   const Deformer* deformer_ = nullptr;
   GlProgram affine_, rigid_, fallback_;
+  GlProgram dense_affine_, dense_rigid_;  // the same kernels reading the compact table (Deformer::kernel_table)
+  bool dense_ = false;                    // the uploaded table is the compact one
   // shader-storage buffers
-  GLuint rest_ = 0, offsets_ = 0, ids_ = 0, weights_ = 0, bary_ = 0, fallback_list_ = 0;  // once per table
+  // once per table (compact: offsets_ the groups, ids_ the 16-bit ids, weights_ the weights' top 16
+  // bits, bary_ their low 8 bits)
+  GLuint rest_ = 0, offsets_ = 0, ids_ = 0, weights_ = 0, bary_ = 0, fallback_list_ = 0;
   GLuint affine_maps_ = 0, rigid_maps_ = 0;                                            // per change
   std::unique_ptr<GpuNormals> normals_;  // null: positions only
   size_t num_fallback_ = 0;

@@ -10,6 +10,7 @@
 #include "core/deform/registration.h"
 #include "core/document/set_queries.h"
 #include "core/document/skin_brush.h"
+#include "tests/expect_error.h"
 #include "tests/fixtures.h"
 #include "tests/set_fixtures.h"
 

@@ -111,7 +111,7 @@ Affine make_affine(const glm::dmat3& m, const glm::dvec3& t) {
   return out;
 }
 
-Result<Deformer> Deformer::create(const Binding& b, std::span<const glm::vec3> skin_rest) {
+Result<Deformer> Deformer::create(const Binding& b, std::span<const glm::vec3> skin_rest, TableFormat format) {
   if (skin_rest.size() != b.num_points)
     return make_error(ErrorCode::kTopologyMismatch, "the binding was made for " + std::to_string(b.num_points) +
                                                         " skin points but the skin has " +
@@ -122,6 +122,8 @@ Result<Deformer> Deformer::create(const Binding& b, std::span<const glm::vec3> s
   Deformer d;
   d.binding_ = &b;
   d.skin_ = skin_rest;
+  d.format_ = format;
+  if (format == TableFormat::kCompact) d.table_ = make_kernel_table(b);
   const size_t ne = b.elements.size();
   d.rest_frame_inv_.assign(ne, glm::dmat3(1.0));
   const std::vector<glm::dvec3> up(ne, glm::dvec3(0, 0, 1));
@@ -156,6 +158,8 @@ Result<Deformer> Deformer::create(const Binding& b, std::span<const glm::vec3> s
 
 Status Deformer::stencil_changed() {
   if (auto v = validate_binding(*binding_); !v) return v.error();
+  table_.reset();
+  if (format_ == TableFormat::kCompact) table_ = make_kernel_table(*binding_);
   need_rigid_ = binding_->params.variant == Variant::kClamped || !binding_->rigid_points.empty();
   if (need_rigid_) rigid_maps_.resize(binding_->elements.size());
   return Ok{};
@@ -299,7 +303,11 @@ void Deformer::apply_table(std::span<const Affine> affine, std::span<glm::vec3> 
   const glm::vec3* skin = skin_.data();
   glm::vec3* dst = out.data();
 
-  if (variant == Variant::kClamped) {
+  if (table_ && variant == Variant::kClamped) {
+    apply_kernel_rigid(*table_, rigid_maps_, skin_, origin, out);
+  } else if (table_) {
+    apply_kernel_affine(*table_, affine, skin_, origin, out);
+  } else if (variant == Variant::kClamped) {
     const RigidMap* maps = rigid_maps_.data();
     tbb::parallel_for(tbb::blocked_range<size_t>(0, b.num_points, 4096), [&](const tbb::blocked_range<size_t>& r) {
       for (size_t i = r.begin(); i != r.end(); ++i) {
@@ -344,10 +352,15 @@ void Deformer::apply_table(std::span<const Affine> affine, std::span<glm::vec3> 
   }
 }
 
+size_t Deformer::table_bytes() const {
+  if (table_) return table_->bytes();
+  const Binding& b = *binding_;
+  return b.offsets.size() * 4 + b.ids.size() * 4 + b.weights.size() * 4 + b.bary.size() * 4;
+}
+
 size_t Deformer::bytes_read_per_call() const {
   const Binding& b = *binding_;
-  return b.offsets.size() * 4 + b.ids.size() * 4 + b.weights.size() * 4 + b.bary.size() * 4 +
-         size_t(b.num_points) * sizeof(glm::vec3) + maps_.size() * sizeof(Affine) +
+  return table_bytes() + size_t(b.num_points) * sizeof(glm::vec3) + maps_.size() * sizeof(Affine) +
          rigid_maps_.size() * sizeof(RigidMap) + b.rigid_points.size() * 16;
 }
 

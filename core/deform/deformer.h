@@ -12,6 +12,7 @@
 #include <glm/vec3.hpp>
 
 #include "core/deform/binding.h"
+#include "core/deform/kernel_table.h"
 #include "core/deform/vertex_frames.h"
 
 namespace cagewrap {
@@ -31,10 +32,15 @@ struct alignas(16) RigidMap {
   float pad[2];
 };
 
+// Which table the per-change kernel reads: the compact copy (core/deform/kernel_table.h; the float
+// table where it cannot be compact) or the binding's own float table.
+enum class TableFormat : uint8_t { kCompact, kFloat };
+
 class Deformer {
  public:
   // Keeps references to `binding` and `skin_rest` (#P x 3): both must outlive the deformer.
-  static Result<Deformer> create(const Binding& binding, std::span<const glm::vec3> skin_rest);
+  static Result<Deformer> create(const Binding& binding, std::span<const glm::vec3> skin_rest,
+                                 TableFormat format = TableFormat::kCompact);
 
   // Cheap check of a posed cage: same vertex count as the bound one, finite coordinates on every vertex
   // a valid element uses (vertices only bad elements use are ignored, like those elements).
@@ -69,6 +75,11 @@ class Deformer {
   // O(table); nothing per element is rebuilt.
   Status stencil_changed();
 
+  // The compact table the kernel reads, or null when it reads the binding's float table (kFloat, or a
+  // table that cannot be compact). The GPU path uploads the same one.
+  const KernelTable* kernel_table() const { return table_ ? &*table_ : nullptr; }
+  // Bytes of the table the kernel reads (compact, or the binding's float stencil and offsets).
+  size_t table_bytes() const;
   // Bytes the kernel reads and writes per call (table, rest skin, maps; output).
   size_t bytes_read_per_call() const;
   size_t bytes_written_per_call() const { return binding_->num_points * sizeof(glm::vec3); }
@@ -88,6 +99,8 @@ class Deformer {
 
   const Binding* binding_ = nullptr;
   std::span<const glm::vec3> skin_;
+  TableFormat format_ = TableFormat::kCompact;
+  std::optional<KernelTable> table_;  // the compact table (format_ kCompact and the table allows it)
   // per element, rest: inverse of the eq. 2 frame [e1 e2 e3] and the normal e3 (element_normals)
   std::vector<glm::dmat3> rest_frame_inv_;
   std::vector<glm::dvec3> rest_normal_;

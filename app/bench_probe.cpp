@@ -1,0 +1,60 @@
+#include "app/bench_probe.h"
+
+#include <algorithm>
+#include <chrono>
+#include <vector>
+
+#include <tbb/info.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+
+namespace cagewrap::app {
+
+namespace {
+
+template <typename F>
+double median_seconds(int repeats, F&& f) {
+  f();  // first touch
+  std::vector<double> s;
+  for (int k = 0; k < repeats; ++k) {
+    const auto t0 = std::chrono::steady_clock::now();
+    f();
+    s.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  }
+  std::sort(s.begin(), s.end());
+  return s[s.size() / 2];
+}
+
+}  // namespace
+
+BandwidthProbe measure_bandwidth(size_t array_bytes, int repeats) {
+  const size_t n = std::max<size_t>(array_bytes / sizeof(float), 1024);
+  std::vector<float> a(n, 0.f), b(n, 1.f), c(n, 2.f);
+  const tbb::blocked_range<size_t> all(0, n, size_t(1) << 16);
+  BandwidthProbe p;
+  p.array_bytes = n * sizeof(float);
+  p.threads = tbb::info::default_concurrency();
+  const double triad = median_seconds(repeats, [&] {
+    tbb::parallel_for(all, [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t i = r.begin(); i != r.end(); ++i) a[i] = b[i] + 3.f * c[i];
+    }, tbb::static_partitioner());
+  });
+  volatile float sink = 0.f;
+  const double read = median_seconds(repeats, [&] {
+    sink = tbb::parallel_reduce(all, 0.f, [&](const tbb::blocked_range<size_t>& r, float s) {
+      float part[16] = {};  // independent sums, so that the adds' latency does not bound the loop
+      size_t i = r.begin();
+      for (; i + 16 <= r.end(); i += 16)
+        for (int k = 0; k < 16; ++k) part[k] += a[i + k];
+      for (; i != r.end(); ++i) s += a[i];
+      for (float x : part) s += x;
+      return s;
+    }, [](float x, float y) { return x + y; }, tbb::static_partitioner());
+  });
+  (void)sink;
+  p.triad_gbps = 3.0 * double(p.array_bytes) / triad / 1e9;
+  p.read_gbps = double(p.array_bytes) / read / 1e9;
+  return p;
+}
+
+}  // namespace cagewrap::app

@@ -1,0 +1,336 @@
+#include "core/deform/kernel_table.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <utility>
+#include <vector>
+
+#include <tbb/parallel_for.h>
+
+#include "core/deform/deformer.h"
+
+// the kernels pass 8-float vectors only between helpers inlined into one function
+#pragma GCC diagnostic ignored "-Wpsabi"
+
+namespace cagewrap {
+
+namespace {
+
+constexpr uint32_t kLanes = KernelTable::kLanes;
+
+// A point's weights in units of 1 / `units`. Weights that sum to 1 (registration's) are rounded so
+// that they sum to exactly `units` (the largest remainders get the missing units);
+// others are rounded each to nearest.
+// False when a weight is outside [0, 1] (a binding built by hand): the float kernel keeps those.
+// `rem` is scratch.
+bool quantize_weights(std::span<const float> w, uint32_t units, std::span<uint32_t> q, std::vector<double>& rem) {
+  const double kUnits = units;
+  double sum = 0.0;
+  for (float x : w) {
+    if (!(x >= 0.f && x <= 1.f)) return false;
+    sum += x;
+  }
+  const size_t n = w.size();
+  if (std::abs(sum - 1.0) > 1e-5) {
+    for (size_t k = 0; k < n; ++k) q[k] = static_cast<uint32_t>(double(w[k]) * kUnits + 0.5);
+    return true;
+  }
+  int64_t missing = units;
+  for (size_t k = 0; k < n; ++k) {
+    q[k] = static_cast<uint32_t>(double(w[k]) * kUnits);  // w >= 0: truncation is the floor
+    missing -= q[k];
+  }
+  // at most n units are missing (the sum is within 1e-5 of 1); they go to the largest remainders
+  // (ties: the earlier entry), by each entry's rank, counted without branches on the data
+  if (missing > 0) {
+    rem.resize(n);
+    for (size_t k = 0; k < n; ++k) rem[k] = double(w[k]) * kUnits - q[k];
+    for (size_t k = 0; k < n; ++k) {
+      size_t rank = 0;
+      for (size_t j = 0; j < n; ++j) rank += (rem[j] > rem[k]) | ((rem[j] == rem[k]) & (j < k));
+      q[k] += rank < size_t(missing) && q[k] < units;
+    }
+  }
+  return true;
+}
+
+// The distinct ids of a group's points, sorted, into `ids` (cleared first). `seen` (#maps, scratch)
+// marks the ids met in this group by its number + 1, so that only the distinct ones (about 9 of some
+// 60 entries) are sorted.
+void group_ids(const Binding& b, size_t g, std::vector<uint32_t>& seen, std::vector<uint32_t>& ids) {
+  ids.clear();
+  const size_t i0 = g * kLanes, i1 = std::min<size_t>(b.num_points, i0 + kLanes);
+  const uint32_t stamp = static_cast<uint32_t>(g + 1);
+  for (uint32_t k = b.offsets[i0]; k < b.offsets[i1]; ++k) {
+    const uint32_t id = b.ids[k];
+    if (seen[id] != stamp) {
+      seen[id] = stamp;
+      ids.push_back(id);
+    }
+  }
+  std::sort(ids.begin(), ids.end());
+}
+
+}  // namespace
+
+std::optional<KernelTable> make_kernel_table(const Binding& b) {
+  KernelTable t;
+  t.rigid = b.params.variant == Variant::kClamped;
+  t.num_points = b.num_points;
+  t.num_maps = b.num_samples > 0                          ? b.num_samples
+               : b.params.variant == Variant::kExtended ? b.num_cage_vertices
+                                                        : static_cast<uint32_t>(b.elements.size());
+  // (Deformer::create validated the binding: ids below num_maps, offsets monotone)
+  if (t.num_maps > 65536 || b.offsets.size() != size_t(b.num_points) + 1) return std::nullopt;
+  const size_t groups = (size_t(b.num_points) + kLanes - 1) / kLanes;
+  // pass 1: members per group
+  std::vector<uint32_t> count(groups);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, groups, 1024), [&](const tbb::blocked_range<size_t>& r) {
+    std::vector<uint32_t> ids, seen(t.num_maps, 0);
+    for (size_t g = r.begin(); g != r.end(); ++g) {
+      group_ids(b, g, seen, ids);
+      count[g] = static_cast<uint32_t>(ids.size());
+    }
+  });
+  t.group_start.resize(groups + 1);
+  uint64_t members = 0;
+  for (size_t g = 0; g < groups; ++g) {
+    t.group_start[g] = static_cast<uint32_t>(members);
+    members += count[g];
+    if (members > UINT32_MAX) return std::nullopt;
+  }
+  t.group_start[groups] = static_cast<uint32_t>(members);
+  // only when it pays: a skin whose neighbouring points share little would make larger groups than
+  // the float table (8 B an entry, 16 with anchors, plus the offsets)
+  const size_t float_bytes = b.offsets.size() * 4 + b.ids.size() * 4 + b.weights.size() * 4 + b.bary.size() * 4;
+  const size_t bytes = t.group_start.size() * 4 + members * 2 + members * kLanes * t.rows() * 3;
+  if (bytes > float_bytes && b.num_points > 0) return std::nullopt;
+  t.member_id.resize(members + (members & 1));  // an even count: the GPU reads them two a 32-bit word
+  t.weights.assign(members * kLanes * t.rows(), 0);
+  t.weights_lo.assign(members * kLanes * t.rows(), 0);
+  // pass 2: ids and lane weights
+  const uint32_t units = KernelTable::kUnits;
+  bool ok = true;
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, groups, 1024), [&](const tbb::blocked_range<size_t>& r) {
+    std::vector<uint32_t> ids, seen(t.num_maps, 0), slot(t.num_maps, 0);
+    std::vector<uint32_t> q;
+    std::vector<double> rem;
+    for (size_t g = r.begin(); g != r.end(); ++g) {
+      group_ids(b, g, seen, ids);
+      const size_t m0 = t.group_start[g];
+      for (size_t m = 0; m < ids.size(); ++m) {
+        t.member_id[m0 + m] = static_cast<uint16_t>(ids[m]);
+        slot[ids[m]] = static_cast<uint32_t>(m);
+      }
+      const size_t i0 = g * kLanes, i1 = std::min<size_t>(b.num_points, i0 + kLanes);
+      for (size_t i = i0; i < i1; ++i) {
+        const uint32_t o = b.offsets[i], n = b.offsets[i + 1] - o;
+        q.resize(n);
+        if (!quantize_weights(std::span<const float>(b.weights).subspan(o, n), units, q, rem)) {
+          ok = false;
+          return;
+        }
+        for (uint32_t k = 0; k < n; ++k) {
+          const size_t m = slot[b.ids[o + k]];
+          const size_t lane = i - i0;
+          uint16_t* row = t.weights.data() + (m0 + m) * kLanes * t.rows();
+          uint8_t* row_lo = t.weights_lo.data() + (m0 + m) * kLanes * t.rows();
+          // an id twice in one stencil adds up (sums stay within units)
+          auto add = [&](size_t cell, uint32_t v) {
+            const uint32_t w24 = std::min<uint32_t>(units, ((uint32_t(row[cell]) << 8) | row_lo[cell]) + v);
+            row[cell] = static_cast<uint16_t>(w24 >> 8);
+            row_lo[cell] = static_cast<uint8_t>(w24 & 0xffu);
+          };
+          add(lane, q[k]);
+          if (t.rigid) {
+            for (int c = 0; c < 2; ++c) {
+              const float bc = b.bary[2 * size_t(o + k) + c];
+              if (!(bc >= 0.f && bc <= 1.f)) {
+                ok = false;
+                return;
+              }
+              add((1 + c) * kLanes + lane,
+                  static_cast<uint32_t>(double(b.weights[o + k]) * bc * units + 0.5));
+            }
+          }
+        }
+      }
+    }
+  });
+  if (!ok) return std::nullopt;
+  return t;
+}
+
+// ---- the kernels -------------------------------------------------------------------------------------
+// One body, compiled twice: for AVX + FMA (chosen at run time where the processor has them) and for the
+// baseline instruction set. GCC's vector extensions: 8 floats a register, points across lanes.
+
+namespace {
+
+typedef float f8 __attribute__((vector_size(32)));
+typedef uint16_t u16x8 __attribute__((vector_size(16)));
+typedef uint8_t u8x16 __attribute__((vector_size(16)));
+
+// 8 lanes of 16-bit values, as floats
+[[gnu::always_inline]] inline f8 lane_weights(const uint16_t* w) {
+  u16x8 q;
+  std::memcpy(&q, w, sizeof(q));
+  return __builtin_convertvector(q, f8);
+}
+
+// 8 lanes of 24-bit weights (top 16 bits, low 8 bits), as floats (exact: below 2^24). The low bytes
+// are widened to 16 bits by interleaving them with zeros (one unpack), not converted one by one.
+[[gnu::always_inline]] inline f8 lane_weights(const uint16_t* hi, const uint8_t* lo) {
+  u8x16 q = {};
+  std::memcpy(&q, lo, 8);
+  const u8x16 wide = __builtin_shufflevector(q, u8x16{}, 0, 16, 1, 16, 2, 16, 3, 16, 4, 16, 5, 16, 6, 16, 7, 16);
+  u16x8 low;
+  std::memcpy(&low, &wide, sizeof(low));
+  return lane_weights(hi) * 256.f + __builtin_convertvector(low, f8);
+}
+
+struct Lanes {
+  f8 x, y, z;
+};
+
+// The group's rest points relative to the origin, across lanes (0 beyond the skin's end).
+[[gnu::always_inline]] inline Lanes load_points(const glm::vec3* skin, size_t i0, size_t n, const glm::vec3& o) {
+  alignas(32) float x[kLanes] = {}, y[kLanes] = {}, z[kLanes] = {};
+  for (size_t l = 0; l < n; ++l) {
+    x[l] = skin[i0 + l].x - o.x;
+    y[l] = skin[i0 + l].y - o.y;
+    z[l] = skin[i0 + l].z - o.z;
+  }
+  Lanes p;
+  std::memcpy(&p.x, x, sizeof(f8));
+  std::memcpy(&p.y, y, sizeof(f8));
+  std::memcpy(&p.z, z, sizeof(f8));
+  return p;
+}
+
+[[gnu::always_inline]] inline void store_points(const f8& x, const f8& y, const f8& z, glm::vec3* dst, size_t i0,
+                                                size_t n) {
+  for (size_t l = 0; l < n; ++l) dst[i0 + l] = glm::vec3(x[l], y[l], z[l]);
+}
+
+[[gnu::always_inline]] inline void affine_groups(const KernelTable& t, const Affine* maps, const glm::vec3* skin,
+                                                 const glm::vec3& o, glm::vec3* dst, size_t g0, size_t g1) {
+  const uint32_t* start = t.group_start.data();
+  const uint16_t* ids = t.member_id.data();
+  const uint16_t* weights = t.weights.data();
+  const uint8_t* weights_lo = t.weights_lo.data();
+  for (size_t g = g0; g < g1; ++g) {
+    f8 acc[12];
+    for (int c = 0; c < 12; ++c) acc[c] = f8{};
+    for (uint32_t m = start[g]; m < start[g + 1]; ++m) {
+      const f8 w = lane_weights(weights + size_t(m) * kLanes, weights_lo + size_t(m) * kLanes);
+      const float* a = maps[ids[m]].m;
+#pragma GCC unroll 12
+      for (int c = 0; c < 12; ++c) acc[c] += w * a[c];
+    }
+    const size_t i0 = g * kLanes, n = std::min<size_t>(kLanes, t.num_points - i0);
+    const Lanes p = load_points(skin, i0, n, o);
+    const float s = KernelTable::kScale;
+    const f8 x = (acc[0] * p.x + acc[1] * p.y + acc[2] * p.z + acc[3]) * s + o.x;
+    const f8 y = (acc[4] * p.x + acc[5] * p.y + acc[6] * p.z + acc[7]) * s + o.y;
+    const f8 z = (acc[8] * p.x + acc[9] * p.y + acc[10] * p.z + acc[11]) * s + o.z;
+    store_points(x, y, z, dst, i0, n);
+  }
+}
+
+[[gnu::always_inline]] inline void rigid_groups(const KernelTable& t, const RigidMap* maps, const glm::vec3* skin,
+                                                const glm::vec3& o, glm::vec3* dst, size_t g0, size_t g1) {
+  const uint32_t* start = t.group_start.data();
+  const uint16_t* ids = t.member_id.data();
+  const uint16_t* weights = t.weights.data();
+  const uint8_t* weights_lo = t.weights_lo.data();
+  for (size_t g = g0; g < g1; ++g) {
+    f8 acc[12];  // the blended rotation (9), then the blended anchor terms (3)
+    for (int c = 0; c < 12; ++c) acc[c] = f8{};
+    for (uint32_t m = start[g]; m < start[g + 1]; ++m) {
+      const uint16_t* row = weights + size_t(m) * 3 * kLanes;
+      const uint8_t* row_lo = weights_lo + size_t(m) * 3 * kLanes;
+      const f8 w = lane_weights(row, row_lo), wb1 = lane_weights(row + kLanes, row_lo + kLanes),
+               wb2 = lane_weights(row + 2 * kLanes, row_lo + 2 * kLanes);
+      const RigidMap& r = maps[ids[m]];
+#pragma GCC unroll 9
+      for (int c = 0; c < 9; ++c) acc[c] += w * r.g[c];
+#pragma GCC unroll 3
+      for (int k = 0; k < 3; ++k) acc[9 + k] += w * r.q0[k] + wb1 * r.d1[k] + wb2 * r.d2[k];
+    }
+    const size_t i0 = g * kLanes, n = std::min<size_t>(kLanes, t.num_points - i0);
+    const Lanes p = load_points(skin, i0, n, o);
+    const float s = KernelTable::kScale;
+    const f8 x = (acc[0] * p.x + acc[1] * p.y + acc[2] * p.z + acc[9]) * s + o.x;
+    const f8 y = (acc[3] * p.x + acc[4] * p.y + acc[5] * p.z + acc[10]) * s + o.y;
+    const f8 z = (acc[6] * p.x + acc[7] * p.y + acc[8] * p.z + acc[11]) * s + o.z;
+    store_points(x, y, z, dst, i0, n);
+  }
+}
+
+#if defined(__x86_64__) || defined(__i386__)
+#define CAGEWRAP_KERNEL_AVX 1
+__attribute__((target("avx,fma"))) void affine_groups_avx(const KernelTable& t, const Affine* maps,
+                                                           const glm::vec3* skin, const glm::vec3& o, glm::vec3* dst,
+                                                           size_t g0, size_t g1) {
+  affine_groups(t, maps, skin, o, dst, g0, g1);
+}
+__attribute__((target("avx,fma"))) void rigid_groups_avx(const KernelTable& t, const RigidMap* maps,
+                                                          const glm::vec3* skin, const glm::vec3& o, glm::vec3* dst,
+                                                          size_t g0, size_t g1) {
+  rigid_groups(t, maps, skin, o, dst, g0, g1);
+}
+#endif
+
+void affine_groups_base(const KernelTable& t, const Affine* maps, const glm::vec3* skin, const glm::vec3& o,
+                        glm::vec3* dst, size_t g0, size_t g1) {
+  affine_groups(t, maps, skin, o, dst, g0, g1);
+}
+void rigid_groups_base(const KernelTable& t, const RigidMap* maps, const glm::vec3* skin, const glm::vec3& o,
+                       glm::vec3* dst, size_t g0, size_t g1) {
+  rigid_groups(t, maps, skin, o, dst, g0, g1);
+}
+
+bool detect_avx() {
+#ifdef CAGEWRAP_KERNEL_AVX
+  __builtin_cpu_init();
+  return __builtin_cpu_supports("avx") && __builtin_cpu_supports("fma");
+#else
+  return false;
+#endif
+}
+
+// groups per task: 128 x 8 = 1024 points
+constexpr size_t kKernelGrain = 128;
+
+}  // namespace
+
+bool kernel_uses_avx() {
+  static const bool avx = detect_avx();
+  return avx;
+}
+
+void apply_kernel_affine(const KernelTable& t, std::span<const Affine> maps, std::span<const glm::vec3> skin,
+                         const glm::vec3& origin, std::span<glm::vec3> out, [[maybe_unused]] KernelPath path) {
+  auto* fn = affine_groups_base;
+#ifdef CAGEWRAP_KERNEL_AVX
+  if (path == KernelPath::kBest && kernel_uses_avx()) fn = affine_groups_avx;
+#endif
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, t.num_groups(), kKernelGrain), [&](const tbb::blocked_range<size_t>& r) {
+    fn(t, maps.data(), skin.data(), origin, out.data(), r.begin(), r.end());
+  });
+}
+
+void apply_kernel_rigid(const KernelTable& t, std::span<const RigidMap> maps, std::span<const glm::vec3> skin,
+                        const glm::vec3& origin, std::span<glm::vec3> out, [[maybe_unused]] KernelPath path) {
+  auto* fn = rigid_groups_base;
+#ifdef CAGEWRAP_KERNEL_AVX
+  if (path == KernelPath::kBest && kernel_uses_avx()) fn = rigid_groups_avx;
+#endif
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, t.num_groups(), kKernelGrain), [&](const tbb::blocked_range<size_t>& r) {
+    fn(t, maps.data(), skin.data(), origin, out.data(), r.begin(), r.end());
+  });
+}
+
+}  // namespace cagewrap
