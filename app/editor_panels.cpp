@@ -322,13 +322,25 @@ void Editor::draw_properties() {
     float local = static_cast<float>(p.local), eps = static_cast<float>(p.epsilon), scale = static_cast<float>(p.scale),
           maxd = static_cast<float>(p.max_distance);
     int k = static_cast<int>(p.max_elements);
+    // live binding (Scene::drag_params): while a slider is held the skin binds with what it shows,
+    // on release the values become the document's (one undo step)
+    bool dragging = false, released = false;
+    auto track = [&] {
+      dragging = dragging || ImGui::IsItemActive();
+      released = released || ImGui::IsItemDeactivatedAfterEdit();
+    };
     if (ImGui::SliderFloat("local", &local, 0.5f, 12.0f, "%.2f")) p.local = local;
+    track();
     if (ImGui::SliderFloat("epsilon", &eps, 0.005f, 1.0f, "%.3f", ImGuiSliderFlags_Logarithmic)) p.epsilon = eps;
+    track();
     if (ImGui::SliderInt("K (max elements)", &k, 1, 32)) p.max_elements = static_cast<uint32_t>(k);
+    track();
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("The most cage elements that drive one skin point");
     if (ImGui::DragFloat("scale h", &scale, 0.001f, 0.0f, 100.0f, scale > 0 ? "%.4f" : "auto")) p.scale = std::max(0.f, scale);
+    track();
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("The distance scale of the weights; 0 = auto (from the cage's mean edge length)");
     if (ImGui::DragFloat("max distance", &maxd, 0.001f, 0.0f, 100.0f, maxd > 0 ? "%.4f" : "none")) p.max_distance = std::max(0.f, maxd);
+    track();
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("Elements farther than this from a point never drive it; 0 = no limit");
     ImGui::Checkbox("separate unrelated parts", &p.separate);
     if (ImGui::IsItemHovered())
@@ -337,14 +349,23 @@ void Editor::draw_properties() {
     int steps = static_cast<int>(p.separation_steps);
     ImGui::BeginDisabled(!p.separate);
     if (ImGui::SliderInt("separation steps", &steps, 0, 4)) p.separation_steps = static_cast<uint32_t>(steps);
+    track();
     ImGui::EndDisabled();
+    Scene& scene = *ws_.scene();
+    if (scene.live_params_possible()) {
+      if (dragging) scene.drag_params();
+      else if (released || scene.live_params) scene.commit_params();
+    }
     if (ws_.scene()->job) {
       ImGui::ProgressBar(static_cast<float>(ws_.scene()->job->progress()), ImVec2(-70, 0), "binding");
       ImGui::SameLine();
       if (ImGui::Button("Cancel")) ws_.scene()->job->cancel();
     } else {
       if (ws_.scene()->needs_rebind()) {
-        ImGui::TextColored(ImVec4(1.0f, 0.75f, 0.2f, 1), "Parameters changed: rebind to apply");
+        ImGui::TextColored(ImVec4(1.0f, 0.75f, 0.2f, 1), "%s",
+                           scene.live_params_possible() ? "Parameters changed: rebind to apply (sliders apply live)"
+                                                        : "Parameters changed: rebind to apply (sliders apply live "
+                                                          "up to 200,000 skin points)");
       }
       if (ImGui::Button(ws_.scene()->binding ? "Rebind" : "Bind", ImVec2(-1, 0))) ws_.scene()->rebind();
     }

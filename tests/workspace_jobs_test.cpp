@@ -321,5 +321,56 @@ TEST_F(WorkspaceProjectTest, EmbeddingWritingOutAndCachingAreUndoSteps) {
   EXPECT_EQ(undo_steps(), steps);
 }
 
+// Live binding parameters (issue 24): a drag binds the skin with the panel's parameters as they move,
+// in the background (a fresh bind each time: the result is what the parameters give), without an undo
+// step; the release makes them the document's in one step, which undo takes back.
+using WorkspaceLiveParamsTest = DemoWorkspaceTest;
+
+TEST_F(WorkspaceLiveParamsTest, ADragBindsLiveAndIsOneUndoStep) {
+  finish_bind();
+  Scene& s = *ws.scene();
+  ASSERT_TRUE(s.live_params_possible()) << s.skin_rest.size() << " points";
+  const BindParams before = doc().params;
+  const size_t steps = undo_steps();
+  // three positions of the epsilon slider, each frame of the drag polled as the editor does
+  for (const char* eps : {"0.15", "0.2", "0.3"}) {
+    ws.run(std::string("bind_param epsilon ") + eps);
+    ws.run("bind_param_drag");
+    EXPECT_TRUE(s.job) << "the drag binds at once";
+    s.poll_bind();
+  }
+  finish_bind();  // the binds that ran with older positions are followed by one with the last
+  ASSERT_TRUE(s.binding);
+  EXPECT_DOUBLE_EQ(s.binding->params.epsilon, 0.3) << "the skin follows the slider before the release";
+  EXPECT_EQ(undo_steps(), steps) << "no undo step while dragging";
+  EXPECT_DOUBLE_EQ(doc().params.epsilon, before.epsilon);
+  // the live result is the bind the parameters give
+  BindParams p = before;
+  p.epsilon = 0.3;
+  ws.run("bind_param_release");
+  EXPECT_EQ(undo_steps(), steps + 1) << "one undo step per drag";
+  EXPECT_DOUBLE_EQ(doc().params.epsilon, 0.3);
+  EXPECT_FALSE(s.job) << "released on the bound parameters: nothing more to bind";
+  EXPECT_EQ(s.binding->params, p);
+  ws.run("undo");
+  EXPECT_DOUBLE_EQ(doc().params.epsilon, before.epsilon);
+  finish_bind();
+  EXPECT_EQ(s.binding->params, before) << "undo binds the old parameters again";
+  EXPECT_TRUE(errors.empty()) << errors.front();
+}
+
+TEST_F(WorkspaceLiveParamsTest, AReleaseDuringABindBindsTheReleasedParameters) {
+  finish_bind();
+  Scene& s = *ws.scene();
+  ws.run("bind_param max_elements 4");
+  ws.run("bind_param_drag");
+  ASSERT_TRUE(s.job);
+  ws.run("bind_param max_elements 6");  // moved on while the first bind runs, released at once
+  ws.run("bind_param_release");
+  EXPECT_EQ(doc().params.max_elements, 6u);
+  finish_bind();
+  EXPECT_EQ(s.binding->params.max_elements, 6u) << "the bind that ran with 4 is followed by one with 6";
+}
+
 }  // namespace
 }  // namespace cagewrap::app

@@ -148,6 +148,20 @@ void Scene::start_bind() {
   pending_attachment_ = doc().attachment;
 }
 
+void Scene::drag_params() {
+  if (!live_params_possible()) return;
+  live_params = true;
+  if (!job && needs_rebind()) start_bind();
+}
+
+void Scene::commit_params() {
+  live_params = false;
+  if (!doc().cage || live) return;
+  if (!(params == doc().params))
+    history_.push("Change binding parameters", to_work(with_params(doc(), params), history_.current()));
+  if (!job && needs_rebind()) start_bind();  // else poll_bind binds them when the running bind ends
+}
+
 void Scene::rebind() {
   if (!doc().cage || job || live) return;
   if (!(params == doc().params))
@@ -738,6 +752,7 @@ bool Scene::update_set_edits_live(const std::vector<SetEdit>& edits, std::span<c
 std::optional<std::string> Scene::poll_bind() {
   if (!job || !job->done()) return std::nullopt;
   auto& r = job->result();
+  const bool bound = r.ok();
   std::string message;
   if (r.ok()) {
     binding = std::make_unique<Binding>(std::move(r).value());
@@ -766,9 +781,12 @@ std::optional<std::string> Scene::poll_bind() {
     message = r.error().code == ErrorCode::kCancelled ? "bind cancelled" : "error: " + r.error().message;
   }
   job.reset();
-  // the cage changed while this bind ran (an edit, undo, a new cage): bind the current one
+  // the cage changed while this bind ran (an edit, undo, a new cage): bind the current one; the same
+  // for parameters that moved on during a live drag or were committed while it ran
+  const bool params_moved =
+      bound && binding && !(binding->params == params) && (live_params || params == doc().params);
   if (doc().cage && (pending_cage_ != doc().cage || !same_set_edits(pending_edits_, doc().set_edits) ||
-                     (doc().params.separate && !(pending_attachment_ == doc().attachment))))
+                     (doc().params.separate && !(pending_attachment_ == doc().attachment)) || params_moved))
     start_bind();
   return message;
 }

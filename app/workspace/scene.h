@@ -293,6 +293,16 @@ struct Scene {
   // The panel's Rebind: its parameters become the document's (one undo step, saved with the
   // project) when they differ, then the skin binds again.
   void rebind();
+  // Live binding parameters (issue 24): while a binding slider is dragged on a skin of at most
+  // kLiveBindPoints points, drag_params() (each frame of the drag) binds the skin with the panel's
+  // parameters as they are, in the background, again as soon as the previous bind ends, so the skin
+  // follows the slider; commit_params() (on release) makes them the document's: one undo step per drag.
+  // A fresh bind each time, so the result is the bind the parameters give.
+  static constexpr size_t kLiveBindPoints = 200000;
+  bool live_params_possible() const { return doc().cage && skin_rest.size() <= kLiveBindPoints; }
+  void drag_params();
+  void commit_params();
+  bool live_params = false;  // a drag is on
   // Set edits changed for `points` only (a brush dab, an applied edit): re-registers just those points
   // in the current binding (core/deform/registration.h Rebinder) so the skin updates at once; the caller
   // has put `edits` into the document (live or committed). False (nothing done) when there is no

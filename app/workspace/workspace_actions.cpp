@@ -155,6 +155,16 @@ void Workspace::add_actions() {
       });
   add("rebind", "", "Binds the skin again with the panel's parameters (one undo step when they changed).",
       [this](std::istringstream&) { scene_->rebind(); });
+  add("bind_param_drag", "", "A binding slider is being dragged: the skin binds live with the panel's parameters "
+      "(skins up to 200,000 points; else Rebind applies them).",
+      [this](std::istringstream&) {
+        if (!scene_->live_params_possible())
+          return fail("bind_param_drag: live binding is for skins up to " + std::to_string(Scene::kLiveBindPoints) +
+                      " points (this one has " + std::to_string(scene_->skin_rest.size()) + "); use rebind");
+        scene_->drag_params();
+      });
+  add("bind_param_release", "", "The binding slider is released: its parameters become the document's (one undo step).",
+      [this](std::istringstream&) { scene_->commit_params(); });
 
   // ---- time and pose (view state)
   add("clip", "NAME|rest", "Shows the clip NAME (the rest of the line) from its start, paused, or the bind pose.",

@@ -41,6 +41,25 @@ check "a table per triplet" test "$(grep -c '^| bind s ' "$T/out")" -eq 2
 check "mannequiny at its own size" hasf "$T/out" "mannequiny: 7136 skin points"
 check "the stand-in's figures are in the table" has "$T/out" "^| peak memory MB *| *[0-9]* | *900 |"
 check "the same deformer scores the same twist fidelity (ratio 1.00)" test "$(grep -c '^| twist rms .*| *1.00 |$' "$T/out")" -eq 2
+check "each table says cagewrap's kernel table and its share of the bandwidth probe" \
+  test "$(grep -c "^cagewrap's kernel: \(compact\|float\) table [0-9.]* B/vertex .* GB/s = [0-9]*% of the bandwidth probe's triad" "$T/out")" -eq 2
+
+# the kernel's table and the bandwidth probe (issue 24)
+run bench --mesh "$B/mesh_7136.obj" --cage "$B/cage.obj" --posed-cage "$B/cage_posed.obj" --subdivide 3 --variant all --changes 20
+check "bench prints the bandwidth probe of the same run" has "$T/out" "^bandwidth probe (same run, [0-9]* threads, 3 x [0-9]* MB): triad [0-9.]* GB/s, read [0-9.]* GB/s"
+check "bench reads the compact table at 114k points (basic, extended)" \
+  test "$(grep -c '^\(basic\|extended\) .* [0-9.]*c ' "$T/out")" -eq 2
+run bench --mesh "$B/mesh_7136.obj" --cage "$B/cage.obj" --posed-cage "$B/cage_posed.obj" --subdivide 1 --table float --json
+check "bench --table float reads the binding's float table" python3 -c '
+import json, sys
+j = json.load(open(sys.argv[1]))
+v = j["variants"][0]
+assert v["table"] == "float", v["table"]
+assert abs(v["table_bytes_per_vertex"] - v["binding_bytes_per_vertex"]) < 8, v
+assert j["bandwidth_probe"]["triad_gbps"] > 0 and 0 < v["probe_ratio"], j
+' "$T/out"
+run bench --mesh "$B/mesh_7136.obj" --cage "$B/cage.obj" --posed-cage "$B/cage_posed.obj" --table half
+check "bench --table half is refused" test "$rc" -ne 0
 
 # the bench options behind it
 run bench --mesh "$B/mesh_7136.obj" --cage "$B/cage.obj" --posed-cage "$B/cage_posed.obj" --subdivide 1 \
