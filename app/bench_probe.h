@@ -12,9 +12,14 @@ struct BandwidthProbe {
   double read_gbps = 0;   // sum of one array: 4 bytes an element
   size_t array_bytes = 0; // each of the three arrays
   int threads = 0;
+  int runs = 0;           // of each
 };
 
-// Medians over `repeats` runs of each, on arrays of `array_bytes` (several times the last-level cache).
+// The best of `repeats` runs of each (STREAM's convention), on arrays of `array_bytes` (several times
+// the last-level cache). On the 2-core machine one run's triad moved between 32 and 62 GB/s from one
+// process to the next, so `cagewrap bench` measures it before and after its kernel timings and keeps
+// the best of both (best_of).
 BandwidthProbe measure_bandwidth(size_t array_bytes = size_t(64) << 20, int repeats = 10);
+BandwidthProbe best_of(const BandwidthProbe& a, const BandwidthProbe& b);
 
 }  // namespace cagewrap::app

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -269,36 +270,49 @@ struct Lanes {
   }
 }
 
+// One map type's kernel over groups g0 .. g1 - 1.
+template <class Map>
+[[gnu::always_inline]] inline void groups(const KernelTable& t, const Map* maps, const glm::vec3* skin,
+                                          const glm::vec3& o, glm::vec3* dst, size_t g0, size_t g1) {
+  if constexpr (std::is_same_v<Map, Affine>) affine_groups(t, maps, skin, o, dst, g0, g1);
+  else rigid_groups(t, maps, skin, o, dst, g0, g1);
+}
+
+template <class Map>
+void groups_base(const KernelTable& t, const Map* maps, const glm::vec3* skin, const glm::vec3& o, glm::vec3* dst,
+                 size_t g0, size_t g1) {
+  groups(t, maps, skin, o, dst, g0, g1);
+}
+
 #if defined(__x86_64__) || defined(__i386__)
 #define CAGEWRAP_KERNEL_AVX 1
-__attribute__((target("avx,fma"))) void affine_groups_avx(const KernelTable& t, const Affine* maps,
-                                                           const glm::vec3* skin, const glm::vec3& o, glm::vec3* dst,
-                                                           size_t g0, size_t g1) {
-  affine_groups(t, maps, skin, o, dst, g0, g1);
+template <class Map>
+__attribute__((target("avx,fma"))) void groups_avx(const KernelTable& t, const Map* maps, const glm::vec3* skin,
+                                                   const glm::vec3& o, glm::vec3* dst, size_t g0, size_t g1) {
+  groups(t, maps, skin, o, dst, g0, g1);
 }
-__attribute__((target("avx,fma"))) void rigid_groups_avx(const KernelTable& t, const RigidMap* maps,
-                                                          const glm::vec3* skin, const glm::vec3& o, glm::vec3* dst,
-                                                          size_t g0, size_t g1) {
-  rigid_groups(t, maps, skin, o, dst, g0, g1);
+// AVX2 widens the 16- and 8-bit weights to 8 lanes in one instruction each
+template <class Map>
+__attribute__((target("avx2,fma"))) void groups_avx2(const KernelTable& t, const Map* maps, const glm::vec3* skin,
+                                                     const glm::vec3& o, glm::vec3* dst, size_t g0, size_t g1) {
+  groups(t, maps, skin, o, dst, g0, g1);
 }
 #endif
 
-void affine_groups_base(const KernelTable& t, const Affine* maps, const glm::vec3* skin, const glm::vec3& o,
-                        glm::vec3* dst, size_t g0, size_t g1) {
-  affine_groups(t, maps, skin, o, dst, g0, g1);
-}
-void rigid_groups_base(const KernelTable& t, const RigidMap* maps, const glm::vec3* skin, const glm::vec3& o,
-                       glm::vec3* dst, size_t g0, size_t g1) {
-  rigid_groups(t, maps, skin, o, dst, g0, g1);
-}
-
-bool detect_avx() {
+// 0: the generic code, 1: AVX + FMA, 2: AVX2 + FMA
+int detect_isa() {
 #ifdef CAGEWRAP_KERNEL_AVX
   __builtin_cpu_init();
-  return __builtin_cpu_supports("avx") && __builtin_cpu_supports("fma");
+  if (!__builtin_cpu_supports("avx") || !__builtin_cpu_supports("fma")) return 0;
+  return __builtin_cpu_supports("avx2") ? 2 : 1;
 #else
-  return false;
+  return 0;
 #endif
+}
+
+int kernel_isa() {
+  static const int isa = detect_isa();
+  return isa;
 }
 
 // groups per task: 128 x 8 = 1024 points
@@ -306,31 +320,38 @@ constexpr size_t kKernelGrain = 128;
 
 }  // namespace
 
-bool kernel_uses_avx() {
-  static const bool avx = detect_avx();
-  return avx;
+bool kernel_uses_avx() { return kernel_isa() > 0; }
+
+const char* kernel_isa_name() {
+  static const char* names[] = {"generic", "AVX + FMA", "AVX2 + FMA"};
+  return names[kernel_isa()];
 }
 
-void apply_kernel_affine(const KernelTable& t, std::span<const Affine> maps, std::span<const glm::vec3> skin,
-                         const glm::vec3& origin, std::span<glm::vec3> out, [[maybe_unused]] KernelPath path) {
-  auto* fn = affine_groups_base;
+namespace {
+
+template <class Map>
+void run_kernel(const KernelTable& t, std::span<const Map> maps, std::span<const glm::vec3> skin, const glm::vec3& origin,
+                std::span<glm::vec3> out, [[maybe_unused]] KernelPath path) {
+  auto* fn = groups_base<Map>;
 #ifdef CAGEWRAP_KERNEL_AVX
-  if (path == KernelPath::kBest && kernel_uses_avx()) fn = affine_groups_avx;
+  if (path == KernelPath::kBest && kernel_isa() == 1) fn = groups_avx<Map>;
+  if (path == KernelPath::kBest && kernel_isa() == 2) fn = groups_avx2<Map>;
 #endif
   tbb::parallel_for(tbb::blocked_range<size_t>(0, t.num_groups(), kKernelGrain), [&](const tbb::blocked_range<size_t>& r) {
     fn(t, maps.data(), skin.data(), origin, out.data(), r.begin(), r.end());
   });
+}
+
+}  // namespace
+
+void apply_kernel_affine(const KernelTable& t, std::span<const Affine> maps, std::span<const glm::vec3> skin,
+                         const glm::vec3& origin, std::span<glm::vec3> out, KernelPath path) {
+  run_kernel(t, maps, skin, origin, out, path);
 }
 
 void apply_kernel_rigid(const KernelTable& t, std::span<const RigidMap> maps, std::span<const glm::vec3> skin,
-                        const glm::vec3& origin, std::span<glm::vec3> out, [[maybe_unused]] KernelPath path) {
-  auto* fn = rigid_groups_base;
-#ifdef CAGEWRAP_KERNEL_AVX
-  if (path == KernelPath::kBest && kernel_uses_avx()) fn = rigid_groups_avx;
-#endif
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, t.num_groups(), kKernelGrain), [&](const tbb::blocked_range<size_t>& r) {
-    fn(t, maps.data(), skin.data(), origin, out.data(), r.begin(), r.end());
-  });
+                        const glm::vec3& origin, std::span<glm::vec3> out, KernelPath path) {
+  run_kernel(t, maps, skin, origin, out, path);
 }
 
 }  // namespace cagewrap

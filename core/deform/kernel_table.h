@@ -66,9 +66,11 @@ struct KernelTable {
 // The compact table of `b`'s main stencil, or nothing when it cannot be compact (see above).
 std::optional<KernelTable> make_kernel_table(const Binding& b);
 
-// Whether the kernels' best path on this machine is the AVX + FMA code (else the generic vector code).
+// Whether the kernels' best path on this machine is AVX code (else the generic vector code), and its
+// name: "AVX2 + FMA", "AVX + FMA" or "generic".
 bool kernel_uses_avx();
-// kBest: AVX + FMA where the processor has them; kBaseline: the generic code (for tests).
+const char* kernel_isa_name();
+// kBest: AVX2 + FMA, else AVX + FMA, where the processor has them; kBaseline: the generic code (tests).
 enum class KernelPath : uint8_t { kBest, kBaseline };
 
 // out[i] = sum_k w_ik maps[id_k] (skin[i] - origin) + origin for every point of the table.
