@@ -362,10 +362,12 @@ void Editor::draw_properties() {
       if (ImGui::Button("Cancel")) ws_.scene()->job->cancel();
     } else {
       if (ws_.scene()->needs_rebind()) {
-        ImGui::TextColored(ImVec4(1.0f, 0.75f, 0.2f, 1), "%s",
-                           scene.live_params_possible() ? "Parameters changed: rebind to apply (sliders apply live)"
-                                                        : "Parameters changed: rebind to apply (sliders apply live "
-                                                          "up to 200,000 skin points)");
+        ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.75f, 0.2f, 1));
+        ImGui::TextWrapped("%s", scene.live_params_possible()
+                                     ? "Parameters changed: rebind to apply (sliders apply live while held)"
+                                     : "Parameters changed: rebind to apply (sliders apply live on skins up to "
+                                       "200,000 points)");
+        ImGui::PopStyleColor();
       }
       if (ImGui::Button(ws_.scene()->binding ? "Rebind" : "Bind", ImVec2(-1, 0))) ws_.scene()->rebind();
     }
