@@ -245,5 +245,54 @@ TEST(KernelTable, StencilChangesRebuildTheCompactTable) {
   EXPECT_LE(fixtures::max_distance(after, exact) / diagonal_of(skin.positions), kFidelity);
 }
 
+// A live set edit's update of the compact table (the groups of the changed points only) equals the
+// table made from scratch, when the groups keep their member counts and when they do not.
+TEST(KernelTable, UpdatingTheChangedGroupsEqualsMakingItAgain) {
+  const PolyMesh skin = fixtures::cylinder_skin(0.5, 4.0, 37, 41);
+  const Cage cage = fixtures::cylinder_cage();
+  for (Variant v : kTableVariants) {
+    BindParams p;
+    p.variant = v;
+    auto b = bind_skin(skin.positions, cage, cage.polygons.positions, p);
+    ASSERT_TRUE(b.ok());
+    auto t = make_kernel_table(*b);
+    ASSERT_TRUE(t.has_value());
+    auto expect_same = [&](const KernelTable& x, const std::string& what) {
+      auto fresh = make_kernel_table(*b);
+      ASSERT_TRUE(fresh.has_value()) << what;
+      EXPECT_EQ(x.group_start, fresh->group_start) << what;
+      EXPECT_EQ(x.member_id, fresh->member_id) << what;
+      EXPECT_EQ(x.weights, fresh->weights) << what;
+      EXPECT_EQ(x.weights_lo, fresh->weights_lo) << what;
+    };
+    // 1. weights moved within point 700's stencil: same members
+    const uint32_t a = 700, oa = b->offsets[a], na = b->offsets[a + 1] - oa;
+    ASSERT_GT(na, 1u);
+    std::swap(b->weights[oa], b->weights[oa + 1]);
+    std::vector<uint32_t> pts{a};
+    ASSERT_TRUE(update_kernel_table(*t, *b, pts));
+    expect_same(*t, std::string(variant_name(v)) + ": weights swapped");
+    // 2. points 3 and 1200 now follow one map each that their groups did not use: groups grow
+    const uint32_t maps = t->num_maps;
+    for (uint32_t i : {3u, 1200u}) {
+      const uint32_t o = b->offsets[i], n = b->offsets[i + 1] - o;
+      std::vector<uint32_t> used(b->ids.begin() + b->offsets[i / 8 * 8],
+                                 b->ids.begin() + b->offsets[std::min<uint32_t>(b->num_points, i / 8 * 8 + 8)]);
+      uint32_t fresh_id = 0;
+      while (std::find(used.begin(), used.end(), fresh_id) != used.end()) ++fresh_id;
+      ASSERT_LT(fresh_id, maps);
+      for (uint32_t k = o; k < o + n; ++k) {
+        b->ids[k] = k == o ? fresh_id : b->ids[o + 1 < o + n ? o + 1 : o];
+        b->weights[k] = k == o ? 1.f : 0.f;
+      }
+    }
+    const size_t before = t->group_start.back();
+    pts = {1200, 3, 3};
+    ASSERT_TRUE(update_kernel_table(*t, *b, pts));
+    EXPECT_GT(t->group_start.back(), before) << "the groups grew";
+    expect_same(*t, std::string(variant_name(v)) + ": new members");
+  }
+}
+
 }  // namespace
 }  // namespace cagewrap

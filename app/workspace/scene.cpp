@@ -741,7 +741,7 @@ bool Scene::update_set_edits_live(const std::vector<SetEdit>& edits, std::span<c
   if (fits_attachment()) {
     if (!make_deformer().ok()) return false;  // the fit follows the new sets
   } else {
-    if (!deformer->stencil_changed().ok()) return false;  // the deformer reads `binding` itself
+    if (!deformer->stencil_changed(points).ok()) return false;  // the deformer reads `binding` itself
     binding_revision = next_revision();
   }
   bound_edits_ = edits;

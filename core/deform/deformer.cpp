@@ -156,10 +156,12 @@ Result<Deformer> Deformer::create(const Binding& b, std::span<const glm::vec3> s
   return d;
 }
 
-Status Deformer::stencil_changed() {
+Status Deformer::stencil_changed(std::span<const uint32_t> points) {
   if (auto v = validate_binding(*binding_); !v) return v.error();
-  table_.reset();
-  if (format_ == TableFormat::kCompact) table_ = make_kernel_table(*binding_);
+  if (!(table_ && !points.empty() && update_kernel_table(*table_, *binding_, points))) {
+    table_.reset();
+    if (format_ == TableFormat::kCompact) table_ = make_kernel_table(*binding_);
+  }
   need_rigid_ = binding_->params.variant == Variant::kClamped || !binding_->rigid_points.empty();
   if (need_rigid_) rigid_maps_.resize(binding_->elements.size());
   return Ok{};

@@ -72,8 +72,9 @@ class Deformer {
 
   // The table of the Binding this deformer reads changed in place (Rebinder::update: same skin,
   // cage and parameters, some points re-registered): checks it again and sizes the fallback maps.
-  // O(table); nothing per element is rebuilt.
-  Status stencil_changed();
+  // O(table); nothing per element is rebuilt. `points` (optional): the points whose stencils changed;
+  // the compact table is then updated for their groups only (update_kernel_table), else made again.
+  Status stencil_changed(std::span<const uint32_t> points = {});
 
   // The compact table the kernel reads, or null when it reads the binding's float table (kFloat, or a
   // table that cannot be compact). The GPU path uploads the same one.

@@ -1,6 +1,7 @@
 #include "core/deform/kernel_table.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <type_traits>
@@ -73,6 +74,56 @@ void group_ids(const Binding& b, size_t g, std::vector<uint32_t>& seen, std::vec
   std::sort(ids.begin(), ids.end());
 }
 
+// Scratch of the table's making, per thread.
+struct GroupScratch {
+  std::vector<uint32_t> ids, seen, slot, q;
+  std::vector<double> rem;
+  explicit GroupScratch(uint32_t maps) : seen(maps, 0), slot(maps, 0) {}
+};
+
+// Group g's members (scratch.ids: its distinct ids, sorted) written from member m0 of `t` on, with
+// their lane weights added into rows that hold zeros. False when a weight or an anchor coordinate is
+// outside [0, 1] (a hand-made binding: the float table keeps those).
+bool fill_group(const Binding& b, size_t g, KernelTable& t, size_t m0, GroupScratch& s) {
+  constexpr uint32_t units = KernelTable::kUnits;
+  for (size_t m = 0; m < s.ids.size(); ++m) {
+    t.member_id[m0 + m] = static_cast<uint16_t>(s.ids[m]);
+    s.slot[s.ids[m]] = static_cast<uint32_t>(m);
+  }
+  const size_t i0 = g * kLanes, i1 = std::min<size_t>(b.num_points, i0 + kLanes);
+  for (size_t i = i0; i < i1; ++i) {
+    const uint32_t o = b.offsets[i], n = b.offsets[i + 1] - o;
+    s.q.resize(n);
+    if (!quantize_weights(std::span<const float>(b.weights).subspan(o, n), units, s.q, s.rem)) return false;
+    for (uint32_t k = 0; k < n; ++k) {
+      const size_t m = s.slot[b.ids[o + k]];
+      const size_t lane = i - i0;
+      uint16_t* row = t.weights.data() + (m0 + m) * kLanes * t.rows();
+      uint8_t* row_lo = t.weights_lo.data() + (m0 + m) * kLanes * t.rows();
+      // an id twice in one stencil adds up (sums stay within units)
+      auto add = [&](size_t cell, uint32_t v) {
+        const uint32_t w24 = std::min<uint32_t>(units, ((uint32_t(row[cell]) << 8) | row_lo[cell]) + v);
+        row[cell] = static_cast<uint16_t>(w24 >> 8);
+        row_lo[cell] = static_cast<uint8_t>(w24 & 0xffu);
+      };
+      add(lane, s.q[k]);
+      if (!t.rigid) continue;
+      for (int c = 0; c < 2; ++c) {
+        const float bc = b.bary[2 * size_t(o + k) + c];
+        if (!(bc >= 0.f && bc <= 1.f)) return false;
+        add((1 + c) * kLanes + lane, static_cast<uint32_t>(double(b.weights[o + k]) * bc * units + 0.5));
+      }
+    }
+  }
+  return true;
+}
+
+// The float table's bytes: the compact one is made only when it is not larger (8 B an entry, 16 with
+// anchors, plus the offsets).
+size_t float_table_bytes(const Binding& b) {
+  return b.offsets.size() * 4 + b.ids.size() * 4 + b.weights.size() * 4 + b.bary.size() * 4;
+}
+
 }  // namespace
 
 std::optional<KernelTable> make_kernel_table(const Binding& b) {
@@ -103,64 +154,87 @@ std::optional<KernelTable> make_kernel_table(const Binding& b) {
   }
   t.group_start[groups] = static_cast<uint32_t>(members);
   // only when it pays: a skin whose neighbouring points share little would make larger groups than
-  // the float table (8 B an entry, 16 with anchors, plus the offsets)
-  const size_t float_bytes = b.offsets.size() * 4 + b.ids.size() * 4 + b.weights.size() * 4 + b.bary.size() * 4;
+  // the float table
   const size_t bytes = t.group_start.size() * 4 + members * 2 + members * kLanes * t.rows() * 3;
-  if (bytes > float_bytes && b.num_points > 0) return std::nullopt;
+  if (bytes > float_table_bytes(b) && b.num_points > 0) return std::nullopt;
   t.member_id.resize(members + (members & 1));  // an even count: the GPU reads them two a 32-bit word
   t.weights.assign(members * kLanes * t.rows(), 0);
   t.weights_lo.assign(members * kLanes * t.rows(), 0);
   // pass 2: ids and lane weights
-  const uint32_t units = KernelTable::kUnits;
-  bool ok = true;
+  std::atomic<bool> ok{true};
   tbb::parallel_for(tbb::blocked_range<size_t>(0, groups, 1024), [&](const tbb::blocked_range<size_t>& r) {
-    std::vector<uint32_t> ids, seen(t.num_maps, 0), slot(t.num_maps, 0);
-    std::vector<uint32_t> q;
-    std::vector<double> rem;
-    for (size_t g = r.begin(); g != r.end(); ++g) {
-      group_ids(b, g, seen, ids);
-      const size_t m0 = t.group_start[g];
-      for (size_t m = 0; m < ids.size(); ++m) {
-        t.member_id[m0 + m] = static_cast<uint16_t>(ids[m]);
-        slot[ids[m]] = static_cast<uint32_t>(m);
-      }
-      const size_t i0 = g * kLanes, i1 = std::min<size_t>(b.num_points, i0 + kLanes);
-      for (size_t i = i0; i < i1; ++i) {
-        const uint32_t o = b.offsets[i], n = b.offsets[i + 1] - o;
-        q.resize(n);
-        if (!quantize_weights(std::span<const float>(b.weights).subspan(o, n), units, q, rem)) {
-          ok = false;
-          return;
-        }
-        for (uint32_t k = 0; k < n; ++k) {
-          const size_t m = slot[b.ids[o + k]];
-          const size_t lane = i - i0;
-          uint16_t* row = t.weights.data() + (m0 + m) * kLanes * t.rows();
-          uint8_t* row_lo = t.weights_lo.data() + (m0 + m) * kLanes * t.rows();
-          // an id twice in one stencil adds up (sums stay within units)
-          auto add = [&](size_t cell, uint32_t v) {
-            const uint32_t w24 = std::min<uint32_t>(units, ((uint32_t(row[cell]) << 8) | row_lo[cell]) + v);
-            row[cell] = static_cast<uint16_t>(w24 >> 8);
-            row_lo[cell] = static_cast<uint8_t>(w24 & 0xffu);
-          };
-          add(lane, q[k]);
-          if (t.rigid) {
-            for (int c = 0; c < 2; ++c) {
-              const float bc = b.bary[2 * size_t(o + k) + c];
-              if (!(bc >= 0.f && bc <= 1.f)) {
-                ok = false;
-                return;
-              }
-              add((1 + c) * kLanes + lane,
-                  static_cast<uint32_t>(double(b.weights[o + k]) * bc * units + 0.5));
-            }
-          }
-        }
-      }
+    GroupScratch scratch(t.num_maps);
+    for (size_t g = r.begin(); g != r.end() && ok; ++g) {
+      group_ids(b, g, scratch.seen, scratch.ids);
+      if (!fill_group(b, g, t, t.group_start[g], scratch)) ok = false;
     }
   });
   if (!ok) return std::nullopt;
   return t;
+}
+
+bool update_kernel_table(KernelTable& t, const Binding& b, std::span<const uint32_t> points) {
+  if (t.num_points != b.num_points || t.rigid != (b.params.variant == Variant::kClamped)) return false;
+  std::vector<uint32_t> touched;  // groups, ascending
+  for (uint32_t i : points)
+    if (i < t.num_points) touched.push_back(i / kLanes);
+  std::sort(touched.begin(), touched.end());
+  touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+  if (touched.empty()) return true;
+  GroupScratch scratch(t.num_maps);
+  std::vector<std::vector<uint32_t>> ids(touched.size());
+  int64_t members = static_cast<int64_t>(t.group_start.back());
+  bool same_sizes = true;
+  for (size_t k = 0; k < touched.size(); ++k) {
+    group_ids(b, touched[k], scratch.seen, scratch.ids);
+    ids[k] = scratch.ids;
+    const size_t g = touched[k], old = t.group_start[g + 1] - t.group_start[g];
+    same_sizes = same_sizes && ids[k].size() == old;
+    members += static_cast<int64_t>(ids[k].size()) - static_cast<int64_t>(old);
+  }
+  if (members > UINT32_MAX) return false;
+  const size_t row = size_t(kLanes) * t.rows();  // weights per member
+  if (!same_sizes) {
+    // splice: the untouched groups' members move as blocks, the touched ones get their new sizes
+    const size_t m_new = static_cast<size_t>(members);
+    const size_t bytes = t.group_start.size() * 4 + m_new * 2 + m_new * row * 3;
+    if (bytes > float_table_bytes(b)) return false;
+    std::vector<uint32_t> start(t.group_start.size());
+    std::vector<uint16_t> member_id(m_new + (m_new & 1), 0), weights(m_new * row, 0);
+    std::vector<uint8_t> weights_lo(m_new * row, 0);
+    size_t next = 0, k = 0, out = 0;
+    const size_t groups = t.num_groups();
+    auto copy_run = [&](size_t g0, size_t g1) {  // untouched groups g0 .. g1 - 1
+      if (g0 >= g1) return;
+      const size_t from = t.group_start[g0], count = t.group_start[g1] - from;
+      for (size_t g = g0; g < g1; ++g) start[g] = static_cast<uint32_t>(out + (t.group_start[g] - from));
+      std::copy_n(t.member_id.begin() + from, count, member_id.begin() + out);
+      std::copy_n(t.weights.begin() + from * row, count * row, weights.begin() + out * row);
+      std::copy_n(t.weights_lo.begin() + from * row, count * row, weights_lo.begin() + out * row);
+      out += count;
+    };
+    for (; k < touched.size(); ++k) {
+      copy_run(next, touched[k]);
+      start[touched[k]] = static_cast<uint32_t>(out);
+      out += ids[k].size();
+      next = touched[k] + 1;
+    }
+    copy_run(next, groups);
+    start[groups] = static_cast<uint32_t>(out);
+    t.group_start = std::move(start);
+    t.member_id = std::move(member_id);
+    t.weights = std::move(weights);
+    t.weights_lo = std::move(weights_lo);
+  }
+  // the touched groups' rows, zeroed and filled again
+  for (size_t k = 0; k < touched.size(); ++k) {
+    const size_t g = touched[k], m0 = t.group_start[g];
+    std::fill_n(t.weights.begin() + m0 * row, ids[k].size() * row, uint16_t{0});
+    std::fill_n(t.weights_lo.begin() + m0 * row, ids[k].size() * row, uint8_t{0});
+    scratch.ids = ids[k];
+    if (!fill_group(b, g, t, m0, scratch)) return false;
+  }
+  return true;
 }
 
 // ---- the kernels -------------------------------------------------------------------------------------

@@ -65,6 +65,10 @@ struct KernelTable {
 
 // The compact table of `b`'s main stencil, or nothing when it cannot be compact (see above).
 std::optional<KernelTable> make_kernel_table(const Binding& b);
+// `t` made again for `b` whose stencils changed for `points` only (a live set edit): the groups holding
+// them are rebuilt, the others' members move as blocks. The result equals make_kernel_table(b). False
+// (t unusable) when b no longer fits a compact table; make it again then.
+bool update_kernel_table(KernelTable& t, const Binding& b, std::span<const uint32_t> points);
 
 // Whether the kernels' best path on this machine is AVX code (else the generic vector code), and its
 // name: "AVX2 + FMA", "AVX + FMA" or "generic".

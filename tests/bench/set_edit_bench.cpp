@@ -57,7 +57,7 @@ void BM_StrokeUpdate(benchmark::State& state) {
     edits = std::move(r->edits);
     if (auto st = rebinder.update(live, edits, r->changed_points); !st.ok())
       state.SkipWithError(st.error().message.c_str());
-    if (auto st = deformer.stencil_changed(); !st.ok()) state.SkipWithError(st.error().message.c_str());
+    if (auto st = deformer.stencil_changed(r->changed_points); !st.ok()) state.SkipWithError(st.error().message.c_str());
     remove = !remove;
   }
   state.counters["points"] = static_cast<double>(s.skin.num_vertices());
