@@ -95,7 +95,7 @@ void add_bench_command(CLI::App& app, int& exit_code) {
                   "score another tool's deformed skin for the posed cage instead of timing (raw float32 #P x 3 in "
                   "the skin's vertex order, .bin): its twist fidelity, the same figure (needs --twist)");
   cmd->add_option("--table", args->table,
-                  "the table the kernel reads: compact (16-bit ids, unorm16 weights, points in groups; "
+                  "the table the kernel reads: compact (points in groups of 8, 16-bit ids, 24-bit weights; "
                   "core/deform/kernel_table.h) or float (the binding's own)")
       ->check(CLI::IsMember({"compact", "float"}))
       ->capture_default_str();

@@ -355,9 +355,7 @@ void Deformer::apply_table(std::span<const Affine> affine, std::span<glm::vec3> 
 }
 
 size_t Deformer::table_bytes() const {
-  if (table_) return table_->bytes();
-  const Binding& b = *binding_;
-  return b.offsets.size() * 4 + b.ids.size() * 4 + b.weights.size() * 4 + b.bary.size() * 4;
+  return table_ ? table_->bytes() : float_table_bytes(*binding_);
 }
 
 size_t Deformer::bytes_read_per_call() const {

@@ -118,13 +118,11 @@ bool fill_group(const Binding& b, size_t g, KernelTable& t, size_t m0, GroupScra
   return true;
 }
 
-// The float table's bytes: the compact one is made only when it is not larger (8 B an entry, 16 with
-// anchors, plus the offsets).
+}  // namespace
+
 size_t float_table_bytes(const Binding& b) {
   return b.offsets.size() * 4 + b.ids.size() * 4 + b.weights.size() * 4 + b.bary.size() * 4;
 }
-
-}  // namespace
 
 std::optional<KernelTable> make_kernel_table(const Binding& b) {
   KernelTable t;
@@ -139,10 +137,10 @@ std::optional<KernelTable> make_kernel_table(const Binding& b) {
   // pass 1: members per group
   std::vector<uint32_t> count(groups);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, groups, 1024), [&](const tbb::blocked_range<size_t>& r) {
-    std::vector<uint32_t> ids, seen(t.num_maps, 0);
+    GroupScratch scratch(t.num_maps);
     for (size_t g = r.begin(); g != r.end(); ++g) {
-      group_ids(b, g, seen, ids);
-      count[g] = static_cast<uint32_t>(ids.size());
+      group_ids(b, g, scratch.seen, scratch.ids);
+      count[g] = static_cast<uint32_t>(scratch.ids.size());
     }
   });
   t.group_start.resize(groups + 1);
@@ -238,8 +236,9 @@ bool update_kernel_table(KernelTable& t, const Binding& b, std::span<const uint3
 }
 
 // ---- the kernels -------------------------------------------------------------------------------------
-// One body, compiled twice: for AVX + FMA (chosen at run time where the processor has them) and for the
-// baseline instruction set. GCC's vector extensions: 8 floats a register, points across lanes.
+// One body, compiled three times: for AVX2 + FMA, for AVX + FMA (chosen at run time where the processor
+// has them) and for the baseline instruction set. GCC's vector extensions: 8 floats a register, points
+// across lanes.
 
 namespace {
 
@@ -289,6 +288,18 @@ struct Lanes {
   for (size_t l = 0; l < n; ++l) dst[i0 + l] = glm::vec3(x[l], y[l], z[l]);
 }
 
+// The blend applied to group g's rest points and stored: output row r is
+// (rows[r][0] x + rows[r][1] y + rows[r][2] z + rows[r][3]) kScale + the origin's, per lane.
+[[gnu::always_inline]] inline void finish_group(const KernelTable& t, size_t g, const f8 (&rows)[3][4],
+                                                const glm::vec3* skin, const glm::vec3& o, glm::vec3* dst) {
+  const size_t i0 = g * kLanes, n = std::min<size_t>(kLanes, t.num_points - i0);
+  const Lanes p = load_points(skin, i0, n, o);
+  const float s = KernelTable::kScale;
+  f8 out[3];
+  for (int r = 0; r < 3; ++r) out[r] = (rows[r][0] * p.x + rows[r][1] * p.y + rows[r][2] * p.z + rows[r][3]) * s;
+  store_points(out[0] + o.x, out[1] + o.y, out[2] + o.z, dst, i0, n);
+}
+
 [[gnu::always_inline]] inline void affine_groups(const KernelTable& t, const Affine* maps, const glm::vec3* skin,
                                                  const glm::vec3& o, glm::vec3* dst, size_t g0, size_t g1) {
   const uint32_t* start = t.group_start.data();
@@ -304,13 +315,9 @@ struct Lanes {
 #pragma GCC unroll 12
       for (int c = 0; c < 12; ++c) acc[c] += w * a[c];
     }
-    const size_t i0 = g * kLanes, n = std::min<size_t>(kLanes, t.num_points - i0);
-    const Lanes p = load_points(skin, i0, n, o);
-    const float s = KernelTable::kScale;
-    const f8 x = (acc[0] * p.x + acc[1] * p.y + acc[2] * p.z + acc[3]) * s + o.x;
-    const f8 y = (acc[4] * p.x + acc[5] * p.y + acc[6] * p.z + acc[7]) * s + o.y;
-    const f8 z = (acc[8] * p.x + acc[9] * p.y + acc[10] * p.z + acc[11]) * s + o.z;
-    store_points(x, y, z, dst, i0, n);
+    const f8 rows[3][4] = {{acc[0], acc[1], acc[2], acc[3]}, {acc[4], acc[5], acc[6], acc[7]},
+                           {acc[8], acc[9], acc[10], acc[11]}};
+    finish_group(t, g, rows, skin, o, dst);
   }
 }
 
@@ -334,13 +341,9 @@ struct Lanes {
 #pragma GCC unroll 3
       for (int k = 0; k < 3; ++k) acc[9 + k] += w * r.q0[k] + wb1 * r.d1[k] + wb2 * r.d2[k];
     }
-    const size_t i0 = g * kLanes, n = std::min<size_t>(kLanes, t.num_points - i0);
-    const Lanes p = load_points(skin, i0, n, o);
-    const float s = KernelTable::kScale;
-    const f8 x = (acc[0] * p.x + acc[1] * p.y + acc[2] * p.z + acc[9]) * s + o.x;
-    const f8 y = (acc[3] * p.x + acc[4] * p.y + acc[5] * p.z + acc[10]) * s + o.y;
-    const f8 z = (acc[6] * p.x + acc[7] * p.y + acc[8] * p.z + acc[11]) * s + o.z;
-    store_points(x, y, z, dst, i0, n);
+    const f8 rows[3][4] = {{acc[0], acc[1], acc[2], acc[9]}, {acc[3], acc[4], acc[5], acc[10]},
+                           {acc[6], acc[7], acc[8], acc[11]}};
+    finish_group(t, g, rows, skin, o, dst);
   }
 }
 

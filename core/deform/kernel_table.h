@@ -63,6 +63,10 @@ struct KernelTable {
   }
 };
 
+// Bytes of `b`'s float stencil (offsets, ids, weights, anchors: 8 B an entry, 16 with anchors): the
+// compact table is made only when it is not larger.
+size_t float_table_bytes(const Binding& b);
+
 // The compact table of `b`'s main stencil, or nothing when it cannot be compact (see above).
 std::optional<KernelTable> make_kernel_table(const Binding& b);
 // `t` made again for `b` whose stencils changed for `points` only (a live set edit): the groups holding
