@@ -11,6 +11,7 @@
 
 #include "app/bench_gpu.h"
 #include "app/bench_probe.h"
+#include "app/bench_reweight.h"
 #include "app/cli_common.h"
 #include "app/commands.h"
 #include "core/deform/deformer.h"
@@ -61,6 +62,7 @@ struct BenchResult {
   size_t affected_points = 0, affected_elements = 0;
   std::optional<GpuBenchFigures> gpu;
   ProbeReport lipschitz;  // the automatic probe lines (core/deform/lipschitz_probe.h) at kBenchProbeSamples
+  std::optional<ReweightFigures> reweight;
 };
 
 // Samples per probe line for the bench's Lipschitz line: the probe binds only its own points (a few
@@ -74,7 +76,7 @@ void add_bench_command(CLI::App& app, int& exit_code) {
     std::string mesh, cage, posed, twist, variant_list = variant_name(BindParams{}.variant);
     std::string export_skin, score_deformed, project, clip = "0", table = "compact";
     uint32_t subdivide = 0, changes = 20;
-    bool json = false, gpu = false;
+    bool json = false, gpu = false, reweight = false, reweight_verify = false;
     BindOptions bind;
   };
   auto args = std::make_shared<Args>();
@@ -105,6 +107,11 @@ void add_bench_command(CLI::App& app, int& exit_code) {
   cmd->remove_option(cmd->get_option("--variant"));
   args->bind.variant_option = nullptr;  // removed: --variant here takes a list
   cmd->add_option("--variant", args->variant_list, "basic | clamped | extended | all")->capture_default_str();
+  cmd->add_flag("--reweight", args->reweight,
+                "also time slider drags of local, epsilon and K re-weighted from a candidate cache (each with its new "
+                "deformer table)");
+  cmd->add_flag("--reweight-verify", args->reweight_verify,
+                "with --reweight: bind each step afresh too and check the cache's result is identical");
   cmd->callback([args, &exit_code] {
     exit_code = 1;
     if (args->changes < 20) {
@@ -275,6 +282,16 @@ void add_bench_command(CLI::App& app, int& exit_code) {
         return;
       }
       r.lipschitz = std::move(probe).value();
+      if (args->reweight || args->reweight_verify) {
+        d = make_error(ErrorCode::kInvalidArgument, "released");  // the timed deformer's table, freed first
+        b = make_error(ErrorCode::kInvalidArgument, "released");
+        auto rw = bench_reweight(skin, *cage, cage->polygons.positions, opts.params, args->reweight_verify);
+        if (!rw) {
+          report_error(rw.error());
+          return;
+        }
+        r.reweight = std::move(rw).value();
+      }
       results.push_back(r);
     }
     const double peak_mb = peak_rss_mb();
@@ -316,6 +333,20 @@ void add_bench_command(CLI::App& app, int& exit_code) {
                           {"lines", r.lipschitz.lines.size()},
                           {"samples", r.lipschitz.samples},
                           {"seconds", r.lipschitz.seconds}};
+        if (r.reweight) {
+          nlohmann::json steps = nlohmann::json::array();
+          for (const auto& st : r.reweight->steps) {
+            nlohmann::json x{{"slider", st.slider},          {"value", st.value},
+                             {"reweight_s", st.reweight_s},  {"table_s", st.table_s},
+                             {"cached_points", st.cached_points}, {"queried_points", st.queried_points}};
+            if (r.reweight->verified) x["fresh_bind_s"] = st.fresh_s, x["identical"] = st.difference.empty();
+            steps.push_back(x);
+          }
+          v["reweight"] = {{"cache_s", r.reweight->cache_s},
+                           {"cache_bytes", r.reweight->cache_bytes},
+                           {"entries_per_point", r.reweight->entries_per_point},
+                           {"steps", steps}};
+        }
         if (r.gpu)
           v["gpu"] = {{"deform_median_ms", r.gpu->deform_ms},
                       {"normals_median_ms", r.gpu->normals_ms},
@@ -369,12 +400,35 @@ void add_bench_command(CLI::App& app, int& exit_code) {
                   "probe: the kernel's GB/s as a share of the probe's triad\n",
                   kernel_isa_name());
       std::printf("peak memory %.0f MB\n", peak_mb);
+      for (const auto& r : results) {
+        if (!r.reweight) continue;
+        const ReweightFigures& f = *r.reweight;
+        std::printf("reweight (%s): candidate cache %.3f s, %.1f MB (%.1f elements per point)\n", r.variant.c_str(),
+                    f.cache_s, f.cache_bytes / 1e6, f.entries_per_point);
+        std::printf("  %-8s %8s %11s %8s %8s %9s%s\n", "slider", "value", "reweight s", "table s", "cached", "queried",
+                    f.verified ? "  fresh bind s  identical" : "");
+        for (const auto& st : f.steps) {
+          std::printf("  %-8s %8.3f %11.3f %8.3f %7.2f%% %9llu", st.slider.c_str(), st.value, st.reweight_s, st.table_s,
+                      100.0 * double(st.cached_points) / double(std::max<uint64_t>(1, st.cached_points + st.queried_points)),
+                      static_cast<unsigned long long>(st.queried_points));
+          if (f.verified) std::printf("  %13.3f  %s", st.fresh_s, st.difference.empty() ? "yes" : ("NO: " + st.difference).c_str());
+          std::printf("\n");
+        }
+      }
       for (const auto& r : results)
         std::printf("lipschitz: worst step ratio %.3f (%.3f x the cage's largest stretch %.3f) over %zu probe lines "
                     "(%s, %u samples, worst shrink %.3f, %.2f s)\n",
                     r.lipschitz.worst_ratio, r.lipschitz.figure(), r.lipschitz.cage.stretch, r.lipschitz.lines.size(),
                     r.variant.c_str(), r.lipschitz.samples, r.lipschitz.worst_shrink, r.lipschitz.seconds);
     }
+    for (const auto& r : results)
+      if (r.reweight)
+        for (const auto& st : r.reweight->steps)
+          if (!st.difference.empty()) {
+            std::fprintf(stderr, "error: %s, %s %.3f: the re-weighted binding differs from a fresh bind (%s)\n",
+                         r.variant.c_str(), st.slider.c_str(), st.value, st.difference.c_str());
+            return;
+          }
     exit_code = 0;
   });
 }

@@ -6,8 +6,10 @@
 #include <cstring>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <unordered_map>
 
+#include <glm/vec2.hpp>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
 
@@ -131,11 +133,22 @@ double tie_band2(const BindParams& prm, double h, double best2) {
   return std::max(h * h * r * r, best2);
 }
 
-double needed_radius2(const BindParams& prm, double h, double best2, double next2, double last2, double radius2) {
+namespace {
+// needed_radius2, with the tie band's squared radius kept in `band2` (< 0: not known yet; computed
+// when needed)
+double needed_radius2_band(const BindParams& prm, double h, double best2, double next2, double last2, double radius2,
+                           double& band2) {
   const double md2 = prm.max_distance > 0 ? prm.max_distance * prm.max_distance : std::numeric_limits<double>::infinity();
   const double out2 = std::min(next2, md2);  // K or fewer candidates and no max distance: the threshold radius
   if (!std::isfinite(out2)) return radius2;
-  return std::min({radius2, std::max(out2, tie_band2(prm, h, best2)), last2});
+  if (band2 < 0) band2 = tie_band2(prm, h, best2);
+  return std::min({radius2, std::max(out2, band2), last2});
+}
+}  // namespace
+
+double needed_radius2(const BindParams& prm, double h, double best2, double next2, double last2, double radius2) {
+  double band2 = -1.0;
+  return needed_radius2_band(prm, h, best2, next2, last2, radius2, band2);
 }
 
 double threshold_radius(double d_min, double local, double epsilon) {
@@ -270,12 +283,16 @@ bool outside_rule(const SetEdit* edit, uint32_t e) { return edit && (edit->exclu
 // The squared distance within which every allowed element must be known for the point's result to
 // be exact (needed_radius2: the threshold radius, the (K+1)-th candidate, the tie band, the M+1-th).
 // `out` is sorted; radius2 follows the nearest element.
-double needed_bound2(const Context& ctx, const std::vector<Candidate>& out, double radius2) {
+// `band2` (optional): the tie band's squared radius, where it was needed (else left as it is).
+double needed_bound2(const Context& ctx, const std::vector<Candidate>& out, double radius2, double* band2 = nullptr) {
   const double inf = std::numeric_limits<double>::infinity();
   const size_t k = ctx.params.max_elements;
   if (out.empty()) return radius2;
-  return needed_radius2(ctx.params, ctx.h, out.front().dist2, out.size() > k ? out[k].dist2 : inf,
-                        out.size() > kMaxTiedMembers ? out[kMaxTiedMembers].dist2 : inf, radius2);
+  double band = -1.0;
+  const double need2 = needed_radius2_band(ctx.params, ctx.h, out.front().dist2, out.size() > k ? out[k].dist2 : inf,
+                                           out.size() > kMaxTiedMembers ? out[kMaxTiedMembers].dist2 : inf, radius2, band);
+  if (band2 && band >= 0) *band2 = band;
+  return need2;
 }
 
 double radius2_of(const Context& ctx, double best2) {
@@ -642,7 +659,9 @@ bool register_points(const Context& ctx, const Edits& edits, std::span<const uin
       std::span<const uint32_t> pts(order.data() + c * kChunk, std::min(n, (c + 1) * kChunk) - c * kChunk);
       source.prepare(ctx, pts);
       out.counts.reserve(pts.size());
-      for (uint32_t i : pts) {
+      for (size_t j = 0; j < pts.size(); ++j) {
+        const uint32_t i = pts[j];
+        if (j + 4 < pts.size()) __builtin_prefetch(&ctx.skin[pts[j + 4]]);  // points in Morton order: scattered
         const SetEdit* edit = edits.find(i);
         glm::dvec3 p(ctx.skin[i]);
         double need2 = 0.0;
@@ -773,12 +792,15 @@ Binding assemble(const Context& ctx, std::span<const uint32_t> order, std::vecto
   return b;
 }
 
+// `morton`: morton_order(ctx.skin) when the caller has it (else computed here).
 template <class NewSource>
 Result<Binding> run_registration(const Context& ctx, std::span<const SetEdit> edit_list, const BindProgress& progress,
-                                 NewSource new_source, std::chrono::steady_clock::time_point t0) {
+                                 NewSource new_source, std::chrono::steady_clock::time_point t0,
+                                 std::span<const uint32_t> morton = {}) {
   auto edits = make_edits(ctx, edit_list);
   if (!edits) return edits.error();
-  const std::vector<uint32_t> order = morton_order(ctx.skin);
+  const std::vector<uint32_t> own = morton.empty() ? morton_order(ctx.skin) : std::vector<uint32_t>{};
+  const std::span<const uint32_t> order = morton.empty() ? std::span<const uint32_t>(own) : morton;
   std::vector<Chunk> chunks;
   if (!register_points(ctx, *edits, order, new_source, progress, chunks))
     return make_error(ErrorCode::kCancelled, "bind cancelled");
@@ -867,8 +889,22 @@ class ChunkedBvhSource {
     return static_cast<uint32_t>(std::count_if(rejected_.begin(), rejected_.end(), [&](double d2) { return d2 <= need2; }));
   }
 
- private:
-  // The point's own query of the whole hierarchy.
+  // Every valid element (whatever the labels and edits) within squared distance r2 of p, sorted by
+  // distance (ties by id): from the chunk's elements where they cover it, else from the hierarchy.
+  void collect_within(const glm::dvec3& p, double r2, std::vector<Candidate>& out) {
+    out.clear();
+    const double cover = reach_ - glm::length(p - centre_);
+    const bool chunk = cover > 0 && r2 <= cover * cover;
+    if (!chunk) bvh_.boxes_within(p, std::sqrt(r2) * (1 + 1e-9), direct_elems_);
+    for (const auto& e : chunk ? sorted_ : direct_elems_) {
+      if (ElementBvh::box_dist2(p, e.lo, e.hi) > r2) continue;
+      ClosestPoint cp = closest_point_on_triangle(p, e.a, e.b, e.c);
+      if (cp.dist2 <= r2) out.push_back({e.id, cp.dist2, cp.bary});
+    }
+    std::sort(out.begin(), out.end(), closer);
+  }
+
+  // The point's own query of the whole hierarchy (what gather() does where the chunk falls short).
   uint32_t direct(const Context& ctx, uint32_t point, const glm::dvec3& p, const SetEdit* edit,
                   std::vector<Candidate>& out, double& need2) {
     auto skip = [&](uint32_t e) { return outside_rule(edit, e) || !ctx.allowed(point, e); };
@@ -886,6 +922,7 @@ class ChunkedBvhSource {
     return count;
   }
 
+ private:
   const ElementBvh& bvh_;
   std::vector<ElementBvh::Element> elems_, sorted_, direct_elems_;
   std::vector<double> keys_, sorted_keys_;  // distance from the chunk centre minus the chunk's half size
@@ -1165,6 +1202,282 @@ Status Rebinder::update_points(Binding& b, std::span<const SetEdit> edit_list, s
   }
   return Ok{};
 }
+
+// ---- CandidateCache -------------------------------------------------------------------------------
+
+struct CandidateCache::State {
+  std::vector<glm::vec3> skin, rest;
+  Cage cage;
+  std::optional<PartLabels> labels;
+  std::unique_ptr<ElementBvh> bvh;  // over the valid elements (they depend on the rest positions alone)
+  std::vector<uint32_t> order;      // morton_order(skin): slot -> point
+  std::vector<uint32_t> slot;       // point -> slot
+  // per slot (registration visits points in Morton order, so the lists stream): the point's list of
+  // every valid element within sqrt(cover2), sorted as candidates are (distance, then id); cover2 < 0:
+  // none (always asks the hierarchy)
+  std::vector<uint32_t> offsets;  // #P+1
+  // an entry: the element id (top bit: its closest point's first barycentric is 0, else it is
+  // 1 - b1 - b2, as closest_point_on_triangle makes it), the squared distance and (b1, b2)
+  std::vector<uint32_t> ids;
+  std::vector<double> dist2;
+  std::vector<glm::dvec2> bary;
+  std::vector<double> cover2;  // #P
+  static constexpr uint32_t kZeroFirst = 0x80000000u;
+  double seconds = 0.0;
+  const PartLabels* label_ptr() const { return labels ? &*labels : nullptr; }
+};
+
+namespace {
+
+// Candidates from a point's cached list: exactly what ChunkedBvhSource::gather finds (every allowed,
+// non-excluded element within the threshold radius, sorted; the extra ones beyond the K+1-th and the
+// tie band that the hierarchy's pruning would drop weigh nothing, Taper), without barycentrics
+// (finish_point computes the members'). A point whose needed radius exceeds its list's cover asks
+// the hierarchy (the same query as gather's own fallback).
+class CachedSource {
+ public:
+  CachedSource(const CandidateCache::State& cache, std::atomic<uint64_t>& queried)
+      : cache_(cache), fallback_(*cache.bvh), queried_(queried) {}
+  ~CachedSource() { queried_ += queried_here_; }
+  CachedSource(CachedSource&& o) noexcept : cache_(o.cache_), fallback_(*o.cache_.bvh), queried_(o.queried_) {}
+  void prepare(const Context&, std::span<const uint32_t>) {}
+  uint32_t gather(const Context& ctx, uint32_t point, const glm::dvec3& p, const SetEdit* edit,
+                  std::vector<Candidate>& out, double& need2) {
+    out.clear();
+    rejected_.clear();
+    double radius2 = std::numeric_limits<double>::infinity();
+    const uint32_t slot = cache_.slot[point];
+    for (uint32_t i = cache_.offsets[slot]; i < cache_.offsets[slot + 1]; ++i) {
+      const double d2 = cache_.dist2[i];
+      if (d2 > radius2) break;
+      const uint32_t e = cache_.ids[i] & ~CandidateCache::State::kZeroFirst;
+      if (outside_rule(edit, e)) continue;
+      if (!ctx.allowed(point, e)) {
+        rejected_.push_back(d2);
+        continue;
+      }
+      if (out.empty()) radius2 = radius2_of(ctx, d2);  // the nearest allowed element
+      const glm::dvec2 b = cache_.bary[i];
+      out.push_back({e, d2, {(cache_.ids[i] & CandidateCache::State::kZeroFirst) ? 0.0 : 1 - b.x - b.y, b.x, b.y}});
+    }
+    double band2 = -1.0;
+    need2 = needed_bound2(ctx, out, radius2, &band2);
+    if (out.empty() || !(need2 <= cache_.cover2[slot])) {
+      ++queried_here_;
+      return fallback_.direct(ctx, point, p, edit, out, need2);
+    }
+    // what gather() always keeps (its pruning may keep more, which weigh nothing): the K+1 nearest and
+    // the tie band; the rest would only cost finish_point time
+    const size_t k = ctx.params.max_elements + 1;
+    if (out.size() > k) {
+      if (band2 < 0) band2 = tie_band2(ctx.params, ctx.h, out.front().dist2);
+      const double keep2 = std::max(out[k - 1].dist2, band2);
+      while (out.back().dist2 > keep2) out.pop_back();
+    }
+    return static_cast<uint32_t>(std::count_if(rejected_.begin(), rejected_.end(), [&](double d2) { return d2 <= need2; }));
+  }
+
+ private:
+  const CandidateCache::State& cache_;
+  ChunkedBvhSource fallback_;
+  std::atomic<uint64_t>& queried_;
+  uint64_t queried_here_ = 0;
+  std::vector<double> rejected_;
+};
+
+}  // namespace
+
+CandidateCache::CandidateCache(CandidateCache&&) noexcept = default;
+CandidateCache& CandidateCache::operator=(CandidateCache&&) noexcept = default;
+CandidateCache::~CandidateCache() = default;
+
+BindParams CandidateCache::cover_params(const BindParams& params) {
+  BindParams c = params;
+  c.max_elements = std::min<uint32_t>(64, std::max(2 * params.max_elements, params.max_elements + 8));
+  c.epsilon = params.epsilon / 4;
+  c.local = std::max(0.5, params.local - 1.0);
+  c.max_distance = 0;  // none: the cover must hold whatever the max distance
+  return c;
+}
+
+Result<CandidateCache> CandidateCache::create(std::span<const glm::vec3> skin, const Cage& cage,
+                                              std::span<const glm::vec3> rest, const BindParams& params,
+                                              const PartLabels* labels, const BindProgress& progress) {
+  const auto t0 = std::chrono::steady_clock::now();
+  CandidateCache cache;
+  cache.state_ = std::make_unique<State>();
+  State& st = *cache.state_;
+  st.skin.assign(skin.begin(), skin.end());
+  st.rest.assign(rest.begin(), rest.end());
+  st.cage = cage;
+  if (labels && !labels->empty()) st.labels = *labels;
+  if (cage.num_elements() >= State::kZeroFirst)
+    return make_error(ErrorCode::kInvalidArgument, "the cage has " + std::to_string(cage.num_elements()) +
+                                                       " elements; the candidate cache takes at most 2^31");
+  auto made = make_context(st.skin, st.cage, st.rest, cover_params(params), st.label_ptr());
+  if (!made) return made.error();
+  const Context& ctx = *made;
+  st.bvh = std::make_unique<ElementBvh>(ctx.rest, ctx.cage->elements, ctx.valid_ids);
+  st.order = morton_order(st.skin);
+
+  // per chunk of the Morton order: each point's list, then scattered to point order
+  struct Lists {
+    std::vector<uint32_t> counts, ids;
+    std::vector<double> dist2, cover2;
+    std::vector<glm::dvec2> bary;
+  };
+  const size_t n = st.skin.size(), num_chunks = (n + kChunk - 1) / kChunk;
+  std::vector<Lists> chunks(num_chunks);
+  std::atomic<size_t> done{0};
+  std::atomic<bool> cancelled{false};
+  const size_t report_every = std::max<size_t>(1, num_chunks / 200);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, num_chunks, 8), [&](const tbb::blocked_range<size_t>& r) {
+    std::vector<Candidate> cands, all;
+    ChunkedBvhSource source(*st.bvh);
+    for (size_t c = r.begin(); c != r.end(); ++c) {
+      if (cancelled.load(std::memory_order_relaxed)) return;
+      if (progress.cancel && progress.cancel->load(std::memory_order_relaxed)) {
+        cancelled = true;
+        return;
+      }
+      Lists& out = chunks[c];
+      std::span<const uint32_t> pts(st.order.data() + c * kChunk, std::min(n, (c + 1) * kChunk) - c * kChunk);
+      source.prepare(ctx, pts);
+      for (uint32_t i : pts) {
+        const glm::dvec3 p(st.skin[i]);
+        double need2 = 0.0;
+        source.gather(ctx, i, p, nullptr, cands, need2);  // what the widened parameters need
+        double cover2 = -1.0;
+        all.clear();
+        if (!cands.empty() && need2 < 1e300) {
+          source.collect_within(p, need2, all);
+          cover2 = need2;
+          if (all.size() > kMaxEntries) {  // cut before the first left out (ties with it go too)
+            cover2 = std::nextafter(all[kMaxEntries].dist2, 0.0);
+            while (!all.empty() && all.back().dist2 > cover2) all.pop_back();
+          }
+        }
+        out.counts.push_back(static_cast<uint32_t>(all.size()));
+        out.cover2.push_back(cover2);
+        for (const Candidate& x : all) {
+          // the first barycentric from the other two: 1 - b1 - b2 (interior, vertices, edges AB and AC)
+          // or 0 (edge BC, where 1 - b1 - b2 may round to a tiny number)
+          const bool zero_first = x.bary.x != 1 - x.bary.y - x.bary.z;
+          CAGEWRAP_CHECK(!zero_first || x.bary.x == 0.0, "closest_point_on_triangle's barycentrics");
+          out.ids.push_back(x.element | (zero_first ? State::kZeroFirst : 0u));
+          out.dist2.push_back(x.dist2);
+          out.bary.push_back({x.bary.y, x.bary.z});
+        }
+      }
+      const size_t d = done.fetch_add(1) + 1;
+      if (progress.on_progress && (d % report_every == 0 || d == num_chunks)) progress.on_progress(double(d) / num_chunks);
+    }
+  });
+  if (cancelled) return make_error(ErrorCode::kCancelled, "making the candidate cache was cancelled");
+  st.slot.resize(n);
+  for (size_t k = 0; k < n; ++k) st.slot[st.order[k]] = static_cast<uint32_t>(k);
+  st.offsets.assign(n + 1, 0);
+  st.cover2.assign(n, -1.0);
+  for (size_t c = 0; c < num_chunks; ++c)
+    for (size_t k = 0; k < chunks[c].counts.size(); ++k) {
+      st.offsets[c * kChunk + k + 1] = chunks[c].counts[k];
+      st.cover2[c * kChunk + k] = chunks[c].cover2[k];
+    }
+  uint64_t total = 0;
+  for (size_t i = 0; i < n; ++i) {
+    total += st.offsets[i + 1];
+    if (total > UINT32_MAX)
+      return make_error(ErrorCode::kInvalidArgument, "the candidate cache would hold more than 2^32 entries (" +
+                                                         std::to_string(n) + " skin points); bind without it");
+    st.offsets[i + 1] = static_cast<uint32_t>(total);
+  }
+  st.ids.resize(total);
+  st.dist2.resize(total);
+  st.bary.resize(total);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, num_chunks, 16), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t c = r.begin(); c != r.end(); ++c) {
+      Lists& ch = chunks[c];
+      size_t src = 0;
+      for (size_t k = 0; k < ch.counts.size(); ++k) {
+        const uint32_t dst = st.offsets[c * kChunk + k];
+        std::copy_n(ch.ids.begin() + static_cast<std::ptrdiff_t>(src), ch.counts[k], st.ids.begin() + dst);
+        std::copy_n(ch.dist2.begin() + static_cast<std::ptrdiff_t>(src), ch.counts[k], st.dist2.begin() + dst);
+        std::copy_n(ch.bary.begin() + static_cast<std::ptrdiff_t>(src), ch.counts[k], st.bary.begin() + dst);
+        src += ch.counts[k];
+      }
+      ch = Lists{};
+    }
+  });
+  st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return cache;
+}
+
+Result<Binding> CandidateCache::bind(const BindParams& params, std::span<const SetEdit> edits,
+                                     const BindProgress& progress, CandidateCacheStats* stats) const {
+  const auto t0 = std::chrono::steady_clock::now();
+  const State& st = *state_;
+  auto ctx = make_context(st.skin, st.cage, st.rest, params, st.label_ptr());
+  if (!ctx) return ctx.error();
+  std::atomic<uint64_t> queried{0};
+  auto b = run_registration(*ctx, edits, progress, [&] { return CachedSource(st, queried); }, t0, st.order);
+  if (b && stats) *stats = {st.skin.size() - queried.load(), queried.load()};
+  return b;
+}
+
+bool CandidateCache::fits(std::span<const glm::vec3> skin, const Cage& cage, std::span<const glm::vec3> rest,
+                          const PartLabels* labels) const {
+  const State& st = *state_;
+  auto same = [](std::span<const glm::vec3> a, std::span<const glm::vec3> b) {
+    return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size_bytes()) == 0);
+  };
+  const bool labelled = labels && !labels->empty();
+  if (labelled != st.labels.has_value()) return false;
+  if (labelled) {
+    const PartLabels& l = *st.labels;
+    if (l.parent != labels->parent || l.point != labels->point || l.cage_vertex != labels->cage_vertex ||
+        l.related != labels->related || l.point_shell != labels->point_shell || l.vertex_shell != labels->vertex_shell ||
+        l.length != labels->length || !same(l.head, labels->head))
+      return false;
+  }
+  return same(st.skin, skin) && same(st.rest, rest) && st.cage.elements == cage.elements &&
+         st.cage.polygons.num_vertices() == cage.polygons.num_vertices() &&
+         st.cage.polygons.face_start == cage.polygons.face_start &&
+         st.cage.polygons.face_vertices == cage.polygons.face_vertices;  // h: the polygons' mean edge
+}
+
+std::string registration_difference(const Binding& a, const Binding& b) {
+  auto same_bits = [](const auto& x, const auto& y) {
+    return x.size() == y.size() && (x.empty() || std::memcmp(x.data(), y.data(), x.size() * sizeof(x[0])) == 0);
+  };
+#define CAGEWRAP_COMPARE(field) \
+  if (!same_bits(a.field, b.field)) return #field;
+  CAGEWRAP_COMPARE(offsets) CAGEWRAP_COMPARE(ids) CAGEWRAP_COMPARE(weights) CAGEWRAP_COMPARE(bary)
+  CAGEWRAP_COMPARE(set_offsets) CAGEWRAP_COMPARE(set_ids) CAGEWRAP_COMPARE(set_weights)
+  CAGEWRAP_COMPARE(rigid_points) CAGEWRAP_COMPARE(rigid_element) CAGEWRAP_COMPARE(rigid_bary)
+  CAGEWRAP_COMPARE(separated) CAGEWRAP_COMPARE(reach) CAGEWRAP_COMPARE(invalid_elements)
+  CAGEWRAP_COMPARE(element_status) CAGEWRAP_COMPARE(rest_cage)
+#undef CAGEWRAP_COMPARE
+  if (!(a.params == b.params)) return "params";
+  if (a.h != b.h) return "h";
+  if (a.origin != b.origin) return "origin";
+  if (a.num_points != b.num_points || a.num_cage_vertices != b.num_cage_vertices) return "sizes";
+  if (a.quality_inside != b.quality_inside) return "quality_inside";
+  if (a.max_set_size != b.max_set_size || a.total_set_size != b.total_set_size) return "set sizes";
+  if (a.separation_applied != b.separation_applied || a.total_separated != b.total_separated ||
+      a.separated_points != b.separated_points)
+    return "separation figures";
+  if (a.elements != b.elements) return "elements";
+  return {};
+}
+
+size_t CandidateCache::num_points() const { return state_->skin.size(); }
+uint64_t CandidateCache::entries() const { return state_->ids.size(); }
+size_t CandidateCache::bytes() const {
+  const State& st = *state_;
+  return st.offsets.size() * 4 + st.ids.size() * 4 + st.dist2.size() * 8 + st.bary.size() * 16 + st.cover2.size() * 8 + st.order.size() * 4 +
+         st.slot.size() * 4;
+}
+double CandidateCache::seconds() const { return state_->seconds; }
 
 Result<Binding> rebind_points(const Binding& binding, std::span<const glm::vec3> skin, const Cage& cage,
                               std::span<const glm::vec3> rest, const BindParams& params,

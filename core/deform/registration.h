@@ -5,6 +5,7 @@
 #include <functional>
 #include <memory>
 #include <span>
+#include <string>
 
 #include "core/deform/binding.h"
 
@@ -100,6 +101,58 @@ class Rebinder {
   Status update_points(Binding& binding, std::span<const SetEdit> edits, std::span<const uint32_t> points) const;
   std::unique_ptr<State> state_;
 };
+
+// Re-weighting from cached candidates, for parameter edits (local, epsilon, K, max distance, the
+// scale h, the separation steps, the variant, set edits): per skin point, every valid element within a
+// radius, gathered once per skin, cage, rest positions and labels with the hierarchy. bind() then
+// registers with any parameters from these lists, and asks the hierarchy only for the points whose
+// needed radius (needed_radius2) under those parameters exceeds what their list covers (a slider
+// dragged far from where the cache was made). Its result equals bind_skin with the same inputs, bit
+// for bit, whatever the parameters. Owns copies of its inputs (a background job may use it while the
+// document changes); bind() may run on several threads at once.
+struct CandidateCacheStats {
+  uint64_t cached_points = 0;   // registered from their lists
+  uint64_t queried_points = 0;  // asked the hierarchy (their lists fell short)
+};
+class CandidateCache {
+ public:
+  // Each point's list covers what the parameters cover_params(params) need (with its nearest
+  // allowed elements under `labels`): every valid element within that radius, whatever its labels.
+  // Lists are capped at kMaxEntries per point (the cover shrinks to the last one kept).
+  static Result<CandidateCache> create(std::span<const glm::vec3> skin, const Cage& cage,
+                                       std::span<const glm::vec3> rest_positions, const BindParams& params,
+                                       const PartLabels* labels = nullptr, const BindProgress& progress = {});
+  // The parameters a cache made around `params` is sized for: K doubled (at least + 8, at most 64),
+  // epsilon quartered, local lowered by one (a wider threshold radius and tie band).
+  static BindParams cover_params(const BindParams& params);
+  static constexpr uint32_t kMaxEntries = 192;
+
+  // bind_skin(skin, cage, rest, params, edits, progress, labels) from the cache.
+  Result<Binding> bind(const BindParams& params, std::span<const SetEdit> edits = {}, const BindProgress& progress = {},
+                       CandidateCacheStats* stats = nullptr) const;
+  // Whether it was made for this skin, cage, rest positions and labels (compared in full).
+  bool fits(std::span<const glm::vec3> skin, const Cage& cage, std::span<const glm::vec3> rest_positions,
+            const PartLabels* labels) const;
+
+  size_t num_points() const;
+  uint64_t entries() const;  // cached elements, all points
+  size_t bytes() const;      // the lists and per-point covers (not the copies of the inputs)
+  double seconds() const;    // time taken to make it
+
+  CandidateCache(CandidateCache&&) noexcept;
+  CandidateCache& operator=(CandidateCache&&) noexcept;
+  ~CandidateCache();
+  struct State;
+
+ private:
+  CandidateCache() = default;
+  std::unique_ptr<State> state_;
+};
+
+// The first table in which two bindings' registrations differ ("offsets", "weights", "reach", ...;
+// floats compared bit for bit), or an empty string when every table and report figure is the same
+// (the time taken apart).
+std::string registration_difference(const Binding& a, const Binding& b);
 
 // One-off form: `binding` with `points` re-registered (a copy; see Rebinder::update).
 Result<Binding> rebind_points(const Binding& binding, std::span<const glm::vec3> skin, const Cage& cage,
