@@ -14,6 +14,9 @@
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
+#include <chrono>
+#include <thread>
+
 #include "core/deform/patch_fit.h"
 #include "tests/patch_fixtures.h"
 #include "core/document/project_io.h"
@@ -333,13 +336,20 @@ TEST_F(WorkspaceLiveParamsTest, ADragBindsLiveAndIsOneUndoStep) {
   const BindParams before = doc().params;
   const size_t steps = undo_steps();
   // three positions of the epsilon slider, each frame of the drag polled as the editor does
+  std::vector<std::string> messages;
+  auto poll = [&] {
+    if (auto m = s.poll_bind()) messages.push_back(*m);
+  };
   for (const char* eps : {"0.15", "0.2", "0.3"}) {
     ws.run(std::string("bind_param epsilon ") + eps);
     ws.run("bind_param_drag");
     EXPECT_TRUE(s.job) << "the drag binds at once";
-    s.poll_bind();
+    poll();
   }
-  finish_bind();  // the binds that ran with older positions are followed by one with the last
+  while (s.job) {  // the binds that ran with older positions are followed by one with the last
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    poll();
+  }
   ASSERT_TRUE(s.binding);
   EXPECT_DOUBLE_EQ(s.binding->params.epsilon, 0.3) << "the skin follows the slider before the release";
   EXPECT_EQ(undo_steps(), steps) << "no undo step while dragging";
@@ -352,6 +362,15 @@ TEST_F(WorkspaceLiveParamsTest, ADragBindsLiveAndIsOneUndoStep) {
   EXPECT_DOUBLE_EQ(doc().params.epsilon, 0.3);
   EXPECT_FALSE(s.job) << "released on the bound parameters: nothing more to bind";
   EXPECT_EQ(s.binding->params, p);
+  // the drag's binds re-weighted from a candidate cache made by its first: identical to a fresh bind
+  EXPECT_TRUE(s.candidate_cache().last_from_cache);
+  ASSERT_TRUE(s.candidate_cache().cache);
+  ASSERT_GE(messages.size(), 2u);
+  EXPECT_NE(messages.front().find("candidate cache made in"), std::string::npos) << messages.front();
+  EXPECT_NE(messages.back().find("re-weighted from the candidate cache"), std::string::npos) << messages.back();
+  auto fresh = bind_document(with_params(doc(), p), s.skin_rest, s.attachment ? &*s.attachment : nullptr);
+  ASSERT_TRUE(fresh.ok());
+  EXPECT_EQ(registration_difference(*s.binding, *fresh), "");
   ws.run("undo");
   EXPECT_DOUBLE_EQ(doc().params.epsilon, before.epsilon);
   finish_bind();

@@ -36,11 +36,13 @@ void fit_after_bind(const Document& doc, const Binding& binding, const FitReques
 }  // namespace
 
 std::unique_ptr<BindJob> start_bind_job(std::vector<glm::vec3> skin, Document doc, std::optional<CageAttachment> attachment,
-                                        FitRequest fit) {
+                                        FitRequest fit, std::shared_ptr<CandidateCacheSlot> cache, bool make_cache) {
   return std::make_unique<BindJob>("binding", [skin = std::move(skin), doc = std::move(doc), attachment = std::move(attachment),
-                                               fit = std::move(fit)](const BindJob::Progress& progress,
-                                                                     const std::atomic<bool>& cancel) {
-    auto b = bind_document(doc, skin, attachment ? &*attachment : nullptr, job_progress(progress, cancel));
+                                               fit = std::move(fit), cache = std::move(cache),
+                                               make_cache](const BindJob::Progress& progress, const std::atomic<bool>& cancel) {
+    const CageAttachment* a = attachment ? &*attachment : nullptr;
+    auto b = cache ? bind_document_cached(doc, skin, a, *cache, make_cache, job_progress(progress, cancel))
+                   : bind_document(doc, skin, a, job_progress(progress, cancel));
     if (b && !cancel) fit_after_bind(doc, *b, fit);
     return b;
   });
@@ -140,7 +142,8 @@ void Scene::start_bind() {
     job = start_rest_edit_job(skin_rest, with_params(doc(), params), attachment, *binding, bound_attachment_data_,
                               pending_rest_report_, std::move(fit));
   } else {
-    job = start_bind_job(skin_rest, with_params(doc(), params), attachment, std::move(fit));
+    job = start_bind_job(skin_rest, with_params(doc(), params), attachment, std::move(fit), candidate_cache_,
+                         live_params && live_params_possible());
   }
   pending_attachment_data_ = attachment;
   pending_cage_ = doc().cage;
@@ -767,6 +770,12 @@ std::optional<std::string> Scene::poll_bind() {
         std::snprintf(buf, sizeof buf, "rest cage edit: %zu moved vertices, %zu of %u skin points registered again in %.3f s",
                       pending_rest_report_->moved_vertices, pending_rest_report_->points, binding->num_points,
                       pending_rest_report_->seconds);
+      else if (candidate_cache_->last_from_cache && candidate_cache_->made_seconds >= 0)
+        std::snprintf(buf, sizeof buf, "candidate cache made in %.2f s; %u points re-weighted from it in %.3f s",
+                      candidate_cache_->made_seconds, binding->num_points, binding->seconds);
+      else if (candidate_cache_->last_from_cache)
+        std::snprintf(buf, sizeof buf, "%u points re-weighted from the candidate cache in %.3f s (quality %.1f%%)",
+                      binding->num_points, binding->seconds, 100 * binding->quality());
       else std::snprintf(buf, sizeof buf, "bound %u points to %zu elements in %.2f s (%zu skipped elements, %zu fallback points, quality %.1f%%)",
                     binding->num_points, binding->elements.size(), binding->seconds, binding->invalid_elements.size(),
                     binding->rigid_points.size(), 100 * binding->quality());

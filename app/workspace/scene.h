@@ -53,8 +53,11 @@ struct FitRequest {
 };
 // Binds the document's skin to its cage (parameters, set edits, automatic separation by the
 // attachment's skeleton parts: core/rig/rig.h bind_document), then fits the rig (`fit`).
+// With `cache`: the bind goes through its candidate cache (core/rig/rig.h bind_document_cached; the
+// same result), made first when `make_cache` (a parameter drag). The job owns `cache` while it runs.
 std::unique_ptr<BindJob> start_bind_job(std::vector<glm::vec3> skin, Document doc, std::optional<CageAttachment> attachment,
-                                        FitRequest fit = {});
+                                        FitRequest fit = {}, std::shared_ptr<CandidateCacheSlot> cache = nullptr,
+                                        bool make_cache = false);
 // The document's rest cage moved since `previous` was bound (core/rig/rig.h rebind_document): only the
 // skin points within reach of the moved vertices are registered again; `report` is filled when it
 // ends; then the rig is fitted (`fit`).
@@ -297,12 +300,15 @@ struct Scene {
   // kLiveBindPoints points, drag_params() (each frame of the drag) binds the skin with the panel's
   // parameters as they are, in the background, again as soon as the previous bind ends, so the skin
   // follows the slider; commit_params() (on release) makes them the document's: one undo step per drag.
-  // A fresh bind each time, so the result is the bind the parameters give.
+  // The first bind of a drag makes a candidate cache (core/deform/registration.h CandidateCache), the
+  // next ones re-weight from it: the same result as a fresh bind, several times faster.
   static constexpr size_t kLiveBindPoints = 200000;
   bool live_params_possible() const { return doc().cage && skin_rest.size() <= kLiveBindPoints; }
   void drag_params();
   void commit_params();
   bool live_params = false;  // a drag is on
+  // The drags' candidate cache and what the last bind did with it (read it while no job runs).
+  const CandidateCacheSlot& candidate_cache() const { return *candidate_cache_; }
   // Set edits changed for `points` only (a brush dab, an applied edit): re-registers just those points
   // in the current binding (core/deform/registration.h Rebinder) so the skin updates at once; the caller
   // has put `edits` into the document (live or committed). False (nothing done) when there is no
@@ -369,6 +375,9 @@ struct Scene {
   bool rest_edit_possible() const;
   void add_move(std::vector<glm::vec3>& values, const MoveWeights& weights, const glm::dvec3& world_delta) const;
   std::unique_ptr<Rebinder> rebinder_;  // for live set edits, made for the current binding
+  // the candidate cache of parameter drags (made by the first bind of a drag, kept for the next drags
+  // while skin, cage and labels stay; only bind jobs touch it, one at a time)
+  std::shared_ptr<CandidateCacheSlot> candidate_cache_ = std::make_shared<CandidateCacheSlot>();
   const Binding* rebinder_for_ = nullptr;
   Pose pose_;                          // the pose of the current frame (update_pose)
   std::vector<glm::vec3> skin_posed_;  // see skin_posed()

@@ -144,6 +144,33 @@ Result<Binding> bind_document(const Document& doc, std::span<const glm::vec3> sk
   return bind_skin(skin_rest, *doc.cage, doc.cage_positions(), doc.params, doc.set_edits, progress, labels ? &*labels : nullptr);
 }
 
+Result<Binding> bind_document_cached(const Document& doc, std::span<const glm::vec3> skin_rest, const CageAttachment* attachment,
+                                     CandidateCacheSlot& slot, bool make, const BindProgress& progress) {
+  slot.last_from_cache = false;
+  slot.made_seconds = -1;
+  if (!doc.cage) return make_error(ErrorCode::kInvalidArgument, "the document has no cage to bind to");
+  const std::optional<PartLabels> labels = document_labels(doc, attachment);
+  const PartLabels* l = labels ? &*labels : nullptr;
+  const auto rest = doc.cage_positions();
+  if (slot.cache && !slot.cache->fits(skin_rest, *doc.cage, rest, l)) slot.cache.reset();  // another skin, cage or labels
+  if (!slot.cache && make) {
+    // the cache's making is most of the first bind: its progress, then the re-weighting's
+    BindProgress first = progress;
+    if (progress.on_progress) first.on_progress = [&progress](double f) { progress.on_progress(0.8 * f); };
+    auto made = CandidateCache::create(skin_rest, *doc.cage, rest, doc.params, l, first);
+    if (!made) return made.error();
+    slot.made_seconds = made->seconds();
+    slot.cache = std::make_shared<const CandidateCache>(std::move(made).value());
+  }
+  if (!slot.cache) return bind_skin(skin_rest, *doc.cage, rest, doc.params, doc.set_edits, progress, l);
+  BindProgress rest_of = progress;
+  if (progress.on_progress && slot.made_seconds >= 0)
+    rest_of.on_progress = [&progress](double f) { progress.on_progress(0.8 + 0.2 * f); };
+  auto b = slot.cache->bind(doc.params, doc.set_edits, rest_of);
+  slot.last_from_cache = b.ok();
+  return b;
+}
+
 bool rest_edit_params_fit(const BindParams& bound, double h, const BindParams& now) {
   if (!(now.scale > 0)) return false;
   BindParams b = bound;

@@ -65,6 +65,19 @@ std::span<const glm::dmat3> cage_vertex_frames(const Binding& binding, const Pos
 Result<Binding> bind_document(const Document& doc, std::span<const glm::vec3> skin_rest, const CageAttachment* attachment,
                               const BindProgress& progress = {});
 
+// A candidate cache (core/deform/registration.h CandidateCache) kept between binds of one document
+// whose binding parameters are being dragged, and what the last bind through it did.
+struct CandidateCacheSlot {
+  std::shared_ptr<const CandidateCache> cache;
+  bool last_from_cache = false;  // the last bind re-weighted from the cache
+  double made_seconds = -1;      // the last bind made the cache (its time), else -1
+};
+// bind_document through `slot`'s candidate cache: the same result bit for bit. When the cache does
+// not fit the document's skin, cage and part labels, `make` makes it first (a parameter drag: the
+// next binds re-weight from it), else it is dropped and the bind is bind_document's.
+Result<Binding> bind_document_cached(const Document& doc, std::span<const glm::vec3> skin_rest, const CageAttachment* attachment,
+                                     CandidateCacheSlot& slot, bool make, const BindProgress& progress = {});
+
 // bind_document for a document whose rest cage moved (same cage elements, parameters and set edits)
 // since `previous` was bound with `previous_attachment`: only the skin points the moved vertices can
 // reach are registered again (core/deform/rest_edit.h), with the same result bit for bit. Anything else (other
