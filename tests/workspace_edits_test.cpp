@@ -38,6 +38,38 @@ class WorkspaceEditsTest : public DemoWorkspaceTest {
   int forearm_l = -1;
 };
 
+// A local topology edit (refine one face) on a bound cage keeps the bound h and registers again only
+// the points within reach of the changed faces (issue 24); the binding equals a fresh bind of the
+// refined cage. A whole-cage subdivision lets h follow and binds everything.
+TEST_F(WorkspaceEditsTest, ALocalTopologyEditRegistersOnlyThePointsItReaches) {
+  finish_bind();
+  Scene& s = *ws.scene();
+  const double h = s.binding->h;
+  ASSERT_LE(doc().params.scale, 0.0) << "the demo binds with h from the mean edge length";
+  ws.run("mode cage_faces");
+  ws.run("select_cage_face 5");
+  ASSERT_TRUE(ws.run("cage_op refine"));
+  EXPECT_DOUBLE_EQ(doc().params.scale, h) << "h is kept so that the edit stays local";
+  EXPECT_TRUE(logged("scale h fixed to the bound"));
+  std::vector<std::string> messages;
+  while (s.job) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    if (auto m = s.poll_bind()) messages.push_back(*m);
+  }
+  ASSERT_EQ(messages.size(), 1u);
+  EXPECT_NE(messages[0].find("cage topology edit"), std::string::npos) << messages[0];
+  const std::string of = " of " + std::to_string(s.skin_rest.size()) + " skin points registered again";
+  ASSERT_NE(messages[0].find(of), std::string::npos) << messages[0];
+  const size_t again = std::stoul(messages[0].substr(messages[0].rfind(';') + 2));
+  EXPECT_GT(again, 0u);
+  EXPECT_LT(again, s.skin_rest.size() / 4) << "a refined face reaches a small part of the skin";
+  auto fresh = bind_document(doc(), s.skin_rest, s.attachment ? &*s.attachment : nullptr);
+  ASSERT_TRUE(fresh.ok());
+  EXPECT_EQ(registration_difference(*s.binding, *fresh), "");
+  ASSERT_TRUE(ws.run("cage_op linear"));  // whole-cage: h follows the new mean edge length
+  EXPECT_DOUBLE_EQ(doc().params.scale, h) << "already fixed by the refinement, it stays";
+}
+
 // Cage > Refine selected faces and Subdivide (linear), each one undo step; a sculpted offset follows
 // subdivision (the vertex keeps it, the midpoints of its edges get half).
 TEST_F(WorkspaceEditsTest, TopologyEditsAreOneUndoStepAndCarryOffsets) {

@@ -51,15 +51,16 @@ std::unique_ptr<BindJob> start_bind_job(std::vector<glm::vec3> skin, Document do
 std::unique_ptr<BindJob> start_rest_edit_job(std::vector<glm::vec3> skin, Document doc,
                                              std::optional<CageAttachment> attachment, Binding previous,
                                              std::optional<CageAttachment> previous_attachment,
-                                             std::shared_ptr<RestRebindReport> report, FitRequest fit) {
+                                             std::shared_ptr<RestRebindReport> report, FitRequest fit,
+                                             std::vector<SetEdit> previous_edits) {
   return std::make_unique<BindJob>(
       "rest edit", [skin = std::move(skin), doc = std::move(doc), attachment = std::move(attachment),
                     previous = std::move(previous), previous_attachment = std::move(previous_attachment),
-                    report = std::move(report), fit = std::move(fit)](const BindJob::Progress& progress,
-                                                                      const std::atomic<bool>& cancel) mutable {
+                    report = std::move(report), fit = std::move(fit), previous_edits = std::move(previous_edits)](
+                       const BindJob::Progress& progress, const std::atomic<bool>& cancel) mutable {
         auto b = rebind_document(doc, skin, attachment ? &*attachment : nullptr, std::move(previous),
                                  previous_attachment ? &*previous_attachment : nullptr, job_progress(progress, cancel),
-                                 report.get());
+                                 report.get(), &previous_edits);
         if (b && !cancel) fit_after_bind(doc, *b, fit);
         return b;
       });
@@ -67,9 +68,11 @@ std::unique_ptr<BindJob> start_rest_edit_job(std::vector<glm::vec3> skin, Docume
 
 bool Scene::rest_edit_possible() const {
   const auto& cage = doc().cage;
-  return binding && bound_cage && cage && bound_cage != cage && bound_cage->elements == cage->elements &&
-         bound_cage->num_vertices() == cage->num_vertices() && !binding->reach.empty() &&
-         same_set_edits(bound_edits_, doc().set_edits) &&
+  if (!binding || !bound_cage || !cage || bound_cage == cage || binding->reach.empty()) return false;
+  // a topology edit carries the set edits to the new elements (rebind_document re-registers the points
+  // that have one); a rest edit keeps them
+  const bool same_topology = bound_cage->elements == cage->elements && bound_cage->num_vertices() == cage->num_vertices();
+  return (!same_topology || same_set_edits(bound_edits_, doc().set_edits)) &&
          rest_edit_params_fit(binding->params, binding->h, params) && bound_attachment_ == doc().attachment;
 }
 
@@ -140,7 +143,7 @@ void Scene::start_bind() {
   if (rest_edit_possible()) {
     pending_rest_report_ = std::make_shared<RestRebindReport>();
     job = start_rest_edit_job(skin_rest, with_params(doc(), params), attachment, *binding, bound_attachment_data_,
-                              pending_rest_report_, std::move(fit));
+                              pending_rest_report_, std::move(fit), bound_edits_);
   } else {
     job = start_bind_job(skin_rest, with_params(doc(), params), attachment, std::move(fit), candidate_cache_,
                          live_params && live_params_possible());
@@ -718,10 +721,13 @@ Document Scene::moved_rest(const Document& from, const MoveWeights& weights, con
   if (!from.cage) return from;
   std::vector<glm::vec3> rest(from.cage_positions().begin(), from.cage_positions().end());
   add_move(rest, weights, world_delta);
-  Document d = with_cage_positions(from, rest);
+  return keep_bound_scale(with_cage_positions(from, rest));
+}
+
+Document Scene::keep_bound_scale(Document d) const {
   if (d.params.scale <= 0 && binding && binding->params == d.params) {
     BindParams p = d.params;
-    p.scale = binding->h;  // keep h: the mean edge length would change with the move, and every weight with it
+    p.scale = binding->h;  // keep h: the mean edge length would change with the edit, and every weight with it
     d = with_params(d, p);
   }
   return d;
@@ -766,7 +772,13 @@ std::optional<std::string> Scene::poll_bind() {
     auto d = make_deformer(pending_fit_ && *pending_fit_ ? &**pending_fit_ : nullptr);
     if (d.ok()) {
       char buf[256];
-      if (pending_rest_report_ && pending_rest_report_->points < binding->num_points)
+      if (pending_rest_report_ && pending_rest_report_->topology)
+        std::snprintf(buf, sizeof buf,
+                      "cage topology edit: %zu elements added, %zu removed; %zu of %u skin points registered again in "
+                      "%.3f s (the others keep their rows)",
+                      pending_rest_report_->added_elements, pending_rest_report_->removed_elements,
+                      pending_rest_report_->points, binding->num_points, pending_rest_report_->seconds);
+      else if (pending_rest_report_ && pending_rest_report_->points < binding->num_points)
         std::snprintf(buf, sizeof buf, "rest cage edit: %zu moved vertices, %zu of %u skin points registered again in %.3f s",
                       pending_rest_report_->moved_vertices, pending_rest_report_->points, binding->num_points,
                       pending_rest_report_->seconds);

@@ -58,13 +58,15 @@ struct FitRequest {
 std::unique_ptr<BindJob> start_bind_job(std::vector<glm::vec3> skin, Document doc, std::optional<CageAttachment> attachment,
                                         FitRequest fit = {}, std::shared_ptr<CandidateCacheSlot> cache = nullptr,
                                         bool make_cache = false);
-// The document's rest cage moved since `previous` was bound (core/rig/rig.h rebind_document): only the
-// skin points within reach of the moved vertices are registered again; `report` is filled when it
+// The document's rest cage moved, or its topology changed, since `previous` was bound (core/rig/rig.h
+// rebind_document; `previous_edits`: the set edits it was bound with): only the skin points within
+// reach of the moved vertices or changed elements are registered again; `report` is filled when it
 // ends; then the rig is fitted (`fit`).
 std::unique_ptr<BindJob> start_rest_edit_job(std::vector<glm::vec3> skin, Document doc,
                                              std::optional<CageAttachment> attachment, Binding previous,
                                              std::optional<CageAttachment> previous_attachment,
-                                             std::shared_ptr<RestRebindReport> report, FitRequest fit = {});
+                                             std::shared_ptr<RestRebindReport> report, FitRequest fit = {},
+                                             std::vector<SetEdit> previous_edits = {});
 
 // A deformer of the stack other than the active one (issue 21): a rig of its own, bound in the
 // background, posed every frame and combined with the active deformer's skin.
@@ -325,6 +327,9 @@ struct Scene {
   // again. A distance scale of 0 (h from the mean edge length, which any move changes) is fixed to
   // the bound h in the same document, so the edit stays local.
   Document moved_rest(const Document& from, const MoveWeights& weights, const glm::dvec3& world_delta) const;
+  // `d` with a distance scale of 0 fixed to the bound h, when it is bound with these parameters (rest
+  // and local topology edits: the mean edge length they change would change every weight).
+  Document keep_bound_scale(Document d) const;
 
  private:
   History history_;  // the document and its undo steps

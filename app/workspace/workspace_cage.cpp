@@ -186,6 +186,18 @@ bool Workspace::cage_operation(const std::string& op, double arg) {
   }
   for (const auto& w : edit->warnings) log(std::string("warning: ") + what->label + ": " + w);
   const size_t faces_before = cage.polygons.num_faces();
+  // a local edit keeps the distance scale h the skin is bound with (a scale of 0 would follow the mean
+  // edge length, which the edit changes, and every weight with it): the points out of reach of the
+  // changed faces keep their rows (core/deform/rest_edit.h rebind_new_topology); a subdivision of the
+  // whole cage lets h follow
+  const double scale_before = doc->params.scale;
+  if (op != "linear" && op != "loop") doc = scene_->keep_bound_scale(std::move(doc).value());
+  if (doc->params.scale != scale_before) {
+    char note[160];
+    std::snprintf(note, sizeof note, "%s: scale h fixed to the bound %.5g so that the edit stays local", what->label,
+                  doc->params.scale);
+    log(note);
+  }
   scene_->apply(what->label, std::move(doc).value());
   clip_cage_selection();  // ids past the new counts named the old topology
   char buf[160];

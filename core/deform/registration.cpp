@@ -658,7 +658,20 @@ bool register_points(const Context& ctx, const Edits& edits, std::span<const uin
       Chunk& out = chunks[c];
       std::span<const uint32_t> pts(order.data() + c * kChunk, std::min(n, (c + 1) * kChunk) - c * kChunk);
       source.prepare(ctx, pts);
-      out.counts.reserve(pts.size());
+      // room for a typical chunk (sets of ~8 elements, ~10 cage vertices): no regrowth on the way
+      const size_t m = pts.size();
+      out.counts.reserve(m);
+      out.inside.reserve(m);
+      out.reach.reserve(m);
+      out.ids.reserve(12 * m);
+      out.weights.reserve(12 * m);
+      if (ctx.params.variant == Variant::kClamped) out.bary.reserve(24 * m);
+      if (ctx.params.variant == Variant::kExtended) {
+        out.set_counts.reserve(m);
+        out.set_ids.reserve(10 * m);
+        out.set_weights.reserve(10 * m);
+      }
+      if (ctx.separate) out.separated.reserve(m);
       for (size_t j = 0; j < pts.size(); ++j) {
         const uint32_t i = pts[j];
         if (j + 4 < pts.size()) __builtin_prefetch(&ctx.skin[pts[j + 4]]);  // points in Morton order: scattered

@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <chrono>
 #include <limits>
+#include <unordered_map>
 
 #include <glm/common.hpp>
 
@@ -137,42 +139,53 @@ Result<std::vector<uint32_t>> ReachIndex::affected_points(const Binding& b, cons
     const Tri& t = b.elements[e];
     if (is_moved[t[0]] || is_moved[t[1]] || is_moved[t[2]] || status[e] != b.element_status[e]) changed.push_back(e);
   }
-  std::vector<uint32_t> out;  // with repeats until the end (no table over the whole skin: the cost follows the region)
-  auto mark = [&](uint32_t point) { out.push_back(point); };
-  std::vector<uint32_t> stack;
+  // each changed element where it was and where it is
+  std::vector<std::array<glm::dvec3, 3>> triangles;
   for (uint32_t e : changed) {
     const Tri& t = b.elements[e];
-    for (std::span<const glm::vec3> place : {std::span<const glm::vec3>(b.rest_cage), new_rest}) {
-      if (!finite(place[t[0]]) || !finite(place[t[1]]) || !finite(place[t[2]])) continue;  // drives nothing there
-      const glm::dvec3 a(place[t[0]]), bb(place[t[1]]), c(place[t[2]]);
-      const glm::dvec3 lo = glm::min(a, glm::min(bb, c)), hi = glm::max(a, glm::max(bb, c));
-      stack.assign(1, 1u);
-      while (!stack.empty()) {
-        const uint32_t node = stack.back();
-        stack.pop_back();
-        const float r = max_reach_[node];
-        if (r < 0) continue;
-        const double rr = double(r) * (1 + 1e-6) + 1e-12;
-        if (box_box_dist2(lo_[node], hi_[node], lo, hi) > rr * rr) continue;
-        if (node < first_leaf_) {
-          stack.push_back(2 * node);
-          stack.push_back(2 * node + 1);
-          continue;
-        }
-        const size_t leaf = node - first_leaf_;
-        for (size_t i = leaf * kLeaf; i < std::min(skin_.size(), (leaf + 1) * kLeaf); ++i)
-          if (within_reach(glm::dvec3(skin_[i]), reach_[i], a, bb, c)) mark(order_[i]);
-      }
-    }
+    for (std::span<const glm::vec3> place : {std::span<const glm::vec3>(b.rest_cage), new_rest})
+      triangles.push_back({glm::dvec3(place[t[0]]), glm::dvec3(place[t[1]]), glm::dvec3(place[t[2]])});
   }
-  // points that follow their nearest element: any change may change which one that is
-  if (!changed.empty()) out.insert(out.end(), unbounded_.begin(), unbounded_.end());
+  std::vector<uint32_t> out = points_within_reach(triangles);
+  auto mark = [&](uint32_t point) { out.push_back(point); };
   // inclusions act whatever the distance
   for (const SetEdit& edit : edits) {
     if (edit.point >= slot_.size()) continue;  // Rebinder::move_rest reports it
     for (uint32_t e : edit.include)
       if (std::binary_search(changed.begin(), changed.end(), e)) mark(edit.point);
   }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+std::vector<uint32_t> ReachIndex::points_within_reach(std::span<const std::array<glm::dvec3, 3>> triangles) const {
+  std::vector<uint32_t> out;  // with repeats until the end (no table over the whole skin: the cost follows the region)
+  std::vector<uint32_t> stack;
+  auto is_finite = [](const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+  for (const auto& [a, bb, c] : triangles) {
+    if (!is_finite(a) || !is_finite(bb) || !is_finite(c)) continue;  // drives nothing there
+    const glm::dvec3 lo = glm::min(a, glm::min(bb, c)), hi = glm::max(a, glm::max(bb, c));
+    stack.assign(1, 1u);
+    while (!stack.empty()) {
+      const uint32_t node = stack.back();
+      stack.pop_back();
+      const float r = max_reach_[node];
+      if (r < 0) continue;
+      const double rr = double(r) * (1 + 1e-6) + 1e-12;
+      if (box_box_dist2(lo_[node], hi_[node], lo, hi) > rr * rr) continue;
+      if (node < first_leaf_) {
+        stack.push_back(2 * node);
+        stack.push_back(2 * node + 1);
+        continue;
+      }
+      const size_t leaf = node - first_leaf_;
+      for (size_t i = leaf * kLeaf; i < std::min(skin_.size(), (leaf + 1) * kLeaf); ++i)
+        if (within_reach(glm::dvec3(skin_[i]), reach_[i], a, bb, c)) out.push_back(order_[i]);
+    }
+  }
+  // points that follow their nearest element: any change may change which one that is
+  if (!triangles.empty()) out.insert(out.end(), unbounded_.begin(), unbounded_.end());
   std::sort(out.begin(), out.end());
   out.erase(std::unique(out.begin(), out.end()), out.end());
   return out;
@@ -203,6 +216,201 @@ Result<RestRebindReport> rebind_moved_rest(Binding& binding, std::span<const glm
   if (!rebinder) return rebinder.error();
   if (auto s = rebinder->move_rest(binding, edits, *points); !s) return s.error();
   report.points = points->size();
+  return report;
+}
+
+}  // namespace cagewrap
+
+namespace cagewrap {
+
+namespace {
+// Bitwise key of a position (exact matches only).
+struct PositionKey {
+  uint32_t x, y, z;
+  bool operator==(const PositionKey&) const = default;
+};
+PositionKey key_of(const glm::vec3& v) {
+  PositionKey k;
+  std::memcpy(&k.x, &v.x, 4);
+  std::memcpy(&k.y, &v.y, 4);
+  std::memcpy(&k.z, &v.z, 4);
+  return k;
+}
+struct KeyHash {
+  size_t operator()(const PositionKey& k) const {
+    return (size_t(k.x) * 0x9E3779B97F4A7C15ull) ^ (size_t(k.y) * 0xC2B2AE3D27D4EB4Full) ^ (size_t(k.z) * 0x165667B19E3779F9ull);
+  }
+  size_t operator()(const Tri& t) const {
+    return (size_t(t[0]) * 0x9E3779B97F4A7C15ull) ^ (size_t(t[1]) * 0xC2B2AE3D27D4EB4Full) ^ (size_t(t[2]) * 0x165667B19E3779F9ull);
+  }
+};
+constexpr uint32_t kNone = UINT32_MAX;
+
+// A cage vertex's part label and shell (both kNone without labels).
+std::pair<uint32_t, uint32_t> vertex_labels(const PartLabels* l, size_t v) {
+  if (!l || l->empty()) return {kNone, kNone};
+  return {v < l->cage_vertex.size() ? l->cage_vertex[v] : kNone, v < l->vertex_shell.size() ? l->vertex_shell[v] : kNone};
+}
+}  // namespace
+
+Result<TopologyRebindReport> rebind_new_topology(Binding& binding, std::span<const glm::vec3> skin, const Cage& cage,
+                                                 std::span<const glm::vec3> new_rest, std::span<const SetEdit> edits,
+                                                 std::span<const SetEdit> previous_edits, const PartLabels* labels,
+                                                 const PartLabels* previous_labels) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const Binding& b = binding;
+  const bool now = labels && !labels->empty(), before = previous_labels && !previous_labels->empty();
+  if (now != before ||
+      (now && (labels->point != previous_labels->point || labels->parent != previous_labels->parent ||
+               labels->point_shell != previous_labels->point_shell || labels->related != previous_labels->related ||
+               labels->length != previous_labels->length || labels->head != previous_labels->head)))
+    return make_error(ErrorCode::kInvalidArgument, "the skin's part labels changed since the bind; bind again");
+  if (b.num_samples > 0 || b.num_points != skin.size() || b.reach.size() != b.num_points || !b.has_sets())
+    return make_error(ErrorCode::kInvalidArgument,
+                      "the binding was not made by this bind of this skin (or was read from a file); bind again");
+  if (new_rest.size() != cage.num_vertices())
+    return make_error(ErrorCode::kTopologyMismatch, "the cage has " + std::to_string(cage.num_vertices()) +
+                                                        " vertices but " + std::to_string(new_rest.size()) +
+                                                        " positions were given");
+  PolyMesh rest_mesh = cage.polygons;
+  rest_mesh.positions.assign(new_rest.begin(), new_rest.end());
+  const double h = b.params.scale > 0 ? b.params.scale : mean_edge_length(rest_mesh);
+  if (h != b.h)
+    return make_error(ErrorCode::kInvalidArgument,
+                      "the new cage changes the distance scale h (" + std::to_string(b.h) + " -> " + std::to_string(h) +
+                          ", the mean cage edge length) and so every weight; bind again, or give a fixed scale to keep "
+                          "topology edits local");
+
+  // vertices standing exactly where an old one stood (a position two old vertices share matches neither)
+  std::unordered_map<PositionKey, uint32_t, KeyHash> old_at;
+  for (uint32_t v = 0; v < b.rest_cage.size(); ++v) {
+    auto [it, fresh] = old_at.emplace(key_of(b.rest_cage[v]), v);
+    if (!fresh) it->second = kNone;
+  }
+  std::vector<uint32_t> vertex_from(new_rest.size(), kNone);  // new -> old
+  for (uint32_t v = 0; v < new_rest.size(); ++v) {
+    auto it = old_at.find(key_of(new_rest[v]));
+    if (it == old_at.end() || it->second == kNone) continue;
+    if (vertex_labels(labels, v) != vertex_labels(previous_labels, it->second)) continue;  // relabelled: changed
+    vertex_from[v] = it->second;
+  }
+  std::vector<uint32_t> vertex_to(b.rest_cage.size(), kNone);  // old -> new
+  for (uint32_t v = 0; v < vertex_from.size(); ++v)
+    if (vertex_from[v] != kNone) vertex_to[vertex_from[v]] = v;
+  // elements: the same corners in the same order, and the same status
+  std::unordered_map<Tri, uint32_t, KeyHash> old_element;
+  for (uint32_t e = 0; e < b.elements.size(); ++e) old_element.emplace(b.elements[e], e);
+  const std::vector<ElementStatus> status = classify_elements(cage, new_rest);
+  std::vector<uint32_t> element_to(b.elements.size(), kNone);  // old -> new
+  TopologyRebindReport report;
+  uint32_t last_old = 0;
+  bool first = true;
+  for (uint32_t e = 0; e < cage.num_elements(); ++e) {
+    const Tri& t = cage.elements[e];
+    const Tri from{vertex_from[t[0]], vertex_from[t[1]], vertex_from[t[2]]};
+    if (from[0] == kNone || from[1] == kNone || from[2] == kNone) continue;
+    auto it = old_element.find(from);
+    if (it == old_element.end() || element_to[it->second] != kNone || b.element_status[it->second] != status[e]) continue;
+    if (!first && it->second <= last_old)
+      return make_error(ErrorCode::kInvalidArgument,
+                        "the topology edit reordered the cage's elements (element " + std::to_string(e) +
+                            " was " + std::to_string(it->second) + "); bind again");
+    first = false;
+    last_old = it->second;
+    element_to[it->second] = e;
+    ++report.kept_elements;
+  }
+  // the removed elements where they were, the added ones where they are
+  std::vector<std::array<glm::dvec3, 3>> triangles;
+  std::vector<uint8_t> kept_new(cage.num_elements(), 0);
+  for (uint32_t e = 0; e < b.elements.size(); ++e) {
+    if (element_to[e] != kNone) {
+      kept_new[element_to[e]] = 1;
+      continue;
+    }
+    ++report.removed_elements;
+    const Tri& t = b.elements[e];
+    triangles.push_back({glm::dvec3(b.rest_cage[t[0]]), glm::dvec3(b.rest_cage[t[1]]), glm::dvec3(b.rest_cage[t[2]])});
+  }
+  for (uint32_t e = 0; e < cage.num_elements(); ++e) {
+    if (kept_new[e]) continue;
+    ++report.added_elements;
+    const Tri& t = cage.elements[e];
+    triangles.push_back({glm::dvec3(new_rest[t[0]]), glm::dvec3(new_rest[t[1]]), glm::dvec3(new_rest[t[2]])});
+  }
+  auto index = ReachIndex::create(b, skin);
+  if (!index) return index.error();
+  std::vector<uint32_t> points = index->points_within_reach(triangles);
+  points.insert(points.end(), b.rigid_points.begin(), b.rigid_points.end());  // whatever changed
+  for (std::span<const SetEdit> list : {edits, previous_edits})
+    for (const SetEdit& e : list)
+      if (e.point < b.num_points) points.push_back(e.point);  // Rebinder::update names the others
+  // a kept row must name kept elements and vertices only (within reach of nothing changed, it does)
+  const Binding::SetsView sets = b.sets();
+  const bool extended = b.params.variant == Variant::kExtended;
+  for (uint32_t p = 0; p < b.num_points; ++p) {
+    bool ok = true;
+    for (uint32_t e : sets.of(p)) ok = ok && element_to[e] != kNone;
+    if (extended)
+      for (uint32_t j = b.offsets[p]; j < b.offsets[p + 1]; ++j) ok = ok && vertex_to[b.ids[j]] != kNone;
+    if (!ok) points.push_back(p);
+  }
+  std::sort(points.begin(), points.end());
+  points.erase(std::unique(points.begin(), points.end()), points.end());
+  std::vector<uint8_t> again(b.num_points, 0);
+  for (uint32_t p : points) again[p] = 1;
+
+  // the binding on the new cage: kept rows renumbered, the others empty (update() fills them)
+  Binding nb;
+  nb.params = b.params;
+  nb.h = b.h;
+  nb.origin = b.origin;
+  nb.num_points = b.num_points;
+  nb.num_cage_vertices = static_cast<uint32_t>(cage.num_vertices());
+  nb.rest_cage.assign(new_rest.begin(), new_rest.end());
+  nb.elements = cage.elements;
+  nb.element_status = status;
+  for (uint32_t e = 0; e < status.size(); ++e)
+    if (status[e] != ElementStatus::kValid) nb.invalid_elements.push_back(e);
+  const bool clamped = b.params.variant == Variant::kClamped;
+  nb.offsets.assign(size_t(b.num_points) + 1, 0);
+  if (extended) nb.set_offsets.assign(size_t(b.num_points) + 1, 0);
+  nb.quality_inside = b.quality_inside;
+  nb.total_set_size = b.total_set_size;
+  for (uint32_t p = 0; p < b.num_points; ++p) {
+    if (again[p]) {
+      nb.quality_inside -= well_bound(b, skin, p);
+      nb.total_set_size -= sets.of(p).size();
+    } else {
+      nb.max_set_size = std::max(nb.max_set_size, static_cast<uint32_t>(sets.of(p).size()));
+      for (uint32_t j = b.offsets[p]; j < b.offsets[p + 1]; ++j) {
+        nb.ids.push_back(extended ? vertex_to[b.ids[j]] : element_to[b.ids[j]]);
+        nb.weights.push_back(b.weights[j]);
+        if (clamped) nb.bary.insert(nb.bary.end(), {b.bary[2 * size_t(j)], b.bary[2 * size_t(j) + 1]});
+      }
+      if (extended)
+        for (uint32_t j = b.set_offsets[p]; j < b.set_offsets[p + 1]; ++j) {
+          nb.set_ids.push_back(element_to[b.set_ids[j]]);
+          nb.set_weights.push_back(b.set_weights[j]);
+        }
+    }
+    nb.offsets[p + 1] = static_cast<uint32_t>(nb.ids.size());
+    if (extended) nb.set_offsets[p + 1] = static_cast<uint32_t>(nb.set_ids.size());
+  }
+  // the fallback points follow their nearest element: every one is registered again
+  nb.separation_applied = b.separation_applied;
+  nb.separated = b.separated;
+  nb.total_separated = b.total_separated;
+  nb.separated_points = b.separated_points;
+  nb.reach = b.reach;
+  nb.seconds = b.seconds;
+
+  auto rebinder = Rebinder::create(skin, cage, new_rest, b.params, now ? labels : nullptr);
+  if (!rebinder) return rebinder.error();
+  if (auto s = rebinder->update(nb, edits, points); !s) return s.error();
+  binding = std::move(nb);
+  report.points = points.size();
+  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return report;
 }
 

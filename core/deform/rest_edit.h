@@ -11,6 +11,7 @@
 //   index.refresh(binding, *points);                                // their reach changed
 #pragma once
 
+#include <array>
 #include <span>
 #include <vector>
 
@@ -47,6 +48,10 @@ class ReachIndex {
   // The reach of `points` changed in `binding` (Rebinder::update or move_rest): index it.
   void refresh(const Binding& binding, std::span<const uint32_t> points);
 
+  // The points (ascending) within reach of any of `triangles` (corner positions; non-finite ones are
+  // skipped), and the points that follow their nearest element when there is any triangle.
+  std::vector<uint32_t> points_within_reach(std::span<const std::array<glm::dvec3, 3>> triangles) const;
+
  private:
   static constexpr uint32_t kLeaf = 32;  // points per leaf
   std::vector<glm::vec3> skin_;          // in leaf order
@@ -69,6 +74,10 @@ struct RestRebindReport {
   size_t moved_vertices = 0;  // cage vertices that moved or changed part label
   size_t points = 0;          // skin points registered again
   double seconds = 0.0;       // wall time
+  // a topology edit (core/rig/rig.h rebind_document: rebind_new_topology): elements of the new cage
+  // that are not an old one where it stood, and old ones gone
+  bool topology = false;
+  size_t added_elements = 0, removed_elements = 0;
 };
 
 // The rest cage moved from binding.rest_cage to `new_rest` (same cage elements, parameters and set
@@ -83,5 +92,31 @@ struct RestRebindReport {
 Result<RestRebindReport> rebind_moved_rest(Binding& binding, std::span<const glm::vec3> skin, const Cage& cage,
                                            std::span<const glm::vec3> new_rest, std::span<const SetEdit> edits,
                                            const PartLabels* labels, const PartLabels* previous_labels);
+
+// What rebind_new_topology did.
+struct TopologyRebindReport {
+  size_t kept_elements = 0;     // elements of the new cage standing where one of the old stood (rows kept)
+  size_t removed_elements = 0;  // old elements with no such match
+  size_t added_elements = 0;    // new elements with no such match
+  size_t points = 0;            // skin points registered again
+  double seconds = 0.0;
+};
+
+// The cage's topology changed since `binding` was made (an edit of core/document/topology_change.h:
+// refine or flip some faces, merge or weld vertices): a new element whose corners stand exactly where
+// an old element's stood (same positions in the same order, the same status and part labels) is the
+// same element, and the rows of the points it alone drives are kept (their ids renumbered); only the
+// points within reach of a removed or an added element, the points that follow their nearest element,
+// and the points with a set edit (`edits` now or `previous_edits` at the bind: their element ids
+// changed) are registered again. Afterwards `binding` equals bind_skin(skin, cage, new_rest,
+// binding.params, edits, labels) bit for bit. `labels` / `previous_labels` as rebind_moved_rest.
+// Errors (bind again instead): a binding without reach, a distance scale h that changes (a scale of
+// 0: the mean edge length moves with the topology; fix BindParams::scale to binding.h first), skin
+// labels that differ, kept elements whose order changes (ties between equally near elements are
+// broken by id).
+Result<TopologyRebindReport> rebind_new_topology(Binding& binding, std::span<const glm::vec3> skin, const Cage& cage,
+                                                 std::span<const glm::vec3> new_rest, std::span<const SetEdit> edits,
+                                                 std::span<const SetEdit> previous_edits, const PartLabels* labels,
+                                                 const PartLabels* previous_labels);
 
 }  // namespace cagewrap

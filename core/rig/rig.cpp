@@ -180,7 +180,8 @@ bool rest_edit_params_fit(const BindParams& bound, double h, const BindParams& n
 
 Result<Binding> rebind_document(const Document& doc, std::span<const glm::vec3> skin_rest, const CageAttachment* attachment,
                                 Binding previous, const CageAttachment* previous_attachment,
-                                const BindProgress& progress, RestRebindReport* report) {
+                                const BindProgress& progress, RestRebindReport* report,
+                                const std::vector<SetEdit>* previous_edits) {
   const auto start = std::chrono::steady_clock::now();
   auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
   if (doc.cage && rest_edit_params_fit(previous.params, previous.h, doc.params) && previous.num_points == skin_rest.size()) {
@@ -192,12 +193,25 @@ Result<Binding> rebind_document(const Document& doc, std::span<const glm::vec3> 
                                  (attachment && previous_attachment && *attachment == *previous_attachment);
     const auto before = same_attachment ? std::nullopt : document_labels(doc, previous_attachment);
     const PartLabels* before_labels = same_attachment ? (labels ? &*labels : nullptr) : (before ? &*before : nullptr);
-    auto r = rebind_moved_rest(previous, skin_rest, *doc.cage, doc.cage_positions(), doc.set_edits,
-                               labels ? &*labels : nullptr, before_labels);
-    if (r) {
-      if (report) *report = *r, report->seconds = elapsed();
-      if (progress.on_progress) progress.on_progress(1.0);
-      return previous;
+    if (previous.elements == doc.cage->elements && previous.rest_cage.size() == doc.cage->num_vertices()) {
+      auto r = rebind_moved_rest(previous, skin_rest, *doc.cage, doc.cage_positions(), doc.set_edits,
+                                 labels ? &*labels : nullptr, before_labels);
+      if (r) {
+        if (report) *report = *r, report->seconds = elapsed();
+        if (progress.on_progress) progress.on_progress(1.0);
+        return previous;
+      }
+    } else {
+      auto r = rebind_new_topology(previous, skin_rest, *doc.cage, doc.cage_positions(), doc.set_edits,
+                                   previous_edits ? std::span<const SetEdit>(*previous_edits) : std::span<const SetEdit>(doc.set_edits),
+                                   labels ? &*labels : nullptr, before_labels);
+      if (r) {
+        if (report) {
+          *report = {0, r->points, elapsed(), true, r->added_elements, r->removed_elements};
+        }
+        if (progress.on_progress) progress.on_progress(1.0);
+        return previous;
+      }
     }
   }
   auto full = bind_document(doc, skin_rest, attachment, progress);

@@ -80,15 +80,19 @@ Result<Binding> bind_document_cached(const Document& doc, std::span<const glm::v
 
 // bind_document for a document whose rest cage moved (same cage elements, parameters and set edits)
 // since `previous` was bound with `previous_attachment`: only the skin points the moved vertices can
-// reach are registered again (core/deform/rest_edit.h), with the same result bit for bit. Anything else (other
-// topology or parameters, a binding read from a file, a scale of 0, other skin labels) binds in full.
+// reach are registered again (core/deform/rest_edit.h), with the same result bit for bit. The same for a
+// cage whose topology changed (core/document/topology_change.h edits; rest_edit.h rebind_new_topology:
+// the points out of reach of every removed and added element keep their rows; `previous_edits`, the
+// set edits `previous` was made with, null: the document's). Anything else (other parameters, a
+// binding read from a file, a scale of 0, other skin labels, reordered elements) binds in full.
 // `report` (may be null): moved vertices and points registered (every point after a full bind).
 // Whether a binding made with `bound` (its distance scale came out as `h`) can follow a rest edit to
 // parameters `now`: the same parameters, `now` giving a scale, and a bound scale of 0 counting as h.
 bool rest_edit_params_fit(const BindParams& bound, double h, const BindParams& now);
 Result<Binding> rebind_document(const Document& doc, std::span<const glm::vec3> skin_rest, const CageAttachment* attachment,
                                 Binding previous, const CageAttachment* previous_attachment,
-                                const BindProgress& progress = {}, RestRebindReport* report = nullptr);
+                                const BindProgress& progress = {}, RestRebindReport* report = nullptr,
+                                const std::vector<SetEdit>* previous_edits = nullptr);
 
 // Everything a document needs to be posed again and again: the attachment of its cage, the binding
 // of its skin (every primitive concatenated, as skin_character orders them) and the deformer.
