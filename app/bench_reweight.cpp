@@ -5,6 +5,8 @@
 
 #include "core/deform/deformer.h"
 #include "core/deform/registration.h"
+#include "core/deform/rest_edit.h"
+#include "core/document/cage_subdivide.h"
 
 namespace cagewrap::app {
 
@@ -63,6 +65,34 @@ Result<ReweightFigures> bench_reweight(std::span<const glm::vec3> skin, const Ca
       f.steps.push_back(step);
     }
   }
+  return f;
+}
+
+Result<TopologyEditFigures> bench_topology_edit(std::span<const glm::vec3> skin, const Cage& cage,
+                                                std::span<const glm::vec3> rest, const BindParams& params) {
+  TopologyEditFigures f;
+  auto b = bind_skin(skin, cage, rest, params);
+  if (!b) return b.error();
+  BindParams fixed = params;
+  fixed.scale = b->h;  // the editor keeps the bound h for a local edit
+  b->params.scale = b->h;
+  f.face = static_cast<uint32_t>(cage.polygons.num_faces() / 2);
+  const uint32_t faces[] = {f.face};
+  auto edit = refine_faces(cage, faces);
+  if (!edit) return edit.error();
+  const auto& new_rest = edit->cage.polygons.positions;
+  auto t0 = std::chrono::steady_clock::now();
+  auto r = rebind_new_topology(*b, skin, edit->cage, new_rest, {}, {}, nullptr, nullptr);
+  f.seconds = since(t0);
+  if (!r) return r.error();
+  f.added_elements = r->added_elements;
+  f.removed_elements = r->removed_elements;
+  f.points = r->points;
+  t0 = std::chrono::steady_clock::now();
+  auto fresh = bind_skin(skin, edit->cage, new_rest, fixed);
+  f.fresh_s = since(t0);
+  if (!fresh) return fresh.error();
+  f.difference = registration_difference(*b, *fresh);
   return f;
 }
 

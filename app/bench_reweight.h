@@ -36,4 +36,16 @@ struct ReweightFigures {
 Result<ReweightFigures> bench_reweight(std::span<const glm::vec3> skin, const Cage& cage, std::span<const glm::vec3> rest,
                                        const BindParams& params, bool verify);
 
+// A local topology edit after a bind (issue 24): one cage face refined (red-green, its neighbours
+// split), the binding carried across it (core/deform/rest_edit.h rebind_new_topology, h kept), against
+// a fresh bind of the refined cage.
+struct TopologyEditFigures {
+  uint32_t face = 0;
+  size_t added_elements = 0, removed_elements = 0, points = 0;
+  double seconds = 0, fresh_s = 0;
+  std::string difference;  // registration_difference to the fresh bind ("" = identical)
+};
+Result<TopologyEditFigures> bench_topology_edit(std::span<const glm::vec3> skin, const Cage& cage,
+                                                std::span<const glm::vec3> rest, const BindParams& params);
+
 }  // namespace cagewrap::app

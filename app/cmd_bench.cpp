@@ -63,6 +63,7 @@ struct BenchResult {
   std::optional<GpuBenchFigures> gpu;
   ProbeReport lipschitz;  // the automatic probe lines (core/deform/lipschitz_probe.h) at kBenchProbeSamples
   std::optional<ReweightFigures> reweight;
+  std::optional<TopologyEditFigures> topology;
 };
 
 // Samples per probe line for the bench's Lipschitz line: the probe binds only its own points (a few
@@ -76,7 +77,7 @@ void add_bench_command(CLI::App& app, int& exit_code) {
     std::string mesh, cage, posed, twist, variant_list = variant_name(BindParams{}.variant);
     std::string export_skin, score_deformed, project, clip = "0", table = "compact";
     uint32_t subdivide = 0, changes = 20;
-    bool json = false, gpu = false, reweight = false, reweight_verify = false;
+    bool json = false, gpu = false, reweight = false, reweight_verify = false, topology_edit = false;
     BindOptions bind;
   };
   auto args = std::make_shared<Args>();
@@ -112,6 +113,9 @@ void add_bench_command(CLI::App& app, int& exit_code) {
                 "deformer table)");
   cmd->add_flag("--reweight-verify", args->reweight_verify,
                 "with --reweight: bind each step afresh too and check the cache's result is identical");
+  cmd->add_flag("--topology-edit", args->topology_edit,
+                "also refine one cage face after the bind and time carrying the binding across it (rows of the "
+                "points out of its reach kept) against a fresh bind");
   cmd->callback([args, &exit_code] {
     exit_code = 1;
     if (args->changes < 20) {
@@ -292,6 +296,16 @@ void add_bench_command(CLI::App& app, int& exit_code) {
         }
         r.reweight = std::move(rw).value();
       }
+      if (args->topology_edit) {
+        d = make_error(ErrorCode::kInvalidArgument, "released");
+        b = make_error(ErrorCode::kInvalidArgument, "released");
+        auto te = bench_topology_edit(skin, *cage, cage->polygons.positions, opts.params);
+        if (!te) {
+          report_error(te.error());
+          return;
+        }
+        r.topology = std::move(te).value();
+      }
       results.push_back(r);
     }
     const double peak_mb = peak_rss_mb();
@@ -347,6 +361,14 @@ void add_bench_command(CLI::App& app, int& exit_code) {
                            {"entries_per_point", r.reweight->entries_per_point},
                            {"steps", steps}};
         }
+        if (r.topology)
+          v["topology_edit"] = {{"refined_face", r.topology->face},
+                                {"added_elements", r.topology->added_elements},
+                                {"removed_elements", r.topology->removed_elements},
+                                {"points_registered", r.topology->points},
+                                {"seconds", r.topology->seconds},
+                                {"fresh_bind_s", r.topology->fresh_s},
+                                {"identical", r.topology->difference.empty()}};
         if (r.gpu)
           v["gpu"] = {{"deform_median_ms", r.gpu->deform_ms},
                       {"normals_median_ms", r.gpu->normals_ms},
@@ -400,6 +422,13 @@ void add_bench_command(CLI::App& app, int& exit_code) {
                   "probe: the kernel's GB/s as a share of the probe's triad\n",
                   kernel_isa_name());
       std::printf("peak memory %.0f MB\n", peak_mb);
+      for (const auto& r : results)
+        if (r.topology)
+          std::printf("topology edit (%s): face %u refined (%zu elements added, %zu removed): %zu of %zu points "
+                      "registered again in %.3f s (fresh bind %.3f s), identical: %s\n",
+                      r.variant.c_str(), r.topology->face, r.topology->added_elements, r.topology->removed_elements,
+                      r.topology->points, skin.size(), r.topology->seconds, r.topology->fresh_s,
+                      r.topology->difference.empty() ? "yes" : ("NO: " + r.topology->difference).c_str());
       for (const auto& r : results) {
         if (!r.reweight) continue;
         const ReweightFigures& f = *r.reweight;
@@ -421,6 +450,12 @@ void add_bench_command(CLI::App& app, int& exit_code) {
                     r.lipschitz.worst_ratio, r.lipschitz.figure(), r.lipschitz.cage.stretch, r.lipschitz.lines.size(),
                     r.variant.c_str(), r.lipschitz.samples, r.lipschitz.worst_shrink, r.lipschitz.seconds);
     }
+    for (const auto& r : results)
+      if (r.topology && !r.topology->difference.empty()) {
+        std::fprintf(stderr, "error: %s: the binding carried across the topology edit differs from a fresh bind (%s)\n",
+                     r.variant.c_str(), r.topology->difference.c_str());
+        return;
+      }
     for (const auto& r : results)
       if (r.reweight)
         for (const auto& st : r.reweight->steps)

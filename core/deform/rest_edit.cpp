@@ -8,6 +8,7 @@
 #include <unordered_map>
 
 #include <glm/common.hpp>
+#include <tbb/parallel_for.h>
 
 #include "core/cage/cage.h"
 #include "core/geometry/geometry.h"
@@ -378,25 +379,38 @@ Result<TopologyRebindReport> rebind_new_topology(Binding& binding, std::span<con
   nb.quality_inside = b.quality_inside;
   nb.total_set_size = b.total_set_size;
   for (uint32_t p = 0; p < b.num_points; ++p) {
+    const uint32_t rows = again[p] ? 0 : b.offsets[p + 1] - b.offsets[p];
+    nb.offsets[p + 1] = nb.offsets[p] + rows;
+    if (extended) nb.set_offsets[p + 1] = nb.set_offsets[p] + (again[p] ? 0 : b.set_offsets[p + 1] - b.set_offsets[p]);
     if (again[p]) {
       nb.quality_inside -= well_bound(b, skin, p);
       nb.total_set_size -= sets.of(p).size();
     } else {
       nb.max_set_size = std::max(nb.max_set_size, static_cast<uint32_t>(sets.of(p).size()));
-      for (uint32_t j = b.offsets[p]; j < b.offsets[p + 1]; ++j) {
-        nb.ids.push_back(extended ? vertex_to[b.ids[j]] : element_to[b.ids[j]]);
-        nb.weights.push_back(b.weights[j]);
-        if (clamped) nb.bary.insert(nb.bary.end(), {b.bary[2 * size_t(j)], b.bary[2 * size_t(j) + 1]});
+    }
+  }
+  nb.ids.resize(nb.offsets.back());
+  nb.weights.resize(nb.offsets.back());
+  if (clamped) nb.bary.resize(2 * size_t(nb.offsets.back()));
+  if (extended) {
+    nb.set_ids.resize(nb.set_offsets.back());
+    nb.set_weights.resize(nb.set_offsets.back());
+  }
+  tbb::parallel_for(tbb::blocked_range<uint32_t>(0, b.num_points, 4096), [&](const tbb::blocked_range<uint32_t>& r) {
+    for (uint32_t p = r.begin(); p != r.end(); ++p) {
+      if (again[p]) continue;
+      for (uint32_t j = b.offsets[p], k = nb.offsets[p]; j < b.offsets[p + 1]; ++j, ++k) {
+        nb.ids[k] = extended ? vertex_to[b.ids[j]] : element_to[b.ids[j]];
+        nb.weights[k] = b.weights[j];
+        if (clamped) nb.bary[2 * size_t(k)] = b.bary[2 * size_t(j)], nb.bary[2 * size_t(k) + 1] = b.bary[2 * size_t(j) + 1];
       }
       if (extended)
-        for (uint32_t j = b.set_offsets[p]; j < b.set_offsets[p + 1]; ++j) {
-          nb.set_ids.push_back(element_to[b.set_ids[j]]);
-          nb.set_weights.push_back(b.set_weights[j]);
+        for (uint32_t j = b.set_offsets[p], k = nb.set_offsets[p]; j < b.set_offsets[p + 1]; ++j, ++k) {
+          nb.set_ids[k] = element_to[b.set_ids[j]];
+          nb.set_weights[k] = b.set_weights[j];
         }
     }
-    nb.offsets[p + 1] = static_cast<uint32_t>(nb.ids.size());
-    if (extended) nb.set_offsets[p + 1] = static_cast<uint32_t>(nb.set_ids.size());
-  }
+  });
   // the fallback points follow their nearest element: every one is registered again
   nb.separation_applied = b.separation_applied;
   nb.separated = b.separated;
