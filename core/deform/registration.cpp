@@ -383,37 +383,45 @@ void finish_point(const Context& ctx, uint32_t point, const glm::dvec3& p, std::
 
   if (prm.variant == Variant::kExtended) {
     out.set_counts.back() = members;
+    // u_k = w_k / sum, once per member (the set's weight and the corners' share)
+    thread_local std::vector<double> u;
+    u.resize(n);
     for (size_t i = 0; i < n; ++i) {
+      u[i] = w[i] / sum;
       if (w[i] <= 0.0) continue;
       out.set_ids.push_back(cands[i].element);
-      out.set_weights.push_back(static_cast<float>(w[i] / sum));
+      out.set_weights.push_back(static_cast<float>(u[i]));
     }
     // W_j = sum_k u_k b_kj over the corners j of each contributing element
     thread_local std::vector<uint32_t> vid;
     thread_local std::vector<double> vw;
-    vid.clear();
-    vw.clear();
+    std::vector<uint32_t>& ids = vid;
+    std::vector<double>& vws = vw;
+    ids.clear();
+    vws.clear();
     size_t m = 0;
     for (size_t i = 0; i < n; ++i) {
       const Tri& t = ctx.cage->elements[cands[i].element];
+      const double ui = u[i];
       for (int c = 0; c < 3; ++c) {
-        double wv = w[i] / sum * cands[i].bary[c];
+        const double wv = ui * cands[i].bary[c];
         if (wv <= 0.0) continue;
+        const uint32_t v = t[static_cast<size_t>(c)];
         size_t j = 0;
-        while (j < m && vid[j] != t[static_cast<size_t>(c)]) ++j;
+        while (j < m && ids[j] != v) ++j;
         if (j == m) {
-          vid.push_back(t[static_cast<size_t>(c)]);
-          vw.push_back(0.0);
+          ids.push_back(v);
+          vws.push_back(0.0);
           ++m;
         }
-        vw[j] += wv;
+        vws[j] += wv;
       }
     }
     double total = 0.0;
-    for (size_t j = 0; j < m; ++j) total += vw[j];
+    for (size_t j = 0; j < m; ++j) total += vws[j];
     for (size_t j = 0; j < m; ++j) {
-      out.ids.push_back(vid[j]);
-      out.weights.push_back(static_cast<float>(vw[j] / total));
+      out.ids.push_back(ids[j]);
+      out.weights.push_back(static_cast<float>(vws[j] / total));
     }
     out.counts.push_back(static_cast<uint32_t>(m));
     return;
@@ -1223,11 +1231,11 @@ struct CandidateCache::State {
   Cage cage;
   std::optional<PartLabels> labels;
   std::unique_ptr<ElementBvh> bvh;  // over the valid elements (they depend on the rest positions alone)
-  std::vector<uint32_t> order;      // morton_order(skin): slot -> point
-  std::vector<uint32_t> slot;       // point -> slot
-  // per slot (registration visits points in Morton order, so the lists stream): the point's list of
-  // every valid element within sqrt(cover2), sorted as candidates are (distance, then id); cover2 < 0:
-  // none (always asks the hierarchy)
+  // the order bind() registers points in: 0, 1, 2, ... (from the lists no spatial order is needed, and
+  // in point order both the lists and the binding's tables are written and read as they lie)
+  std::vector<uint32_t> order;
+  // per point: its list of every valid element within sqrt(cover2), sorted as candidates are
+  // (distance, then id); cover2 < 0: none (always asks the hierarchy)
   std::vector<uint32_t> offsets;  // #P+1
   // an entry: the element id (top bit: its closest point's first barycentric is 0, else it is
   // 1 - b1 - b2, as closest_point_on_triangle makes it), the squared distance and (b1, b2)
@@ -1259,8 +1267,7 @@ class CachedSource {
     out.clear();
     rejected_.clear();
     double radius2 = std::numeric_limits<double>::infinity();
-    const uint32_t slot = cache_.slot[point];
-    for (uint32_t i = cache_.offsets[slot]; i < cache_.offsets[slot + 1]; ++i) {
+    for (uint32_t i = cache_.offsets[point]; i < cache_.offsets[point + 1]; ++i) {
       const double d2 = cache_.dist2[i];
       if (d2 > radius2) break;
       const uint32_t e = cache_.ids[i] & ~CandidateCache::State::kZeroFirst;
@@ -1275,7 +1282,7 @@ class CachedSource {
     }
     double band2 = -1.0;
     need2 = needed_bound2(ctx, out, radius2, &band2);
-    if (out.empty() || !(need2 <= cache_.cover2[slot])) {
+    if (out.empty() || !(need2 <= cache_.cover2[point])) {
       ++queried_here_;
       return fallback_.direct(ctx, point, p, edit, out, need2);
     }
@@ -1331,7 +1338,7 @@ Result<CandidateCache> CandidateCache::create(std::span<const glm::vec3> skin, c
   if (!made) return made.error();
   const Context& ctx = *made;
   st.bvh = std::make_unique<ElementBvh>(ctx.rest, ctx.cage->elements, ctx.valid_ids);
-  st.order = morton_order(st.skin);
+  const std::vector<uint32_t> morton = morton_order(st.skin);  // chunks for the hierarchy's queries
 
   // per chunk of the Morton order: each point's list, then scattered to point order
   struct Lists {
@@ -1354,7 +1361,7 @@ Result<CandidateCache> CandidateCache::create(std::span<const glm::vec3> skin, c
         return;
       }
       Lists& out = chunks[c];
-      std::span<const uint32_t> pts(st.order.data() + c * kChunk, std::min(n, (c + 1) * kChunk) - c * kChunk);
+      std::span<const uint32_t> pts(morton.data() + c * kChunk, std::min(n, (c + 1) * kChunk) - c * kChunk);
       source.prepare(ctx, pts);
       for (uint32_t i : pts) {
         const glm::dvec3 p(st.skin[i]);
@@ -1387,14 +1394,15 @@ Result<CandidateCache> CandidateCache::create(std::span<const glm::vec3> skin, c
     }
   });
   if (cancelled) return make_error(ErrorCode::kCancelled, "making the candidate cache was cancelled");
-  st.slot.resize(n);
-  for (size_t k = 0; k < n; ++k) st.slot[st.order[k]] = static_cast<uint32_t>(k);
+  st.order.resize(n);
+  for (size_t i = 0; i < n; ++i) st.order[i] = static_cast<uint32_t>(i);
   st.offsets.assign(n + 1, 0);
   st.cover2.assign(n, -1.0);
   for (size_t c = 0; c < num_chunks; ++c)
     for (size_t k = 0; k < chunks[c].counts.size(); ++k) {
-      st.offsets[c * kChunk + k + 1] = chunks[c].counts[k];
-      st.cover2[c * kChunk + k] = chunks[c].cover2[k];
+      const uint32_t i = morton[c * kChunk + k];
+      st.offsets[i + 1] = chunks[c].counts[k];
+      st.cover2[i] = chunks[c].cover2[k];
     }
   uint64_t total = 0;
   for (size_t i = 0; i < n; ++i) {
@@ -1412,7 +1420,7 @@ Result<CandidateCache> CandidateCache::create(std::span<const glm::vec3> skin, c
       Lists& ch = chunks[c];
       size_t src = 0;
       for (size_t k = 0; k < ch.counts.size(); ++k) {
-        const uint32_t dst = st.offsets[c * kChunk + k];
+        const uint32_t dst = st.offsets[morton[c * kChunk + k]];
         std::copy_n(ch.ids.begin() + static_cast<std::ptrdiff_t>(src), ch.counts[k], st.ids.begin() + dst);
         std::copy_n(ch.dist2.begin() + static_cast<std::ptrdiff_t>(src), ch.counts[k], st.dist2.begin() + dst);
         std::copy_n(ch.bary.begin() + static_cast<std::ptrdiff_t>(src), ch.counts[k], st.bary.begin() + dst);
@@ -1487,8 +1495,7 @@ size_t CandidateCache::num_points() const { return state_->skin.size(); }
 uint64_t CandidateCache::entries() const { return state_->ids.size(); }
 size_t CandidateCache::bytes() const {
   const State& st = *state_;
-  return st.offsets.size() * 4 + st.ids.size() * 4 + st.dist2.size() * 8 + st.bary.size() * 16 + st.cover2.size() * 8 + st.order.size() * 4 +
-         st.slot.size() * 4;
+  return st.offsets.size() * 4 + st.ids.size() * 4 + st.dist2.size() * 8 + st.bary.size() * 16 + st.cover2.size() * 8 + st.order.size() * 4;
 }
 double CandidateCache::seconds() const { return state_->seconds; }
 
