@@ -75,10 +75,12 @@ std::optional<KernelTable> make_kernel_table(const Binding& b);
 bool update_kernel_table(KernelTable& t, const Binding& b, std::span<const uint32_t> points);
 
 // Whether the kernels' best path on this machine is AVX code (else the generic vector code), and its
-// name: "AVX2 + FMA", "AVX + FMA" or "generic".
+// name: "AVX-512 + FMA" (the 8-lane code with AVX-512 VL's 32 registers), "AVX2 + FMA", "AVX + FMA" or
+// "generic". CAGEWRAP_KERNEL_NO_AVX512 in the environment keeps AVX-512 out (to compare).
 bool kernel_uses_avx();
 const char* kernel_isa_name();
-// kBest: AVX2 + FMA, else AVX + FMA, where the processor has them; kBaseline: the generic code (tests).
+// kBest: AVX-512, else AVX2 + FMA, else AVX + FMA, where the processor has them; kBaseline: the generic
+// code (tests).
 enum class KernelPath : uint8_t { kBest, kBaseline };
 
 // out[i] = sum_k w_ik maps[id_k] (skin[i] - origin) + origin for every point of the table.
