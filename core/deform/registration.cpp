@@ -869,7 +869,7 @@ class ChunkedBvhSource {
     // (Taper), so once K + 1 are known the (K+1)-th distance or the band bounds the search too (ties
     // are kept: the final order breaks them by id).
     const size_t k = ctx.params.max_elements + 1;  // the (K+1)-th sets the taper's cut
-    double best2 = 1e300, radius2 = 1e300, kth2 = 1e300, band2 = 1e300;
+    double best2 = 1e300, radius2 = 1e300, kth2 = 1e300, band2 = 1e300, bounds_at2 = 1e300;
     size_t prune_at = 2 * k;
     for (size_t i = 0; i < sorted_.size(); ++i) {
       const double bound2 = std::min(radius2, std::max(kth2, band2));
@@ -887,8 +887,14 @@ class ChunkedBvhSource {
       out.push_back({e.id, cp.dist2, cp.bary});
       if (cp.dist2 < best2) {
         best2 = cp.dist2;
-        radius2 = radius2_of(ctx, best2);
-        band2 = tie_band2(ctx.params, ctx.h, best2);
+        // the radii grow with the nearest distance, so those of an earlier, farther nearest bound the
+        // search safely (a few more elements looked at); they are made again (two pow calls) only when
+        // the nearest came much closer, and exactly once at the end
+        if (!(best2 >= 0.6 * bounds_at2)) {
+          bounds_at2 = best2;
+          radius2 = radius2_of(ctx, best2);
+          band2 = tie_band2(ctx.params, ctx.h, best2);
+        }
       }
       if (out.size() >= prune_at) {
         std::nth_element(out.begin(), out.begin() + static_cast<std::ptrdiff_t>(k - 1), out.end(), closer);
@@ -900,6 +906,7 @@ class ChunkedBvhSource {
         prune_at = std::max(2 * k, 2 * out.size());  // many in the band: prune again only when doubled
       }
     }
+    if (bounds_at2 != best2 && !out.empty()) radius2 = radius2_of(ctx, best2);  // the exact radius
     std::erase_if(out, [&](const Candidate& x) { return x.dist2 > radius2; });
     std::sort(out.begin(), out.end(), closer);
     // Every element within `cover` of p is among the chunk's; the answer is exact when all it
