@@ -637,6 +637,32 @@ namespace {
 
 constexpr size_t kChunk = 128;
 
+// Runs fn(source, c, chunk_points) over the chunks of `order` (kChunk consecutive entries each) on the
+// worker threads, each task with its own source from new_source(); reports progress and stops when
+// cancelled (false).
+template <class NewSource, class Fn>
+bool for_each_chunk(std::span<const uint32_t> order, const BindProgress& progress, NewSource new_source, Fn fn) {
+  const size_t n = order.size();
+  const size_t num_chunks = (n + kChunk - 1) / kChunk;
+  std::atomic<size_t> done{0};
+  std::atomic<bool> cancelled{false};
+  const size_t report_every = std::max<size_t>(1, num_chunks / 200);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, num_chunks, 8), [&](const tbb::blocked_range<size_t>& r) {
+    auto source = new_source();
+    for (size_t c = r.begin(); c != r.end(); ++c) {
+      if (cancelled.load(std::memory_order_relaxed)) return;
+      if (progress.cancel && progress.cancel->load(std::memory_order_relaxed)) {
+        cancelled = true;
+        return;
+      }
+      fn(source, c, std::span<const uint32_t>(order.data() + c * kChunk, std::min(n, (c + 1) * kChunk) - c * kChunk));
+      const size_t d = done.fetch_add(1) + 1;
+      if (progress.on_progress && (d % report_every == 0 || d == num_chunks)) progress.on_progress(double(d) / num_chunks);
+    }
+  });
+  return !cancelled;
+}
+
 // Registers the points of `order` in chunks of kChunk consecutive ones (chunk c holds
 // order[c * kChunk ...]). `new_source()` gives per-thread candidate sources with
 //   prepare(ctx, chunk_points)                 once per spatially compact chunk, and
@@ -648,52 +674,35 @@ constexpr size_t kChunk = 128;
 template <class NewSource>
 bool register_points(const Context& ctx, const Edits& edits, std::span<const uint32_t> order, NewSource new_source,
                      const BindProgress& progress, std::vector<Chunk>& chunks) {
-  const size_t n = order.size();
-  const size_t num_chunks = (n + kChunk - 1) / kChunk;
-  chunks.assign(num_chunks, Chunk{});
-  std::atomic<size_t> done{0};
-  std::atomic<bool> cancelled{false};
-  const size_t report_every = std::max<size_t>(1, num_chunks / 200);
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, num_chunks, 8), [&](const tbb::blocked_range<size_t>& r) {
-    std::vector<Candidate> cands;
-    auto source = new_source();
-    for (size_t c = r.begin(); c != r.end(); ++c) {
-      if (cancelled.load(std::memory_order_relaxed)) return;
-      if (progress.cancel && progress.cancel->load(std::memory_order_relaxed)) {
-        cancelled = true;
-        return;
-      }
-      Chunk& out = chunks[c];
-      std::span<const uint32_t> pts(order.data() + c * kChunk, std::min(n, (c + 1) * kChunk) - c * kChunk);
-      source.prepare(ctx, pts);
-      // room for a typical chunk (sets of ~8 elements, ~10 cage vertices): no regrowth on the way
-      const size_t m = pts.size();
-      out.counts.reserve(m);
-      out.inside.reserve(m);
-      out.reach.reserve(m);
-      out.ids.reserve(12 * m);
-      out.weights.reserve(12 * m);
-      if (ctx.params.variant == Variant::kClamped) out.bary.reserve(24 * m);
-      if (ctx.params.variant == Variant::kExtended) {
-        out.set_counts.reserve(m);
-        out.set_ids.reserve(10 * m);
-        out.set_weights.reserve(10 * m);
-      }
-      if (ctx.separate) out.separated.reserve(m);
-      for (size_t j = 0; j < pts.size(); ++j) {
-        const uint32_t i = pts[j];
-        if (j + 4 < pts.size()) __builtin_prefetch(&ctx.skin[pts[j + 4]]);  // points in Morton order: scattered
-        const SetEdit* edit = edits.find(i);
-        glm::dvec3 p(ctx.skin[i]);
-        double need2 = 0.0;
-        const uint32_t separated = source.gather(ctx, i, p, edit, cands, need2);
-        finish_point(ctx, i, p, cands, edit, separated, need2, out);
-      }
-      size_t d = done.fetch_add(1) + 1;
-      if (progress.on_progress && (d % report_every == 0 || d == num_chunks)) progress.on_progress(double(d) / num_chunks);
+  chunks.assign((order.size() + kChunk - 1) / kChunk, Chunk{});
+  return for_each_chunk(order, progress, new_source, [&](auto& source, size_t c, std::span<const uint32_t> pts) {
+    thread_local std::vector<Candidate> cands;
+    Chunk& out = chunks[c];
+    source.prepare(ctx, pts);
+    // room for a typical chunk (sets of ~8 elements, ~10 cage vertices): no regrowth on the way
+    const size_t m = pts.size();
+    out.counts.reserve(m);
+    out.inside.reserve(m);
+    out.reach.reserve(m);
+    out.ids.reserve(12 * m);
+    out.weights.reserve(12 * m);
+    if (ctx.params.variant == Variant::kClamped) out.bary.reserve(24 * m);
+    if (ctx.params.variant == Variant::kExtended) {
+      out.set_counts.reserve(m);
+      out.set_ids.reserve(10 * m);
+      out.set_weights.reserve(10 * m);
+    }
+    if (ctx.separate) out.separated.reserve(m);
+    for (size_t j = 0; j < pts.size(); ++j) {
+      const uint32_t i = pts[j];
+      if (j + 4 < pts.size()) __builtin_prefetch(&ctx.skin[pts[j + 4]]);  // points in Morton order: scattered
+      const SetEdit* edit = edits.find(i);
+      glm::dvec3 p(ctx.skin[i]);
+      double need2 = 0.0;
+      const uint32_t separated = source.gather(ctx, i, p, edit, cands, need2);
+      finish_point(ctx, i, p, cands, edit, separated, need2, out);
     }
   });
-  return !cancelled;
 }
 
 // Fallback points in point order (deterministic whatever the scheduling).
@@ -1355,52 +1364,39 @@ Result<CandidateCache> CandidateCache::create(std::span<const glm::vec3> skin, c
   };
   const size_t n = st.skin.size(), num_chunks = (n + kChunk - 1) / kChunk;
   std::vector<Lists> chunks(num_chunks);
-  std::atomic<size_t> done{0};
-  std::atomic<bool> cancelled{false};
-  const size_t report_every = std::max<size_t>(1, num_chunks / 200);
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, num_chunks, 8), [&](const tbb::blocked_range<size_t>& r) {
-    std::vector<Candidate> cands, all;
-    ChunkedBvhSource source(*st.bvh);
-    for (size_t c = r.begin(); c != r.end(); ++c) {
-      if (cancelled.load(std::memory_order_relaxed)) return;
-      if (progress.cancel && progress.cancel->load(std::memory_order_relaxed)) {
-        cancelled = true;
-        return;
-      }
-      Lists& out = chunks[c];
-      std::span<const uint32_t> pts(morton.data() + c * kChunk, std::min(n, (c + 1) * kChunk) - c * kChunk);
-      source.prepare(ctx, pts);
-      for (uint32_t i : pts) {
-        const glm::dvec3 p(st.skin[i]);
-        double need2 = 0.0;
-        source.gather(ctx, i, p, nullptr, cands, need2);  // what the widened parameters need
-        double cover2 = -1.0;
-        all.clear();
-        if (!cands.empty() && need2 < 1e300) {
-          source.collect_within(p, need2, all);
-          cover2 = need2;
-          if (all.size() > kMaxEntries) {  // cut before the first left out (ties with it go too)
-            cover2 = std::nextafter(all[kMaxEntries].dist2, 0.0);
-            while (!all.empty() && all.back().dist2 > cover2) all.pop_back();
-          }
-        }
-        out.counts.push_back(static_cast<uint32_t>(all.size()));
-        out.cover2.push_back(cover2);
-        for (const Candidate& x : all) {
-          // the first barycentric from the other two: 1 - b1 - b2 (interior, vertices, edges AB and AC)
-          // or 0 (edge BC, where 1 - b1 - b2 may round to a tiny number)
-          const bool zero_first = x.bary.x != 1 - x.bary.y - x.bary.z;
-          CAGEWRAP_CHECK(!zero_first || x.bary.x == 0.0, "closest_point_on_triangle's barycentrics");
-          out.ids.push_back(x.element | (zero_first ? State::kZeroFirst : 0u));
-          out.dist2.push_back(x.dist2);
-          out.bary.push_back({x.bary.y, x.bary.z});
+  const bool finished = for_each_chunk(morton, progress, [&] { return ChunkedBvhSource(*st.bvh); },
+                                       [&](ChunkedBvhSource& source, size_t c, std::span<const uint32_t> pts) {
+    thread_local std::vector<Candidate> cands, all;
+    Lists& out = chunks[c];
+    source.prepare(ctx, pts);
+    for (uint32_t i : pts) {
+      const glm::dvec3 p(st.skin[i]);
+      double need2 = 0.0;
+      source.gather(ctx, i, p, nullptr, cands, need2);  // what the widened parameters need
+      double cover2 = -1.0;
+      all.clear();
+      if (!cands.empty() && need2 < 1e300) {
+        source.collect_within(p, need2, all);
+        cover2 = need2;
+        if (all.size() > kMaxEntries) {  // cut before the first left out (ties with it go too)
+          cover2 = std::nextafter(all[kMaxEntries].dist2, 0.0);
+          while (!all.empty() && all.back().dist2 > cover2) all.pop_back();
         }
       }
-      const size_t d = done.fetch_add(1) + 1;
-      if (progress.on_progress && (d % report_every == 0 || d == num_chunks)) progress.on_progress(double(d) / num_chunks);
+      out.counts.push_back(static_cast<uint32_t>(all.size()));
+      out.cover2.push_back(cover2);
+      for (const Candidate& x : all) {
+        // the first barycentric from the other two: 1 - b1 - b2 (interior, vertices, edges AB and AC)
+        // or 0 (edge BC, where 1 - b1 - b2 may round to a tiny number)
+        const bool zero_first = x.bary.x != 1 - x.bary.y - x.bary.z;
+        CAGEWRAP_CHECK(!zero_first || x.bary.x == 0.0, "closest_point_on_triangle's barycentrics");
+        out.ids.push_back(x.element | (zero_first ? State::kZeroFirst : 0u));
+        out.dist2.push_back(x.dist2);
+        out.bary.push_back({x.bary.y, x.bary.z});
+      }
     }
   });
-  if (cancelled) return make_error(ErrorCode::kCancelled, "making the candidate cache was cancelled");
+  if (!finished) return make_error(ErrorCode::kCancelled, "making the candidate cache was cancelled");
   st.order.resize(n);
   for (size_t i = 0; i < n; ++i) st.order[i] = static_cast<uint32_t>(i);
   st.offsets.assign(n + 1, 0);
