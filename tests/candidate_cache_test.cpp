@@ -82,6 +82,27 @@ TEST(CandidateCache, EqualsAFreshBindAtEverySliderPosition) {
   }
 }
 
+// A cache made at a low falloff exponent covers its own parameters too (its cover never uses a higher
+// local than the one given: a higher one would need a smaller radius).
+TEST(CandidateCache, ACacheMadeAtALowLocalCoversItsOwnParameters) {
+  const TwoLegs t = fixtures::two_legs();
+  const auto& rest = t.cage.polygons.positions;
+  for (double local : {0.3, 0.8, 1.0}) {
+    BindParams p;
+    p.local = local;
+    EXPECT_LE(CandidateCache::cover_params(p).local, local);
+    auto cache = CandidateCache::create(t.skin.positions, t.cage, rest, p);
+    ASSERT_TRUE(cache.ok());
+    CandidateCacheStats stats;
+    auto cached = cache->bind(p, {}, {}, &stats);
+    ASSERT_TRUE(cached.ok());
+    EXPECT_EQ(stats.queried_points, 0u) << "local " << local;
+    auto fresh = bind_skin(t.skin.positions, t.cage, rest, p);
+    ASSERT_TRUE(fresh.ok());
+    EXPECT_EQ(registration_difference(*cached, *fresh), "") << "local " << local;
+  }
+}
+
 // The bench mannequin (28k points): the bench's drags are served from the lists alone, and equal a
 // fresh bind.
 TEST(CandidateCache, BenchMannequinDragsStayInTheCoverAndEqualFreshBinds) {

@@ -934,7 +934,9 @@ class ChunkedBvhSource {
     const bool chunk = cover > 0 && r2 <= cover * cover;
     if (!chunk) bvh_.boxes_within(p, std::sqrt(r2) * (1 + 1e-9), direct_elems_);
     for (const auto& e : chunk ? sorted_ : direct_elems_) {
-      if (ElementBvh::box_dist2(p, e.lo, e.hi) > r2) continue;
+      // the box's distance can round above the element's own where they touch (an axis-aligned edge):
+      // a margin, then the exact test
+      if (ElementBvh::box_dist2(p, e.lo, e.hi) > r2 * (1 + 1e-9)) continue;
       ClosestPoint cp = closest_point_on_triangle(p, e.a, e.b, e.c);
       if (cp.dist2 <= r2) out.push_back({e.id, cp.dist2, cp.bary});
     }
@@ -1266,11 +1268,11 @@ struct CandidateCache::State {
 
 namespace {
 
-// Candidates from a point's cached list: exactly what ChunkedBvhSource::gather finds (every allowed,
-// non-excluded element within the threshold radius, sorted; the extra ones beyond the K+1-th and the
-// tie band that the hierarchy's pruning would drop weigh nothing, Taper), without barycentrics
-// (finish_point computes the members'). A point whose needed radius exceeds its list's cover asks
-// the hierarchy (the same query as gather's own fallback).
+// Candidates from a point's cached list: what ChunkedBvhSource::gather finds (every allowed,
+// non-excluded element within the threshold radius, sorted, with the same distances and barycentrics),
+// cut to what its pruning always keeps (the K+1 nearest and the tie band; any more weigh nothing,
+// Taper). A point whose needed radius exceeds its list's cover asks the hierarchy (the same query as
+// gather's own fallback).
 class CachedSource {
  public:
   CachedSource(const CandidateCache::State& cache, std::atomic<uint64_t>& queried)
@@ -1331,7 +1333,7 @@ BindParams CandidateCache::cover_params(const BindParams& params) {
   BindParams c = params;
   c.max_elements = std::min<uint32_t>(64, std::max(2 * params.max_elements, params.max_elements + 8));
   c.epsilon = params.epsilon / 4;
-  c.local = std::max(0.5, params.local - 1.0);
+  c.local = params.local > 1.0 ? params.local - 1.0 : 0.5 * params.local;  // never above the given local
   c.max_distance = 0;  // none: the cover must hold whatever the max distance
   return c;
 }

@@ -123,7 +123,7 @@ class CandidateCache {
                                        std::span<const glm::vec3> rest_positions, const BindParams& params,
                                        const PartLabels* labels = nullptr, const BindProgress& progress = {});
   // The parameters a cache made around `params` is sized for: K doubled (at least + 8, at most 64),
-  // epsilon quartered, local lowered by one (a wider threshold radius and tie band).
+  // epsilon quartered, local lowered by one (halved below 1): a wider threshold radius and tie band.
   static BindParams cover_params(const BindParams& params);
   static constexpr uint32_t kMaxEntries = 192;
 
