@@ -237,8 +237,8 @@ bool update_kernel_table(KernelTable& t, const Binding& b, std::span<const uint3
 }
 
 // ---- the kernels -------------------------------------------------------------------------------------
-// One body, compiled three times: for AVX2 + FMA, for AVX + FMA (chosen at run time where the processor
-// has them) and for the baseline instruction set. GCC's vector extensions: 8 floats a register, points
+// One body, compiled four times: for AVX-512, AVX2 + FMA and AVX + FMA (chosen at run time where the
+// processor has them) and for the baseline instruction set. GCC's vector extensions: 8 floats a register, points
 // across lanes.
 
 namespace {

@@ -6,6 +6,7 @@
 #include <cstring>
 #include <limits>
 #include <memory>
+#include <numeric>
 #include <optional>
 #include <unordered_map>
 
@@ -395,10 +396,8 @@ void finish_point(const Context& ctx, uint32_t point, const glm::dvec3& p, std::
     // W_j = sum_k u_k b_kj over the corners j of each contributing element
     thread_local std::vector<uint32_t> vid;
     thread_local std::vector<double> vw;
-    std::vector<uint32_t>& ids = vid;
-    std::vector<double>& vws = vw;
-    ids.clear();
-    vws.clear();
+    vid.clear();
+    vw.clear();
     size_t m = 0;
     for (size_t i = 0; i < n; ++i) {
       const Tri& t = ctx.cage->elements[cands[i].element];
@@ -408,20 +407,20 @@ void finish_point(const Context& ctx, uint32_t point, const glm::dvec3& p, std::
         if (wv <= 0.0) continue;
         const uint32_t v = t[static_cast<size_t>(c)];
         size_t j = 0;
-        while (j < m && ids[j] != v) ++j;
+        while (j < m && vid[j] != v) ++j;
         if (j == m) {
-          ids.push_back(v);
-          vws.push_back(0.0);
+          vid.push_back(v);
+          vw.push_back(0.0);
           ++m;
         }
-        vws[j] += wv;
+        vw[j] += wv;
       }
     }
     double total = 0.0;
-    for (size_t j = 0; j < m; ++j) total += vws[j];
+    for (size_t j = 0; j < m; ++j) total += vw[j];
     for (size_t j = 0; j < m; ++j) {
-      out.ids.push_back(ids[j]);
-      out.weights.push_back(static_cast<float>(vws[j] / total));
+      out.ids.push_back(vid[j]);
+      out.weights.push_back(static_cast<float>(vw[j] / total));
     }
     out.counts.push_back(static_cast<uint32_t>(m));
     return;
@@ -822,15 +821,16 @@ Binding assemble(const Context& ctx, std::span<const uint32_t> order, std::vecto
   return b;
 }
 
-// `morton`: morton_order(ctx.skin) when the caller has it (else computed here).
+// `order`: the order to register the points in (empty: morton_order(ctx.skin), spatial chunks for the
+// hierarchy's queries).
 template <class NewSource>
 Result<Binding> run_registration(const Context& ctx, std::span<const SetEdit> edit_list, const BindProgress& progress,
                                  NewSource new_source, std::chrono::steady_clock::time_point t0,
-                                 std::span<const uint32_t> morton = {}) {
+                                 std::span<const uint32_t> order_given = {}) {
   auto edits = make_edits(ctx, edit_list);
   if (!edits) return edits.error();
-  const std::vector<uint32_t> own = morton.empty() ? morton_order(ctx.skin) : std::vector<uint32_t>{};
-  const std::span<const uint32_t> order = morton.empty() ? std::span<const uint32_t>(own) : morton;
+  const std::vector<uint32_t> own = order_given.empty() ? morton_order(ctx.skin) : std::vector<uint32_t>{};
+  const std::span<const uint32_t> order = order_given.empty() ? std::span<const uint32_t>(own) : order_given;
   std::vector<Chunk> chunks;
   if (!register_points(ctx, *edits, order, new_source, progress, chunks))
     return make_error(ErrorCode::kCancelled, "bind cancelled");
@@ -1062,6 +1062,8 @@ Result<Rebinder> Rebinder::create(std::span<const glm::vec3> skin, const Cage& c
   return r;
 }
 
+double Rebinder::h() const { return state_->ctx.h; }
+
 Result<Binding> Rebinder::bind(std::span<const SetEdit> edits, const BindProgress& progress) const {
   return run_registration(state_->ctx, edits, progress, state_->new_source(), std::chrono::steady_clock::now());
 }
@@ -1249,9 +1251,6 @@ struct CandidateCache::State {
   Cage cage;
   std::optional<PartLabels> labels;
   std::unique_ptr<ElementBvh> bvh;  // over the valid elements (they depend on the rest positions alone)
-  // the order bind() registers points in: 0, 1, 2, ... (from the lists no spatial order is needed, and
-  // in point order both the lists and the binding's tables are written and read as they lie)
-  std::vector<uint32_t> order;
   // per point: its list of every valid element within sqrt(cover2), sorted as candidates are
   // (distance, then id); cover2 < 0: none (always asks the hierarchy)
   std::vector<uint32_t> offsets;  // #P+1
@@ -1277,8 +1276,6 @@ class CachedSource {
  public:
   CachedSource(const CandidateCache::State& cache, std::atomic<uint64_t>& queried)
       : cache_(cache), fallback_(*cache.bvh), queried_(queried) {}
-  ~CachedSource() { queried_ += queried_here_; }
-  CachedSource(CachedSource&& o) noexcept : cache_(o.cache_), fallback_(*o.cache_.bvh), queried_(o.queried_) {}
   void prepare(const Context&, std::span<const uint32_t>) {}
   uint32_t gather(const Context& ctx, uint32_t point, const glm::dvec3& p, const SetEdit* edit,
                   std::vector<Candidate>& out, double& need2) {
@@ -1301,7 +1298,7 @@ class CachedSource {
     double band2 = -1.0;
     need2 = needed_bound2(ctx, out, radius2, &band2);
     if (out.empty() || !(need2 <= cache_.cover2[point])) {
-      ++queried_here_;
+      queried_.fetch_add(1, std::memory_order_relaxed);  // rare: the slider left the cover
       return fallback_.direct(ctx, point, p, edit, out, need2);
     }
     // what gather() always keeps (its pruning may keep more, which weigh nothing): the K+1 nearest and
@@ -1319,7 +1316,6 @@ class CachedSource {
   const CandidateCache::State& cache_;
   ChunkedBvhSource fallback_;
   std::atomic<uint64_t>& queried_;
-  uint64_t queried_here_ = 0;
   std::vector<double> rejected_;
 };
 
@@ -1399,8 +1395,6 @@ Result<CandidateCache> CandidateCache::create(std::span<const glm::vec3> skin, c
     }
   });
   if (!finished) return make_error(ErrorCode::kCancelled, "making the candidate cache was cancelled");
-  st.order.resize(n);
-  for (size_t i = 0; i < n; ++i) st.order[i] = static_cast<uint32_t>(i);
   st.offsets.assign(n + 1, 0);
   st.cover2.assign(n, -1.0);
   for (size_t c = 0; c < num_chunks; ++c)
@@ -1445,7 +1439,11 @@ Result<Binding> CandidateCache::bind(const BindParams& params, std::span<const S
   auto ctx = make_context(st.skin, st.cage, st.rest, params, st.label_ptr());
   if (!ctx) return ctx.error();
   std::atomic<uint64_t> queried{0};
-  auto b = run_registration(*ctx, edits, progress, [&] { return CachedSource(st, queried); }, t0, st.order);
+  // in point order: from the lists no spatial chunks are needed, and the lists and the binding's tables
+  // are then read and written as they lie
+  std::vector<uint32_t> order(st.skin.size());
+  std::iota(order.begin(), order.end(), 0u);
+  auto b = run_registration(*ctx, edits, progress, [&] { return CachedSource(st, queried); }, t0, order);
   if (b && stats) *stats = {st.skin.size() - queried.load(), queried.load()};
   return b;
 }
@@ -1457,14 +1455,7 @@ bool CandidateCache::fits(std::span<const glm::vec3> skin, const Cage& cage, std
     return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size_bytes()) == 0);
   };
   const bool labelled = labels && !labels->empty();
-  if (labelled != st.labels.has_value()) return false;
-  if (labelled) {
-    const PartLabels& l = *st.labels;
-    if (l.parent != labels->parent || l.point != labels->point || l.cage_vertex != labels->cage_vertex ||
-        l.related != labels->related || l.point_shell != labels->point_shell || l.vertex_shell != labels->vertex_shell ||
-        l.length != labels->length || !same(l.head, labels->head))
-      return false;
-  }
+  if (labelled != st.labels.has_value() || (labelled && !(*st.labels == *labels))) return false;
   return same(st.skin, skin) && same(st.rest, rest) && st.cage.elements == cage.elements &&
          st.cage.polygons.num_vertices() == cage.polygons.num_vertices() &&
          st.cage.polygons.face_start == cage.polygons.face_start &&
@@ -1500,7 +1491,7 @@ size_t CandidateCache::num_points() const { return state_->skin.size(); }
 uint64_t CandidateCache::entries() const { return state_->ids.size(); }
 size_t CandidateCache::bytes() const {
   const State& st = *state_;
-  return st.offsets.size() * 4 + st.ids.size() * 4 + st.dist2.size() * 8 + st.bary.size() * 16 + st.cover2.size() * 8 + st.order.size() * 4;
+  return st.offsets.size() * 4 + st.ids.size() * 4 + st.dist2.size() * 8 + st.bary.size() * 16 + st.cover2.size() * 8;
 }
 double CandidateCache::seconds() const { return state_->seconds; }
 

@@ -35,6 +35,7 @@ struct PartLabels {
   std::vector<glm::vec3> head;
   std::vector<float> length;
   bool empty() const { return parent.empty(); }
+  bool operator==(const PartLabels&) const = default;
 };
 
 struct BindProgress {
@@ -70,6 +71,9 @@ class Rebinder {
   static Result<Rebinder> create(std::span<const glm::vec3> skin, const Cage& cage,
                                  std::span<const glm::vec3> rest_positions, const BindParams& params,
                                  const PartLabels* labels = nullptr);
+
+  // The distance scale it registers with (BindParams::scale, or the rest cage's mean edge length).
+  double h() const;
 
   // A full bind (bind_skin) with the kept state.
   Result<Binding> bind(std::span<const SetEdit> edits, const BindProgress& progress = {}) const;

@@ -38,7 +38,7 @@ bool within_reach(const glm::dvec3& p, float reach, const glm::dvec3& a, const g
   return closest_point_on_triangle(p, a, b, c).dist2 <= r * r;
 }
 
-bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+bool finite(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
 }  // namespace
 
@@ -163,9 +163,8 @@ Result<std::vector<uint32_t>> ReachIndex::affected_points(const Binding& b, cons
 std::vector<uint32_t> ReachIndex::points_within_reach(std::span<const std::array<glm::dvec3, 3>> triangles) const {
   std::vector<uint32_t> out;  // with repeats until the end (no table over the whole skin: the cost follows the region)
   std::vector<uint32_t> stack;
-  auto is_finite = [](const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
   for (const auto& [a, bb, c] : triangles) {
-    if (!is_finite(a) || !is_finite(bb) || !is_finite(c)) continue;  // drives nothing there
+    if (!finite(a) || !finite(bb) || !finite(c)) continue;  // drives nothing there
     const glm::dvec3 lo = glm::min(a, glm::min(bb, c)), hi = glm::max(a, glm::max(bb, c));
     stack.assign(1, 1u);
     while (!stack.empty()) {
@@ -220,10 +219,6 @@ Result<RestRebindReport> rebind_moved_rest(Binding& binding, std::span<const glm
   return report;
 }
 
-}  // namespace cagewrap
-
-namespace cagewrap {
-
 namespace {
 // Bitwise key of a position (exact matches only).
 struct PositionKey {
@@ -273,9 +268,10 @@ Result<TopologyRebindReport> rebind_new_topology(Binding& binding, std::span<con
     return make_error(ErrorCode::kTopologyMismatch, "the cage has " + std::to_string(cage.num_vertices()) +
                                                         " vertices but " + std::to_string(new_rest.size()) +
                                                         " positions were given");
-  PolyMesh rest_mesh = cage.polygons;
-  rest_mesh.positions.assign(new_rest.begin(), new_rest.end());
-  const double h = b.params.scale > 0 ? b.params.scale : mean_edge_length(rest_mesh);
+  // the registration on the new cage (its h, its hierarchy): it fills in the points registered again
+  auto rebinder = Rebinder::create(skin, cage, new_rest, b.params, now ? labels : nullptr);
+  if (!rebinder) return rebinder.error();
+  const double h = rebinder->h();
   if (h != b.h)
     return make_error(ErrorCode::kInvalidArgument,
                       "the new cage changes the distance scale h (" + std::to_string(b.h) + " -> " + std::to_string(h) +
@@ -419,8 +415,6 @@ Result<TopologyRebindReport> rebind_new_topology(Binding& binding, std::span<con
   nb.reach = b.reach;
   nb.seconds = b.seconds;
 
-  auto rebinder = Rebinder::create(skin, cage, new_rest, b.params, now ? labels : nullptr);
-  if (!rebinder) return rebinder.error();
   if (auto s = rebinder->update(nb, edits, points); !s) return s.error();
   binding = std::move(nb);
   report.points = points.size();

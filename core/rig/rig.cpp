@@ -207,7 +207,12 @@ Result<Binding> rebind_document(const Document& doc, std::span<const glm::vec3> 
                                    labels ? &*labels : nullptr, before_labels);
       if (r) {
         if (report) {
-          *report = {0, r->points, elapsed(), true, r->added_elements, r->removed_elements};
+          *report = RestRebindReport{};
+          report->points = r->points;
+          report->seconds = elapsed();
+          report->topology = true;
+          report->added_elements = r->added_elements;
+          report->removed_elements = r->removed_elements;
         }
         if (progress.on_progress) progress.on_progress(1.0);
         return previous;
